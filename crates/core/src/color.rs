@@ -1,0 +1,209 @@
+//! Linear RGB colour (radiance, reflectance, radiosity) and the sRGB transfer curve.
+
+use serde::{Deserialize, Serialize};
+use std::ops::{Add, AddAssign, Div, DivAssign, Index, Mul, MulAssign, Sub};
+
+/// A colour in linear light. Components are not clamped: radiance may exceed 1.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Rgb {
+    pub r: f32,
+    pub g: f32,
+    pub b: f32,
+}
+
+impl Rgb {
+    pub const BLACK: Rgb = Rgb {
+        r: 0.0,
+        g: 0.0,
+        b: 0.0,
+    };
+    pub const WHITE: Rgb = Rgb {
+        r: 1.0,
+        g: 1.0,
+        b: 1.0,
+    };
+
+    #[inline]
+    pub const fn new(r: f32, g: f32, b: f32) -> Self {
+        Self { r, g, b }
+    }
+
+    #[inline]
+    pub const fn splat(v: f32) -> Self {
+        Self { r: v, g: v, b: v }
+    }
+
+    #[inline]
+    pub fn from_array(a: [f32; 3]) -> Self {
+        Self::new(a[0], a[1], a[2])
+    }
+
+    #[inline]
+    pub fn to_array(self) -> [f32; 3] {
+        [self.r, self.g, self.b]
+    }
+
+    #[inline]
+    pub fn is_black(&self) -> bool {
+        self.r == 0.0 && self.g == 0.0 && self.b == 0.0
+    }
+
+    #[inline]
+    pub fn max_component(&self) -> f32 {
+        self.r.max(self.g).max(self.b)
+    }
+
+    #[inline]
+    pub fn mean(&self) -> f32 {
+        (self.r + self.g + self.b) / 3.0
+    }
+
+    /// Rec. 709 luminance.
+    #[inline]
+    pub fn luminance(&self) -> f32 {
+        0.2126 * self.r + 0.7152 * self.g + 0.0722 * self.b
+    }
+
+    #[inline]
+    pub fn is_finite(&self) -> bool {
+        self.r.is_finite() && self.g.is_finite() && self.b.is_finite()
+    }
+
+    #[inline]
+    pub fn map(self, f: impl Fn(f32) -> f32) -> Self {
+        Self::new(f(self.r), f(self.g), f(self.b))
+    }
+
+    #[inline]
+    pub fn clamp01(self) -> Self {
+        self.map(|v| v.clamp(0.0, 1.0))
+    }
+
+    /// Encodes to 8-bit sRGB (IEC 61966-2-1), clamping to [0, 1].
+    pub fn to_srgb8(self) -> [u8; 3] {
+        let f = |v: f32| (linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8;
+        [f(self.r), f(self.g), f(self.b)]
+    }
+
+    /// Decodes from 8-bit sRGB.
+    pub fn from_srgb8(c: [u8; 3]) -> Self {
+        let f = |v: u8| srgb_to_linear(v as f32 / 255.0);
+        Self::new(f(c[0]), f(c[1]), f(c[2]))
+    }
+}
+
+/// The sRGB encoding curve for one linear value in [0, 1].
+#[inline]
+pub fn linear_to_srgb(v: f32) -> f32 {
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// The sRGB decoding curve for one encoded value in [0, 1].
+#[inline]
+pub fn srgb_to_linear(v: f32) -> f32 {
+    if v <= 0.040_45 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+impl Add for Rgb {
+    type Output = Rgb;
+    #[inline]
+    fn add(self, o: Rgb) -> Rgb {
+        Rgb::new(self.r + o.r, self.g + o.g, self.b + o.b)
+    }
+}
+impl AddAssign for Rgb {
+    #[inline]
+    fn add_assign(&mut self, o: Rgb) {
+        *self = *self + o;
+    }
+}
+impl Sub for Rgb {
+    type Output = Rgb;
+    #[inline]
+    fn sub(self, o: Rgb) -> Rgb {
+        Rgb::new(self.r - o.r, self.g - o.g, self.b - o.b)
+    }
+}
+impl Mul for Rgb {
+    type Output = Rgb;
+    #[inline]
+    fn mul(self, o: Rgb) -> Rgb {
+        Rgb::new(self.r * o.r, self.g * o.g, self.b * o.b)
+    }
+}
+impl MulAssign for Rgb {
+    #[inline]
+    fn mul_assign(&mut self, o: Rgb) {
+        *self = *self * o;
+    }
+}
+impl Mul<f32> for Rgb {
+    type Output = Rgb;
+    #[inline]
+    fn mul(self, s: f32) -> Rgb {
+        Rgb::new(self.r * s, self.g * s, self.b * s)
+    }
+}
+impl Mul<Rgb> for f32 {
+    type Output = Rgb;
+    #[inline]
+    fn mul(self, c: Rgb) -> Rgb {
+        c * self
+    }
+}
+impl MulAssign<f32> for Rgb {
+    #[inline]
+    fn mul_assign(&mut self, s: f32) {
+        *self = *self * s;
+    }
+}
+impl Div<f32> for Rgb {
+    type Output = Rgb;
+    #[inline]
+    fn div(self, s: f32) -> Rgb {
+        self * (1.0 / s)
+    }
+}
+impl DivAssign<f32> for Rgb {
+    #[inline]
+    fn div_assign(&mut self, s: f32) {
+        *self = *self / s;
+    }
+}
+impl Index<usize> for Rgb {
+    type Output = f32;
+    fn index(&self, i: usize) -> &f32 {
+        match i {
+            0 => &self.r,
+            1 => &self.g,
+            2 => &self.b,
+            _ => panic!("Rgb index {i} out of range"),
+        }
+    }
+}
+impl std::iter::Sum for Rgb {
+    fn sum<I: Iterator<Item = Rgb>>(iter: I) -> Rgb {
+        iter.fold(Rgb::BLACK, |a, b| a + b)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_round_trips_every_byte() {
+        for v in 0..=255u8 {
+            let c = Rgb::from_srgb8([v, v, v]);
+            assert_eq!(c.to_srgb8(), [v, v, v]);
+        }
+    }
+}

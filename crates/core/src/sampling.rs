@@ -1,0 +1,196 @@
+//! Deterministic random numbers and the standard warps from the unit square.
+//!
+//! Every sample stream is seeded from what it belongs to (pixel, sample index, pass),
+//! never from a thread, so an image does not depend on the thread count or tile order.
+
+use glam::{Vec2, Vec3};
+use std::f32::consts::{FRAC_1_PI, PI};
+
+/// PCG32 (O'Neill 2014, "PCG: A Family of Simple Fast Space-Efficient Statistically Good
+/// Algorithms for Random Number Generation"), XSH-RR output.
+#[derive(Clone, Debug)]
+pub struct Rng {
+    state: u64,
+    inc: u64,
+}
+
+impl Rng {
+    /// A stream for `seed` on sequence `stream`.
+    pub fn new(seed: u64, stream: u64) -> Self {
+        let mut r = Rng {
+            state: 0,
+            inc: (stream << 1) | 1,
+        };
+        r.next_u32();
+        r.state = r.state.wrapping_add(seed);
+        r.next_u32();
+        r
+    }
+
+    /// A stream for one pixel sample: the same for any thread or tile order.
+    pub fn for_pixel(x: u32, y: u32, sample: u32, pass: u32) -> Self {
+        let key = hash64(((y as u64) << 32) | x as u64);
+        Rng::new(hash64(key ^ ((sample as u64) << 20) ^ pass as u64), key)
+    }
+
+    #[inline]
+    pub fn next_u32(&mut self) -> u32 {
+        let old = self.state;
+        self.state = old
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(self.inc);
+        let xorshifted = (((old >> 18) ^ old) >> 27) as u32;
+        let rot = (old >> 59) as u32;
+        xorshifted.rotate_right(rot)
+    }
+
+    /// Uniform in [0, 1).
+    #[inline]
+    pub fn next_f32(&mut self) -> f32 {
+        (self.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
+    }
+
+    /// Uniform in [0, 1) with 53 bits.
+    #[inline]
+    pub fn next_f64(&mut self) -> f64 {
+        let hi = (self.next_u32() as u64) << 21;
+        let lo = (self.next_u32() >> 11) as u64;
+        (hi | lo) as f64 * (1.0 / 9_007_199_254_740_992.0)
+    }
+
+    #[inline]
+    pub fn next_2d(&mut self) -> Vec2 {
+        Vec2::new(self.next_f32(), self.next_f32())
+    }
+
+    /// Uniform integer in `0..n` (n > 0).
+    #[inline]
+    pub fn below(&mut self, n: u32) -> u32 {
+        ((self.next_u32() as u64 * n as u64) >> 32) as u32
+    }
+}
+
+/// SplitMix64 finaliser: a strong 64-bit mix for seeding.
+#[inline]
+pub fn hash64(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// Uniform point on the unit disk, Shirley-Chiu concentric map.
+pub fn concentric_disk(u: Vec2) -> Vec2 {
+    let o = 2.0 * u - Vec2::ONE;
+    if o.x == 0.0 && o.y == 0.0 {
+        return Vec2::ZERO;
+    }
+    let (r, theta) = if o.x.abs() > o.y.abs() {
+        (o.x, PI / 4.0 * (o.y / o.x))
+    } else {
+        (o.y, PI / 2.0 - PI / 4.0 * (o.x / o.y))
+    };
+    r * Vec2::new(theta.cos(), theta.sin())
+}
+
+/// Cosine-weighted direction on the +z hemisphere; density `cos(theta) / pi`.
+pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
+    let d = concentric_disk(u);
+    let z = (1.0 - d.length_squared()).max(0.0).sqrt();
+    Vec3::new(d.x, d.y, z)
+}
+
+#[inline]
+pub fn cosine_hemisphere_pdf(cos_theta: f32) -> f32 {
+    cos_theta.max(0.0) * FRAC_1_PI
+}
+
+/// Uniform direction on the unit sphere; density `1 / (4 pi)`.
+pub fn uniform_sphere(u: Vec2) -> Vec3 {
+    let z = 1.0 - 2.0 * u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// Uniform direction on the +z hemisphere; density `1 / (2 pi)`.
+pub fn uniform_hemisphere(u: Vec2) -> Vec3 {
+    let z = u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// Uniform barycentric coordinates on a triangle (b1, b2); b0 = 1 - b1 - b2.
+pub fn uniform_triangle(u: Vec2) -> Vec2 {
+    let s = u.x.sqrt();
+    Vec2::new(1.0 - s, u.y * s)
+}
+
+/// The radical inverse in base 2 (van der Corput), for low-discrepancy sequences.
+#[inline]
+pub fn radical_inverse_base2(i: u32) -> f32 {
+    (i.reverse_bits() >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+/// The radical inverse of `i` in a prime `base` (Halton sequences).
+pub fn radical_inverse(mut i: u64, base: u64) -> f64 {
+    let inv = 1.0 / base as f64;
+    let (mut f, mut r) = (inv, 0.0);
+    while i > 0 {
+        r += f * (i % base) as f64;
+        i /= base;
+        f *= inv;
+    }
+    r
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rng_is_uniform_enough() {
+        let mut r = Rng::new(7, 3);
+        let n = 100_000;
+        let mut bins = [0u32; 10];
+        for _ in 0..n {
+            let v = r.next_f32();
+            assert!((0.0..1.0).contains(&v));
+            bins[(v * 10.0) as usize] += 1;
+        }
+        for b in bins {
+            assert!((b as f32 - n as f32 / 10.0).abs() < 500.0, "{bins:?}");
+        }
+    }
+
+    #[test]
+    fn pixel_streams_differ_and_repeat() {
+        let a: Vec<u32> = (0..4)
+            .map(|_| 0)
+            .scan(Rng::for_pixel(3, 4, 0, 0), |r, _| Some(r.next_u32()))
+            .collect();
+        let b: Vec<u32> = (0..4)
+            .map(|_| 0)
+            .scan(Rng::for_pixel(3, 4, 0, 0), |r, _| Some(r.next_u32()))
+            .collect();
+        let c: Vec<u32> = (0..4)
+            .map(|_| 0)
+            .scan(Rng::for_pixel(4, 3, 0, 0), |r, _| Some(r.next_u32()))
+            .collect();
+        assert_eq!(a, b);
+        assert_ne!(a, c);
+    }
+
+    #[test]
+    fn warps_land_where_they_should() {
+        let mut r = Rng::new(1, 1);
+        for _ in 0..1000 {
+            let u = r.next_2d();
+            assert!(concentric_disk(u).length() <= 1.0 + 1e-6);
+            let d = cosine_hemisphere(u);
+            assert!(d.z >= 0.0 && (d.length() - 1.0).abs() < 1e-4);
+            assert!((uniform_sphere(u).length() - 1.0).abs() < 1e-4);
+        }
+    }
+}

@@ -1,0 +1,122 @@
+//! An object placed in the world: a shape and an affine transform. Rays are carried
+//! into object space (the direction is not renormalised, so `t` is shared).
+
+use crate::shape::{Hit, Shape, Span};
+use glam::{Affine3A, Mat3A, Vec3};
+use irradia_core::{Aabb, Ray};
+use std::sync::Arc;
+
+#[derive(Clone, Debug)]
+pub struct Instance {
+    pub shape: Arc<dyn Shape>,
+    to_world: Affine3A,
+    to_object: Affine3A,
+    /// Inverse transpose of the linear part: carries normals to world space.
+    normal_to_world: Mat3A,
+    /// Largest stretch of the linear part, to scale error bounds.
+    max_scale: f32,
+    identity: bool,
+    bounds: Aabb,
+}
+
+impl Instance {
+    /// Places `shape` with the object-to-world map `to_world`, which must be invertible.
+    pub fn new(shape: Arc<dyn Shape>, to_world: Affine3A) -> Self {
+        let to_object = to_world.inverse();
+        let normal_to_world = to_object.matrix3.transpose();
+        let m = to_world.matrix3;
+        let max_scale = m
+            .x_axis
+            .length()
+            .max(m.y_axis.length())
+            .max(m.z_axis.length())
+            * 3f32.sqrt();
+        let bounds = shape.bounds().transformed(&to_world);
+        Self {
+            shape,
+            to_world,
+            to_object,
+            normal_to_world,
+            max_scale,
+            identity: to_world == Affine3A::IDENTITY,
+            bounds,
+        }
+    }
+
+    pub fn untransformed(shape: Arc<dyn Shape>) -> Self {
+        Self::new(shape, Affine3A::IDENTITY)
+    }
+
+    #[inline]
+    pub fn to_world(&self) -> &Affine3A {
+        &self.to_world
+    }
+    #[inline]
+    pub fn to_object(&self) -> &Affine3A {
+        &self.to_object
+    }
+
+    /// World-space bounds.
+    #[inline]
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    #[inline]
+    fn object_ray(&self, ray: &Ray) -> Ray {
+        Ray::new(
+            self.to_object.transform_point3(ray.origin),
+            self.to_object.transform_vector3(ray.dir),
+        )
+    }
+
+    /// Nearest hit in world space.
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        if self.identity {
+            return self.shape.intersect(ray, t_max);
+        }
+        let mut h = self.shape.intersect(&self.object_ray(ray), t_max)?;
+        h.point = ray.at(h.t);
+        h.normal = self
+            .normal_to_world
+            .mul_vec3a(h.normal.into())
+            .normalize()
+            .into();
+        h.shading_normal = self
+            .normal_to_world
+            .mul_vec3a(h.shading_normal.into())
+            .normalize()
+            .into();
+        // The world point is recomputed from t: its error is that of t times |dir|,
+        // bounded by the object-space error stretched by the transform, plus rounding.
+        h.error = h.error * self.max_scale
+            + (ray.origin.abs().max_element() + (ray.dir * h.t).abs().max_element())
+                * 4.0
+                * f32::EPSILON;
+        Some(h)
+    }
+
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        if self.identity {
+            return self.shape.occluded(ray, t_max);
+        }
+        self.shape.occluded(&self.object_ray(ray), t_max)
+    }
+
+    /// Spans in world space (parameters are shared; normals are carried to world space).
+    pub fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
+        if self.identity {
+            return self.shape.spans(ray, out);
+        }
+        let start = out.len();
+        self.shape.spans(&self.object_ray(ray), out);
+        for s in &mut out[start..] {
+            for b in [&mut s.enter, &mut s.exit] {
+                if b.t.is_finite() {
+                    b.normal =
+                        Vec3::from(self.normal_to_world.mul_vec3a(b.normal.into())).normalize();
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,15 @@
+//! irradia-geometry: every shape of the lecture's "Computing Intersections" slides, with
+//! exact intersection, normals, bounds and the entry/exit spans that CSG combines, plus
+//! instancing (affine transforms) and the scene-level acceleration structure.
+//!
+//! Shapes never know about materials: a hit reports which shape, which primitive inside
+//! it and which CSG leaf, and the scene maps those to materials.
+
+pub mod accel;
+pub mod instance;
+pub mod shape;
+pub mod shapes;
+
+pub use accel::{Accel, SceneHit};
+pub use instance::Instance;
+pub use shape::{Boundary, Hit, Shape, Span};

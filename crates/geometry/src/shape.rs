@@ -1,0 +1,120 @@
+//! The `Shape` interface: intersection, bounds, and spans for CSG.
+
+use glam::{Vec2, Vec3};
+use irradia_core::{Aabb, Ray};
+
+/// A ray-surface intersection, in the coordinate frame of the ray that was passed in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Ray parameter (in units of `ray.dir`, which need not be unit length).
+    pub t: f32,
+    /// The hit point.
+    pub point: Vec3,
+    /// Unit geometric normal. For closed shapes it points out of the solid; for open
+    /// surfaces (polygons, patches) it is the surface's own orientation. It is never
+    /// flipped towards the ray: integrators decide which side they are on.
+    pub normal: Vec3,
+    /// Unit shading normal (interpolated vertex normals on meshes); equals `normal`
+    /// for analytic shapes.
+    pub shading_normal: Vec3,
+    /// Surface parameterisation, for textures.
+    pub uv: Vec2,
+    /// Primitive index inside the shape (triangle of a mesh, patch of a Bézier surface).
+    pub prim: u32,
+    /// Which CSG leaf was hit (depth-first numbering); 0 for shapes that are not CSG.
+    pub leaf: u32,
+    /// An absolute bound on the error of `point`; secondary rays are pushed off the
+    /// surface by at least this much (see `irradia_core::offset_ray_origin`).
+    pub error: f32,
+}
+
+impl Hit {
+    /// A hit with the shading normal equal to the geometric one and no error.
+    pub fn new(t: f32, point: Vec3, normal: Vec3, uv: Vec2) -> Self {
+        Self {
+            t,
+            point,
+            normal,
+            shading_normal: normal,
+            uv,
+            prim: 0,
+            leaf: 0,
+            error: 0.0,
+        }
+    }
+}
+
+/// One end of a span: where a ray enters or leaves a solid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Boundary {
+    /// Ray parameter; `-inf` / `+inf` when the ray is inside for ever on that side.
+    pub t: f32,
+    /// Unit normal pointing out of the solid at this point (meaningless at infinity).
+    pub normal: Vec3,
+    pub uv: Vec2,
+    pub prim: u32,
+    pub leaf: u32,
+}
+
+impl Boundary {
+    pub fn new(t: f32, normal: Vec3, uv: Vec2) -> Self {
+        Self {
+            t,
+            normal,
+            uv,
+            prim: 0,
+            leaf: 0,
+        }
+    }
+    pub const NEG_INFINITY: Boundary = Boundary {
+        t: f32::NEG_INFINITY,
+        normal: Vec3::ZERO,
+        uv: Vec2::ZERO,
+        prim: 0,
+        leaf: 0,
+    };
+    pub const INFINITY: Boundary = Boundary {
+        t: f32::INFINITY,
+        normal: Vec3::ZERO,
+        uv: Vec2::ZERO,
+        prim: 0,
+        leaf: 0,
+    };
+}
+
+/// A parameter interval `[enter.t, exit.t]` in which the ray is inside a solid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Span {
+    pub enter: Boundary,
+    pub exit: Boundary,
+}
+
+/// A surface or solid that rays can hit.
+///
+/// Rays passed in may have non-unit directions; `t` is in units of `ray.dir`.
+/// Only hits with `0 < t < t_max` count.
+pub trait Shape: Send + Sync + std::fmt::Debug {
+    /// A short name for statistics and error messages ("sphere", "quadric", ...).
+    fn kind(&self) -> &'static str;
+
+    /// Object-space bounds. Unbounded shapes (a plane, an unclipped cylinder) return
+    /// a box with infinite coordinates.
+    fn bounds(&self) -> Aabb;
+
+    /// The nearest hit with `0 < t < t_max`.
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit>;
+
+    /// Whether any hit with `0 < t < t_max` exists (shadow rays). Shapes may override
+    /// this with something cheaper than finding the nearest hit.
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.intersect(ray, t_max).is_some()
+    }
+
+    /// True for shapes that bound a solid, and so can take part in CSG.
+    fn is_solid(&self) -> bool;
+
+    /// Appends, in increasing `t` over the whole line (negative `t` too), the spans in
+    /// which the ray is inside the solid (Roth 1982, "Ray casting for modeling solids").
+    /// Shapes that are not solid append nothing.
+    fn spans(&self, ray: &Ray, out: &mut Vec<Span>);
+}

@@ -1,0 +1,14 @@
+//! irradia-scene: the validated, in-memory scene every integrator renders, the scene
+//! file formats (TOML and JSON, one schema) that produce it, and the built-in scenes.
+//!
+//! Integrators never parse files; they receive a [`Scene`].
+
+pub mod camera;
+pub mod light;
+pub mod material;
+pub mod scene;
+
+pub use camera::{Camera, FovAxis, Projection};
+pub use light::Light;
+pub use material::{Material, ShadingModel, Texture};
+pub use scene::{Integrator, Object, RenderSettings, Scene};

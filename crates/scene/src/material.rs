@@ -1,0 +1,119 @@
+//! Materials: the lecture's Phong model with mirror reflection and transmission, the
+//! POV-Ray finish variant of it, emission, and textures.
+//!
+//! Conventions (documented in docs/scene-format.md): a point light of intensity `I`
+//! at distance `r` gives irradiance `I / r²`; the Phong diffuse term is
+//! `diffuse * colour * I * cos θ / r²` (no 1/π), the specular term is
+//! `specular * I * (R·V)^shininess / r²`, the ambient term `ambient * colour * ambient_light`.
+
+use glam::Vec2;
+use irradia_core::{Image, Rgb};
+use std::sync::Arc;
+
+/// How the local (direct) part of a surface is shaded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ShadingModel {
+    /// The lecture's Phong model.
+    #[default]
+    Phong,
+    /// POV-Ray 3.7's `finish`: as Phong, but the local terms of a surface whose pigment
+    /// filters light are scaled by `1 - transmission`, and highlights are not.
+    PovRay,
+}
+
+/// A colour that may vary over the surface.
+#[derive(Clone, Debug)]
+pub enum Texture {
+    Solid(Rgb),
+    /// Alternating colours on a 3D grid of cubes of side `scale` (in world space).
+    Checker {
+        a: Rgb,
+        b: Rgb,
+        scale: f32,
+    },
+    /// An image looked up by the surface's (u, v), repeated; `scale` repeats per unit uv.
+    Image {
+        image: Arc<Image>,
+        scale: Vec2,
+    },
+}
+
+impl Texture {
+    /// The colour at a world point `p` with surface coordinates `uv`.
+    pub fn eval(&self, p: glam::Vec3, uv: Vec2) -> Rgb {
+        match self {
+            Texture::Solid(c) => *c,
+            Texture::Checker { a, b, scale } => {
+                let q = p / *scale;
+                // A tiny bias keeps points that lie exactly on a cell face (a floor at
+                // y = 0) on one side, as POV-Ray does.
+                let s = (q.x + 1e-4).floor() as i64
+                    + (q.y + 1e-4).floor() as i64
+                    + (q.z + 1e-4).floor() as i64;
+                if s.rem_euclid(2) == 0 {
+                    *a
+                } else {
+                    *b
+                }
+            }
+            Texture::Image { image, scale } => {
+                let st = uv * *scale;
+                let (w, h) = (image.width(), image.height());
+                let x = ((st.x - st.x.floor()) * w as f32) as u32;
+                let y = ((1.0 - (st.y - st.y.floor())) * h as f32) as u32;
+                image.get(x.min(w - 1), y.min(h - 1))
+            }
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Material {
+    pub name: String,
+    /// Base colour (POV-Ray's pigment).
+    pub color: Texture,
+    /// Ambient coefficient k_a, times the scene's ambient light.
+    pub ambient: f32,
+    /// Diffuse coefficient k_d.
+    pub diffuse: f32,
+    /// Phong specular coefficient k_s.
+    pub specular: f32,
+    /// Phong exponent n.
+    pub shininess: f32,
+    /// Mirror reflectance k_r (the constant reflectance, or the weight of the Fresnel
+    /// term when `fresnel` is set).
+    pub reflection: Rgb,
+    /// Transmitted fraction k_t (POV-Ray's filter): light passes through filtered by
+    /// `filter_color`.
+    pub transmission: f32,
+    /// Colour the transmitted light is filtered by; `None` means the base colour.
+    pub filter_color: Option<Rgb>,
+    /// Index of refraction of the medium inside the surface.
+    pub ior: f32,
+    /// Use Fresnel's equations for reflection/transmission of dielectrics instead of the
+    /// constant `reflection` (POV-Ray's default is constant).
+    pub fresnel: bool,
+    /// Emitted radiance.
+    pub emission: Rgb,
+    pub model: ShadingModel,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            name: "default".into(),
+            color: Texture::Solid(Rgb::splat(0.8)),
+            ambient: 0.1,
+            diffuse: 0.8,
+            specular: 0.0,
+            shininess: 20.0,
+            reflection: Rgb::BLACK,
+            transmission: 0.0,
+            filter_color: None,
+            ior: 1.0,
+            fresnel: false,
+            emission: Rgb::BLACK,
+            model: ShadingModel::Phong,
+        }
+    }
+}
