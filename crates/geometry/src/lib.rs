@@ -12,4 +12,4 @@ pub mod shapes;
 
 pub use accel::{Accel, SceneHit};
 pub use instance::Instance;
-pub use shape::{Boundary, Hit, Shape, Span};
+pub use shape::{Boundary, Facets, Hit, Shape, Span};

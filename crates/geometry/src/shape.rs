@@ -89,6 +89,18 @@ pub struct Span {
     pub exit: Boundary,
 }
 
+/// A surface approximated by planar polygons, in object space: for radiosity meshing
+/// and for the rasterizer. Faces wind counter-clockwise seen from the side their
+/// normal points to (out of solids).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Facets {
+    pub vertices: Vec<Vec3>,
+    /// Each face is a loop of indices into `vertices` (3 or more, planar).
+    pub faces: Vec<Vec<u32>>,
+    /// Optional per-vertex unit normals for smooth shading (empty when flat).
+    pub normals: Vec<Vec3>,
+}
+
 /// A surface or solid that rays can hit.
 ///
 /// Rays passed in may have non-unit directions; `t` is in units of `ray.dir`.
@@ -117,4 +129,12 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     /// which the ray is inside the solid (Roth 1982, "Ray casting for modeling solids").
     /// Shapes that are not solid append nothing.
     fn spans(&self, ray: &Ray, out: &mut Vec<Span>);
+
+    /// The surface as planar polygons. `detail` sets how finely curved surfaces are cut
+    /// (about `detail` segments around a full turn); flat shapes ignore it. `None` for
+    /// shapes that cannot be faceted (unbounded ones).
+    fn facets(&self, detail: u32) -> Option<Facets> {
+        let _ = detail;
+        None
+    }
 }
