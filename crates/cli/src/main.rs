@@ -1,1 +1,41 @@
-fn main() {}
+//! `irradia`: the command-line front end. One subcommand per job; each lives in its own
+//! file under `commands/`.
+//!
+//! Exit codes: 0 success, 1 a failure while working (I/O, internal), 2 bad input (a
+//! scene file, an option, a wall file): the message names the file, line and field.
+
+mod commands;
+mod error;
+
+use clap::{Parser, Subcommand};
+use error::CliError;
+
+#[derive(Parser, Debug)]
+#[command(name = "irradia", version, about = "Irradia: ray tracing, path tracing, radiosity and parallel rendering", long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Render a scene file or a built-in scene to an image (PNG, EXR or PFM).
+    Render(commands::render::RenderArgs),
+    /// Print the ray tree of one pixel (text, JSON or Graphviz dot).
+    TracePixel(commands::trace_pixel::TracePixelArgs),
+    /// List the built-in scenes.
+    Scenes(commands::scenes::ScenesArgs),
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(a) => commands::render::run(a),
+        Command::TracePixel(a) => commands::trace_pixel::run(a),
+        Command::Scenes(a) => commands::scenes::run(a),
+    };
+    if let Err(e) = result {
+        eprintln!("irradia: {e}");
+        std::process::exit(e.exit_code());
+    }
+}

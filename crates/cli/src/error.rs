@@ -1,0 +1,30 @@
+//! The CLI's error: a message and the exit code it maps to.
+
+use std::fmt;
+
+#[derive(Debug)]
+pub enum CliError {
+    /// Bad input from the user (scene file, option, wall file): exit code 2.
+    Input(String),
+    /// A failure while working (I/O, out of memory): exit code 1.
+    Failure(String),
+}
+
+impl CliError {
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            CliError::Input(_) => 2,
+            CliError::Failure(_) => 1,
+        }
+    }
+}
+
+impl fmt::Display for CliError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            CliError::Input(m) | CliError::Failure(m) => f.write_str(m),
+        }
+    }
+}
+
+impl std::error::Error for CliError {}
