@@ -137,4 +137,18 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         let _ = detail;
         None
     }
+
+    /// Surface area in object space, for shapes that can be sampled as emitters
+    /// (the path tracer's next-event estimation and instant radiosity).
+    fn area(&self) -> Option<f32> {
+        None
+    }
+
+    /// A point uniformly distributed by area on the surface (object space) and its unit
+    /// normal (outward), from `u` in the unit square. `None` when unsupported; such
+    /// emitters are then found only by rays that hit them.
+    fn sample_surface(&self, u: glam::Vec2) -> Option<(Vec3, Vec3)> {
+        let _ = u;
+        None
+    }
 }

@@ -88,6 +88,15 @@ impl Shape for Sphere {
         true
     }
 
+    fn area(&self) -> Option<f32> {
+        Some(4.0 * std::f32::consts::PI * self.radius * self.radius)
+    }
+
+    fn sample_surface(&self, u: Vec2) -> Option<(Vec3, Vec3)> {
+        let n = irradia_core::sampling::uniform_sphere(u);
+        Some((self.center + n * self.radius, n))
+    }
+
     fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
         if let Some((t0, t1)) = self.roots(ray) {
             let (_, n0, uv0) = self.surface(ray, t0);
