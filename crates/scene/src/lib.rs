@@ -3,12 +3,17 @@
 //!
 //! Integrators never parse files; they receive a [`Scene`].
 
+pub mod builtin;
 pub mod camera;
+pub mod error;
+pub mod file;
 pub mod light;
 pub mod material;
 pub mod scene;
 
 pub use camera::{Camera, FovAxis, Projection};
+pub use error::{ErrorKind, SceneError};
+pub use file::{load_file, load_str, Format};
 pub use light::Light;
 pub use material::{Material, ShadingModel, Texture};
 pub use scene::{Integrator, Object, RenderSettings, Scene};

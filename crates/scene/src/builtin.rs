@@ -1,0 +1,41 @@
+//! The built-in scenes: TOML files in `crates/scene/scenes/`, embedded in the binary,
+//! so every built-in is also an example of the scene format.
+
+use crate::error::SceneError;
+use crate::file::{load_str, Format};
+use crate::scene::Scene;
+use std::path::PathBuf;
+
+/// (name, one-line description, TOML text).
+const SCENES: &[(&str, &str, &str)] = &[(
+    "default",
+    "a showcase: mirror and glass, CSG, quadrics, a teapot, an implicit surface, soft shadows",
+    include_str!("../scenes/default.toml"),
+)];
+
+/// The built-in scenes: (name, one-line description).
+pub fn names() -> Vec<(&'static str, &'static str)> {
+    SCENES.iter().map(|(n, d, _)| (*n, *d)).collect()
+}
+
+/// The TOML text of a built-in scene (to print or copy as a starting point).
+pub fn source(name: &str) -> Option<&'static str> {
+    SCENES.iter().find(|s| s.0 == name).map(|s| s.2)
+}
+
+/// Loads a built-in scene by name; an unknown name is an error listing the valid ones.
+pub fn load(name: &str) -> Result<Scene, SceneError> {
+    let Some(text) = source(name) else {
+        let valid: Vec<&str> = SCENES.iter().map(|s| s.0).collect();
+        return Err(SceneError::input(
+            "",
+            crate::file::reader::unknown_name_message("built-in scene", name, &valid),
+        ));
+    };
+    load_str(text, Format::Toml, &origin(name))
+}
+
+/// The name a built-in scene goes by in messages: `builtin:NAME.toml`.
+pub fn origin(name: &str) -> PathBuf {
+    PathBuf::from(format!("builtin:{name}.toml"))
+}

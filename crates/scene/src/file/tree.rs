@@ -1,0 +1,144 @@
+//! The format-neutral document tree both scene formats are parsed into: values with
+//! the byte offset they start at, so every later check can name a line and column.
+//! TOML comes through `toml_edit` (which keeps spans), JSON through
+//! [`super::json_tree`].
+
+use crate::error::SceneError;
+
+/// A value and the byte offset in the source text where it starts.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Node {
+    pub value: Value,
+    pub pos: usize,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Value {
+    Bool(bool),
+    Int(i64),
+    Float(f64),
+    Str(String),
+    Array(Vec<Node>),
+    /// Entries in source order.
+    Table(Vec<Entry>),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Entry {
+    pub key: String,
+    /// Byte offset of the key (unknown-field errors point at it).
+    pub key_pos: usize,
+    pub node: Node,
+}
+
+impl Value {
+    /// The type's name in messages.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            Value::Bool(_) => "a boolean",
+            Value::Int(_) => "an integer",
+            Value::Float(_) => "a number",
+            Value::Str(_) => "a string",
+            Value::Array(_) => "an array",
+            Value::Table(_) => "a table",
+        }
+    }
+}
+
+/// Parses TOML into a [`Node`] tree with positions.
+pub fn parse_toml(text: &str) -> Result<Node, SceneError> {
+    let doc = toml_edit::ImDocument::parse(text).map_err(|e| {
+        let mut err = SceneError::input("", format!("TOML syntax error: {}", e.message().trim()));
+        if let Some(span) = e.span() {
+            let (l, c) = line_col(text, span.start);
+            err = err.at(l, c);
+        }
+        err
+    })?;
+    Ok(toml_table(doc.as_table(), 0))
+}
+
+fn toml_table(table: &toml_edit::Table, fallback: usize) -> Node {
+    let pos = table.span().map(|s| s.start).unwrap_or(fallback);
+    let mut entries = Vec::new();
+    for (key, item) in table.iter() {
+        let key_pos = table
+            .key(key)
+            .and_then(|k| k.span())
+            .map(|s| s.start)
+            .unwrap_or(pos);
+        if let Some(node) = toml_item(item, key_pos) {
+            entries.push(Entry {
+                key: key.to_string(),
+                key_pos,
+                node,
+            });
+        }
+    }
+    Node {
+        value: Value::Table(entries),
+        pos,
+    }
+}
+
+fn toml_item(item: &toml_edit::Item, fallback: usize) -> Option<Node> {
+    Some(match item {
+        toml_edit::Item::None => return None,
+        toml_edit::Item::Value(v) => toml_value(v, fallback),
+        toml_edit::Item::Table(t) => toml_table(t, fallback),
+        toml_edit::Item::ArrayOfTables(a) => {
+            let pos = a.span().map(|s| s.start).unwrap_or(fallback);
+            Node {
+                value: Value::Array(a.iter().map(|t| toml_table(t, pos)).collect()),
+                pos,
+            }
+        }
+    })
+}
+
+fn toml_value(v: &toml_edit::Value, fallback: usize) -> Node {
+    use toml_edit::Value as V;
+    let pos = v.span().map(|s| s.start).unwrap_or(fallback);
+    let value = match v {
+        V::String(s) => Value::Str(s.value().clone()),
+        V::Integer(i) => Value::Int(*i.value()),
+        V::Float(f) => Value::Float(*f.value()),
+        V::Boolean(b) => Value::Bool(*b.value()),
+        V::Datetime(d) => Value::Str(d.value().to_string()),
+        V::Array(a) => Value::Array(a.iter().map(|x| toml_value(x, pos)).collect()),
+        V::InlineTable(t) => {
+            let mut entries = Vec::new();
+            for (key, val) in t.iter() {
+                let key_pos = t
+                    .key(key)
+                    .and_then(|k| k.span())
+                    .map(|s| s.start)
+                    .unwrap_or(pos);
+                entries.push(Entry {
+                    key: key.to_string(),
+                    key_pos,
+                    node: toml_value(val, key_pos),
+                });
+            }
+            Value::Table(entries)
+        }
+    };
+    Node { value, pos }
+}
+
+/// 1-based line and column (in characters) of byte offset `pos`.
+pub fn line_col(text: &str, pos: usize) -> (usize, usize) {
+    let pos = pos.min(text.len());
+    let before = &text[..floor_char_boundary(text, pos)];
+    let line = before.matches('\n').count() + 1;
+    let line_start = before.rfind('\n').map(|i| i + 1).unwrap_or(0);
+    let col = before[line_start..].chars().count() + 1;
+    (line, col)
+}
+
+fn floor_char_boundary(text: &str, mut pos: usize) -> usize {
+    while !text.is_char_boundary(pos) {
+        pos -= 1;
+    }
+    pos
+}

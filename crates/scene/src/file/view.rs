@@ -1,0 +1,103 @@
+//! The `[camera]`, `[image]` and `[render]` tables.
+
+use super::reader::{Result, Table, Val};
+use crate::camera::{Camera, FovAxis, Projection};
+use crate::scene::{Integrator, RenderSettings};
+use glam::Vec3;
+
+pub fn read_camera(v: Option<Val>, root: &Table) -> Result<Camera> {
+    let Some(v) = v else {
+        return Err(root.err("missing required table `camera`"));
+    };
+    let t = v.table()?;
+    let kind = t.get("type").map_or(Ok("perspective"), |k| {
+        k.choice(&["perspective", "orthographic"])
+    })?;
+    let eye = t.req("eye")?.vec3()?;
+    let look_v = t.req("look_at")?;
+    let look_at = look_v.vec3()?;
+    let up_v = t.get("up");
+    let up = up_v.as_ref().map_or(Ok(Vec3::Y), |u| u.direction())?;
+    let forward = look_at - eye;
+    if forward.length_squared() == 0.0 {
+        return Err(look_v.err("look_at must differ from eye"));
+    }
+    if forward.normalize().cross(up.normalize()).length() < 1e-4 {
+        let at = up_v.unwrap_or(look_v);
+        return Err(at.err("up must not be parallel to the viewing direction"));
+    }
+    let projection = if kind == "perspective" {
+        let fov = t.get("fov").map_or(Ok(60.0), |f| {
+            let x = f.f32()?;
+            if !(x > 0.0 && x < 180.0) {
+                return Err(f.err(format!(
+                    "field of view must be between 0 and 180 degrees, exclusive (got {x})"
+                )));
+            }
+            Ok(x)
+        })?;
+        let axis = match t.get("fov_axis").map_or(Ok("horizontal"), |a| {
+            a.choice(&["horizontal", "vertical", "smaller"])
+        })? {
+            "vertical" => FovAxis::Vertical,
+            "smaller" => FovAxis::Smaller,
+            _ => FovAxis::Horizontal,
+        };
+        Projection::Perspective {
+            fov_degrees: fov,
+            axis,
+        }
+    } else {
+        Projection::Orthographic {
+            height: t.req("height")?.positive()?,
+        }
+    };
+    t.finish()?;
+    Ok(Camera {
+        eye,
+        look_at,
+        up,
+        projection,
+    })
+}
+
+/// `[image]` (size) and `[render]` (integrator settings) into one `RenderSettings`.
+pub fn read_settings(image: Option<Val>, render: Option<Val>) -> Result<RenderSettings> {
+    let mut s = RenderSettings::default();
+    if let Some(v) = image {
+        let t = v.table()?;
+        let w = t.get("width");
+        let h = t.get("height");
+        if let Some(w) = &w {
+            s.width = w.count()?;
+        }
+        if let Some(h) = &h {
+            s.height = h.count()?;
+        }
+        t.finish()?;
+        // Checked before anything is allocated for the image.
+        if let Err(e) = irradia_core::image::check_size(s.width, s.height, 12) {
+            let at = w.or(h).unwrap_or(v);
+            return Err(at.err(e.to_string()));
+        }
+    }
+    if let Some(v) = render {
+        let t = v.table()?;
+        s.max_depth = t.u32_or("max_depth", s.max_depth)?;
+        s.min_weight = t.non_negative_or("min_weight", s.min_weight)?;
+        s.spp = t.count_or("spp", s.spp)?;
+        if let Some(a) = t.get("adaptive_threshold") {
+            s.adaptive_threshold = Some(a.positive()?);
+        }
+        s.background = t.rgb_or("background", s.background)?;
+        s.ambient_light = t.rgb_or("ambient_light", s.ambient_light)?;
+        if let Some(i) = t.get("integrator") {
+            s.integrator = match i.choice(&["whitted", "path"])? {
+                "path" => Integrator::Path,
+                _ => Integrator::Whitted,
+            };
+        }
+        t.finish()?;
+    }
+    Ok(s)
+}
