@@ -6,10 +6,14 @@
 //! it and which CSG leaf, and the scene maps those to materials.
 
 pub mod accel;
+pub mod bvh;
+pub mod mesh;
+pub mod triangle;
 pub mod instance;
 pub mod shape;
 pub mod shapes;
 
 pub use accel::{Accel, SceneHit};
 pub use instance::Instance;
+pub use mesh::{MeshError, TriangleMesh};
 pub use shape::{Boundary, Facets, Hit, Shape, Span};

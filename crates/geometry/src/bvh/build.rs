@@ -1,0 +1,470 @@
+//! Building the wide BVH: top-down binned SAH, in parallel, straight into 4-wide nodes.
+//!
+//! Each node starts as one set of primitives; the set with the largest surface area is
+//! split in two by the surface area heuristic until the node has four children or no
+//! set is worth splitting ("collapsing" a binary SAH tree into wide nodes while it is
+//! built, as Embree's BVH4 builder does). Splits are found by binning centroids into
+//! 32 buckets per axis (Wald, "On fast Construction of SAH-based Bounding Volume
+//! Hierarchies", RT 2007). Large sets are binned in parallel and sibling subtrees are
+//! built on different threads (rayon), writing into one node array through an atomic
+//! allocator.
+
+use super::node::{ChildRef, WideNode, WIDTH};
+use glam::Vec3A;
+use irradia_core::Aabb;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+const BINS: usize = 32;
+/// Leaves never hold more primitives than this.
+pub const MAX_LEAF: usize = 8;
+/// Relative costs of visiting a node and of intersecting one primitive.
+const TRAVERSAL_COST: f32 = 1.0;
+const INTERSECT_COST: f32 = 1.0;
+/// Sets larger than this are binned with several threads.
+const PARALLEL_BINNING: usize = 1 << 16;
+/// Subtrees larger than this are built as separate tasks.
+const PARALLEL_SUBTREE: usize = 1 << 12;
+/// Beyond this binary depth splits are made at the median, which bounds the depth
+/// (and so the traversal stack) whatever the SAH would prefer.
+const MAX_SAH_DEPTH: u32 = 40;
+
+/// A primitive during the build: its box and its index in the caller's list.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PrimRef {
+    lo: Vec3A,
+    hi: Vec3A,
+    pub index: u32,
+}
+
+impl PrimRef {
+    #[inline]
+    fn centroid2(&self) -> Vec3A {
+        self.lo + self.hi
+    }
+}
+
+/// Bounds of a set: of its boxes, and of its centroids (doubled, as `lo + hi`).
+#[derive(Clone, Copy, Debug)]
+struct SetInfo {
+    lo: Vec3A,
+    hi: Vec3A,
+    clo: Vec3A,
+    chi: Vec3A,
+}
+
+impl SetInfo {
+    const EMPTY: SetInfo = SetInfo {
+        lo: Vec3A::splat(f32::INFINITY),
+        hi: Vec3A::splat(f32::NEG_INFINITY),
+        clo: Vec3A::splat(f32::INFINITY),
+        chi: Vec3A::splat(f32::NEG_INFINITY),
+    };
+    #[inline]
+    fn add(&mut self, p: &PrimRef) {
+        self.lo = self.lo.min(p.lo);
+        self.hi = self.hi.max(p.hi);
+        let c = p.centroid2();
+        self.clo = self.clo.min(c);
+        self.chi = self.chi.max(c);
+    }
+    #[inline]
+    fn merge(&mut self, o: &SetInfo) {
+        self.lo = self.lo.min(o.lo);
+        self.hi = self.hi.max(o.hi);
+        self.clo = self.clo.min(o.clo);
+        self.chi = self.chi.max(o.chi);
+    }
+    fn aabb(&self) -> Aabb {
+        Aabb::new(self.lo.into(), self.hi.into())
+    }
+    fn area(&self) -> f32 {
+        let e = (self.hi - self.lo).max(Vec3A::ZERO);
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+    fn of(prims: &[PrimRef]) -> SetInfo {
+        let mut s = SetInfo::EMPTY;
+        for p in prims {
+            s.add(p);
+        }
+        s
+    }
+}
+
+/// Per-axis bins: how many centroids fall in each and the bounds of their boxes and
+/// centroids.
+#[derive(Clone)]
+struct Bins {
+    count: [[u32; BINS]; 3],
+    info: [[SetInfo; BINS]; 3],
+}
+
+/// Maps doubled centroids to bin numbers along each axis.
+#[derive(Clone, Copy)]
+struct Binner {
+    origin: Vec3A,
+    scale: Vec3A,
+}
+
+impl Binner {
+    fn new(info: &SetInfo) -> Self {
+        let extent = info.chi - info.clo;
+        let scale = Vec3A::select(
+            extent.cmpgt(Vec3A::ZERO),
+            Vec3A::splat(BINS as f32 * 0.999_99) / extent,
+            Vec3A::ZERO,
+        );
+        Self {
+            origin: info.clo,
+            scale,
+        }
+    }
+    #[inline]
+    fn bins(&self, p: &PrimRef) -> [usize; 3] {
+        let b = ((p.centroid2() - self.origin) * self.scale)
+            .max(Vec3A::ZERO)
+            .min(Vec3A::splat((BINS - 1) as f32));
+        [b.x as usize, b.y as usize, b.z as usize]
+    }
+}
+
+impl Bins {
+    fn new() -> Box<Self> {
+        Box::new(Bins {
+            count: [[0; BINS]; 3],
+            info: [[SetInfo::EMPTY; BINS]; 3],
+        })
+    }
+    fn fill(binner: &Binner, prims: &[PrimRef]) -> Box<Self> {
+        if prims.len() >= PARALLEL_BINNING {
+            use rayon::prelude::*;
+            return prims
+                .par_chunks(PARALLEL_BINNING / 4)
+                .map(|c| Bins::fill(binner, c))
+                .reduce_with(|mut a, b| {
+                    a.merge(&b);
+                    a
+                })
+                .unwrap_or_else(Bins::new);
+        }
+        let mut bins = Bins::new();
+        for p in prims {
+            let b = binner.bins(p);
+            for axis in 0..3 {
+                bins.count[axis][b[axis]] += 1;
+                bins.info[axis][b[axis]].add(p);
+            }
+        }
+        bins
+    }
+    fn merge(&mut self, o: &Bins) {
+        for axis in 0..3 {
+            for i in 0..BINS {
+                self.count[axis][i] += o.count[axis][i];
+                self.info[axis][i].merge(&o.info[axis][i]);
+            }
+        }
+    }
+}
+
+/// A chosen split: primitives whose bin along `axis` is below `bin` go left.
+struct Split {
+    axis: usize,
+    bin: usize,
+    /// SAH cost of the split relative to the parent (`C_t + C_i Σ A_c N_c / A`).
+    cost: f32,
+    left: SetInfo,
+    right: SetInfo,
+}
+
+fn best_split(bins: &Bins, parent_area: f32) -> Option<Split> {
+    let mut best: Option<Split> = None;
+    for axis in 0..3 {
+        let mut right_area = [0f32; BINS];
+        let mut acc = SetInfo::EMPTY;
+        let mut n = 0u32;
+        let mut right_count = [0u32; BINS];
+        for i in (1..BINS).rev() {
+            acc.merge(&bins.info[axis][i]);
+            n += bins.count[axis][i];
+            right_area[i] = acc.area();
+            right_count[i] = n;
+        }
+        let mut left = SetInfo::EMPTY;
+        let mut nl = 0u32;
+        for i in 1..BINS {
+            left.merge(&bins.info[axis][i - 1]);
+            nl += bins.count[axis][i - 1];
+            let nr = right_count[i];
+            if nl == 0 || nr == 0 {
+                continue;
+            }
+            let cost = left.area() * nl as f32 + right_area[i] * nr as f32;
+            if best.as_ref().is_none_or(|b| cost < b.cost) {
+                best = Some(Split {
+                    axis,
+                    bin: i,
+                    cost,
+                    left,
+                    right: SetInfo::EMPTY,
+                });
+            }
+        }
+    }
+    let mut s = best?;
+    let mut right = SetInfo::EMPTY;
+    for i in s.bin..BINS {
+        right.merge(&bins.info[s.axis][i]);
+    }
+    s.right = right;
+    s.cost = TRAVERSAL_COST + INTERSECT_COST * s.cost / parent_area.max(f32::MIN_POSITIVE);
+    Some(s)
+}
+
+/// Splits `prims` in two; the left part is moved to the front. Returns the size of the
+/// left part and the two sets' bounds, or `None` when the set should stay a leaf.
+fn split(prims: &mut [PrimRef], info: &SetInfo, depth: u32) -> Option<(usize, SetInfo, SetInfo)> {
+    let n = prims.len();
+    if n <= 1 {
+        return None;
+    }
+    let sah = if depth < MAX_SAH_DEPTH && (info.chi - info.clo).max_element() > 0.0 {
+        let binner = Binner::new(info);
+        let bins = Bins::fill(&binner, prims);
+        best_split(&bins, info.area()).map(|s| (s, binner))
+    } else {
+        None
+    };
+    match sah {
+        Some((s, binner)) => {
+            if n <= MAX_LEAF && s.cost >= INTERSECT_COST * n as f32 {
+                return None;
+            }
+            let mid = partition(prims, |p| binner.bins(p)[s.axis] < s.bin);
+            debug_assert!(mid > 0 && mid < n);
+            Some((mid, s.left, s.right))
+        }
+        None => {
+            if n <= MAX_LEAF && depth < MAX_SAH_DEPTH {
+                return None;
+            }
+            // Centroids coincide (or the tree is too deep): split at the median along
+            // the longest axis of the centroid bounds.
+            let axis = Aabb::new((info.clo).into(), (info.chi).into()).largest_axis();
+            let mid = n / 2;
+            prims.select_nth_unstable_by(mid, |a, b| {
+                a.centroid2()[axis].total_cmp(&b.centroid2()[axis])
+            });
+            Some((mid, SetInfo::of(&prims[..mid]), SetInfo::of(&prims[mid..])))
+        }
+    }
+}
+
+/// In-place partition; returns the number of elements for which `left` holds.
+fn partition(prims: &mut [PrimRef], left: impl Fn(&PrimRef) -> bool) -> usize {
+    let (mut i, mut j) = (0usize, prims.len());
+    loop {
+        while i < j && left(&prims[i]) {
+            i += 1;
+        }
+        while i < j && !left(&prims[j - 1]) {
+            j -= 1;
+        }
+        if i >= j {
+            return i;
+        }
+        prims.swap(i, j - 1);
+        i += 1;
+        j -= 1;
+    }
+}
+
+/// Node storage filled by several threads: each node index is handed out once by an
+/// atomic counter and written once.
+struct Arena {
+    ptr: *mut WideNode,
+    capacity: usize,
+    next: AtomicUsize,
+}
+
+// SAFETY: every index is handed out exactly once (fetch_add), so no two threads write
+// the same slot, and nothing reads the slots until the build has finished.
+unsafe impl Sync for Arena {}
+
+impl Arena {
+    fn alloc(&self) -> usize {
+        let i = self.next.fetch_add(1, Ordering::Relaxed);
+        assert!(i < self.capacity, "BVH node arena overflow");
+        i
+    }
+    fn write(&self, i: usize, node: WideNode) {
+        assert!(i < self.capacity);
+        // SAFETY: `i` is in bounds and was handed out once by `alloc`.
+        unsafe { self.ptr.add(i).write(node) }
+    }
+}
+
+/// A child set while a node is being split.
+struct Part {
+    start: usize,
+    len: usize,
+    info: SetInfo,
+    /// Decided to stay a leaf.
+    leaf: bool,
+}
+
+fn build_node(
+    prims: &mut [PrimRef],
+    offset: usize,
+    info: SetInfo,
+    depth: u32,
+    arena: &Arena,
+) -> ChildRef {
+    let mut parts: Vec<Part> = Vec::with_capacity(WIDTH);
+    parts.push(Part {
+        start: 0,
+        len: prims.len(),
+        info,
+        leaf: prims.len() <= 1,
+    });
+    let mut binary_depth = depth;
+    while parts.len() < WIDTH {
+        // Split the set with the largest surface area that may still be split.
+        let Some(k) = (0..parts.len())
+            .filter(|&k| !parts[k].leaf)
+            .max_by(|&a, &b| parts[a].info.area().total_cmp(&parts[b].info.area()))
+        else {
+            break;
+        };
+        let p = &parts[k];
+        let (start, len) = (p.start, p.len);
+        match split(&mut prims[start..start + len], &p.info, binary_depth) {
+            None => parts[k].leaf = true,
+            Some((mid, l, r)) => {
+                parts[k] = Part {
+                    start,
+                    len: mid,
+                    info: l,
+                    leaf: mid <= 1,
+                };
+                parts.push(Part {
+                    start: start + mid,
+                    len: len - mid,
+                    info: r,
+                    leaf: len - mid <= 1,
+                });
+            }
+        }
+        binary_depth += 1;
+    }
+    parts.sort_by_key(|p| p.start);
+    let leaf_ref = |p: &Part| ChildRef {
+        index: (offset + p.start) as u32,
+        count: p.len as u32,
+    };
+    if parts.len() == 1 && depth > 0 {
+        // Not worth splitting after all: the parent points at the leaf directly.
+        return leaf_ref(&parts[0]);
+    }
+    let index = arena.alloc();
+    let mut node = WideNode::EMPTY;
+    if parts.len() == 1 {
+        // The whole set is one leaf: the root is still a node, with one child.
+        node.set(0, parts[0].info.aabb(), leaf_ref(&parts[0]));
+        arena.write(index, node);
+        return ChildRef {
+            index: index as u32,
+            count: 0,
+        };
+    }
+    // Hand each child its own disjoint slice.
+    let mut refs = [ChildRef::EMPTY; WIDTH];
+    let mut rest = prims;
+    let mut slices: Vec<(&mut [PrimRef], &Part)> = Vec::with_capacity(WIDTH);
+    let mut consumed = 0;
+    for p in &parts {
+        let (s, r) = rest.split_at_mut(p.start + p.len - consumed);
+        consumed = p.start + p.len;
+        slices.push((s, p));
+        rest = r;
+    }
+    let child_depth = binary_depth;
+    let build_child = |(s, p): (&mut [PrimRef], &Part)| -> ChildRef {
+        if p.leaf {
+            leaf_ref(p)
+        } else {
+            build_node(s, offset + p.start, p.info, child_depth, arena)
+        }
+    };
+    if prims_len(&parts) >= PARALLEL_SUBTREE {
+        use rayon::prelude::*;
+        let out: Vec<ChildRef> = slices.into_par_iter().map(build_child).collect();
+        refs[..out.len()].copy_from_slice(&out);
+    } else {
+        for (i, s) in slices.into_iter().enumerate() {
+            refs[i] = build_child(s);
+        }
+    }
+    for (i, p) in parts.iter().enumerate() {
+        node.set(i, p.info.aabb(), refs[i]);
+    }
+    arena.write(index, node);
+    ChildRef {
+        index: index as u32,
+        count: 0,
+    }
+}
+
+fn prims_len(parts: &[Part]) -> usize {
+    parts.iter().map(|p| p.len).sum()
+}
+
+/// Builds the node array over `boxes`. Boxes that are empty or not finite are left
+/// out. Returns the nodes (root first) and the primitive order (slot -> index).
+pub(crate) fn build(boxes: &[Aabb]) -> (Vec<WideNode>, Vec<u32>) {
+    use rayon::prelude::*;
+    let mut prims: Vec<PrimRef> = boxes
+        .par_iter()
+        .enumerate()
+        .filter(|(_, b)| b.is_finite() && !b.is_empty())
+        .map(|(i, b)| PrimRef {
+            lo: b.min.into(),
+            hi: b.max.into(),
+            index: i as u32,
+        })
+        .collect();
+    if prims.is_empty() {
+        return (vec![WideNode::EMPTY], Vec::new());
+    }
+    let info = if prims.len() >= PARALLEL_BINNING {
+        prims
+            .par_chunks(PARALLEL_BINNING / 4)
+            .map(SetInfo::of)
+            .reduce(
+                || SetInfo::EMPTY,
+                |mut a, b| {
+                    a.merge(&b);
+                    a
+                },
+            )
+    } else {
+        SetInfo::of(&prims)
+    };
+    // Every inner node has at least two children and every leaf at least one
+    // primitive, so there are fewer nodes than primitives (plus the root).
+    let capacity = prims.len() + 1;
+    let mut nodes: Vec<WideNode> = Vec::with_capacity(capacity);
+    let arena = Arena {
+        ptr: nodes.as_mut_ptr(),
+        capacity,
+        next: AtomicUsize::new(0),
+    };
+    let root = build_node(&mut prims, 0, info, 0, &arena);
+    debug_assert_eq!(root.index, 0);
+    let used = arena.next.load(Ordering::Acquire);
+    // SAFETY: slots 0..used were each written exactly once by `build_node`, which has
+    // returned, so all of them are initialised.
+    unsafe { nodes.set_len(used) };
+    nodes.shrink_to_fit();
+    let order = prims.par_iter().map(|p| p.index).collect();
+    (nodes, order)
+}

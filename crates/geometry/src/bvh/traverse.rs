@@ -1,0 +1,138 @@
+//! Ordered depth-first traversal of the wide BVH: children whose box the ray enters
+//! are visited nearest first, and a node is skipped when it starts beyond the nearest
+//! hit found so far. Shadow rays use an any-hit traversal that stops at the first hit.
+
+use super::node::{ChildRef, NodeRay, WIDTH};
+use super::Bvh;
+use irradia_core::Ray;
+
+/// Stack depth: at most `WIDTH - 1` entries per level and the builder bounds the depth
+/// (median splits beyond binary depth 40, so below 40 + 32 levels).
+const STACK: usize = 256;
+
+#[derive(Clone, Copy)]
+struct Entry {
+    node: ChildRef,
+    t_near: f32,
+}
+
+impl Bvh {
+    /// Finds the nearest hit with `0 < t < t_max`. `hit(slot, t_max)` intersects the
+    /// primitive in `slot` and returns `Some(t)` for a hit with `t < t_max` (the
+    /// closure records whatever else it needs). Returns the nearest `t` found.
+    #[inline]
+    pub fn closest_hit<F>(&self, ray: &Ray, t_max: f32, mut hit: F) -> Option<f32>
+    where
+        F: FnMut(u32, f32) -> Option<f32>,
+    {
+        let nray = NodeRay::new(ray.origin, ray.dir);
+        let mut t_max = t_max;
+        let mut found = false;
+        let mut stack = [Entry {
+            node: ChildRef::EMPTY,
+            t_near: 0.0,
+        }; STACK];
+        let mut sp = 0usize;
+        let mut current = ChildRef { index: 0, count: 0 };
+        loop {
+            if current.is_leaf() {
+                for slot in current.index..current.index + current.count {
+                    if let Some(t) = hit(slot, t_max) {
+                        if t < t_max {
+                            t_max = t;
+                            found = true;
+                        }
+                    }
+                }
+            } else {
+                let node = &self.nodes[current.index as usize];
+                let (mut mask, t_near) = node.intersect(&nray, t_max);
+                if mask != 0 {
+                    // Collect the entered children, sort them near to far, push all
+                    // but the nearest (farthest pushed first) and descend into it.
+                    let mut hits = [Entry {
+                        node: ChildRef::EMPTY,
+                        t_near: 0.0,
+                    }; WIDTH];
+                    let mut n = 0;
+                    while mask != 0 {
+                        let i = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        let e = Entry {
+                            node: node.child_ref(i),
+                            t_near: t_near[i],
+                        };
+                        // Insertion sort, descending by distance.
+                        let mut j = n;
+                        while j > 0 && hits[j - 1].t_near < e.t_near {
+                            hits[j] = hits[j - 1];
+                            j -= 1;
+                        }
+                        hits[j] = e;
+                        n += 1;
+                    }
+                    for e in &hits[..n - 1] {
+                        stack[sp] = *e;
+                        sp += 1;
+                    }
+                    current = hits[n - 1].node;
+                    continue;
+                }
+            }
+            // Pop the next node that may still hold a nearer hit.
+            loop {
+                if sp == 0 {
+                    return found.then_some(t_max);
+                }
+                sp -= 1;
+                let e = stack[sp];
+                if e.t_near <= t_max {
+                    current = e.node;
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Whether any primitive is hit with `0 < t < t_max`: `hit(slot, t_max)` says
+    /// whether the primitive in `slot` is. Stops at the first hit, in no set order.
+    #[inline]
+    pub fn any_hit<F>(&self, ray: &Ray, t_max: f32, mut hit: F) -> bool
+    where
+        F: FnMut(u32, f32) -> bool,
+    {
+        let nray = NodeRay::new(ray.origin, ray.dir);
+        let mut stack = [ChildRef::EMPTY; STACK];
+        let mut sp = 0usize;
+        let mut current = ChildRef { index: 0, count: 0 };
+        loop {
+            if current.is_leaf() {
+                for slot in current.index..current.index + current.count {
+                    if hit(slot, t_max) {
+                        return true;
+                    }
+                }
+            } else {
+                let node = &self.nodes[current.index as usize];
+                let (mut mask, _) = node.intersect(&nray, t_max);
+                if mask != 0 {
+                    let first = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    while mask != 0 {
+                        let i = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        stack[sp] = node.child_ref(i);
+                        sp += 1;
+                    }
+                    current = node.child_ref(first);
+                    continue;
+                }
+            }
+            if sp == 0 {
+                return false;
+            }
+            sp -= 1;
+            current = stack[sp];
+        }
+    }
+}

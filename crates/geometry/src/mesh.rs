@@ -1,0 +1,287 @@
+//! Triangle meshes: vertex positions, index triples, optional per-vertex normals and
+//! texture coordinates, hit through their own BVH (the second level of the scene's
+//! two-level hierarchy) with the watertight triangle test.
+
+use crate::bvh::Bvh;
+use crate::shape::{Facets, Hit, Shape, Span};
+use crate::triangle::{TriangleHit, TriangleRay};
+use glam::{Vec2, Vec3};
+use irradia_core::{Aabb, Ray};
+use rayon::prelude::*;
+
+/// Why a mesh was refused. Indices and counts are 0-based.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MeshError {
+    #[error("the mesh has no triangles")]
+    Empty,
+    #[error("triangle {triangle}: vertex index {index} is out of range (the mesh has {vertices} vertices)")]
+    IndexOutOfRange {
+        triangle: usize,
+        index: u32,
+        vertices: usize,
+    },
+    #[error("vertex {vertex}: position {value} is not finite")]
+    NonFinitePosition { vertex: usize, value: String },
+    #[error("vertex {vertex}: {what} {value} is not finite")]
+    NonFiniteAttribute {
+        vertex: usize,
+        what: &'static str,
+        value: String,
+    },
+    #[error("{what}: {got} given for {expected} vertices")]
+    CountMismatch {
+        what: &'static str,
+        got: usize,
+        expected: usize,
+    },
+    #[error("{vertices} vertices is more than 32-bit indices can address")]
+    TooManyVertices { vertices: usize },
+}
+
+/// A triangle mesh. Triangles wind counter-clockwise seen from the side their normal
+/// points to. Degenerate (zero-area) triangles are kept in the index list but never hit.
+#[derive(Clone, Debug)]
+pub struct TriangleMesh {
+    positions: Vec<Vec3>,
+    indices: Vec<[u32; 3]>,
+    /// Unit vertex normals: given, or area-weighted averages of the face normals.
+    normals: Vec<Vec3>,
+    /// Whether `normals` came from the caller (then geometric normals are turned to
+    /// agree with them, as pbrt does) or were computed from the winding.
+    normals_given: bool,
+    uvs: Option<Vec<Vec2>>,
+    bvh: Bvh,
+    /// Triangle corners in BVH slot order, so a leaf reads one contiguous block.
+    packed: Vec<[Vec3; 3]>,
+    bounds: Aabb,
+}
+
+impl TriangleMesh {
+    /// Checks and builds a mesh: every index in range, every position (and normal and
+    /// uv, when given) finite, one normal and one uv per vertex.
+    pub fn new(
+        positions: Vec<Vec3>,
+        indices: Vec<[u32; 3]>,
+        normals: Option<Vec<Vec3>>,
+        uvs: Option<Vec<Vec2>>,
+    ) -> Result<TriangleMesh, MeshError> {
+        let nv = positions.len();
+        if indices.is_empty() {
+            return Err(MeshError::Empty);
+        }
+        if nv > u32::MAX as usize {
+            return Err(MeshError::TooManyVertices { vertices: nv });
+        }
+        if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFinitePosition {
+                vertex: v,
+                value: format!("{:?}", positions[v].to_array()),
+            });
+        }
+        for (t, tri) in indices.iter().enumerate() {
+            if let Some(&i) = tri.iter().find(|&&i| i as usize >= nv) {
+                return Err(MeshError::IndexOutOfRange {
+                    triangle: t,
+                    index: i,
+                    vertices: nv,
+                });
+            }
+        }
+        if let Some(n) = &normals {
+            if n.len() != nv {
+                return Err(MeshError::CountMismatch {
+                    what: "normals",
+                    got: n.len(),
+                    expected: nv,
+                });
+            }
+            if let Some(v) = n.iter().position(|p| !p.is_finite()) {
+                return Err(MeshError::NonFiniteAttribute {
+                    vertex: v,
+                    what: "normal",
+                    value: format!("{:?}", n[v].to_array()),
+                });
+            }
+        }
+        if let Some(uv) = &uvs {
+            if uv.len() != nv {
+                return Err(MeshError::CountMismatch {
+                    what: "uvs",
+                    got: uv.len(),
+                    expected: nv,
+                });
+            }
+            if let Some(v) = uv.iter().position(|p| !p.is_finite()) {
+                return Err(MeshError::NonFiniteAttribute {
+                    vertex: v,
+                    what: "uv",
+                    value: format!("{:?}", uv[v].to_array()),
+                });
+            }
+        }
+        let normals_given = normals.is_some();
+        let normals = match normals {
+            Some(n) => n.into_iter().map(|n| n.normalize_or_zero()).collect(),
+            None => area_weighted_normals(&positions, &indices),
+        };
+        let corners = |t: &[u32; 3]| {
+            [
+                positions[t[0] as usize],
+                positions[t[1] as usize],
+                positions[t[2] as usize],
+            ]
+        };
+        let boxes: Vec<Aabb> = indices
+            .par_iter()
+            .map(|t| {
+                let [a, b, c] = corners(t);
+                if (b - a).cross(c - a) == Vec3::ZERO {
+                    // Degenerate: left out of the hierarchy, so never hit.
+                    Aabb::EMPTY
+                } else {
+                    Aabb::new(a.min(b).min(c), a.max(b).max(c))
+                }
+            })
+            .collect();
+        let bvh = Bvh::build(&boxes);
+        drop(boxes);
+        let packed = bvh
+            .order()
+            .par_iter()
+            .map(|&t| corners(&indices[t as usize]))
+            .collect();
+        let bounds = bvh.bounds();
+        Ok(TriangleMesh {
+            positions,
+            indices,
+            normals,
+            normals_given,
+            uvs,
+            bvh,
+            packed,
+            bounds,
+        })
+    }
+
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+    pub fn indices(&self) -> &[[u32; 3]] {
+        &self.indices
+    }
+    /// Unit vertex normals (zero where a vertex touches only degenerate triangles).
+    pub fn normals(&self) -> &[Vec3] {
+        &self.normals
+    }
+    pub fn uvs(&self) -> Option<&[Vec2]> {
+        self.uvs.as_deref()
+    }
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
+    }
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// The nearest triangle hit as (triangle index, hit), without building a `Hit`:
+    /// the fast path for benchmarks and ray casting that needs only `t`.
+    #[inline]
+    pub fn intersect_triangle(&self, ray: &Ray, t_max: f32) -> Option<(u32, TriangleHit)> {
+        let tray = TriangleRay::new(ray);
+        let mut best: Option<(u32, TriangleHit)> = None;
+        self.bvh.closest_hit(ray, t_max, |slot, t_max| {
+            // SAFETY-free fast path: slots come from the hierarchy, always in range.
+            let [a, b, c] = self.packed[slot as usize];
+            let h = tray.intersect(a, b, c, t_max)?;
+            best = Some((slot, h));
+            Some(h.t)
+        })?;
+        best.map(|(slot, h)| (self.bvh.order()[slot as usize], h))
+    }
+
+    fn hit_record(&self, tri: u32, h: &TriangleHit) -> Hit {
+        let [i0, i1, i2] = self.indices[tri as usize].map(|i| i as usize);
+        let (p0, p1, p2) = (self.positions[i0], self.positions[i1], self.positions[i2]);
+        let (point, error) = h.point_and_error(p0, p1, p2);
+        let mut normal = (p1 - p0).cross(p2 - p0).normalize();
+        let ns = (h.b0 * self.normals[i0] + h.b1 * self.normals[i1] + h.b2 * self.normals[i2])
+            .normalize_or_zero();
+        let shading_normal = if ns == Vec3::ZERO {
+            normal
+        } else {
+            if self.normals_given && normal.dot(ns) < 0.0 {
+                normal = -normal;
+            }
+            if normal.dot(ns) < 0.0 {
+                -ns
+            } else {
+                ns
+            }
+        };
+        let uv = match &self.uvs {
+            Some(uv) => h.b0 * uv[i0] + h.b1 * uv[i1] + h.b2 * uv[i2],
+            None => Vec2::new(h.b1, h.b2),
+        };
+        Hit {
+            t: h.t,
+            point,
+            normal,
+            shading_normal,
+            uv,
+            prim: tri,
+            leaf: 0,
+            error,
+        }
+    }
+}
+
+/// Vertex normals as area-weighted averages of the faces around each vertex (the
+/// unnormalised cross product of a face is twice its area times its unit normal).
+pub fn area_weighted_normals(positions: &[Vec3], indices: &[[u32; 3]]) -> Vec<Vec3> {
+    let mut acc = vec![Vec3::ZERO; positions.len()];
+    for t in indices {
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let n = (b - a).cross(c - a);
+        for &i in t {
+            acc[i as usize] += n;
+        }
+    }
+    acc.into_par_iter().map(|n| n.normalize_or_zero()).collect()
+}
+
+impl Shape for TriangleMesh {
+    fn kind(&self) -> &'static str {
+        "mesh"
+    }
+
+    fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let (tri, h) = self.intersect_triangle(ray, t_max)?;
+        Some(self.hit_record(tri, &h))
+    }
+
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let tray = TriangleRay::new(ray);
+        self.bvh.any_hit(ray, t_max, |slot, t_max| {
+            let [a, b, c] = self.packed[slot as usize];
+            tray.intersect(a, b, c, t_max).is_some()
+        })
+    }
+
+    fn is_solid(&self) -> bool {
+        false
+    }
+
+    fn spans(&self, _ray: &Ray, _out: &mut Vec<Span>) {}
+
+    fn facets(&self, _detail: u32) -> Option<Facets> {
+        Some(Facets {
+            vertices: self.positions.clone(),
+            faces: self.indices.iter().map(|t| t.to_vec()).collect(),
+            normals: self.normals.clone(),
+        })
+    }
+}
