@@ -10,6 +10,7 @@ pub mod bvh;
 pub mod mesh;
 pub mod triangle;
 pub mod instance;
+pub mod roots;
 pub mod shape;
 pub mod shapes;
 
