@@ -1,0 +1,39 @@
+//! What the tile renderer asks of an integrator: the radiance of one camera sample,
+//! plus the first hit's data for the AOVs. The Whitted tracer implements it; the path
+//! tracer (crates/render/src/path/) plugs in the same way, chosen in `crate::render`.
+
+use crate::stats::Stats;
+use glam::Vec3;
+use irradia_core::{Ray, Rgb, Rng};
+
+/// Data about a camera sample's first hit, for arbitrary output variables.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AovSample {
+    /// Distance along the camera ray to the first hit; infinite when nothing is hit.
+    pub depth: f32,
+    /// World-space shading normal at the first hit (zero when nothing is hit).
+    pub normal: Vec3,
+    /// Index of the object hit first; -1 for the background.
+    pub object: i32,
+    /// Deepest level of the sample's ray tree (1 = the camera ray only).
+    pub ray_depth: u32,
+}
+
+impl Default for AovSample {
+    fn default() -> Self {
+        Self {
+            depth: f32::INFINITY,
+            normal: Vec3::ZERO,
+            object: -1,
+            ray_depth: 0,
+        }
+    }
+}
+
+/// A light-transport algorithm the tile renderer can drive.
+pub trait Integrator: Sync {
+    /// Radiance arriving along the camera ray `ray` (one sample of one pixel). `rng` is
+    /// the sample's own stream (seeded from pixel and sample index), `stats` the
+    /// calling tile's counters; `aov` receives the first hit.
+    fn sample(&self, ray: &Ray, rng: &mut Rng, stats: &mut Stats, aov: &mut AovSample) -> Rgb;
+}

@@ -1,0 +1,162 @@
+//! The path integrator: a Monte Carlo estimator of the rendering equation
+//! (Kajiya 1986, "The Rendering Equation"), with next-event estimation of direct light
+//! and BSDF sampling combined by multiple importance sampling with the power heuristic
+//! (Veach and Guibas 1995), and Russian roulette (Arvo and Kirk 1990).
+//!
+//! Path depth follows Mitsuba's convention: a path of `k` segments from the camera has
+//! depth `k`; `max_depth = 1` shows only emitters seen directly, `2` adds direct light.
+
+use super::bsdf::Bsdf;
+use super::lights::LightSampler;
+use super::material_map::bsdf_for;
+use glam::Vec3;
+use irradia_core::{offset_ray_origin, Frame, Ray, Rgb, Rng};
+use irradia_scene::Scene;
+
+/// Parameters of the estimator.
+#[derive(Clone, Copy, Debug)]
+pub struct PathParams {
+    /// Longest path, in segments (Mitsuba's `max_depth`).
+    pub max_depth: u32,
+    /// Depth from which Russian roulette may end paths (Mitsuba's `rr_depth`).
+    pub rr_depth: u32,
+}
+
+impl Default for PathParams {
+    fn default() -> Self {
+        Self { max_depth: 8, rr_depth: 5 }
+    }
+}
+
+/// Power heuristic with β = 2.
+#[inline]
+fn mis(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 {
+        a2 / (a2 + b2)
+    } else {
+        0.0
+    }
+}
+
+/// Counts of rays cast, for statistics.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PathCounters {
+    pub paths: u64,
+    pub rays: u64,
+    pub shadow_rays: u64,
+}
+
+impl PathCounters {
+    pub fn add(&mut self, o: &PathCounters) {
+        self.paths += o.paths;
+        self.rays += o.rays;
+        self.shadow_rays += o.shadow_rays;
+    }
+}
+
+/// One sample of the radiance arriving along `ray` (a camera ray).
+pub fn radiance(
+    scene: &Scene,
+    lights: &LightSampler,
+    params: &PathParams,
+    mut ray: Ray,
+    rng: &mut Rng,
+    counters: &mut PathCounters,
+) -> Rgb {
+    counters.paths += 1;
+    let mut l = Rgb::BLACK;
+    let mut beta = Rgb::WHITE;
+    // The previous scattering vertex and its BSDF density, for MIS on emitter hits.
+    let mut prev: Option<(Vec3, f32)> = None;
+    let background = scene.settings.background;
+    for depth in 1..=params.max_depth {
+        counters.rays += 1;
+        let Some(sh) = scene.accel.intersect(&ray, f32::INFINITY) else {
+            if !background.is_black() {
+                let w = match prev {
+                    Some((_, pdf)) => mis(pdf, lights.pdf_environment()),
+                    None => 1.0,
+                };
+                l += beta * background * w;
+            }
+            break;
+        };
+        let hit = sh.hit;
+        let object = &scene.objects[sh.instance as usize];
+        let material = &scene.materials[object.material_for_leaf(hit.leaf) as usize];
+        let wo_world = -ray.dir.normalize();
+        let n = hit.normal;
+
+        if !material.emission.is_black() && n.dot(wo_world) > 0.0 {
+            let w = match prev {
+                Some((p, pdf)) => mis(pdf, lights.pdf_object(scene, sh.instance, p, hit.point, n)),
+                None => 1.0,
+            };
+            l += beta * material.emission * w;
+        }
+        if depth == params.max_depth {
+            break;
+        }
+        let bsdf: Bsdf = bsdf_for(material, hit.point, hit.uv);
+        if bsdf.is_empty() {
+            break;
+        }
+        // Shade with the shading normal, kept on the geometric normal's side.
+        let ns = if hit.shading_normal.dot(n) < 0.0 { -hit.shading_normal } else { hit.shading_normal };
+        let frame = Frame::from_normal(ns);
+        let wo = frame.to_local(wo_world);
+
+        // Next-event estimation.
+        if bsdf.has_smooth_lobe() {
+            if let Some(ls) = lights.sample(scene, hit.point, rng.next_f32(), rng.next_2d()) {
+                let wi = frame.to_local(ls.wi);
+                let f = bsdf.eval(wo, wi);
+                if !f.is_black() && ls.wi.dot(n) * wi.z > 0.0 {
+                    let side = if ls.wi.dot(n) > 0.0 { n } else { -n };
+                    let origin = offset_ray_origin(hit.point, side, hit.error);
+                    counters.shadow_rays += 1;
+                    let visible = match ls.target {
+                        Some(t) => !scene.accel.occluded(&Ray::new(origin, t - origin), 1.0),
+                        None => !scene.accel.occluded(&Ray::new(origin, ls.wi), f32::INFINITY),
+                    };
+                    if visible {
+                        let w = if ls.delta { 1.0 } else { mis(ls.pdf, bsdf.pdf(wo, wi)) };
+                        l += beta * f * ls.li * (wi.z.abs() * w / ls.pdf);
+                    }
+                }
+            }
+        } else {
+            // Keep the random stream aligned whatever the material.
+            rng.next_f32();
+            rng.next_2d();
+        }
+
+        // Continue the path by sampling the BSDF.
+        let Some(s) = bsdf.sample(wo, rng.next_f32(), rng.next_2d()) else {
+            break;
+        };
+        let wi_world = frame.to_world(s.wi);
+        // Reject directions on the wrong side of the geometric surface (shading-normal
+        // light leaks).
+        if wi_world.dot(n) * s.wi.z <= 0.0 {
+            break;
+        }
+        beta *= s.weight;
+        if beta.is_black() || !beta.is_finite() {
+            break;
+        }
+        prev = if s.delta { None } else { Some((hit.point, s.pdf)) };
+        let side = if wi_world.dot(n) > 0.0 { n } else { -n };
+        ray = Ray::new(offset_ray_origin(hit.point, side, hit.error), wi_world);
+
+        if depth + 1 >= params.rr_depth {
+            let q = beta.max_component().min(0.95);
+            if rng.next_f32() >= q {
+                break;
+            }
+            beta = beta / q;
+        }
+    }
+    l
+}

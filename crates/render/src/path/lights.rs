@@ -1,0 +1,235 @@
+//! Light sampling for next-event estimation: every emitter of the scene (point, spot
+//! and directional lights, rectangle and sphere area lights, emissive objects, the
+//! constant environment), chosen in proportion to its power.
+//!
+//! Rectangle and sphere *lights* (as opposed to emissive objects) are not part of the
+//! geometry, so the path tracer sees them only through light sampling; make an object
+//! emissive when it should also be visible and reachable by mirrors.
+
+use glam::{Affine3A, Vec2, Vec3};
+use irradia_core::{sampling, Rgb};
+use irradia_geometry::Instance;
+use irradia_scene::{Light, Scene};
+use std::f32::consts::PI;
+
+/// One sampled light connection from a shading point.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    /// Unit direction from the shading point towards the light.
+    pub wi: Vec3,
+    /// The point on the light (moved off its surface), or `None` for lights at infinity.
+    pub target: Option<Vec3>,
+    /// Incident radiance (area lights) or `intensity / r²` (delta lights).
+    pub li: Rgb,
+    /// Solid-angle density including the choice of this light; for delta lights the
+    /// probability of choosing it.
+    pub pdf: f32,
+    pub delta: bool,
+}
+
+#[derive(Clone, Debug)]
+enum Emitter {
+    Point { position: Vec3, intensity: Rgb },
+    Spot { position: Vec3, direction: Vec3, intensity: Rgb, cos_inner: f32, cos_outer: f32 },
+    Directional { direction: Vec3, irradiance: Rgb },
+    Rect { corner: Vec3, edge_u: Vec3, edge_v: Vec3, normal: Vec3, area: f32, radiance: Rgb },
+    Sphere { center: Vec3, radius: f32, radiance: Rgb },
+    Object { instance: u32, radiance: Rgb, area: f32 },
+    Environment { radiance: Rgb, radius: f32 },
+}
+
+/// The emitters of a scene with a discrete distribution proportional to power.
+#[derive(Clone, Debug, Default)]
+pub struct LightSampler {
+    emitters: Vec<Emitter>,
+    cdf: Vec<f32>,
+    probability: Vec<f32>,
+    /// For each instance, the index of its emitter (emissive objects).
+    by_instance: Vec<Option<u32>>,
+    environment: Option<u32>,
+}
+
+/// Spot falloff between the inner and outer cone (smoothstep), as the Whitted tracer.
+pub fn spot_falloff(cos: f32, cos_inner: f32, cos_outer: f32) -> f32 {
+    if cos >= cos_inner {
+        1.0
+    } else if cos <= cos_outer {
+        0.0
+    } else {
+        let t = (cos - cos_outer) / (cos_inner - cos_outer);
+        t * t * (3.0 - 2.0 * t)
+    }
+}
+
+fn det3(m: &Affine3A) -> f32 {
+    m.matrix3.determinant()
+}
+
+/// World-area density factor of an instance at object-space normal `n_obj`:
+/// dA_world = |det M| |M^-T n| dA_object.
+fn area_jacobian(inst: &Instance, n_obj: Vec3) -> f32 {
+    let m_inv_t = inst.to_object().matrix3.transpose();
+    det3(inst.to_world()).abs() * Vec3::from(m_inv_t * glam::Vec3A::from(n_obj)).length()
+}
+
+impl LightSampler {
+    pub fn new(scene: &Scene) -> Self {
+        let mut emitters = Vec::new();
+        let bounds = scene
+            .accel
+            .instances()
+            .iter()
+            .map(|i| i.bounds())
+            .filter(|b| b.is_finite())
+            .fold(irradia_core::Aabb::EMPTY, |a, b| a.union(b));
+        let radius = if bounds.is_empty() { 1.0 } else { 0.5 * bounds.extent().length().max(1e-3) };
+        for l in &scene.lights {
+            emitters.push(match *l {
+                Light::Point { position, intensity } => Emitter::Point { position, intensity },
+                Light::Spot { position, direction, intensity, cos_inner, cos_outer } => {
+                    Emitter::Spot { position, direction: direction.normalize(), intensity, cos_inner, cos_outer }
+                }
+                Light::Directional { direction, irradiance } => {
+                    Emitter::Directional { direction: direction.normalize(), irradiance }
+                }
+                Light::Rect { corner, edge_u, edge_v, radiance, .. } => {
+                    let c = edge_u.cross(edge_v);
+                    Emitter::Rect { corner, edge_u, edge_v, normal: c.normalize(), area: c.length(), radiance }
+                }
+                Light::Sphere { center, radius, radiance, .. } => Emitter::Sphere { center, radius, radiance },
+            });
+        }
+        let mut by_instance = vec![None; scene.objects.len()];
+        for (i, (obj, inst)) in scene.objects.iter().zip(scene.accel.instances()).enumerate() {
+            let e = scene.materials[obj.material as usize].emission;
+            if e.is_black() {
+                continue;
+            }
+            if let (Some(area), Some(_)) = (inst.shape.area(), inst.shape.sample_surface(Vec2::splat(0.5))) {
+                by_instance[i] = Some(emitters.len() as u32);
+                emitters.push(Emitter::Object { instance: i as u32, radiance: e, area });
+            }
+        }
+        let mut environment = None;
+        if !scene.settings.background.is_black() {
+            environment = Some(emitters.len() as u32);
+            emitters.push(Emitter::Environment { radiance: scene.settings.background, radius });
+        }
+        let powers: Vec<f32> = emitters
+            .iter()
+            .map(|e| match e {
+                Emitter::Point { intensity, .. } | Emitter::Spot { intensity, .. } => 4.0 * PI * intensity.mean(),
+                Emitter::Directional { irradiance, .. } => PI * radius * radius * irradiance.mean(),
+                Emitter::Rect { area, radiance, .. } => PI * area * radiance.mean(),
+                Emitter::Sphere { radius, radiance, .. } => PI * 4.0 * PI * radius * radius * radiance.mean(),
+                Emitter::Object { instance, radiance, area } => {
+                    let s = det3(scene.accel.instances()[*instance as usize].to_world()).abs().powf(2.0 / 3.0);
+                    PI * area * s * radiance.mean()
+                }
+                Emitter::Environment { radiance, radius } => PI * 4.0 * PI * radius * radius * radiance.mean(),
+            })
+            .map(|p| if p.is_finite() && p > 0.0 { p } else { 0.0 })
+            .collect();
+        let total: f32 = powers.iter().sum();
+        let probability: Vec<f32> = powers.iter().map(|p| if total > 0.0 { p / total } else { 0.0 }).collect();
+        let mut acc = 0.0;
+        let cdf = probability
+            .iter()
+            .map(|p| {
+                acc += p;
+                acc
+            })
+            .collect();
+        Self { emitters, cdf, probability, by_instance, environment }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.cdf.last().is_none_or(|&c| c <= 0.0)
+    }
+
+    /// Samples a light as seen from world point `p`.
+    pub fn sample(&self, scene: &Scene, p: Vec3, u_pick: f32, u: Vec2) -> Option<LightSample> {
+        if self.is_empty() {
+            return None;
+        }
+        let total = *self.cdf.last()?;
+        let x = u_pick * total;
+        let idx = self.cdf.partition_point(|&c| c <= x).min(self.emitters.len() - 1);
+        let pick = self.probability[idx];
+        if pick <= 0.0 {
+            return None;
+        }
+        let on_surface = |q: Vec3, n: Vec3, radiance: Rgb, pdf_area: f32| -> Option<LightSample> {
+            let d = q - p;
+            let dist2 = d.length_squared();
+            let wi = d / dist2.sqrt();
+            let cos_l = -wi.dot(n);
+            if cos_l <= 0.0 || pdf_area <= 0.0 {
+                return None;
+            }
+            let target = irradia_core::offset_ray_origin(q, n, 0.0);
+            Some(LightSample { wi, target: Some(target), li: radiance, pdf: pick * pdf_area * dist2 / cos_l, delta: false })
+        };
+        match self.emitters[idx] {
+            Emitter::Point { position, intensity } => {
+                let d = position - p;
+                let dist2 = d.length_squared();
+                Some(LightSample { wi: d / dist2.sqrt(), target: Some(position), li: intensity / dist2, pdf: pick, delta: true })
+            }
+            Emitter::Spot { position, direction, intensity, cos_inner, cos_outer } => {
+                let d = position - p;
+                let dist2 = d.length_squared();
+                let wi = d / dist2.sqrt();
+                let f = spot_falloff((-wi).dot(direction), cos_inner, cos_outer);
+                (f > 0.0).then_some(LightSample { wi, target: Some(position), li: intensity * (f / dist2), pdf: pick, delta: true })
+            }
+            Emitter::Directional { direction, irradiance } => {
+                Some(LightSample { wi: -direction, target: None, li: irradiance, pdf: pick, delta: true })
+            }
+            Emitter::Rect { corner, edge_u, edge_v, normal, area, radiance } => {
+                on_surface(corner + edge_u * u.x + edge_v * u.y, normal, radiance, 1.0 / area)
+            }
+            Emitter::Sphere { center, radius, radiance } => {
+                let n = sampling::uniform_sphere(u);
+                on_surface(center + n * radius, n, radiance, 1.0 / (4.0 * PI * radius * radius))
+            }
+            Emitter::Object { instance, radiance, area } => {
+                let inst = &scene.accel.instances()[instance as usize];
+                let (qo, no) = inst.shape.sample_surface(u)?;
+                let q = inst.to_world().transform_point3(qo);
+                let n = Vec3::from(inst.to_object().matrix3.transpose() * glam::Vec3A::from(no)).normalize();
+                on_surface(q, n, radiance, 1.0 / (area * area_jacobian(inst, no)))
+            }
+            Emitter::Environment { radiance, .. } => {
+                let wi = sampling::uniform_sphere(u);
+                Some(LightSample { wi, target: None, li: radiance, pdf: pick / (4.0 * PI), delta: false })
+            }
+        }
+    }
+
+    /// The solid-angle density with which `sample` from `p` would have produced the
+    /// point `q` (normal `n`, world space) on emissive instance `instance`; 0 when that
+    /// instance is not sampled as a light.
+    pub fn pdf_object(&self, scene: &Scene, instance: u32, p: Vec3, q: Vec3, n: Vec3) -> f32 {
+        let Some(Some(idx)) = self.by_instance.get(instance as usize) else {
+            return 0.0;
+        };
+        let Emitter::Object { area, .. } = self.emitters[*idx as usize] else {
+            return 0.0;
+        };
+        let inst = &scene.accel.instances()[instance as usize];
+        let n_obj = Vec3::from(inst.to_world().matrix3.transpose() * glam::Vec3A::from(n)).normalize();
+        let d = q - p;
+        let dist2 = d.length_squared();
+        let cos_l = (d.dot(n) / dist2.sqrt()).abs();
+        if cos_l <= 0.0 {
+            return 0.0;
+        }
+        self.probability[*idx as usize] / (area * area_jacobian(inst, n_obj)) * dist2 / cos_l
+    }
+
+    /// The solid-angle density of sampling direction `wi` from the environment.
+    pub fn pdf_environment(&self) -> f32 {
+        self.environment.map_or(0.0, |i| self.probability[i as usize] / (4.0 * PI))
+    }
+}

@@ -1,0 +1,19 @@
+//! The path tracer: the Monte Carlo solution of the rendering equation that every other
+//! method of Irradia is checked against (lecture, "The Rendering Equation").
+//!
+//! - [`bsdf`]: physically based lobes and their sampling;
+//! - [`material_map`]: scene materials to BSDFs (Whitted scenes render unchanged);
+//! - [`lights`]: emitters and light selection proportional to power;
+//! - [`integrator`]: next-event estimation + BSDF sampling with MIS, Russian roulette;
+//! - [`film`] and [`progressive`]: sample/time/error budgets, checkpoints and resume.
+
+pub mod bsdf;
+pub mod film;
+pub mod integrator;
+pub mod lights;
+pub mod material_map;
+pub mod progressive;
+
+pub use film::{CheckpointError, Film};
+pub use integrator::{PathCounters, PathParams};
+pub use progressive::{render, PassReport, PathRender, ProgressiveOptions, StopReason};

@@ -1,0 +1,157 @@
+//! Progressive rendering: passes of samples over the whole image until a sample budget,
+//! a time budget or a target error is reached, with periodic checkpoints of the film so
+//! that an interrupted render can be resumed to exactly the same result.
+//!
+//! Sample `i` of pixel `(x, y)` always uses the random stream `Rng::for_pixel(x, y, i,
+//! ..)` and each pixel adds its samples in order, so the image depends neither on the
+//! thread count nor on how the samples were split into passes or sessions.
+
+use super::film::{luminance, Film};
+use super::integrator::{radiance, PathCounters, PathParams};
+use super::lights::LightSampler;
+use irradia_core::Rng;
+use irradia_scene::Scene;
+use rayon::prelude::*;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// Stream tag of the path tracer's samples.
+const PATH_STREAM: u32 = 0x9a7b;
+
+/// When to stop and where to save.
+#[derive(Clone, Debug, Default)]
+pub struct ProgressiveOptions {
+    /// Samples per pixel to reach (counting samples already in a resumed film).
+    pub spp: u32,
+    /// Stop after the pass in which this much time has passed.
+    pub time_limit: Option<Duration>,
+    /// Stop when the film's relative error falls to this value.
+    pub target_error: Option<f64>,
+    /// Write the film here every `checkpoint_interval` and at the end.
+    pub checkpoint: Option<PathBuf>,
+    pub checkpoint_interval: Duration,
+    /// Selects an independent family of random streams (0 for the default image).
+    pub seed: u32,
+}
+
+/// Where a render stands, reported after every pass.
+#[derive(Clone, Copy, Debug)]
+pub struct PassReport {
+    pub samples: u32,
+    pub target_samples: u32,
+    pub relative_error: f64,
+    pub elapsed: Duration,
+}
+
+/// Why the render stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StopReason {
+    Samples,
+    Time,
+    TargetError,
+}
+
+#[derive(Debug)]
+pub struct PathRender {
+    pub film: Film,
+    pub counters: PathCounters,
+    pub stop: StopReason,
+    pub elapsed: Duration,
+}
+
+/// A fingerprint of what determines the image, to refuse resuming a checkpoint of
+/// another scene.
+pub fn fingerprint(scene: &Scene, params: &PathParams) -> u64 {
+    let text = format!(
+        "{:?}|{:?}|{}|{}|{}|{}|{:?}",
+        scene.settings,
+        scene.camera,
+        scene.objects.len(),
+        scene.materials.len(),
+        scene.lights.len(),
+        params.max_depth,
+        scene.source
+    );
+    text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ b as u64).wrapping_mul(0x100_0000_01b3))
+}
+
+/// Renders (or continues rendering into `film`) until a stop condition holds.
+pub fn render(
+    scene: &Scene,
+    params: &PathParams,
+    options: &ProgressiveOptions,
+    mut film: Film,
+    mut on_pass: impl FnMut(&PassReport, &Film),
+) -> std::io::Result<PathRender> {
+    let start = Instant::now();
+    let lights = LightSampler::new(scene);
+    let cam = scene.camera.rays(film.width(), film.height());
+    let fp = fingerprint(scene, params);
+    let mut counters = PathCounters::default();
+    let mut last_checkpoint = Instant::now();
+    let mut pass = 1u32;
+    let stop = loop {
+        if film.samples() >= options.spp {
+            break StopReason::Samples;
+        }
+        if let Some(t) = options.target_error {
+            if film.relative_error() <= t {
+                break StopReason::TargetError;
+            }
+        }
+        if let Some(limit) = options.time_limit {
+            if start.elapsed() >= limit {
+                break StopReason::Time;
+            }
+        }
+        let first = film.samples();
+        let n = pass.min(options.spp - first);
+        let width = film.width();
+        let pass_counters: PathCounters = film
+            .rows_mut()
+            .enumerate()
+            .map(|(y, (sum, sum_sq))| {
+                let mut c = PathCounters::default();
+                for x in 0..width {
+                    let (s, s2) = (&mut sum[x as usize], &mut sum_sq[x as usize]);
+                    for i in first..first + n {
+                        let mut rng = Rng::for_pixel(x, y as u32, i, PATH_STREAM ^ options.seed.wrapping_mul(0x9e37_79b9));
+                        let j = rng.next_2d();
+                        let ray = cam.ray(x as f32 + j.x, y as f32 + j.y);
+                        let l = radiance(scene, &lights, params, ray, &mut rng, &mut c);
+                        let v = if l.is_finite() { [l.r as f64, l.g as f64, l.b as f64] } else { [0.0; 3] };
+                        s[0] += v[0];
+                        s[1] += v[1];
+                        s[2] += v[2];
+                        let y = luminance(&v);
+                        *s2 += y * y;
+                    }
+                }
+                c
+            })
+            .reduce(PathCounters::default, |mut a, b| {
+                a.add(&b);
+                a
+            });
+        film.finish_pass(n);
+        counters.add(&pass_counters);
+        pass = (pass * 2).min(16);
+        let report = PassReport {
+            samples: film.samples(),
+            target_samples: options.spp,
+            relative_error: film.relative_error(),
+            elapsed: start.elapsed(),
+        };
+        on_pass(&report, &film);
+        if let Some(path) = &options.checkpoint {
+            if last_checkpoint.elapsed() >= options.checkpoint_interval {
+                film.save_checkpoint(path, fp)?;
+                last_checkpoint = Instant::now();
+            }
+        }
+    };
+    if let Some(path) = &options.checkpoint {
+        film.save_checkpoint(path, fp)?;
+    }
+    Ok(PathRender { film, counters, stop, elapsed: start.elapsed() })
+}

@@ -1,0 +1,111 @@
+//! Where in a pixel each camera sample goes.
+//!
+//! One sample goes through the pixel centre (as POV-Ray without anti-aliasing). More
+//! samples use correlated multi-jittered sampling (Kensler, "Correlated Multi-Jittered
+//! Sampling", Pixar Technical Memo 13-01, 2013): stratified in 2D on an m x n grid and
+//! in each axis alone, for any sample count. The pattern is seeded from the pixel, so
+//! it does not depend on threads or tiles.
+
+use glam::Vec2;
+use irradia_core::sampling::hash64;
+use irradia_core::Rng;
+
+/// Kensler's hash-based permutation of `0..l`: element `i` of a random permutation
+/// chosen by `p`, with no memory.
+fn permute(mut i: u32, l: u32, p: u32) -> u32 {
+    let mut w = l - 1;
+    w |= w >> 1;
+    w |= w >> 2;
+    w |= w >> 4;
+    w |= w >> 8;
+    w |= w >> 16;
+    loop {
+        i ^= p;
+        i = i.wrapping_mul(0xe170_893d);
+        i ^= p >> 16;
+        i ^= (i & w) >> 4;
+        i ^= p >> 8;
+        i = i.wrapping_mul(0x0929_eb3f);
+        i ^= p >> 23;
+        i ^= (i & w) >> 1;
+        i = i.wrapping_mul(1 | p >> 27);
+        i = i.wrapping_mul(0x6935_fa69);
+        i ^= (i & w) >> 11;
+        i = i.wrapping_mul(0x74dc_b303);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0x9e50_1cc3);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0xc860_a3df);
+        i &= w;
+        i ^= i >> 5;
+        if i < l {
+            break;
+        }
+    }
+    (i.wrapping_add(p)) % l
+}
+
+/// Offset in `[0,1)²` of sample `s` of `n` in pixel (x, y), and the random stream the
+/// sample's rays use.
+pub fn pixel_sample(x: u32, y: u32, s: u32, n: u32) -> (Vec2, Rng) {
+    let mut rng = Rng::for_pixel(x, y, s, 0);
+    if n <= 1 {
+        return (Vec2::splat(0.5), rng);
+    }
+    let p = hash64(((y as u64) << 32) | x as u64) as u32;
+    let m = (n as f32).sqrt().ceil() as u32;
+    let rows = n.div_ceil(m);
+    let s = permute(s, n, p.wrapping_mul(0x5163_3e2d));
+    let (sx, sy) = (s % m, s / m);
+    let px = permute(sx, m, p.wrapping_mul(0xa511_e9b3));
+    let py = permute(sy, rows, p.wrapping_mul(0x63d8_3595));
+    let jx = rng.next_f32();
+    let jy = rng.next_f32();
+    let u = (sx as f32 + (py as f32 + jx) / rows as f32) / m as f32;
+    let v = (sy as f32 + (px as f32 + jy) / m as f32) / rows as f32;
+    (Vec2::new(u.min(0.999_999_9), v.min(0.999_999_9)), rng)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_sample_is_the_pixel_centre() {
+        assert_eq!(pixel_sample(3, 9, 0, 1).0, Vec2::splat(0.5));
+    }
+
+    #[test]
+    fn samples_are_stratified_in_each_axis() {
+        for &n in &[4u32, 9, 16, 5, 7, 12] {
+            let m = (n as f32).sqrt().ceil() as u32;
+            let rows = n.div_ceil(m);
+            let mut cols_hit = vec![0u32; m as usize];
+            let mut rows_hit = vec![0u32; rows as usize];
+            for s in 0..n {
+                let (o, _) = pixel_sample(11, 4, s, n);
+                assert!((0.0..1.0).contains(&o.x) && (0.0..1.0).contains(&o.y));
+                cols_hit[(o.x * m as f32) as usize] += 1;
+                rows_hit[(o.y * rows as f32) as usize] += 1;
+            }
+            // Each column and row of the m x rows grid gets at most its share.
+            assert!(
+                cols_hit.iter().all(|&c| c <= rows),
+                "n={n} cols {cols_hit:?}"
+            );
+            assert!(rows_hit.iter().all(|&c| c <= m), "n={n} rows {rows_hit:?}");
+        }
+    }
+
+    #[test]
+    fn permutation_is_a_bijection() {
+        for l in [1u32, 2, 5, 16, 33] {
+            let mut seen = vec![false; l as usize];
+            for i in 0..l {
+                let j = permute(i, l, 0xdead_beef) as usize;
+                assert!(!seen[j]);
+                seen[j] = true;
+            }
+        }
+    }
+}

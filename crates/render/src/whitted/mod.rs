@@ -1,0 +1,270 @@
+//! The recursive (Whitted) ray tracer, as in the lecture's "Recursive Ray Tracer"
+//! slides: at each hit, the local colour from the Phong model with shadow (feeler)
+//! rays, plus the mirror-reflected and the refracted ray traced recursively:
+//!
+//! ```text
+//! trace(p, d, step): if step > max return background
+//!     q = intersect(p, d); if none return background
+//!     return phong(q, n) + k_r trace(q, r, step+1) + k_t trace(q, t, step+1)
+//! ```
+//!
+//! Recursion stops at `max_depth` (camera rays are depth 1; POV-Ray's
+//! `max_trace_level`, and like POV-Ray a ray beyond it returns black), when a ray's
+//! weight (the product of the coefficients from the camera, largest channel) falls
+//! below `min_weight` (adaptive depth control, POV-Ray's `adc_bailout`), and when a ray
+//! leaves the scene (it returns the background colour). The lecture's "When to stop"
+//! slide lists exactly these three.
+//!
+//! The tracer is generic over a [`Recorder`]: rendering passes the empty one,
+//! `trace-pixel` one that builds the ray tree, so both run this same code.
+
+pub(crate) mod lights;
+pub(crate) mod media;
+mod shading;
+mod shadow;
+
+use crate::integrator::{AovSample, Integrator};
+use crate::optics::{fresnel_dielectric, reflect, refract};
+use crate::raytree::{NoRecorder, RayKind, Recorder};
+use crate::stats::Stats;
+use glam::Vec3;
+use irradia_core::{offset_ray_origin, Ray, Rgb, Rng};
+use irradia_scene::{Scene, ShadingModel};
+use lights::PreparedLight;
+use media::MediaStack;
+
+/// The Whitted integrator over one scene, with its lights prepared.
+pub struct Whitted<'s> {
+    scene: &'s Scene,
+    lights: Vec<PreparedLight>,
+    max_depth: u32,
+    min_weight: f32,
+    background: Rgb,
+    ambient_light: Rgb,
+    /// Whether any material transmits light: if not, shadow rays only need an
+    /// any-hit query.
+    any_transparent: bool,
+}
+
+/// Per-sample state threaded through the recursion.
+pub(crate) struct Ctx<'c, R: Recorder> {
+    pub rng: &'c mut Rng,
+    pub stats: &'c mut Stats,
+    pub rec: &'c mut R,
+    /// Deepest level reached by this sample's tree.
+    pub deepest: u32,
+}
+
+impl<'s> Whitted<'s> {
+    pub fn new(scene: &'s Scene) -> Self {
+        let s = &scene.settings;
+        Self {
+            scene,
+            lights: scene.lights.iter().map(PreparedLight::new).collect(),
+            max_depth: s.max_depth.max(1),
+            min_weight: s.min_weight.max(0.0),
+            background: s.background,
+            ambient_light: s.ambient_light,
+            any_transparent: scene.materials.iter().any(|m| m.transmission > 0.0),
+        }
+    }
+
+    /// Traces one camera ray with a recorder (the ray-tree hook); returns the radiance.
+    pub fn sample_recorded<R: Recorder>(
+        &self,
+        ray: &Ray,
+        rng: &mut Rng,
+        stats: &mut Stats,
+        aov: &mut AovSample,
+        rec: &mut R,
+    ) -> Rgb {
+        let mut cx = Ctx {
+            rng,
+            stats,
+            rec,
+            deepest: 0,
+        };
+        let c = self.trace(
+            ray,
+            RayKind::Camera,
+            1,
+            Rgb::WHITE,
+            &MediaStack::EMPTY,
+            &mut cx,
+            Some(aov),
+        );
+        aov.ray_depth = cx.deepest;
+        c
+    }
+
+    /// Traces `ray` (already counted as allowed by depth and weight) and returns the
+    /// radiance it brings back.
+    #[allow(clippy::too_many_arguments)]
+    fn trace<R: Recorder>(
+        &self,
+        ray: &Ray,
+        kind: RayKind,
+        depth: u32,
+        weight: Rgb,
+        media: &MediaStack,
+        cx: &mut Ctx<'_, R>,
+        aov: Option<&mut AovSample>,
+    ) -> Rgb {
+        match kind {
+            RayKind::Camera => cx.stats.camera_rays += 1,
+            RayKind::Reflected => cx.stats.reflected_rays += 1,
+            RayKind::Refracted => cx.stats.refracted_rays += 1,
+            RayKind::Shadow => cx.stats.shadow_rays += 1,
+        }
+        cx.stats.reached(depth);
+        cx.deepest = cx.deepest.max(depth);
+        cx.rec.begin(kind, depth, ray, weight);
+
+        let scene = self.scene;
+        let Some(sh) = scene.accel.intersect(ray, f32::INFINITY) else {
+            cx.stats.missed += 1;
+            cx.rec.end(self.background);
+            return self.background;
+        };
+        let hit = &sh.hit;
+        let object = &scene.objects[sh.instance as usize];
+        let mat = &scene.materials[object.material_for_leaf(hit.leaf) as usize];
+        cx.rec
+            .hit(sh.instance, &object.name, hit.point, hit.shading_normal);
+
+        // Orient the normals towards the side the ray comes from.
+        let entering = ray.dir.dot(hit.normal) < 0.0;
+        let ng = if entering { hit.normal } else { -hit.normal };
+        let ns = if hit.shading_normal.dot(ng) < 0.0 {
+            -hit.shading_normal
+        } else {
+            hit.shading_normal
+        };
+        if let Some(aov) = aov {
+            aov.depth = hit.t * ray.dir.length();
+            aov.normal = hit.shading_normal;
+            aov.object = sh.instance as i32;
+        }
+
+        let pov = mat.model == ShadingModel::PovRay;
+        let colour = mat.color.eval(hit.point, hit.uv);
+        let view = -ray.dir.normalize();
+        let filter = mat.filter_color.unwrap_or(colour) * mat.transmission;
+        let mut result = self.local(hit, ng, ns, view, mat, colour, filter, depth, cx);
+        cx.rec.local(result);
+
+        // Coefficients of the reflected and transmitted rays.
+        let (mut kr, mut kt) = (mat.reflection, filter);
+        let solid = scene.accel.instances()[sh.instance as usize]
+            .shape
+            .is_solid();
+        let (eta, far_media) = if mat.transmission > 0.0 && solid {
+            media.cross(sh.instance, mat.ior, entering)
+        } else {
+            (1.0, *media)
+        };
+        if mat.fresnel && mat.transmission > 0.0 {
+            let f = fresnel_dielectric(view.dot(ns), eta);
+            kr = kr * f;
+            kt = kt * (1.0 - f);
+        }
+
+        if !kt.is_black() {
+            let d = ray.dir.normalize();
+            match refract(d, ns, eta) {
+                Some(t) => {
+                    let o = offset_ray_origin(hit.point, -ng, hit.error);
+                    result += self.spawn(
+                        Ray::new(o, t),
+                        RayKind::Refracted,
+                        depth,
+                        kt,
+                        weight,
+                        &far_media,
+                        cx,
+                    );
+                }
+                None => {
+                    // Total internal reflection: the light that would have left is
+                    // reflected. POV-Ray adds it unfiltered (Trace::ComputeLightedTexture).
+                    let k = if pov { Rgb::WHITE } else { kt };
+                    let r = mirror(d, ns, ng);
+                    let o = offset_ray_origin(hit.point, ng, hit.error);
+                    result += self.spawn(
+                        Ray::new(o, r),
+                        RayKind::Reflected,
+                        depth,
+                        k,
+                        weight,
+                        media,
+                        cx,
+                    );
+                }
+            }
+        }
+        if !kr.is_black() {
+            let d = ray.dir.normalize();
+            let r = mirror(d, ns, ng);
+            let o = offset_ray_origin(hit.point, ng, hit.error);
+            result += self.spawn(
+                Ray::new(o, r),
+                RayKind::Reflected,
+                depth,
+                kr,
+                weight,
+                media,
+                cx,
+            );
+        }
+        cx.rec.end(result);
+        result
+    }
+
+    /// Spawns a secondary ray with coefficient `k` from a ray of `depth` and `weight`,
+    /// unless depth or weight cut it off; returns `k * radiance`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn spawn<R: Recorder>(
+        &self,
+        ray: Ray,
+        kind: RayKind,
+        depth: u32,
+        k: Rgb,
+        weight: Rgb,
+        media: &MediaStack,
+        cx: &mut Ctx<'_, R>,
+    ) -> Rgb {
+        let w = weight * k;
+        if depth + 1 > self.max_depth {
+            cx.stats.cut_by_depth += 1;
+            cx.rec.cut(kind, depth + 1, w, "depth");
+            return Rgb::BLACK;
+        }
+        if w.max_component() < self.min_weight {
+            cx.stats.cut_by_weight += 1;
+            cx.rec.cut(kind, depth + 1, w, "weight");
+            return Rgb::BLACK;
+        }
+        k * self.trace(&ray, kind, depth + 1, w, media, cx, None)
+    }
+}
+
+/// Mirror direction about the shading normal, falling back to the geometric normal
+/// when bumped shading normals would send the ray into the surface (as POV-Ray's
+/// `ComputeReflection` does).
+#[inline]
+fn mirror(d: Vec3, ns: Vec3, ng: Vec3) -> Vec3 {
+    let r = reflect(d, ns);
+    if r.dot(ng) > 0.0 {
+        r
+    } else {
+        reflect(d, ng)
+    }
+}
+
+impl Integrator for Whitted<'_> {
+    #[inline]
+    fn sample(&self, ray: &Ray, rng: &mut Rng, stats: &mut Stats, aov: &mut AovSample) -> Rgb {
+        self.sample_recorded(ray, rng, stats, aov, &mut NoRecorder)
+    }
+}

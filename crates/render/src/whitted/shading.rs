@@ -1,0 +1,79 @@
+//! Local (direct) shading at a hit: ambient, emission, and per light sample the diffuse
+//! and specular Phong terms, each light attenuated by its shadow (feeler) rays.
+//!
+//! Two models (`Material::model`):
+//! - `Phong`, the lecture's: `k_a C A + Σ E (k_d C cosθ + k_s (R·V)^n)` with
+//!   `E = I / r²` for point lights. No 1/π: a white diffuse surface with `k_d = 1`
+//!   facing a point light of intensity I at distance r has radiance `I / r²`.
+//! - `PovRay`, POV-Ray 3.7's `finish` (`Trace::ComputeLightedTexture`,
+//!   `ComputeDiffuseColour`, `ComputePhongColour`): point and spot lights do not fade
+//!   with distance (POV-Ray's default), and the ambient and diffuse terms of a surface
+//!   whose pigment filters light are scaled by its opacity `1 - filter`; highlights are
+//!   not. The highlight is `phong * (R·L)^phong_size` in the light's colour.
+
+use super::{Ctx, Whitted};
+use crate::optics::reflect;
+use crate::raytree::Recorder;
+use glam::Vec3;
+use irradia_core::{offset_ray_origin, Rgb};
+use irradia_geometry::Hit;
+use irradia_scene::{Material, ShadingModel};
+
+impl Whitted<'_> {
+    /// The local colour at `hit`: `ng` and `ns` are the geometric and shading normals
+    /// turned towards the viewer, `view` the unit direction to the viewer, `colour` the
+    /// texture's colour there, `filter` the transmitted fraction (colour).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn local<R: Recorder>(
+        &self,
+        hit: &Hit,
+        ng: Vec3,
+        ns: Vec3,
+        view: Vec3,
+        mat: &Material,
+        colour: Rgb,
+        filter: Rgb,
+        depth: u32,
+        cx: &mut Ctx<'_, R>,
+    ) -> Rgb {
+        let pov = mat.model == ShadingModel::PovRay;
+        // POV-Ray's opacity of a filtering pigment (TransColour::Opacity).
+        let att = if pov {
+            (1.0 - filter.luminance()).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        let mut c = mat.emission + colour * self.ambient_light * (mat.ambient * att);
+        let kd = mat.diffuse * att;
+        if (kd <= 0.0 && mat.specular <= 0.0) || self.lights.is_empty() {
+            return c;
+        }
+        let origin = offset_ray_origin(hit.point, ng, hit.error);
+        for light in &self.lights {
+            for i in 0..light.samples() {
+                let Some(s) = light.sample(hit.point, i, !pov, cx.rng) else {
+                    continue;
+                };
+                let cos = ns.dot(s.dir);
+                if cos <= 0.0 || ng.dot(s.dir) <= 0.0 {
+                    continue;
+                }
+                let tr = self.shadow_transmittance(origin, s.dir, s.dist, depth, cx);
+                if tr.is_black() {
+                    continue;
+                }
+                let e = s.irradiance * tr;
+                if kd > 0.0 {
+                    c += colour * e * (kd * cos);
+                }
+                if mat.specular > 0.0 {
+                    let rv = reflect(-s.dir, ns).dot(view);
+                    if rv > 0.0 {
+                        c += e * (mat.specular * rv.powf(mat.shininess));
+                    }
+                }
+            }
+        }
+        c
+    }
+}

@@ -1,0 +1,111 @@
+//! Shadow (feeler) rays (lecture: "Shadow Rays"). Opaque objects block the light;
+//! transparent ones attenuate it, as POV-Ray does: at every surface the shadow ray
+//! crosses, the light is multiplied by that surface's transmitted colour
+//! (`transmission * filter colour`; POV-Ray's `Trace::ComputeShadowColour`). Shadow
+//! rays go straight through (no refraction: no caustics, as in POV-Ray without photons).
+
+use super::{Ctx, Whitted};
+use crate::raytree::{Blocker, Recorder};
+use glam::Vec3;
+use irradia_core::{offset_ray_origin, Ray, Rgb};
+
+/// Most transparent surfaces one shadow ray walks through before giving up (dark).
+const MAX_CROSSINGS: u32 = 64;
+
+impl Whitted<'_> {
+    /// Fraction of a light's colour that arrives at `origin` from direction `dir`
+    /// (unit) over distance `dist`. Counts the shadow ray and records it.
+    pub(super) fn shadow_transmittance<R: Recorder>(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        dist: f32,
+        depth: u32,
+        cx: &mut Ctx<'_, R>,
+    ) -> Rgb {
+        cx.stats.shadow_rays += 1;
+        let scene = self.scene;
+        let first = Ray::new(origin, dir);
+        // Stop a hair short of the light so a light on a surface is not hidden by it.
+        let t_max = if dist.is_finite() {
+            dist * (1.0 - 1e-5)
+        } else {
+            f32::INFINITY
+        };
+        if !self.any_transparent {
+            let blocked = scene.accel.occluded(&first, t_max);
+            if blocked {
+                cx.stats.shadow_blocked += 1;
+                if R::RECORDS {
+                    // Only the tree recorder needs to know the blocker.
+                    let b = scene.accel.intersect(&first, t_max);
+                    let blocker = b.map(|h| Blocker {
+                        object: h.instance,
+                        name: &scene.objects[h.instance as usize].name,
+                        point: h.hit.point,
+                        normal: h.hit.normal,
+                    });
+                    cx.rec.shadow(&first, depth, blocker, Rgb::BLACK);
+                }
+                return Rgb::BLACK;
+            }
+            cx.rec.shadow(&first, depth, None, Rgb::WHITE);
+            return Rgb::WHITE;
+        }
+
+        let target = origin + dir * t_max;
+        let mut ray = first;
+        let mut limit = t_max;
+        let mut tr = Rgb::WHITE;
+        let mut first_blocker = None;
+        for _ in 0..MAX_CROSSINGS {
+            let Some(h) = scene.accel.intersect(&ray, limit) else {
+                cx.rec.shadow(&first, depth, first_blocker, tr);
+                return tr;
+            };
+            let object = &scene.objects[h.instance as usize];
+            let mat = &scene.materials[object.material_for_leaf(h.hit.leaf) as usize];
+            if first_blocker.is_none() {
+                first_blocker = Some(Blocker {
+                    object: h.instance,
+                    name: &object.name,
+                    point: h.hit.point,
+                    normal: h.hit.normal,
+                });
+            }
+            if mat.transmission <= 0.0 {
+                tr = Rgb::BLACK;
+                break;
+            }
+            let filter = mat
+                .filter_color
+                .unwrap_or_else(|| mat.color.eval(h.hit.point, h.hit.uv));
+            tr *= filter * mat.transmission;
+            if tr.max_component() <= 0.0 {
+                tr = Rgb::BLACK;
+                break;
+            }
+            // Continue from the far side of this surface.
+            let n = if dir.dot(h.hit.normal) > 0.0 {
+                h.hit.normal
+            } else {
+                -h.hit.normal
+            };
+            let o = offset_ray_origin(h.hit.point, n, h.hit.error);
+            ray = Ray::new(o, dir);
+            limit = if t_max.is_finite() {
+                (target - o).dot(dir)
+            } else {
+                f32::INFINITY
+            };
+            if limit <= 0.0 {
+                break;
+            }
+        }
+        if tr.is_black() {
+            cx.stats.shadow_blocked += 1;
+        }
+        cx.rec.shadow(&first, depth, first_blocker, tr);
+        tr
+    }
+}
