@@ -1,7 +1,8 @@
 //! The sphere `(p - c)·(p - c) - r² = 0` (lecture: "Ray Casting a Sphere"), solved as
 //! a quadratic in `t` in f64 with the numerically stable form of the roots.
 
-use crate::shape::{Boundary, Hit, Shape, Span};
+use crate::shape::{Boundary, Facets, Hit, Shape, Span};
+use crate::shapes::shape_error::{finite, positive, ShapeError};
 use glam::{Vec2, Vec3};
 use irradia_core::{Aabb, Ray};
 use std::f64::consts::PI;
@@ -20,6 +21,13 @@ impl Sphere {
             "sphere radius must be positive"
         );
         Self { center, radius }
+    }
+
+    /// A sphere, or an error for a non-positive or non-finite radius or centre.
+    pub fn try_new(center: Vec3, radius: f32) -> Result<Self, ShapeError> {
+        finite("sphere center", &center.as_dvec3().to_array())?;
+        positive("sphere radius", radius as f64)?;
+        Ok(Self { center, radius })
     }
 
     /// Both roots `t0 <= t1` of the ray-sphere quadratic, or `None` on a miss.
@@ -84,8 +92,22 @@ impl Shape for Sphere {
         Some(h)
     }
 
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.roots(ray).is_some_and(|(t0, t1)| {
+            (t0 > 0.0 && t0 < t_max as f64) || (t1 > 0.0 && t1 < t_max as f64)
+        })
+    }
+
     fn is_solid(&self) -> bool {
         true
+    }
+
+    fn facets(&self, detail: u32) -> Option<Facets> {
+        let mut f = uv_sphere(detail);
+        for v in &mut f.vertices {
+            *v = self.center + *v * self.radius;
+        }
+        Some(f)
     }
 
     fn area(&self) -> Option<f32> {
@@ -107,6 +129,41 @@ impl Shape for Sphere {
             });
         }
     }
+}
+
+/// The unit sphere as a UV sphere: `detail` segments around (at least 3) and half as
+/// many rings (at least 2), quads counter-clockwise seen from outside, triangles at the
+/// poles, per-vertex normals equal to the positions.
+pub(crate) fn uv_sphere(detail: u32) -> Facets {
+    let seg = detail.max(3) as usize;
+    let rings = (detail as usize / 2).max(2);
+    let mut f = Facets::default();
+    f.vertices.push(Vec3::Y);
+    for i in 1..rings {
+        let theta = PI * i as f64 / rings as f64;
+        for j in 0..seg {
+            let phi = 2.0 * PI * j as f64 / seg as f64;
+            f.vertices.push(Vec3::new(
+                (theta.sin() * phi.cos()) as f32,
+                theta.cos() as f32,
+                (theta.sin() * phi.sin()) as f32,
+            ));
+        }
+    }
+    f.vertices.push(-Vec3::Y);
+    let south = (f.vertices.len() - 1) as u32;
+    let at = |i: usize, j: usize| (1 + (i - 1) * seg + j % seg) as u32;
+    for j in 0..seg {
+        f.faces.push(vec![0, at(1, j + 1), at(1, j)]);
+        for i in 1..rings - 1 {
+            f.faces
+                .push(vec![at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)]);
+        }
+        f.faces
+            .push(vec![at(rings - 1, j), at(rings - 1, j + 1), south]);
+    }
+    f.normals = f.vertices.clone();
+    f
 }
 
 #[cfg(test)]

@@ -1,0 +1,139 @@
+//! A flat disk (POV-Ray's `disc`), optionally with a concentric hole: intersect the
+//! plane, then compare the squared distance from the centre with the radii.
+
+use crate::shape::{Facets, Hit, Shape, Span};
+use crate::shapes::plane::{plane_crossing, plane_point_error};
+use crate::shapes::shape_error::{finite, positive, ShapeError};
+use glam::{DVec3, Vec2, Vec3};
+use irradia_core::{Aabb, Ray};
+use std::f64::consts::TAU;
+
+/// An open surface facing `normal` (not a solid).
+#[derive(Clone, Debug)]
+pub struct Disk {
+    center: DVec3,
+    normal: DVec3,
+    s: DVec3,
+    t: DVec3,
+    radius: f64,
+    hole: f64,
+}
+
+impl Disk {
+    /// The disk of `radius` around `center` facing `normal` (any non-zero length).
+    pub fn new(center: Vec3, normal: Vec3, radius: f32) -> Result<Self, ShapeError> {
+        finite("disk center", &center.as_dvec3().to_array())?;
+        finite("disk normal", &normal.as_dvec3().to_array())?;
+        positive("disk radius", radius as f64)?;
+        let n = normal.as_dvec3();
+        if !(n.length() > 0.0) {
+            return Err(ShapeError::ZeroVector {
+                what: "disk normal",
+            });
+        }
+        let normal = n.normalize();
+        let s = normal.any_orthonormal_vector();
+        Ok(Self {
+            center: center.as_dvec3(),
+            normal,
+            s,
+            t: normal.cross(s),
+            radius: radius as f64,
+            hole: 0.0,
+        })
+    }
+
+    /// The same disk with a concentric hole of radius `hole` (`0 ≤ hole < radius`): an
+    /// annulus.
+    pub fn with_hole(mut self, hole: f32) -> Result<Self, ShapeError> {
+        finite("disk hole radius", &[hole as f64])?;
+        if !(hole >= 0.0 && (hole as f64) < self.radius) {
+            return Err(ShapeError::OutOfRange {
+                what: "disk hole radius",
+                why: "must be at least 0 and below the radius",
+            });
+        }
+        self.hole = hole as f64;
+        Ok(self)
+    }
+
+    fn crossing(&self, ray: &Ray, t_max: f32) -> Option<(f64, DVec3)> {
+        let offset = self.normal.dot(self.center);
+        let (t, p) = plane_crossing(
+            self.normal,
+            offset,
+            ray.origin.as_dvec3(),
+            ray.dir.as_dvec3(),
+        )?;
+        let r2 = (p - self.center).length_squared();
+        (t > 0.0
+            && t < t_max as f64
+            && r2 <= self.radius * self.radius
+            && r2 >= self.hole * self.hole)
+            .then_some((t, p))
+    }
+}
+
+impl Shape for Disk {
+    fn kind(&self) -> &'static str {
+        "disk"
+    }
+
+    fn bounds(&self) -> Aabb {
+        let ext = (DVec3::ONE - self.normal * self.normal)
+            .max(DVec3::ZERO)
+            .map(f64::sqrt)
+            * self.radius;
+        let pad = ext.max_element() * 1e-6 + 1e-30;
+        Aabb::new(
+            (self.center - ext - DVec3::splat(pad)).as_vec3(),
+            (self.center + ext + DVec3::splat(pad)).as_vec3(),
+        )
+    }
+
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let (t, p) = self.crossing(ray, t_max)?;
+        let r = p - self.center;
+        let u = 0.5 + r.dot(self.t).atan2(r.dot(self.s)) / TAU;
+        let v = (r.length() - self.hole) / (self.radius - self.hole);
+        let mut h = Hit::new(
+            t as f32,
+            p.as_vec3(),
+            self.normal.as_vec3(),
+            Vec2::new(u as f32, v as f32),
+        );
+        h.error = plane_point_error(p, self.normal, self.normal.dot(self.center));
+        Some(h)
+    }
+
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.crossing(ray, t_max).is_some()
+    }
+
+    fn is_solid(&self) -> bool {
+        false
+    }
+
+    fn spans(&self, _ray: &Ray, _out: &mut Vec<Span>) {}
+
+    fn facets(&self, detail: u32) -> Option<Facets> {
+        let n = detail.max(3) as usize;
+        let point = |r: f64, i: usize| {
+            let a = TAU * i as f64 / n as f64;
+            (self.center + (self.s * a.cos() + self.t * a.sin()) * r).as_vec3()
+        };
+        let mut f = Facets::default();
+        f.vertices.extend((0..n).map(|i| point(self.radius, i)));
+        if self.hole == 0.0 {
+            f.faces.push((0..n as u32).collect());
+        } else {
+            f.vertices.extend((0..n).map(|i| point(self.hole, i)));
+            for i in 0..n {
+                let j = (i + 1) % n;
+                f.faces
+                    .push(vec![i as u32, j as u32, (n + j) as u32, (n + i) as u32]);
+            }
+        }
+        Some(f)
+    }
+}

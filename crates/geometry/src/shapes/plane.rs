@@ -1,0 +1,150 @@
+//! The plane `n·p = d` as a solid half-space (lecture: "Planes"): the side the normal
+//! points away from is inside, as in POV-Ray's `plane { n, d }`. The ray parameter is
+//! `t = (d - n·o) / (n·dir)`, computed in f64 with the hit point projected back onto
+//! the plane.
+
+use crate::shape::{Boundary, Hit, Shape, Span};
+use crate::shapes::shape_error::{finite, ShapeError};
+use glam::{DVec3, Vec2, Vec3};
+use irradia_core::{Aabb, Frame, Ray};
+
+/// The half-space `normal · p ≤ offset`; its surface is the plane `normal · p = offset`.
+#[derive(Clone, Debug)]
+pub struct Plane {
+    normal: DVec3,
+    offset: f64,
+    frame: Frame,
+}
+
+impl Plane {
+    /// `normal` need not be unit length; it is normalised and `offset` is the signed
+    /// distance of the plane from the origin along the unit normal (POV-Ray's meaning).
+    pub fn new(normal: Vec3, offset: f32) -> Result<Self, ShapeError> {
+        finite("plane normal", &normal.as_dvec3().to_array())?;
+        finite("plane offset", &[offset as f64])?;
+        let n = normal.as_dvec3();
+        let len = n.length();
+        if !(len > 0.0) {
+            return Err(ShapeError::ZeroVector {
+                what: "plane normal",
+            });
+        }
+        let normal = n / len;
+        Ok(Self {
+            normal,
+            offset: offset as f64,
+            frame: Frame::from_normal(normal.as_vec3()),
+        })
+    }
+
+    pub fn normal(&self) -> Vec3 {
+        self.normal.as_vec3()
+    }
+    pub fn offset(&self) -> f32 {
+        self.offset as f32
+    }
+
+    fn uv(&self, p: Vec3) -> Vec2 {
+        Vec2::new(p.dot(self.frame.s), p.dot(self.frame.t))
+    }
+}
+
+/// Where the line `o + t d` meets the plane `n·p = offset` (`n` unit), in f64: the
+/// parameter and the point projected onto the plane. `None` when parallel.
+#[inline]
+pub(crate) fn plane_crossing(n: DVec3, offset: f64, o: DVec3, d: DVec3) -> Option<(f64, DVec3)> {
+    let den = n.dot(d);
+    if den == 0.0 {
+        return None;
+    }
+    let t = (offset - n.dot(o)) / den;
+    let p = o + d * t;
+    Some((t, p - n * (n.dot(p) - offset)))
+}
+
+/// An error bound for a point that was projected onto a plane in f64 and rounded to
+/// f32: the f64 residual's rounding plus half an f32 ulp per coordinate.
+#[inline]
+pub(crate) fn plane_point_error(p: DVec3, n: DVec3, offset: f64) -> f32 {
+    let residual =
+        (n.dot(p) - offset).abs() + 8.0 * f64::EPSILON * (n.abs().dot(p.abs()) + offset.abs());
+    (p.abs().max_element() * f32::EPSILON as f64 + residual) as f32
+}
+
+impl Shape for Plane {
+    fn kind(&self) -> &'static str {
+        "plane"
+    }
+
+    fn bounds(&self) -> Aabb {
+        // An axis-aligned half-space is bounded on one side; others are not bounded.
+        let n = self.normal;
+        for axis in 0..3 {
+            if n[axis].abs() == 1.0 {
+                let mut b = Aabb::INFINITE;
+                let v = (self.offset * n[axis]) as f32;
+                if n[axis] > 0.0 {
+                    b.max[axis] = v;
+                } else {
+                    b.min[axis] = v;
+                }
+                return b;
+            }
+        }
+        Aabb::INFINITE
+    }
+
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let (t, p) = plane_crossing(
+            self.normal,
+            self.offset,
+            ray.origin.as_dvec3(),
+            ray.dir.as_dvec3(),
+        )?;
+        if !(t > 0.0 && t < t_max as f64) {
+            return None;
+        }
+        let point = p.as_vec3();
+        let mut h = Hit::new(t as f32, point, self.normal.as_vec3(), self.uv(point));
+        h.error = plane_point_error(p, self.normal, self.offset);
+        Some(h)
+    }
+
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let den = self.normal.dot(ray.dir.as_dvec3());
+        let t = (self.offset - self.normal.dot(ray.origin.as_dvec3())) / den;
+        t > 0.0 && t < t_max as f64
+    }
+
+    fn is_solid(&self) -> bool {
+        true
+    }
+
+    fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
+        let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+        match plane_crossing(self.normal, self.offset, o, d) {
+            None => {
+                if self.normal.dot(o) <= self.offset {
+                    out.push(Span {
+                        enter: Boundary::NEG_INFINITY,
+                        exit: Boundary::INFINITY,
+                    });
+                }
+            }
+            Some((t, p)) => {
+                let b = Boundary::new(t as f32, self.normal.as_vec3(), self.uv(p.as_vec3()));
+                out.push(if self.normal.dot(d) > 0.0 {
+                    Span {
+                        enter: Boundary::NEG_INFINITY,
+                        exit: b,
+                    }
+                } else {
+                    Span {
+                        enter: b,
+                        exit: Boundary::INFINITY,
+                    }
+                });
+            }
+        }
+    }
+}
