@@ -1,7 +1,21 @@
 //! The shape catalogue, one file per shape.
 
+pub mod cuboid;
+pub mod disk;
+pub mod plane;
+pub mod polygon;
+pub mod polyhedron;
+pub mod quadric;
+pub mod shape_error;
 pub mod sphere;
 pub mod torus;
 
+pub use cuboid::Cuboid;
+pub use disk::Disk;
+pub use plane::Plane;
+pub use polygon::Polygon;
+pub use polyhedron::Polyhedron;
+pub use quadric::Quadric;
+pub use shape_error::ShapeError;
 pub use sphere::Sphere;
 pub use torus::Torus;
