@@ -290,6 +290,18 @@ impl<'d> Table<'d> {
     /// The value of a required `key`.
     pub fn req(&self, key: &'static str) -> Result<Val<'d>> {
         self.get(key).ok_or_else(|| {
+            // A misspelt key is the likelier story than a forgotten one: say so.
+            if let Some(e) = self
+                .entries
+                .iter()
+                .find(|e| e.key != key && closest(&e.key, &[key]).is_some())
+            {
+                return self.val.doc.error_at(
+                    e.key_pos,
+                    &self.child_path(&e.key),
+                    format!("unknown field `{}`; did you mean `{key}`?", e.key),
+                );
+            }
             self.val.doc.error_at(
                 self.val.node.pos,
                 &self.child_path(key),
