@@ -7,6 +7,7 @@
 
 pub mod accel;
 pub mod bvh;
+pub mod csg;
 pub mod mesh;
 pub mod triangle;
 pub mod instance;
@@ -15,6 +16,7 @@ pub mod shape;
 pub mod shapes;
 
 pub use accel::{Accel, SceneHit};
+pub use csg::{Csg, CsgOp, CsgOperand};
 pub use instance::Instance;
 pub use mesh::{MeshError, TriangleMesh};
 pub use shape::{Boundary, Facets, Hit, Shape, Span};

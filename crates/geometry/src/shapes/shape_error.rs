@@ -41,6 +41,12 @@ pub enum ShapeError {
     /// The half-spaces of a polyhedron do not close it off in every direction.
     #[error("the half-spaces do not bound a finite polyhedron (it is open towards {direction:?})")]
     UnboundedPolyhedron { direction: [f64; 3] },
+    /// A CSG operand that does not bound a solid (a polygon, a disk, an open quadric).
+    #[error("a CSG operand must be a closed solid, but a {kind} is an open surface")]
+    NotSolid { kind: &'static str },
+    /// A CSG node without operands.
+    #[error("a CSG {op} needs at least one operand")]
+    NoOperands { op: &'static str },
     /// A constructor's parameter is outside the range it accepts.
     #[error("{what}: {why}")]
     OutOfRange {

@@ -1,0 +1,20 @@
+//! Constructive solid geometry by combining spans along the ray (Roth, "Ray casting
+//! for modeling solids", 1982; lecture: "Ray casting has become the standard way to
+//! visualize quadrics ... in CSG systems").
+//!
+//! - [`op`]: union, intersection, difference, merge as Boolean functions.
+//! - [`combine`]: merging two span lists; the tie rule for coincident surfaces and the
+//!   flipped normals of subtracted faces are documented there.
+//! - [`node`]: the CSG node, a `Shape` over placed operands, with leaf numbering.
+//! - [`window`]: the bounds test that skips operands a ray cannot meet.
+//! - [`scratch`]: per-thread span buffers (no allocation per ray).
+
+pub mod combine;
+pub mod node;
+pub mod op;
+pub mod scratch;
+pub mod window;
+
+pub use combine::{combine, complement};
+pub use node::{Csg, CsgOperand};
+pub use op::CsgOp;

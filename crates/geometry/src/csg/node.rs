@@ -1,0 +1,297 @@
+//! The CSG node: a `Shape` whose operands are placed shapes (`Instance`s) or other CSG
+//! nodes, combined by spans (see `combine`). Operands are tested against the ray with
+//! their bounds first, and only over the window of `t` that can still matter, so that
+//! e.g. a difference never asks the subtracted solid about rays that miss the first.
+//!
+//! **Leaves** are the operands that are not CSG nodes, numbered depth first (the first
+//! operand's leaves first). `Hit::leaf` and `Boundary::leaf` carry that number so a
+//! scene can give each leaf its own material; [`Csg::leaf_paths`] says which operand
+//! (by index at each level) each leaf is.
+
+use super::combine::combine;
+use super::op::CsgOp;
+use super::scratch::{with_buffers, Buffers};
+use super::window::overlaps;
+use crate::instance::Instance;
+use crate::shape::{Boundary, Hit, Shape, Span};
+use crate::shapes::ShapeError;
+use glam::Affine3A;
+use irradia_core::{Aabb, Ray};
+use std::sync::Arc;
+
+/// One operand as given to [`Csg::new`].
+#[derive(Clone, Debug)]
+pub enum CsgOperand {
+    /// A solid shape placed by a transform: one leaf.
+    Shape(Instance),
+    /// A CSG node placed by a transform (object to parent): its leaves.
+    Node(Csg, Affine3A),
+}
+
+impl CsgOperand {
+    /// A leaf: `shape` placed by the object-to-parent map `to_parent`.
+    pub fn shape(shape: Arc<dyn Shape>, to_parent: Affine3A) -> Self {
+        CsgOperand::Shape(Instance::new(shape, to_parent))
+    }
+    /// A nested node placed by `to_parent`.
+    pub fn node(csg: Csg, to_parent: Affine3A) -> Self {
+        CsgOperand::Node(csg, to_parent)
+    }
+}
+
+impl From<Instance> for CsgOperand {
+    fn from(i: Instance) -> Self {
+        CsgOperand::Shape(i)
+    }
+}
+
+impl From<Csg> for CsgOperand {
+    fn from(c: Csg) -> Self {
+        CsgOperand::Node(c, Affine3A::IDENTITY)
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Child {
+    instance: Instance,
+    leaf_offset: u32,
+    bounds: Aabb,
+}
+
+/// A CSG node (union, intersection, difference or merge of solids): itself a solid.
+#[derive(Clone, Debug)]
+pub struct Csg {
+    op: CsgOp,
+    children: Vec<Child>,
+    leaf_paths: Vec<Vec<u32>>,
+    bounds: Aabb,
+}
+
+impl Csg {
+    /// Combines `operands` left to right with `op`. Errors when there are none or one
+    /// of them is not a solid.
+    pub fn new(op: CsgOp, operands: Vec<CsgOperand>) -> Result<Self, ShapeError> {
+        if operands.is_empty() {
+            return Err(ShapeError::NoOperands { op: op.name() });
+        }
+        let mut children = Vec::with_capacity(operands.len());
+        let mut leaf_paths = Vec::new();
+        for (i, operand) in operands.into_iter().enumerate() {
+            let leaf_offset = leaf_paths.len() as u32;
+            let instance = match operand {
+                CsgOperand::Shape(inst) => {
+                    if !inst.shape.is_solid() {
+                        return Err(ShapeError::NotSolid {
+                            kind: inst.shape.kind(),
+                        });
+                    }
+                    leaf_paths.push(vec![i as u32]);
+                    inst
+                }
+                CsgOperand::Node(csg, to_parent) => {
+                    for p in &csg.leaf_paths {
+                        let mut path = vec![i as u32];
+                        path.extend_from_slice(p);
+                        leaf_paths.push(path);
+                    }
+                    Instance::new(Arc::new(csg), to_parent)
+                }
+            };
+            children.push(Child {
+                bounds: instance.bounds(),
+                instance,
+                leaf_offset,
+            });
+        }
+        let bounds = match op {
+            CsgOp::Union | CsgOp::Merge => {
+                children.iter().fold(Aabb::EMPTY, |b, c| b.union(c.bounds))
+            }
+            CsgOp::Intersection => children
+                .iter()
+                .fold(Aabb::INFINITE, |b, c| b.intersection(c.bounds)),
+            CsgOp::Difference => children[0].bounds,
+        };
+        Ok(Self {
+            op,
+            children,
+            leaf_paths,
+            bounds,
+        })
+    }
+
+    pub fn union(operands: Vec<CsgOperand>) -> Result<Self, ShapeError> {
+        Self::new(CsgOp::Union, operands)
+    }
+    pub fn intersection(operands: Vec<CsgOperand>) -> Result<Self, ShapeError> {
+        Self::new(CsgOp::Intersection, operands)
+    }
+    pub fn difference(operands: Vec<CsgOperand>) -> Result<Self, ShapeError> {
+        Self::new(CsgOp::Difference, operands)
+    }
+    pub fn merge(operands: Vec<CsgOperand>) -> Result<Self, ShapeError> {
+        Self::new(CsgOp::Merge, operands)
+    }
+
+    pub fn op(&self) -> CsgOp {
+        self.op
+    }
+
+    /// How many leaves (non-CSG operands, at any depth) the tree has.
+    pub fn leaf_count(&self) -> u32 {
+        self.leaf_paths.len() as u32
+    }
+
+    /// For each leaf, in depth-first order (the numbering of `Hit::leaf`), the operand
+    /// index at each level from this node down: `[1, 0]` is the first operand of this
+    /// node's second operand.
+    pub fn leaf_paths(&self) -> &[Vec<u32>] {
+        &self.leaf_paths
+    }
+
+    /// The operand's spans that overlap `[lo, hi]`, leaves renumbered, into `out`.
+    #[inline]
+    fn operand_spans(&self, c: &Child, ray: &Ray, lo: f32, hi: f32, out: &mut Vec<Span>) {
+        out.clear();
+        if !overlaps(&c.bounds, ray, lo, hi) {
+            return;
+        }
+        c.instance.spans(ray, out);
+        out.retain(|s| s.exit.t >= lo && s.enter.t <= hi);
+        if c.leaf_offset != 0 {
+            for s in out.iter_mut() {
+                s.enter.leaf += c.leaf_offset;
+                s.exit.leaf += c.leaf_offset;
+            }
+        }
+    }
+
+    /// The node's spans that overlap `[lo, hi]` (exact inside the window), in `b.acc`.
+    fn collect(&self, ray: &Ray, lo: f32, hi: f32, b: &mut Buffers) {
+        b.acc.clear();
+        let narrowing = matches!(self.op, CsgOp::Intersection | CsgOp::Difference);
+        if self.op == CsgOp::Intersection
+            && !self
+                .children
+                .iter()
+                .all(|c| overlaps(&c.bounds, ray, lo, hi))
+        {
+            return;
+        }
+        let (mut lo, mut hi) = (lo, hi);
+        let mut children = self.children.iter();
+        let first = children.next().expect("a CSG node has operands");
+        self.operand_spans(first, ray, lo, hi, &mut b.acc);
+        for c in children {
+            if narrowing {
+                // Nothing outside the current result can come back in.
+                match (b.acc.first(), b.acc.last()) {
+                    (Some(f), Some(l)) => {
+                        lo = lo.max(f.enter.t);
+                        hi = hi.min(l.exit.t);
+                    }
+                    _ => return,
+                }
+            }
+            self.operand_spans(c, ray, lo, hi, &mut b.operand);
+            if b.operand.is_empty() {
+                if self.op == CsgOp::Intersection {
+                    b.acc.clear();
+                    return;
+                }
+                continue;
+            }
+            if b.acc.is_empty() && !narrowing {
+                std::mem::swap(&mut b.acc, &mut b.operand);
+                continue;
+            }
+            b.tmp.clear();
+            combine(self.op, &b.acc, &b.operand, &mut b.tmp);
+            std::mem::swap(&mut b.acc, &mut b.tmp);
+        }
+    }
+
+    /// The first boundary with `0 < t < t_max` of the combined spans.
+    fn first_boundary(&self, ray: &Ray, t_max: f32) -> Option<Boundary> {
+        with_buffers(|b| {
+            self.collect(ray, 0.0, t_max, b);
+            b.acc
+                .iter()
+                .flat_map(|s| [s.enter, s.exit])
+                .find(|e| e.t > 0.0 && e.t < t_max)
+        })
+    }
+
+    /// POV-Ray's union: the nearest hit of any operand.
+    fn nearest_operand_hit(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        let mut t_max = t_max;
+        for c in &self.children {
+            if !overlaps(&c.bounds, ray, 0.0, t_max) {
+                continue;
+            }
+            if let Some(mut h) = c.instance.intersect(ray, t_max) {
+                h.leaf += c.leaf_offset;
+                t_max = h.t;
+                best = Some(h);
+            }
+        }
+        best
+    }
+}
+
+/// The hit at a span boundary. The point is `o + t d` evaluated in f64 from the f32
+/// parameter; its error bound covers rounding `t` to f32 and the point to f32, and the
+/// rounding of the ray carried into an operand's object space (a few ulps of `o` and
+/// of `t d`, Instance's own bound).
+fn hit_at(ray: &Ray, b: &Boundary) -> Hit {
+    let p = (ray.origin.as_dvec3() + ray.dir.as_dvec3() * b.t as f64).as_vec3();
+    let mut h = Hit::new(b.t, p, b.normal, b.uv);
+    h.prim = b.prim;
+    h.leaf = b.leaf;
+    h.error = (ray.origin.abs().max_element()
+        + (ray.dir * b.t).abs().max_element()
+        + p.abs().max_element())
+        * 4.0
+        * f32::EPSILON;
+    h
+}
+
+impl Shape for Csg {
+    fn kind(&self) -> &'static str {
+        "csg"
+    }
+
+    fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        if self.op == CsgOp::Union {
+            return self.nearest_operand_hit(ray, t_max);
+        }
+        let b = self.first_boundary(ray, t_max)?;
+        Some(hit_at(ray, &b))
+    }
+
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        if self.op == CsgOp::Union {
+            return self
+                .children
+                .iter()
+                .any(|c| overlaps(&c.bounds, ray, 0.0, t_max) && c.instance.occluded(ray, t_max));
+        }
+        self.first_boundary(ray, t_max).is_some()
+    }
+
+    fn is_solid(&self) -> bool {
+        true
+    }
+
+    fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
+        with_buffers(|b| {
+            self.collect(ray, f32::NEG_INFINITY, f32::INFINITY, b);
+            out.extend_from_slice(&b.acc);
+        })
+    }
+}
