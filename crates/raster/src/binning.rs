@@ -1,0 +1,127 @@
+//! Parallel rasterization by binning triangles into screen tiles.
+//!
+//! The screen is cut into bands of [`BAND_ROWS`] full-width rows (tiles that own whole
+//! rows, so each is a contiguous piece of the framebuffer that one thread can borrow
+//! mutably). Triangles are binned in parallel, batch by batch, into the bands their
+//! bounding box touches; then every band draws its triangles in submission order. A
+//! pixel is only ever touched by the one band that owns it, in the order the
+//! triangles were given, so the image is the same for any number of threads — this is
+//! sort-middle inside one machine, as in the lecture's "Sorting Paradigm".
+
+use crate::fragment::{draw, ColorTarget, DepthFunc, InterpolatedColor, PhongShader, PixelShader};
+use crate::framebuffer::{ColorBuffer, Framebuffer};
+use crate::lighting::{EyeLights, Shading};
+use crate::rasterizer::row_range;
+use crate::screen::{Rect, ScreenTriangle};
+use rayon::prelude::*;
+
+/// Rows per band (tile height).
+pub const BAND_ROWS: u32 = 16;
+/// Triangles binned by one task.
+const BATCH: usize = 8192;
+
+/// The fragment stage's settings.
+pub(crate) struct FragmentState<'a> {
+    pub shading: Shading,
+    pub lights: &'a EyeLights,
+    pub depth_func: DepthFunc,
+}
+
+/// Draws the triangles of `batches` (in order: batch by batch, each in order) into
+/// `fb`, touching only pixels inside `region`.
+pub(crate) fn rasterize_batches(
+    batches: &[&[ScreenTriangle]],
+    fb: &mut Framebuffer,
+    region: Rect,
+    state: &FragmentState,
+) {
+    let width = fb.width();
+    let height = fb.height();
+    let region = region.intersect(&Rect::full(width, height));
+    if region.is_empty() {
+        return;
+    }
+    let pieces: Vec<&[ScreenTriangle]> = batches.iter().flat_map(|b| b.chunks(BATCH)).collect();
+    let bands = height.div_ceil(BAND_ROWS) as usize;
+    let bins: Vec<Vec<Vec<u32>>> = pieces.par_iter().map(|p| bin(p, &region, bands)).collect();
+    let job = Job {
+        pieces: &pieces,
+        bins: &bins,
+        region,
+        width: width as usize,
+        depth_func: state.depth_func,
+    };
+    let depth = &mut fb.depth;
+    match (&mut fb.color, state.shading) {
+        (ColorBuffer::Id(c), _) => job.run(c, depth, &InterpolatedColor),
+        (ColorBuffer::Rgba8(c), Shading::Phong) => job.run(c, depth, &PhongShader(state.lights)),
+        (ColorBuffer::Rgba8(c), _) => job.run(c, depth, &InterpolatedColor),
+        (ColorBuffer::Rgba32F(c), Shading::Phong) => job.run(c, depth, &PhongShader(state.lights)),
+        (ColorBuffer::Rgba32F(c), _) => job.run(c, depth, &InterpolatedColor),
+    }
+}
+
+/// For each band, the indices into `tris` of the triangles whose pixel bounds meet
+/// `region` in that band.
+fn bin(tris: &[ScreenTriangle], region: &Rect, bands: usize) -> Vec<Vec<u32>> {
+    let mut bins: Vec<Vec<u32>> = vec![Vec::new(); bands];
+    for (i, t) in tris.iter().enumerate() {
+        let (x0, x1, y0, y1) = row_range(t);
+        let x0 = x0.max(region.x0 as i64);
+        let x1 = x1.min(region.x1 as i64 - 1);
+        let y0 = y0.max(region.y0 as i64);
+        let y1 = y1.min(region.y1 as i64 - 1);
+        if x0 > x1 || y0 > y1 {
+            continue;
+        }
+        for b in (y0 as usize / BAND_ROWS as usize)..=(y1 as usize / BAND_ROWS as usize) {
+            bins[b].push(i as u32);
+        }
+    }
+    bins
+}
+
+struct Job<'a> {
+    pieces: &'a [&'a [ScreenTriangle]],
+    bins: &'a [Vec<Vec<u32>>],
+    region: Rect,
+    width: usize,
+    depth_func: DepthFunc,
+}
+
+impl Job<'_> {
+    fn run<T: Send, S: PixelShader>(&self, color: &mut [T], depth: &mut [f32], shader: &S)
+    where
+        [T]: ColorTarget,
+    {
+        let band_len = self.width * BAND_ROWS as usize;
+        color
+            .par_chunks_mut(band_len)
+            .zip(depth.par_chunks_mut(band_len))
+            .enumerate()
+            .for_each(|(band, (c, d))| {
+                let y0 = band as u32 * BAND_ROWS;
+                let rows = (d.len() / self.width) as u32;
+                let clip = self
+                    .region
+                    .intersect(&Rect::new(0, y0, self.width as u32, y0 + rows));
+                if clip.is_empty() {
+                    return;
+                }
+                for (piece, bins) in self.pieces.iter().zip(self.bins) {
+                    for &i in &bins[band] {
+                        draw(
+                            &piece[i as usize],
+                            &clip,
+                            self.width,
+                            y0,
+                            d,
+                            c,
+                            shader,
+                            self.depth_func,
+                        );
+                    }
+                }
+            });
+    }
+}

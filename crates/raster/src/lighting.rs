@@ -1,0 +1,255 @@
+//! Local illumination for the pipeline: ambient + Lambert diffuse + Blinn-Phong
+//! specular, evaluated per vertex (Gouraud, 1971) or per pixel (Phong, 1975), as in the
+//! OpenGL fixed-function pipeline (no 1/pi, no shadows).
+//!
+//! Lights are given in world space and moved to eye space once per frame
+//! ([`EyeLights`]); all shading happens in eye space, where the eye is at the origin.
+
+use glam::{Mat4, Vec3};
+use irradia_core::Rgb;
+use irradia_scene::Light;
+
+/// How colour is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Shading {
+    /// Vertex colours as given, no lighting.
+    Unlit,
+    /// Lighting evaluated at the vertices, colours interpolated (Gouraud).
+    #[default]
+    Gouraud,
+    /// Normals and positions interpolated, lighting evaluated at every pixel (Phong).
+    Phong,
+}
+
+/// One light of the pipeline.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RasterLight {
+    /// Light travelling along `direction` with irradiance `color`.
+    Directional { direction: Vec3, color: Rgb },
+    /// A point light of intensity `color`; irradiance falls off as 1 / r².
+    Point { position: Vec3, color: Rgb },
+}
+
+/// The lights of a frame, in world space.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lights {
+    pub ambient: Rgb,
+    pub lights: Vec<RasterLight>,
+}
+
+impl Default for Lights {
+    /// A dim ambient term and one white light shining down the view axis from behind
+    /// the default camera.
+    fn default() -> Self {
+        Self {
+            ambient: Rgb::splat(0.1),
+            lights: vec![RasterLight::Directional {
+                direction: Vec3::new(-0.3, -0.5, -1.0).normalize(),
+                color: Rgb::splat(1.0),
+            }],
+        }
+    }
+}
+
+impl Lights {
+    /// The scene's lights, with area lights approximated by a point at their centre of
+    /// the same total power (the rasterizer has no shadows or soft lighting).
+    pub fn from_scene(lights: &[Light], ambient: Rgb) -> Self {
+        let lights = lights
+            .iter()
+            .map(|l| match *l {
+                Light::Point {
+                    position,
+                    intensity,
+                } => RasterLight::Point {
+                    position,
+                    color: intensity,
+                },
+                Light::Directional {
+                    direction,
+                    irradiance,
+                } => RasterLight::Directional {
+                    direction: direction.normalize(),
+                    color: irradiance,
+                },
+                Light::Spot {
+                    position,
+                    intensity,
+                    ..
+                } => RasterLight::Point {
+                    position,
+                    color: intensity,
+                },
+                Light::Rect {
+                    corner,
+                    edge_u,
+                    edge_v,
+                    radiance,
+                    ..
+                } => {
+                    // A one-sided Lambertian rectangle has intensity L * A along its normal;
+                    // use it as an isotropic point intensity.
+                    let area = edge_u.cross(edge_v).length();
+                    RasterLight::Point {
+                        position: corner + 0.5 * (edge_u + edge_v),
+                        color: radiance * area,
+                    }
+                }
+                Light::Sphere {
+                    center,
+                    radius,
+                    radiance,
+                    ..
+                } => RasterLight::Point {
+                    position: center,
+                    color: radiance * (std::f32::consts::PI * radius * radius),
+                },
+            })
+            .collect();
+        Self { ambient, lights }
+    }
+}
+
+/// Surface reflectance for the pipeline's lighting model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Multiplies the vertex colour for the diffuse and ambient terms.
+    pub diffuse: Rgb,
+    pub specular: Rgb,
+    /// Blinn-Phong exponent.
+    pub shininess: f32,
+    /// Light the side facing the eye (normals flipped towards the eye), for open
+    /// surfaces such as isosurfaces.
+    pub two_sided: bool,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            diffuse: Rgb::splat(1.0),
+            specular: Rgb::splat(0.0),
+            shininess: 32.0,
+            two_sided: true,
+        }
+    }
+}
+
+/// A light moved to eye space.
+#[derive(Clone, Copy, Debug)]
+enum EyeLight {
+    /// Unit vector towards the light.
+    Directional {
+        to_light: Vec3,
+        color: Vec3,
+    },
+    Point {
+        position: Vec3,
+        color: Vec3,
+    },
+}
+
+/// The frame's lights and material in eye space, ready to shade points.
+#[derive(Clone, Debug)]
+pub struct EyeLights {
+    ambient: Vec3,
+    lights: Vec<EyeLight>,
+    material: Material,
+    orthographic: bool,
+}
+
+fn v3(c: Rgb) -> Vec3 {
+    Vec3::new(c.r, c.g, c.b)
+}
+
+impl EyeLights {
+    pub fn new(lights: &Lights, material: &Material, view: Mat4, orthographic: bool) -> Self {
+        let eye_lights = lights
+            .lights
+            .iter()
+            .map(|l| match *l {
+                RasterLight::Directional { direction, color } => EyeLight::Directional {
+                    to_light: -view.transform_vector3(direction).normalize_or_zero(),
+                    color: v3(color),
+                },
+                RasterLight::Point { position, color } => EyeLight::Point {
+                    position: view.transform_point3(position),
+                    color: v3(color),
+                },
+            })
+            .collect();
+        Self {
+            ambient: v3(lights.ambient),
+            lights: eye_lights,
+            material: *material,
+            orthographic,
+        }
+    }
+
+    /// Reflected colour at eye-space point `p` with unit normal `n` and base colour
+    /// `base` (the vertex colour): `base*kd*(ambient + sum E cos) + ks * sum E (n.h)^s`.
+    #[inline]
+    pub fn shade(&self, p: Vec3, n: Vec3, base: Vec3) -> Vec3 {
+        let m = &self.material;
+        let to_eye = if self.orthographic {
+            Vec3::Z
+        } else {
+            (-p).normalize_or_zero()
+        };
+        let mut n = n;
+        if m.two_sided && n.dot(to_eye) < 0.0 {
+            n = -n;
+        }
+        let kd = base * v3(m.diffuse);
+        let ks = v3(m.specular);
+        let specular = ks != Vec3::ZERO;
+        let mut diffuse_sum = self.ambient;
+        let mut specular_sum = Vec3::ZERO;
+        for l in &self.lights {
+            let (to_light, e) = match *l {
+                EyeLight::Directional { to_light, color } => (to_light, color),
+                EyeLight::Point { position, color } => {
+                    let d = position - p;
+                    let r2 = d.length_squared().max(1e-20);
+                    (d / r2.sqrt(), color / r2)
+                }
+            };
+            let cos = n.dot(to_light);
+            if cos > 0.0 {
+                diffuse_sum += e * cos;
+                if specular {
+                    let h = (to_light + to_eye).normalize_or_zero();
+                    specular_sum += e * n.dot(h).max(0.0).powf(m.shininess);
+                }
+            }
+        }
+        kd * diffuse_sum + ks * specular_sum
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lambert_and_two_sided() {
+        let lights = Lights {
+            ambient: Rgb::splat(0.0),
+            lights: vec![RasterLight::Directional {
+                direction: -Vec3::Z,
+                color: Rgb::splat(1.0),
+            }],
+        };
+        let e = EyeLights::new(&lights, &Material::default(), Mat4::IDENTITY, false);
+        let p = Vec3::new(0.0, 0.0, -2.0);
+        let n = Vec3::new(0.6, 0.0, 0.8);
+        assert!((e.shade(p, n, Vec3::ONE).x - 0.8).abs() < 1e-6);
+        // Seen from behind, a two-sided surface is lit as if facing the eye.
+        assert!((e.shade(p, -n, Vec3::ONE).x - 0.8).abs() < 1e-6);
+        let one_sided = Material {
+            two_sided: false,
+            ..Material::default()
+        };
+        let e = EyeLights::new(&lights, &one_sided, Mat4::IDENTITY, false);
+        assert_eq!(e.shade(p, -n, Vec3::ONE).x, 0.0);
+    }
+}

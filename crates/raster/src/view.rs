@@ -1,0 +1,91 @@
+//! The camera transform: view (world to eye) and projection (eye to clip space).
+//!
+//! Conventions: right-handed, the eye looks down -z, and the projection maps the near
+//! plane to NDC depth 0 and the far plane to 1 (glam's `perspective_rh`), so the
+//! stored depth is `z_clip / w_clip` in [0, 1].
+
+use glam::{Mat4, Vec3, Vec4};
+use irradia_scene::{Camera, FovAxis, Projection};
+
+/// The transforms of the geometry stage.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewParams {
+    /// World to eye space.
+    pub view: Mat4,
+    /// Eye to clip space.
+    pub proj: Mat4,
+}
+
+impl Default for ViewParams {
+    fn default() -> Self {
+        Self::look_at_perspective(
+            Vec3::new(0.0, 0.0, 3.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            45.0,
+            1.0,
+            0.1,
+            100.0,
+        )
+    }
+}
+
+impl ViewParams {
+    /// A pinhole looking from `eye` at `target`, vertical field of view in degrees.
+    pub fn look_at_perspective(
+        eye: Vec3,
+        target: Vec3,
+        up: Vec3,
+        fovy_degrees: f32,
+        aspect: f32,
+        near: f32,
+        far: f32,
+    ) -> Self {
+        Self {
+            view: Mat4::look_at_rh(eye, target, up),
+            proj: Mat4::perspective_rh(fovy_degrees.to_radians(), aspect, near, far),
+        }
+    }
+
+    /// The same view as a scene [`Camera`] rendered at `width` x `height`, so the
+    /// rasterizer's pixel (i, j) sees what the ray caster's ray through (i+0.5, j+0.5)
+    /// sees.
+    pub fn from_camera(camera: &Camera, width: u32, height: u32, near: f32, far: f32) -> Self {
+        let aspect = width as f32 / height as f32;
+        let view = Mat4::look_at_rh(camera.eye, camera.look_at, camera.up);
+        let proj = match camera.projection {
+            Projection::Perspective { fov_degrees, axis } => {
+                let t = (fov_degrees.to_radians() * 0.5).tan();
+                let horizontal = match axis {
+                    FovAxis::Horizontal => true,
+                    FovAxis::Vertical => false,
+                    FovAxis::Smaller => width <= height,
+                };
+                let half_y = if horizontal { t / aspect } else { t };
+                Mat4::perspective_rh(2.0 * half_y.atan(), aspect, near, far)
+            }
+            Projection::Orthographic { height: h } => {
+                let hh = 0.5 * h;
+                Mat4::orthographic_rh(-hh * aspect, hh * aspect, -hh, hh, near, far)
+            }
+        };
+        Self { view, proj }
+    }
+
+    /// World to clip space.
+    pub fn view_proj(&self) -> Mat4 {
+        self.proj * self.view
+    }
+
+    /// True for a parallel projection (the eye direction is the same everywhere).
+    pub fn is_orthographic(&self) -> bool {
+        self.proj.w_axis.w != 0.0 && self.proj.z_axis.w == 0.0
+    }
+
+    /// The eye-space distance along the view axis (positive in front of the eye) of a
+    /// stored depth value, by inverting the projection.
+    pub fn eye_depth(&self, ndc_depth: f32) -> f32 {
+        let p = self.proj.inverse() * Vec4::new(0.0, 0.0, ndc_depth, 1.0);
+        -p.z / p.w
+    }
+}
