@@ -93,8 +93,10 @@ pub struct Material {
     /// Use Fresnel's equations for reflection/transmission of dielectrics instead of the
     /// constant `reflection` (POV-Ray's default is constant).
     pub fresnel: bool,
-    /// Emitted radiance.
+    /// Emitted radiance, on the side the surface normal points to (out of solids).
     pub emission: Rgb,
+    /// Emit on both sides of the surface (e.g. a closed room that glows inwards).
+    pub emission_two_sided: bool,
     pub model: ShadingModel,
 }
 
@@ -113,6 +115,7 @@ impl Default for Material {
             ior: 1.0,
             fresnel: false,
             emission: Rgb::BLACK,
+            emission_two_sided: false,
             model: ShadingModel::Phong,
         }
     }

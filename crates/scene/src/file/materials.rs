@@ -55,6 +55,7 @@ fn read_material(name: &str, v: &Val) -> Result<Material> {
         ior: t.positive_or("ior", d.ior)?,
         fresnel: t.bool_or("fresnel", d.fresnel)?,
         emission: t.rgb_or("emission", d.emission)?,
+        emission_two_sided: t.bool_or("emission_two_sided", d.emission_two_sided)?,
         model,
     };
     t.finish()?;
