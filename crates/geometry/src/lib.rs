@@ -8,6 +8,7 @@
 pub mod accel;
 pub mod bvh;
 pub mod csg;
+pub mod expr;
 pub mod mesh;
 pub mod triangle;
 pub mod instance;
