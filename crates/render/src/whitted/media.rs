@@ -9,6 +9,7 @@
 /// from the current medium but not remembered.
 const MAX_NESTING: usize = 8;
 
+/// Unused slots always hold `(0, 1.0)`, so equal stacks compare equal.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct MediaStack {
     len: u8,
@@ -56,6 +57,8 @@ impl MediaStack {
         match self.objects[..n].iter().rposition(|&o| o == object) {
             Some(i) if i + 1 == n => {
                 next.len -= 1;
+                next.objects[i] = 0;
+                next.iors[i] = 1.0;
                 (ior / next.current_ior(), next)
             }
             Some(i) => {
@@ -63,6 +66,8 @@ impl MediaStack {
                 next.objects.copy_within(i + 1..n, i);
                 next.iors.copy_within(i + 1..n, i);
                 next.len -= 1;
+                next.objects[n - 1] = 0;
+                next.iors[n - 1] = 1.0;
                 (1.0, next)
             }
             // Leaving a solid the ray was never seen entering (the camera is inside).
