@@ -85,14 +85,15 @@ impl Expr {
         self.tape.run(vars)
     }
 
-    /// Value and gradient with respect to the first (up to) three variables.
+    /// Value and gradient with respect to the first (up to) three variables (at most
+    /// eight variables are read).
     pub fn eval_gradient(&self, vars: &[f64]) -> (f64, [f64; 3]) {
-        let duals: Vec<Dual> = vars
-            .iter()
-            .enumerate()
-            .map(|(i, &v)| Dual::variable(v, i))
-            .collect();
-        let d = self.tape.run(&duals);
+        let mut duals = [Dual::constant(f64::NAN); 8];
+        let n = vars.len().min(8);
+        for (i, &v) in vars[..n].iter().enumerate() {
+            duals[i] = Dual::variable(v, i);
+        }
+        let d = self.tape.run(&duals[..n]);
         (d.v, d.d)
     }
 

@@ -9,6 +9,7 @@ pub mod quadric;
 pub mod shape_error;
 pub mod sphere;
 pub mod torus;
+pub mod implicit;
 
 pub use cuboid::Cuboid;
 pub use disk::Disk;
@@ -19,3 +20,4 @@ pub use quadric::Quadric;
 pub use shape_error::ShapeError;
 pub use sphere::Sphere;
 pub use torus::Torus;
+pub use implicit::{ImplicitError, ImplicitSurface, RootMethod};
