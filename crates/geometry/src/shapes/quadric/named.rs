@@ -58,9 +58,15 @@ impl Quadric {
         let r = radius as f64;
         let mut k = [0.0; 10];
         (k[0], k[2], k[9]) = (1.0, 1.0, -r * r);
-        Ok(general(
+        Ok(Quadric::from_parts(
             QuadricForm::from_coefficients(k),
+            Vec::new(),
             QuadricKind::Cylinder { radius: r },
+            DAffine3::IDENTITY,
+            (
+                DVec3::new(-r, f64::NEG_INFINITY, -r),
+                DVec3::new(r, f64::INFINITY, r),
+            ),
         ))
     }
 
