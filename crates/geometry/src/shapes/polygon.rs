@@ -31,6 +31,8 @@ pub struct Polygon {
     uv_min: DVec2,
     uv_size: DVec2,
     convex: bool,
+    /// No two edges cross (facets exist only for simple outlines).
+    simple: bool,
     bounds: Aabb,
 }
 
@@ -88,6 +90,7 @@ impl Polygon {
             .iter()
             .fold(DVec2::splat(f64::NEG_INFINITY), |m, p| m.max(*p));
         let convex = is_convex(&points);
+        let simple = convex || is_simple(&points);
         let pad = bounds.extent().max_element() * 1e-6 + 1e-30;
         Ok(Self {
             vertices,
@@ -100,6 +103,7 @@ impl Polygon {
             uv_min,
             uv_size: (uv_max - uv_min).max(DVec2::splat(1e-300)),
             convex,
+            simple,
             bounds: Aabb::new(bounds.min - Vec3::splat(pad), bounds.max + Vec3::splat(pad)),
         })
     }
@@ -156,6 +160,9 @@ impl Polygon {
         if self.convex {
             return Some(vec![(0..n as u32).collect()]);
         }
+        if !self.simple {
+            return None;
+        }
         let p = &self.points;
         let cross = |a: DVec2, b: DVec2, c: DVec2| (b - a).perp_dot(c - a);
         let mut idx: Vec<usize> = (0..n).collect();
@@ -186,6 +193,35 @@ impl Polygon {
         out.push(idx.iter().map(|&i| i as u32).collect());
         Some(out)
     }
+}
+
+/// Simple: no two non-adjacent edges meet (O(n²), done once at construction).
+fn is_simple(p: &[DVec2]) -> bool {
+    let n = p.len();
+    let orient = |a: DVec2, b: DVec2, c: DVec2| (b - a).perp_dot(c - a);
+    let meet = |a: DVec2, b: DVec2, c: DVec2, d: DVec2| {
+        let (o1, o2) = (orient(a, b, c), orient(a, b, d));
+        let (o3, o4) = (orient(c, d, a), orient(c, d, b));
+        o1 * o2 <= 0.0
+            && o3 * o4 <= 0.0
+            && !(o1 == 0.0 && o2 == 0.0 && o3 == 0.0 && o4 == 0.0 && {
+                // Collinear: overlap if their projections overlap.
+                let e = b - a;
+                let (tc, td) = ((c - a).dot(e), (d - a).dot(e));
+                tc.max(td) < 0.0 || tc.min(td) > e.dot(e)
+            })
+    };
+    for i in 0..n {
+        for j in i + 1..n {
+            if j == i + 1 || (i == 0 && j == n - 1) {
+                continue; // adjacent edges share a vertex
+            }
+            if meet(p[i], p[(i + 1) % n], p[j], p[(j + 1) % n]) {
+                return false;
+            }
+        }
+    }
+    true
 }
 
 /// Convex: every turn goes the same way and the outline turns around exactly once.
