@@ -88,7 +88,7 @@ pub fn radiance(
         let wo_world = -ray.dir.normalize();
         let n = hit.normal;
 
-        if !material.emission.is_black() && n.dot(wo_world) > 0.0 {
+        if !material.emission.is_black() && (material.emission_two_sided || n.dot(wo_world) > 0.0) {
             let w = match prev {
                 Some((p, pdf)) => mis(pdf, lights.pdf_object(scene, sh.instance, p, hit.point, n)),
                 None => 1.0,

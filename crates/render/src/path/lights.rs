@@ -34,7 +34,7 @@ enum Emitter {
     Directional { direction: Vec3, irradiance: Rgb },
     Rect { corner: Vec3, edge_u: Vec3, edge_v: Vec3, normal: Vec3, area: f32, radiance: Rgb },
     Sphere { center: Vec3, radius: f32, radiance: Rgb },
-    Object { instance: u32, radiance: Rgb, area: f32 },
+    Object { instance: u32, radiance: Rgb, area: f32, two_sided: bool },
     Environment { radiance: Rgb, radius: f32 },
 }
 
@@ -101,13 +101,14 @@ impl LightSampler {
         }
         let mut by_instance = vec![None; scene.objects.len()];
         for (i, (obj, inst)) in scene.objects.iter().zip(scene.accel.instances()).enumerate() {
-            let e = scene.materials[obj.material as usize].emission;
+            let material = &scene.materials[obj.material as usize];
+            let e = material.emission;
             if e.is_black() {
                 continue;
             }
             if let (Some(area), Some(_)) = (inst.shape.area(), inst.shape.sample_surface(Vec2::splat(0.5))) {
                 by_instance[i] = Some(emitters.len() as u32);
-                emitters.push(Emitter::Object { instance: i as u32, radiance: e, area });
+                emitters.push(Emitter::Object { instance: i as u32, radiance: e, area, two_sided: material.emission_two_sided });
             }
         }
         let mut environment = None;
@@ -122,7 +123,7 @@ impl LightSampler {
                 Emitter::Directional { irradiance, .. } => PI * radius * radius * irradiance.mean(),
                 Emitter::Rect { area, radiance, .. } => PI * area * radiance.mean(),
                 Emitter::Sphere { radius, radiance, .. } => PI * 4.0 * PI * radius * radius * radiance.mean(),
-                Emitter::Object { instance, radiance, area } => {
+                Emitter::Object { instance, radiance, area, .. } => {
                     let s = det3(scene.accel.instances()[*instance as usize].to_world()).abs().powf(2.0 / 3.0);
                     PI * area * s * radiance.mean()
                 }
@@ -159,15 +160,16 @@ impl LightSampler {
         if pick <= 0.0 {
             return None;
         }
-        let on_surface = |q: Vec3, n: Vec3, radiance: Rgb, pdf_area: f32| -> Option<LightSample> {
+        let on_surface = |q: Vec3, n: Vec3, radiance: Rgb, pdf_area: f32, two_sided: bool| -> Option<LightSample> {
             let d = q - p;
             let dist2 = d.length_squared();
             let wi = d / dist2.sqrt();
-            let cos_l = -wi.dot(n);
+            let facing = -wi.dot(n);
+            let cos_l = if two_sided { facing.abs() } else { facing };
             if cos_l <= 0.0 || pdf_area <= 0.0 {
                 return None;
             }
-            let target = irradia_core::offset_ray_origin(q, n, 0.0);
+            let target = irradia_core::offset_ray_origin(q, if facing > 0.0 { n } else { -n }, 0.0);
             Some(LightSample { wi, target: Some(target), li: radiance, pdf: pick * pdf_area * dist2 / cos_l, delta: false })
         };
         match self.emitters[idx] {
@@ -187,18 +189,18 @@ impl LightSampler {
                 Some(LightSample { wi: -direction, target: None, li: irradiance, pdf: pick, delta: true })
             }
             Emitter::Rect { corner, edge_u, edge_v, normal, area, radiance } => {
-                on_surface(corner + edge_u * u.x + edge_v * u.y, normal, radiance, 1.0 / area)
+                on_surface(corner + edge_u * u.x + edge_v * u.y, normal, radiance, 1.0 / area, false)
             }
             Emitter::Sphere { center, radius, radiance } => {
                 let n = sampling::uniform_sphere(u);
-                on_surface(center + n * radius, n, radiance, 1.0 / (4.0 * PI * radius * radius))
+                on_surface(center + n * radius, n, radiance, 1.0 / (4.0 * PI * radius * radius), false)
             }
-            Emitter::Object { instance, radiance, area } => {
+            Emitter::Object { instance, radiance, area, two_sided } => {
                 let inst = &scene.accel.instances()[instance as usize];
                 let (qo, no) = inst.shape.sample_surface(u)?;
                 let q = inst.to_world().transform_point3(qo);
                 let n = Vec3::from(inst.to_object().matrix3.transpose() * glam::Vec3A::from(no)).normalize();
-                on_surface(q, n, radiance, 1.0 / (area * area_jacobian(inst, no)))
+                on_surface(q, n, radiance, 1.0 / (area * area_jacobian(inst, no)), two_sided)
             }
             Emitter::Environment { radiance, .. } => {
                 let wi = sampling::uniform_sphere(u);
