@@ -28,3 +28,28 @@ impl fmt::Display for CliError {
 }
 
 impl std::error::Error for CliError {}
+
+impl From<irradia_scene::SceneError> for CliError {
+    /// Malformed scenes are the user's input (exit 2); unreadable files are failures.
+    fn from(e: irradia_scene::SceneError) -> Self {
+        if e.is_bad_input() {
+            CliError::Input(e.to_string())
+        } else {
+            CliError::Failure(e.to_string())
+        }
+    }
+}
+
+impl From<irradia_render::RenderError> for CliError {
+    fn from(e: irradia_render::RenderError) -> Self {
+        use irradia_render::RenderError as E;
+        match e {
+            E::Image(_) | E::PixelOutside { .. } | E::Unsupported(_) => {
+                CliError::Input(e.to_string())
+            }
+            E::Threads(_) => CliError::Failure(e.to_string()),
+            #[allow(unreachable_patterns)]
+            _ => CliError::Failure(e.to_string()),
+        }
+    }
+}

@@ -6,12 +6,18 @@
 
 mod commands;
 mod error;
+mod scene_arg;
 
 use clap::{Parser, Subcommand};
-use error::CliError;
 
 #[derive(Parser, Debug)]
-#[command(name = "irradia", version, about = "Irradia: ray tracing, path tracing, radiosity and parallel rendering", long_about = None)]
+#[command(
+    name = "irradia",
+    version,
+    about = "Irradia: ray tracing, path tracing, radiosity and parallel rendering",
+    long_about = None,
+    after_long_help = "Run `irradia <COMMAND> --help` for a command's options and examples.\nExit codes: 0 done, 1 failure while working, 2 bad input (scene file, option)."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

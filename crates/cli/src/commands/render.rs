@@ -1,11 +1,186 @@
-//! `irradia render` (being written).
+//! `irradia render`: render a scene file or a built-in scene to PNG, EXR or PFM.
 
 use crate::error::CliError;
-use clap::Args;
+use crate::scene_arg::{load_scene, SceneArgs};
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use irradia_core::io::{save, Format};
+use irradia_render::{render, Aov, RenderOptions};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+const EXAMPLES: &str = "\
+Examples:
+  irradia render                                  # built-in 'default' -> render.png
+  irradia render --builtin whitted -o whitted.png --threads 2
+  irradia render scene.toml -o out.exr --spp 16   # linear float output
+  irradia render --builtin csg --width 320 --height 180 --max-depth 3 --quiet
+  irradia render --builtin whitted --aov depth,normal -o w.png
+      # also writes w.depth.png and w.normal.png (raw values in .exr/.pfm)
+
+The format is chosen by the output's extension: .png (8-bit sRGB), .exr or .pfm
+(linear float). The file is written atomically: a failed render never leaves a
+partial image, and an existing file is only replaced by a complete one.
+Exit codes: 0 done, 1 failure while working, 2 bad input (scene file, option).";
+
+/// Extra images (`--aov`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AovArg {
+    /// Distance from the camera to the first hit.
+    Depth,
+    /// World-space shading normal at the first hit.
+    Normal,
+    /// Index of the first object hit (-1 for the background).
+    ObjectId,
+    /// Deepest level of the pixel's ray tree.
+    RayDepth,
+}
+
+impl From<AovArg> for Aov {
+    fn from(a: AovArg) -> Aov {
+        match a {
+            AovArg::Depth => Aov::Depth,
+            AovArg::Normal => Aov::Normal,
+            AovArg::ObjectId => Aov::ObjectId,
+            AovArg::RayDepth => Aov::RayDepth,
+        }
+    }
+}
 
 #[derive(Args, Debug)]
-pub struct RenderArgs {}
+#[command(after_long_help = EXAMPLES)]
+pub struct RenderArgs {
+    /// Scene file (TOML or JSON). Without it (and without --builtin) the built-in
+    /// `default` scene is rendered.
+    #[arg(value_name = "SCENE")]
+    pub scene: Option<PathBuf>,
+    /// Output image; .png, .exr or .pfm.
+    #[arg(short, long, value_name = "FILE", default_value = "render.png")]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub scene_args: SceneArgs,
+    /// Worker threads (default: one per core). The image does not depend on it.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Tile size in pixels (the image does not depend on it).
+    #[arg(long, value_name = "PIXELS", default_value_t = 32,
+          value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub tile_size: u32,
+    /// Also write these images beside the output, as FILE-STEM.NAME.EXT
+    /// (comma-separated or repeated).
+    #[arg(long, value_name = "AOV", value_delimiter = ',')]
+    pub aov: Vec<AovArg>,
+    /// Print nothing but errors (no progress bar, no statistics).
+    #[arg(short, long)]
+    pub quiet: bool,
+}
 
-pub fn run(_args: RenderArgs) -> Result<(), CliError> {
-    Err(CliError::Failure("not available yet".into()))
+/// `out.png` + `depth` -> `out.depth.png`.
+pub fn aov_path(output: &Path, aov: Aov) -> PathBuf {
+    let stem = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "render".into());
+    let ext = output
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    output.with_file_name(format!("{stem}.{}.{ext}", aov.name()))
+}
+
+/// Checks, before rendering, that `path` has a known image extension and that its
+/// folder exists and takes new files.
+pub fn check_output(path: &Path) -> Result<Format, CliError> {
+    let format = Format::from_path(path).map_err(|e| CliError::Input(e.to_string()))?;
+    if path.is_dir() {
+        return Err(CliError::Input(format!(
+            "{}: is a folder, not an image file",
+            path.display()
+        )));
+    }
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if !dir.is_dir() {
+        return Err(CliError::Input(format!(
+            "{}: cannot write the output: folder {} does not exist",
+            path.display(),
+            dir.display()
+        )));
+    }
+    // Probe that the folder takes files (the image itself is written atomically later).
+    let probe = dir.join(format!(".irradia-probe-{}", std::process::id()));
+    match std::fs::File::create(&probe) {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(format)
+        }
+        Err(e) => Err(CliError::Input(format!(
+            "{}: cannot write the output in {}: {e}",
+            path.display(),
+            dir.display()
+        ))),
+    }
+}
+
+pub fn run(args: RenderArgs) -> Result<(), CliError> {
+    // Everything that can be wrong with the options is found before rendering.
+    let format = check_output(&args.output)?;
+    let aovs: Vec<Aov> = args.aov.iter().map(|&a| a.into()).collect();
+    let scene = load_scene(args.scene.as_ref(), &args.scene_args)?;
+    let (w, h) = (scene.settings.width, scene.settings.height);
+
+    let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
+        let pb =
+            ProgressBar::with_draw_target(Some(w as u64 * h as u64), ProgressDrawTarget::stderr());
+        pb.set_style(
+            ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed_precise} eta {eta}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        pb
+    });
+    let progress = bar.clone().map(|pb| {
+        let f: Arc<dyn Fn(u64) + Send + Sync> = Arc::new(move |n| pb.inc(n));
+        f
+    });
+    let options = RenderOptions {
+        threads: args.threads.map(|t| t as usize),
+        tile_size: args.tile_size,
+        aovs: aovs.clone(),
+        progress,
+    };
+    let out = render(&scene, &options)?;
+    if let Some(pb) = &bar {
+        pb.finish_and_clear();
+    }
+
+    save(&out.image, &args.output).map_err(|e| CliError::Failure(e.to_string()))?;
+    let mut written = vec![args.output.clone()];
+    for (aov, raw) in &out.aovs {
+        let path = aov_path(&args.output, *aov);
+        let image = if format == Format::Png {
+            aov.display(raw)
+        } else {
+            raw.clone()
+        };
+        save(&image, &path).map_err(|e| CliError::Failure(e.to_string()))?;
+        written.push(path);
+    }
+
+    if !args.quiet {
+        let secs = out.elapsed.as_secs_f64();
+        let rays = out.stats.total_rays();
+        eprintln!("{}", out.stats);
+        eprintln!(
+            "Rendered {w}x{h} at {} spp in {secs:.3} s: {rays} rays, {:.2} Mrays/s",
+            scene.settings.spp.max(1),
+            rays as f64 / secs.max(1e-9) / 1e6
+        );
+        for p in written {
+            eprintln!("Wrote {}", p.display());
+        }
+    }
+    Ok(())
 }

@@ -1,0 +1,67 @@
+//! Choosing the scene (a file, a built-in, or the default built-in) and overriding
+//! its settings from the command line: shared by the subcommands that render.
+
+use crate::error::CliError;
+use clap::Args;
+use irradia_scene::Scene;
+use std::path::PathBuf;
+
+/// Options that pick a scene and override its image settings.
+#[derive(Args, Debug, Clone, Default)]
+pub struct SceneArgs {
+    /// Render a built-in scene (see `irradia scenes`) instead of a file.
+    #[arg(long, value_name = "NAME")]
+    pub builtin: Option<String>,
+    /// Image width in pixels (overrides the scene's).
+    #[arg(long, value_name = "W", value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub width: Option<u32>,
+    /// Image height in pixels (overrides the scene's).
+    #[arg(long, value_name = "H", value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub height: Option<u32>,
+    /// Samples per pixel (overrides the scene's; stratified).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub spp: Option<u32>,
+    /// Maximum ray depth, camera rays being depth 1 (overrides the scene's).
+    #[arg(long, value_name = "D", value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub max_depth: Option<u32>,
+}
+
+/// Loads the scene named by `file` or `args.builtin` (the built-in `default` when
+/// neither is given) and applies the overrides.
+pub fn load_scene(file: Option<&PathBuf>, args: &SceneArgs) -> Result<Scene, CliError> {
+    let mut scene = match (file, &args.builtin) {
+        (Some(_), Some(_)) => {
+            return Err(CliError::Input(
+                "give either a scene file or --builtin, not both".into(),
+            ))
+        }
+        (Some(path), None) => {
+            if !path.exists() {
+                return Err(CliError::Input(format!(
+                    "{}: no such scene file",
+                    path.display()
+                )));
+            }
+            irradia_scene::load_file(path)?
+        }
+        (None, Some(name)) => irradia_scene::builtin::load(name)?,
+        (None, None) => irradia_scene::builtin::load("default")?,
+    };
+    let s = &mut scene.settings;
+    if let Some(w) = args.width {
+        s.width = w;
+    }
+    if let Some(h) = args.height {
+        s.height = h;
+    }
+    if let Some(n) = args.spp {
+        s.spp = n;
+    }
+    if let Some(d) = args.max_depth {
+        s.max_depth = d;
+    }
+    // Refuse sizes that cannot be allocated before any work starts.
+    irradia_core::image::check_size(s.width, s.height, 12)
+        .map_err(|e| CliError::Input(e.to_string()))?;
+    Ok(scene)
+}
