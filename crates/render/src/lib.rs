@@ -98,7 +98,7 @@ pub struct RenderOutput {
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, RenderError> {
     match scene.settings.integrator {
         Method::Whitted => film::render_with(&Whitted::new(scene), scene, options),
-        Method::Path => Err(RenderError::Unsupported("path")),
+        Method::Path => path::output::render_output(scene, options),
     }
 }
 

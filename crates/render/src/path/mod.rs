@@ -12,6 +12,7 @@ pub mod film;
 pub mod integrator;
 pub mod lights;
 pub mod material_map;
+pub mod output;
 pub mod progressive;
 
 pub use film::{CheckpointError, Film};
