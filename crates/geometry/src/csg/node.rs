@@ -97,8 +97,15 @@ impl Csg {
                     Instance::new(Arc::new(csg), to_parent)
                 }
             };
+            // An untransformed operand keeps its own bounds: Instance widens a
+            // half-infinite box (a plane's) to the infinite one.
+            let bounds = if *instance.to_world() == Affine3A::IDENTITY {
+                instance.shape.bounds()
+            } else {
+                instance.bounds()
+            };
             children.push(Child {
-                bounds: instance.bounds(),
+                bounds,
                 instance,
                 leaf_offset,
             });
