@@ -9,6 +9,7 @@ pub mod quadric;
 pub mod shape_error;
 pub mod sphere;
 pub mod torus;
+pub mod bezier;
 pub mod implicit;
 
 pub use cuboid::Cuboid;
@@ -20,4 +21,5 @@ pub use quadric::Quadric;
 pub use shape_error::ShapeError;
 pub use sphere::Sphere;
 pub use torus::Torus;
+pub use bezier::{teapot_mesh, teapot_patches, BezierPatch, BezierSurface};
 pub use implicit::{ImplicitError, ImplicitSurface, RootMethod};
