@@ -1,1 +1,10 @@
-//! placeholder
+//! irradia-parallel: parallel rendering as in the lecture's second half -- sort-first,
+//! sort-middle and sort-last (Molnar, Cox, Ellsworth, Fuchs 1994), image compositing
+//! (direct send, tree, binary swap, radix-k; active-pixel run lengths; depth and ordered
+//! "over"), parallel submission (WireGL/Chromium), a network cost model, and tiled
+//! display walls. Every algorithm is generic over [`comm::Comm`], so the same code runs on
+//! threads ([`comm::LocalComm`]) and under `mpirun` (`MpiComm`, cargo feature `mpi`).
+
+pub mod comm;
+pub mod composite;
+pub mod report;

@@ -1,0 +1,245 @@
+//! The communicator every parallel algorithm is written against.
+//!
+//! A [`Comm`] is a group of `size` ranks that exchange byte buffers. [`LocalComm`] runs
+//! the ranks as threads of one process (tests, one machine); `MpiComm` (cargo feature
+//! `mpi`) runs the same code under `mpirun`. Algorithms never know which one they have.
+//!
+//! Every receive has a deadline: a rank that dies or never answers ends the job on every
+//! rank with a [`CommError`] naming it, never a hang. Every message is recorded in a
+//! [`MessageLog`] under the current stage, from which the per-rank [`crate::report`] and
+//! the alpha-beta [`crate::netmodel`] are computed.
+
+pub mod local;
+#[cfg(feature = "mpi")]
+pub mod mpi;
+
+pub use local::{run_local, LocalComm, LocalOptions};
+#[cfg(feature = "mpi")]
+pub use mpi::MpiComm;
+
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+use thiserror::Error;
+
+/// Why a communication failed. Every variant names the rank at fault.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum CommError {
+    #[error("rank {rank} did not answer within {seconds:.3} s (noticed by rank {waiting_rank}, tag {tag:#x})")]
+    Timeout {
+        rank: usize,
+        waiting_rank: usize,
+        tag: u32,
+        seconds: f64,
+    },
+    #[error("rank {rank} died (its end of the connection closed)")]
+    RankDied { rank: usize },
+    #[error("job aborted: {0}")]
+    Aborted(String),
+    #[error("rank {rank} is out of range for a communicator of {size} ranks")]
+    BadRank { rank: usize, size: usize },
+    #[error("malformed message from rank {rank}: {message}")]
+    Malformed { rank: usize, message: String },
+}
+
+impl CommError {
+    /// The rank this error blames (the one that died, never answered or sent garbage).
+    pub fn culprit(&self) -> Option<usize> {
+        match self {
+            CommError::Timeout { rank, .. }
+            | CommError::RankDied { rank }
+            | CommError::BadRank { rank, .. }
+            | CommError::Malformed { rank, .. } => Some(*rank),
+            CommError::Aborted(_) => None,
+        }
+    }
+}
+
+/// One message as seen by the rank that sent or received it.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MessageRecord {
+    pub stage: String,
+    pub src: usize,
+    pub dst: usize,
+    pub bytes: usize,
+    /// True on the sending side.
+    pub sent: bool,
+}
+
+/// The messages one rank sent and received, grouped by named stage, with the wall time
+/// each stage took on this rank.
+#[derive(Debug, Default)]
+pub struct MessageLog {
+    inner: Mutex<LogInner>,
+}
+
+#[derive(Debug, Default)]
+struct LogInner {
+    stage: String,
+    stage_start: Option<Instant>,
+    records: Vec<MessageRecord>,
+    /// (stage, seconds) in the order stages ended.
+    times: Vec<(String, f64)>,
+}
+
+impl MessageLog {
+    /// Ends the current stage (recording its time) and starts `name`.
+    pub fn begin_stage(&self, name: &str) {
+        let mut g = self.inner.lock().unwrap();
+        if let Some(t0) = g.stage_start.take() {
+            let s = g.stage.clone();
+            g.times.push((s, t0.elapsed().as_secs_f64()));
+        }
+        g.stage = name.to_string();
+        g.stage_start = Some(Instant::now());
+    }
+
+    /// Ends the current stage without starting another.
+    pub fn end_stage(&self) {
+        let mut g = self.inner.lock().unwrap();
+        if let Some(t0) = g.stage_start.take() {
+            let s = g.stage.clone();
+            g.times.push((s, t0.elapsed().as_secs_f64()));
+        }
+        g.stage.clear();
+    }
+
+    pub fn record(&self, src: usize, dst: usize, bytes: usize, sent: bool) {
+        let mut g = self.inner.lock().unwrap();
+        let stage = g.stage.clone();
+        g.records.push(MessageRecord {
+            stage,
+            src,
+            dst,
+            bytes,
+            sent,
+        });
+    }
+
+    /// All messages recorded so far.
+    pub fn records(&self) -> Vec<MessageRecord> {
+        self.inner.lock().unwrap().records.clone()
+    }
+
+    /// Stage times recorded so far, in order.
+    pub fn stage_times(&self) -> Vec<(String, f64)> {
+        self.inner.lock().unwrap().times.clone()
+    }
+
+    /// Forgets everything (between benchmark repetitions).
+    pub fn clear(&self) {
+        let mut g = self.inner.lock().unwrap();
+        g.records.clear();
+        g.times.clear();
+        g.stage_start = None;
+        g.stage.clear();
+    }
+}
+
+/// Tags below this are free for algorithms; the ones above are used by the defaults here.
+pub const TAG_BARRIER: u32 = 0x7fff_0000;
+pub const TAG_ALL_TO_ALL: u32 = 0x7fff_0001;
+pub const TAG_GATHER: u32 = 0x7fff_0002;
+pub const TAG_BCAST: u32 = 0x7fff_0003;
+
+/// A group of ranks exchanging byte buffers (see the module documentation).
+pub trait Comm {
+    fn rank(&self) -> usize;
+    fn size(&self) -> usize;
+
+    /// How long a receive waits before it blames the silent rank.
+    fn timeout(&self) -> Duration;
+
+    /// Sends `data` to `dest` with `tag`. May return before `dest` received it, but an
+    /// implementation may also block until it is matched: use [`Comm::exchange`] when two
+    /// ranks send to each other.
+    fn send(&self, dest: usize, tag: u32, data: &[u8]) -> Result<(), CommError>;
+
+    /// Receives the next message from `src` with `tag`, or fails after [`Comm::timeout`].
+    fn recv(&self, src: usize, tag: u32) -> Result<Vec<u8>, CommError>;
+
+    /// The message log of this rank.
+    fn log(&self) -> &MessageLog;
+
+    /// Sends each `(dest, bytes)` and receives one message from each of `sources`, all
+    /// with `tag`, without deadlock whatever the pattern. Returns the received buffers in
+    /// the order of `sources`.
+    fn exchange(
+        &self,
+        sends: &[(usize, &[u8])],
+        sources: &[usize],
+        tag: u32,
+    ) -> Result<Vec<Vec<u8>>, CommError> {
+        for (d, b) in sends {
+            self.send(*d, tag, b)?;
+        }
+        sources.iter().map(|&s| self.recv(s, tag)).collect()
+    }
+
+    /// Dissemination barrier (Hensgen, Finkel, Manber 1988): ceil(log2 p) rounds.
+    fn barrier(&self) -> Result<(), CommError> {
+        let (r, p) = (self.rank(), self.size());
+        let mut k = 1;
+        while k < p {
+            let to = (r + k) % p;
+            let from = (r + p - k) % p;
+            let empty: &[u8] = &[];
+            self.exchange(&[(to, empty)], &[from], TAG_BARRIER)?;
+            k <<= 1;
+        }
+        Ok(())
+    }
+
+    /// Personalised all-to-all: `bufs[j]` goes to rank j; returns what each rank sent here.
+    fn all_to_all(&self, bufs: &[Vec<u8>]) -> Result<Vec<Vec<u8>>, CommError> {
+        let (r, p) = (self.rank(), self.size());
+        assert_eq!(bufs.len(), p, "all_to_all needs one buffer per rank");
+        let sends: Vec<(usize, &[u8])> = (0..p)
+            .filter(|&j| j != r)
+            .map(|j| (j, bufs[j].as_slice()))
+            .collect();
+        let sources: Vec<usize> = (0..p).filter(|&j| j != r).collect();
+        let got = self.exchange(&sends, &sources, TAG_ALL_TO_ALL)?;
+        let mut out = Vec::with_capacity(p);
+        let mut it = got.into_iter();
+        for j in 0..p {
+            if j == r {
+                out.push(bufs[r].clone());
+            } else {
+                out.push(it.next().unwrap());
+            }
+        }
+        Ok(out)
+    }
+
+    /// Gathers one buffer from every rank at `root` (others get an empty vector).
+    fn gather(&self, root: usize, data: &[u8]) -> Result<Vec<Vec<u8>>, CommError> {
+        let (r, p) = (self.rank(), self.size());
+        if r == root {
+            let mut out = Vec::with_capacity(p);
+            for j in 0..p {
+                if j == root {
+                    out.push(data.to_vec());
+                } else {
+                    out.push(self.recv(j, TAG_GATHER)?);
+                }
+            }
+            Ok(out)
+        } else {
+            self.send(root, TAG_GATHER, data)?;
+            Ok(Vec::new())
+        }
+    }
+
+    /// Broadcasts `data` from `root` (linear; used only for small control messages).
+    fn broadcast(&self, root: usize, data: &[u8]) -> Result<Vec<u8>, CommError> {
+        let (r, p) = (self.rank(), self.size());
+        if r == root {
+            for j in (0..p).filter(|&j| j != root) {
+                self.send(j, TAG_BCAST, data)?;
+            }
+            Ok(data.to_vec())
+        } else {
+            self.recv(root, TAG_BCAST)
+        }
+    }
+}

@@ -1,0 +1,154 @@
+//! `MpiComm`: the same [`Comm`] over MPI (rsmpi on OpenMPI), for `mpirun -np N`.
+//!
+//! Receives probe (`MPI_Improbe`) until the message arrives or the timeout passes, so a
+//! silent rank is named instead of hanging the job. MPI cannot cancel a half-finished
+//! exchange safely, so a communication error here is fatal: [`MpiComm::fail`] prints the
+//! error naming the culprit and calls `MPI_Abort`, which ends every rank of the job. A
+//! rank that dies outright (signal, exit without finalize) is noticed by `mpirun`
+//! itself, which then kills the remaining ranks and names the dead one.
+
+use super::{Comm, CommError, MessageLog};
+use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
+use mpi::topology::{Communicator, SimpleCommunicator};
+use std::time::{Duration, Instant};
+
+/// One rank of an MPI job (`MPI_COMM_WORLD`). Create exactly one per process.
+pub struct MpiComm {
+    _universe: mpi::environment::Universe,
+    world: SimpleCommunicator,
+    timeout: Duration,
+    log: MessageLog,
+}
+
+impl MpiComm {
+    /// Initialises MPI. Returns `None` when MPI was already initialised.
+    pub fn init(timeout: Duration) -> Option<Self> {
+        let universe = mpi::initialize()?;
+        let world = universe.world();
+        Some(Self {
+            _universe: universe,
+            world,
+            timeout,
+            log: MessageLog::default(),
+        })
+    }
+
+    /// Prints `error` (naming the rank at fault) and ends every rank of the job.
+    pub fn fail(&self, error: &CommError) -> ! {
+        eprintln!(
+            "irradia: rank {}: {error}; aborting the MPI job",
+            self.world.rank()
+        );
+        self.world.abort(3)
+    }
+
+    fn check(&self, rank: usize) -> Result<(), CommError> {
+        if rank >= self.size() {
+            return Err(CommError::BadRank {
+                rank,
+                size: self.size(),
+            });
+        }
+        Ok(())
+    }
+}
+
+impl Comm for MpiComm {
+    fn rank(&self) -> usize {
+        self.world.rank() as usize
+    }
+    fn size(&self) -> usize {
+        self.world.size() as usize
+    }
+    fn timeout(&self) -> Duration {
+        self.timeout
+    }
+    fn log(&self) -> &MessageLog {
+        &self.log
+    }
+
+    fn send(&self, dest: usize, tag: u32, data: &[u8]) -> Result<(), CommError> {
+        self.check(dest)?;
+        self.log.record(self.rank(), dest, data.len(), true);
+        self.world
+            .process_at_rank(dest as i32)
+            .send_with_tag(data, tag as i32);
+        Ok(())
+    }
+
+    fn recv(&self, src: usize, tag: u32) -> Result<Vec<u8>, CommError> {
+        self.check(src)?;
+        let p = self.world.process_at_rank(src as i32);
+        let deadline = Instant::now() + self.timeout;
+        let mut spins = 0u32;
+        loop {
+            if let Some(m) = p.immediate_matched_probe_with_tag(tag as i32) {
+                let (v, _) = m.matched_receive_vec::<u8>();
+                self.log.record(src, self.rank(), v.len(), false);
+                return Ok(v);
+            }
+            spins += 1;
+            if spins > 64 {
+                if Instant::now() >= deadline {
+                    return Err(CommError::Timeout {
+                        rank: src,
+                        waiting_rank: self.rank(),
+                        tag,
+                        seconds: self.timeout.as_secs_f64(),
+                    });
+                }
+                std::thread::yield_now();
+            }
+        }
+    }
+
+    /// Non-blocking sends, then probed receives: no deadlock whatever the pattern.
+    fn exchange(
+        &self,
+        sends: &[(usize, &[u8])],
+        sources: &[usize],
+        tag: u32,
+    ) -> Result<Vec<Vec<u8>>, CommError> {
+        for &(d, _) in sends {
+            self.check(d)?;
+        }
+        mpi::request::scope(|scope| {
+            let requests: Vec<_> = sends
+                .iter()
+                .map(|&(d, b)| {
+                    self.log.record(self.rank(), d, b.len(), true);
+                    self.world
+                        .process_at_rank(d as i32)
+                        .immediate_send_with_tag(scope, b, tag as i32)
+                })
+                .collect();
+            let mut out = Vec::with_capacity(sources.len());
+            for &s in sources {
+                match self.recv(s, tag) {
+                    Ok(v) => out.push(v),
+                    // Outstanding sends cannot be abandoned: end the whole job here.
+                    Err(e) => self.fail(&e),
+                }
+            }
+            let deadline = Instant::now() + self.timeout;
+            for (mut r, &(d, _)) in requests.into_iter().zip(sends) {
+                loop {
+                    match r.test() {
+                        Ok(_) => break,
+                        Err(again) => r = again,
+                    }
+                    if Instant::now() >= deadline {
+                        self.fail(&CommError::Timeout {
+                            rank: d,
+                            waiting_rank: self.rank(),
+                            tag,
+                            seconds: self.timeout.as_secs_f64(),
+                        });
+                    }
+                    std::thread::yield_now();
+                }
+            }
+            Ok(out)
+        })
+    }
+}

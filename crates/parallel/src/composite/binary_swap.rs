@@ -1,0 +1,90 @@
+//! Binary swap (Ma, Painter, Hansen, Krogh 1994), with folding for rank counts that are
+//! not powers of two (Yu, Wang, Ma 2008 call the alternative 2-3 swap; IceT folds): the
+//! first 2*(p - 2^m) positions pair up and the odd one sends its whole layer to the even
+//! one, leaving 2^m active ranks; then, in m rounds, partners v and v xor 2^i swap halves
+//! of their current span, each keeping and compositing one half. Every rank ends with
+//! 1/2^m of the image, having sent S(1 - 1/2^m) bytes: the reduce-scatter lower bound.
+
+use super::{rle, split_span, CompositeOptions, Layer, Order, Pixel, TAG_COMPOSITE};
+use crate::comm::{Comm, CommError};
+use std::ops::Range;
+
+pub fn reduce<P: Pixel, C: Comm>(
+    comm: &C,
+    mut layer: Layer<P>,
+    opts: &CompositeOptions,
+) -> Result<(Layer<P>, Range<usize>), CommError> {
+    let n = comm.size();
+    let order = Order::new(n, opts.order.as_deref());
+    let me = order.pos(comm.rank());
+    let p = if n.is_power_of_two() {
+        n
+    } else {
+        n.next_power_of_two() / 2
+    };
+    let extra = n - p;
+    let fold_tag = TAG_COMPOSITE;
+    // Folding: positions 2i+1 < 2*extra hand their layer to 2i.
+    let v = if me < 2 * extra {
+        if me % 2 == 1 {
+            let msg = rle::encode(&layer, 0..layer.len(), opts.op, opts.rle);
+            comm.send(order.rank(me - 1), fold_tag, &msg)?;
+            return Ok((layer, 0..0));
+        }
+        let from = order.rank(me + 1);
+        let buf = comm.recv(from, fold_tag)?;
+        rle::apply(
+            &mut layer,
+            &buf,
+            rle::Apply::Blend {
+                op: opts.op,
+                incoming_front: false,
+            },
+        )
+        .map_err(|message| CommError::Malformed {
+            rank: from,
+            message,
+        })?;
+        me / 2
+    } else {
+        me - extra
+    };
+    let pos_of = |v: usize| if v < extra { 2 * v } else { v + extra };
+    let mut span = 0..layer.len();
+    let mut bit = 1;
+    let mut round = 1;
+    while bit < p {
+        let pv = v ^ bit;
+        let partner = order.rank(pos_of(pv));
+        let halves = split_span(&span, 2);
+        let (keep, give) = if v & bit == 0 {
+            (halves[0].clone(), halves[1].clone())
+        } else {
+            (halves[1].clone(), halves[0].clone())
+        };
+        let msg = rle::encode(&layer, give, opts.op, opts.rle);
+        let got = comm.exchange(&[(partner, &msg)], &[partner], TAG_COMPOSITE + round)?;
+        let s = rle::apply(
+            &mut layer,
+            &got[0],
+            rle::Apply::Blend {
+                op: opts.op,
+                incoming_front: pv < v,
+            },
+        )
+        .map_err(|message| CommError::Malformed {
+            rank: partner,
+            message,
+        })?;
+        if s != keep {
+            return Err(CommError::Malformed {
+                rank: partner,
+                message: format!("sent span {s:?}, expected {keep:?}"),
+            });
+        }
+        span = keep;
+        bit <<= 1;
+        round += 1;
+    }
+    Ok((layer, span))
+}

@@ -1,0 +1,177 @@
+//! Active-pixel run-length encoding (Ahrens and Painter 1998; IceT's sparse images): a
+//! span of a layer travels as alternating runs of inactive and active pixels, and only
+//! active pixels carry colour and depth, so background costs eight bytes per run.
+//!
+//! Wire format, all in 4-byte words so that it can be read in place:
+//! `start, end, mode` then, for `mode = DENSE`, `end - start` colours and as many depths;
+//! for `mode = RLE`, runs of `inactive, active, colour[active], depth[active]` until the
+//! span is covered. The receiver blends straight from the buffer, skipping inactive runs.
+
+use super::{Layer, Operator, Pixel, FAR};
+use std::borrow::Cow;
+use std::ops::Range;
+
+const DENSE: u32 = 0;
+const RLE: u32 = 1;
+
+fn push_words(out: &mut Vec<u8>, w: &[u32]) {
+    out.extend_from_slice(bytemuck::cast_slice(w));
+}
+
+/// Encodes `span` of `layer` (run lengths when `rle`, else dense).
+pub fn encode<P: Pixel>(layer: &Layer<P>, span: Range<usize>, op: Operator, rle: bool) -> Vec<u8> {
+    let n = span.len();
+    let px = std::mem::size_of::<P>() + 4;
+    if !rle {
+        let mut out = Vec::with_capacity(12 + n * px);
+        push_words(&mut out, &[span.start as u32, span.end as u32, DENSE]);
+        out.extend_from_slice(bytemuck::cast_slice(&layer.color[span.clone()]));
+        out.extend_from_slice(bytemuck::cast_slice(&layer.depth[span]));
+        return out;
+    }
+    let mut out = Vec::with_capacity(12 + 64);
+    push_words(&mut out, &[span.start as u32, span.end as u32, RLE]);
+    let mut i = span.start;
+    while i < span.end {
+        let s0 = i;
+        match op {
+            Operator::Depth => {
+                while i < span.end && layer.depth[i] == FAR {
+                    i += 1
+                }
+            }
+            Operator::Over => {
+                while i < span.end && layer.color[i].is_clear() {
+                    i += 1
+                }
+            }
+        }
+        let a0 = i;
+        match op {
+            Operator::Depth => {
+                while i < span.end && layer.depth[i] != FAR {
+                    i += 1
+                }
+            }
+            Operator::Over => {
+                while i < span.end && !layer.color[i].is_clear() {
+                    i += 1
+                }
+            }
+        }
+        push_words(&mut out, &[(a0 - s0) as u32, (i - a0) as u32]);
+        out.extend_from_slice(bytemuck::cast_slice(&layer.color[a0..i]));
+        out.extend_from_slice(bytemuck::cast_slice(&layer.depth[a0..i]));
+    }
+    out
+}
+
+/// A received buffer as 4-byte words (copied only if the allocation is misaligned).
+fn words(buf: &[u8]) -> Result<Cow<'_, [u32]>, String> {
+    if buf.len() % 4 != 0 || buf.len() < 12 {
+        return Err(format!(
+            "image message of {} bytes is not whole words",
+            buf.len()
+        ));
+    }
+    Ok(match bytemuck::try_cast_slice::<u8, u32>(buf) {
+        Ok(w) => Cow::Borrowed(w),
+        Err(_) => Cow::Owned(bytemuck::pod_collect_to_vec(buf)),
+    })
+}
+
+/// The span a message covers.
+pub fn span_of(buf: &[u8]) -> Result<Range<usize>, String> {
+    let w = words(buf)?;
+    Ok(w[0] as usize..w[1] as usize)
+}
+
+/// What to do with each incoming active pixel.
+#[derive(Clone, Copy, Debug)]
+pub enum Apply {
+    /// Overwrite (gathering final pieces).
+    Replace,
+    /// Composite; `incoming_front` says whether the sender is in front of this rank.
+    Blend { op: Operator, incoming_front: bool },
+}
+
+/// Applies an encoded span to `layer`. Returns the span. Errors describe a malformed
+/// message (the caller names the sender).
+pub fn apply<P: Pixel>(
+    layer: &mut Layer<P>,
+    buf: &[u8],
+    how: Apply,
+) -> Result<Range<usize>, String> {
+    let w = words(buf)?;
+    let (start, end, mode) = (w[0] as usize, w[1] as usize, w[2]);
+    if start > end || end > layer.len() {
+        return Err(format!(
+            "span {start}..{end} outside an image of {} pixels",
+            layer.len()
+        ));
+    }
+    let cw = std::mem::size_of::<P>() / 4;
+    let body = &w[3..];
+    let mut run = |at: usize, words: &[u32], count: usize| -> Result<usize, String> {
+        let need = count * (cw + 1);
+        if words.len() < need {
+            return Err("message ends inside a run".into());
+        }
+        let colors: &[P] = bytemuck::cast_slice(&words[..count * cw]);
+        let depths: &[f32] = bytemuck::cast_slice(&words[count * cw..need]);
+        apply_run(layer, at, colors, depths, how);
+        Ok(need)
+    };
+    match mode {
+        DENSE => {
+            run(start, body, end - start)?;
+        }
+        RLE => {
+            let mut i = start;
+            let mut k = 0;
+            while i < end {
+                if k + 2 > body.len() {
+                    return Err("message ends inside a run header".into());
+                }
+                let (skip, active) = (body[k] as usize, body[k + 1] as usize);
+                k += 2;
+                i += skip;
+                if i + active > end {
+                    return Err("runs overflow the span".into());
+                }
+                k += run(i, &body[k..], active)?;
+                i += active;
+            }
+        }
+        m => return Err(format!("unknown image encoding {m}")),
+    }
+    Ok(start..end)
+}
+
+#[inline]
+fn apply_run<P: Pixel>(layer: &mut Layer<P>, at: usize, colors: &[P], depths: &[f32], how: Apply) {
+    let n = colors.len();
+    let lc = &mut layer.color[at..at + n];
+    let ld = &mut layer.depth[at..at + n];
+    match how {
+        Apply::Replace => {
+            lc.copy_from_slice(colors);
+            ld.copy_from_slice(depths);
+        }
+        Apply::Blend {
+            op: Operator::Depth,
+            incoming_front,
+        } => super::depth::blend(lc, ld, colors, depths, incoming_front),
+        Apply::Blend {
+            op: Operator::Over,
+            incoming_front,
+        } => super::over::blend(lc, ld, colors, depths, incoming_front),
+    }
+}
+
+/// Decodes a message into a fresh background layer of the given size (for tests).
+pub fn decode<P: Pixel>(width: u32, height: u32, buf: &[u8]) -> Result<Layer<P>, String> {
+    let mut l = Layer::new(width, height);
+    apply(&mut l, buf, Apply::Replace)?;
+    Ok(l)
+}

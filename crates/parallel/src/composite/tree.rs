@@ -1,0 +1,49 @@
+//! Tree compositing (the lecture's "composite in pairs, send color and depth buffers,
+//! each time half the processors become idle"): in round i, position v with bit i set
+//! sends its whole layer to v - 2^i and drops out; after ceil(log2 p) rounds position 0
+//! holds the image. Works for any p (a missing partner just skips the round).
+
+use super::{rle, CompositeOptions, Layer, Order, Pixel, TAG_COMPOSITE};
+use crate::comm::{Comm, CommError};
+use std::ops::Range;
+
+pub fn reduce<P: Pixel, C: Comm>(
+    comm: &C,
+    mut layer: Layer<P>,
+    opts: &CompositeOptions,
+) -> Result<(Layer<P>, Range<usize>), CommError> {
+    let n = comm.size();
+    let order = Order::new(n, opts.order.as_deref());
+    let me = order.pos(comm.rank());
+    let full = 0..layer.len();
+    let mut bit = 1;
+    let mut round = 0;
+    while bit < n {
+        let tag = TAG_COMPOSITE + round;
+        if me % (2 * bit) == 0 {
+            if me + bit < n {
+                let from = order.rank(me + bit);
+                let buf = comm.recv(from, tag)?;
+                rle::apply(
+                    &mut layer,
+                    &buf,
+                    rle::Apply::Blend {
+                        op: opts.op,
+                        incoming_front: false,
+                    },
+                )
+                .map_err(|message| CommError::Malformed {
+                    rank: from,
+                    message,
+                })?;
+            }
+        } else {
+            let msg = rle::encode(&layer, full, opts.op, opts.rle);
+            comm.send(order.rank(me - bit), tag, &msg)?;
+            return Ok((layer, 0..0));
+        }
+        bit <<= 1;
+        round += 1;
+    }
+    Ok((layer, full))
+}
