@@ -73,6 +73,24 @@ impl TriangleRay {
         }
     }
 
+    /// The permutation (x, y, z axes of the sheared frame).
+    #[inline(always)]
+    pub fn axes(&self) -> (usize, usize, usize) {
+        (self.kx, self.ky, self.kz)
+    }
+    #[inline(always)]
+    pub fn origin(&self) -> Vec3 {
+        self.origin
+    }
+    #[inline(always)]
+    pub fn shear_xy(&self) -> (f32, f32) {
+        (self.sx, self.sy)
+    }
+    #[inline(always)]
+    pub fn shear_z(&self) -> f32 {
+        self.sz
+    }
+
     /// The triangle `(p0, p1, p2)` hit with `0 < t < t_max`, from either side.
     /// Degenerate triangles (zero area) are never hit.
     #[inline]

@@ -15,11 +15,21 @@ use irradia_core::Aabb;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 const BINS: usize = 32;
+/// Sets up to this size are split by an exact sweep instead of binning.
+const SWEEP_MAX: usize = 16;
 /// Leaves never hold more primitives than this.
 pub const MAX_LEAF: usize = 8;
-/// Relative costs of visiting a node and of intersecting one primitive.
+/// Relative costs of visiting a node and of intersecting one block of primitives.
 const TRAVERSAL_COST: f32 = 1.0;
 const INTERSECT_COST: f32 = 1.0;
+/// Primitives are intersected in blocks of this many (SIMD triangle packets), so
+/// the SAH counts blocks, as Embree's builders do.
+const BLOCK: usize = 4;
+
+#[inline]
+fn blocks(n: usize) -> f32 {
+    n.div_ceil(BLOCK) as f32
+}
 /// Sets larger than this are binned with several threads.
 const PARALLEL_BINNING: usize = 1 << 16;
 /// Subtrees larger than this are built as separate tasks.
@@ -31,15 +41,24 @@ const MAX_SAH_DEPTH: u32 = 40;
 /// A primitive during the build: its box and its index in the caller's list.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PrimRef {
-    lo: Vec3A,
-    hi: Vec3A,
+    lo_: [f32; 3],
     pub index: u32,
+    hi_: [f32; 3],
+    _pad: u32,
 }
 
 impl PrimRef {
     #[inline]
+    fn lo(&self) -> Vec3A {
+        Vec3A::from_array(self.lo_)
+    }
+    #[inline]
+    fn hi(&self) -> Vec3A {
+        Vec3A::from_array(self.hi_)
+    }
+    #[inline]
     fn centroid2(&self) -> Vec3A {
-        self.lo + self.hi
+        self.lo() + self.hi()
     }
 }
 
@@ -61,9 +80,10 @@ impl SetInfo {
     };
     #[inline]
     fn add(&mut self, p: &PrimRef) {
-        self.lo = self.lo.min(p.lo);
-        self.hi = self.hi.max(p.hi);
-        let c = p.centroid2();
+        let (lo, hi) = (p.lo(), p.hi());
+        self.lo = self.lo.min(lo);
+        self.hi = self.hi.max(hi);
+        let c = lo + hi;
         self.clo = self.clo.min(c);
         self.chi = self.chi.max(c);
     }
@@ -198,7 +218,7 @@ fn best_split(bins: &Bins, parent_area: f32) -> Option<Split> {
             if nl == 0 || nr == 0 {
                 continue;
             }
-            let cost = left.area() * nl as f32 + right_area[i] * nr as f32;
+            let cost = left.area() * blocks(nl as usize) + right_area[i] * blocks(nr as usize);
             if best.as_ref().is_none_or(|b| cost < b.cost) {
                 best = Some(Split {
                     axis,
@@ -227,6 +247,9 @@ fn split(prims: &mut [PrimRef], info: &SetInfo, depth: u32) -> Option<(usize, Se
     if n <= 1 {
         return None;
     }
+    if n <= SWEEP_MAX && depth < MAX_SAH_DEPTH {
+        return sweep_split(prims, info);
+    }
     let sah = if depth < MAX_SAH_DEPTH && (info.chi - info.clo).max_element() > 0.0 {
         let binner = Binner::new(info);
         let bins = Bins::fill(&binner, prims);
@@ -236,7 +259,7 @@ fn split(prims: &mut [PrimRef], info: &SetInfo, depth: u32) -> Option<(usize, Se
     };
     match sah {
         Some((s, binner)) => {
-            if n <= MAX_LEAF && s.cost >= INTERSECT_COST * n as f32 {
+            if n <= MAX_LEAF && s.cost >= INTERSECT_COST * blocks(n) {
                 return None;
             }
             let mid = partition(prims, |p| binner.bins(p)[s.axis] < s.bin);
@@ -257,6 +280,38 @@ fn split(prims: &mut [PrimRef], info: &SetInfo, depth: u32) -> Option<(usize, Se
             Some((mid, SetInfo::of(&prims[..mid]), SetInfo::of(&prims[mid..])))
         }
     }
+}
+
+/// Exact SAH for small sets: sort along each axis and try every split position.
+fn sweep_split(prims: &mut [PrimRef], info: &SetInfo) -> Option<(usize, SetInfo, SetInfo)> {
+    let n = prims.len();
+    let mut best = (f32::INFINITY, 0usize, 0usize);
+    let mut right_area = [0f32; SWEEP_MAX + 1];
+    for axis in 0..3 {
+        prims.sort_unstable_by(|a, b| a.centroid2()[axis].total_cmp(&b.centroid2()[axis]));
+        let mut acc = SetInfo::EMPTY;
+        for i in (1..n).rev() {
+            acc.add(&prims[i]);
+            right_area[i] = acc.area();
+        }
+        let mut left = SetInfo::EMPTY;
+        for i in 1..n {
+            left.add(&prims[i - 1]);
+            let cost = left.area() * blocks(i) + right_area[i] * blocks(n - i);
+            if cost < best.0 {
+                best = (cost, axis, i);
+            }
+        }
+    }
+    let (cost, axis, mid) = best;
+    let cost = TRAVERSAL_COST + INTERSECT_COST * cost / info.area().max(f32::MIN_POSITIVE);
+    if cost >= INTERSECT_COST * blocks(n) && n <= MAX_LEAF {
+        return None;
+    }
+    if axis != 2 {
+        prims.sort_unstable_by(|a, b| a.centroid2()[axis].total_cmp(&b.centroid2()[axis]));
+    }
+    Some((mid, SetInfo::of(&prims[..mid]), SetInfo::of(&prims[mid..])))
 }
 
 /// In-place partition; returns the number of elements for which `left` holds.
@@ -427,9 +482,10 @@ pub(crate) fn build(boxes: &[Aabb]) -> (Vec<WideNode>, Vec<u32>) {
         .enumerate()
         .filter(|(_, b)| b.is_finite() && !b.is_empty())
         .map(|(i, b)| PrimRef {
-            lo: b.min.into(),
-            hi: b.max.into(),
+            lo_: b.min.to_array(),
+            hi_: b.max.to_array(),
             index: i as u32,
+            _pad: 0,
         })
         .collect();
     if prims.is_empty() {

@@ -88,6 +88,25 @@ impl Bvh {
         &self.nodes
     }
 
+    /// Renumbers the leaves: `f(start_slot, count)` gives the leaf's new index, which
+    /// the `*_leaves` queries then pass back. A caller that repacks its primitives
+    /// by leaf (4-triangle SIMD packets in [`crate::TriangleMesh`]) uses this; after
+    /// it, leaf indices are the caller's and no longer slots.
+    pub fn map_leaves(&mut self, mut f: impl FnMut(u32, u32) -> u32) {
+        // Depth-first, so leaves near each other in the tree get nearby indices.
+        let mut stack = vec![0u32];
+        while let Some(n) = stack.pop() {
+            for i in (0..WIDTH).rev() {
+                let c = self.nodes[n as usize].child_ref(i);
+                if c.is_leaf() {
+                    self.nodes[n as usize].child[i] = f(c.index, c.count);
+                } else if !c.is_empty() {
+                    stack.push(c.index);
+                }
+            }
+        }
+    }
+
     /// Counts nodes, leaves and depth, and the SAH cost of the tree.
     pub fn stats(&self) -> BvhStats {
         let mut s = BvhStats {

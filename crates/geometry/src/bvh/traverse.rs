@@ -25,6 +25,27 @@ impl Bvh {
     where
         F: FnMut(u32, f32) -> Option<f32>,
     {
+        self.closest_hit_leaves(ray, t_max, |leaf, mut t_max| {
+            let mut found = None;
+            for slot in leaf.index..leaf.index + leaf.count {
+                if let Some(t) = hit(slot, t_max) {
+                    if t < t_max {
+                        t_max = t;
+                        found = Some(t);
+                    }
+                }
+            }
+            found
+        })
+    }
+
+    /// Like [`Bvh::closest_hit`], but the closure gets a whole leaf (`index` and
+    /// `count`; see [`Bvh::map_leaves`]) and returns the nearest `t < t_max` in it.
+    #[inline]
+    pub fn closest_hit_leaves<F>(&self, ray: &Ray, t_max: f32, mut hit: F) -> Option<f32>
+    where
+        F: FnMut(ChildRef, f32) -> Option<f32>,
+    {
         let nray = NodeRay::new(ray.origin, ray.dir);
         let mut t_max = t_max;
         let mut found = false;
@@ -36,12 +57,10 @@ impl Bvh {
         let mut current = ChildRef { index: 0, count: 0 };
         loop {
             if current.is_leaf() {
-                for slot in current.index..current.index + current.count {
-                    if let Some(t) = hit(slot, t_max) {
-                        if t < t_max {
-                            t_max = t;
-                            found = true;
-                        }
+                if let Some(t) = hit(current, t_max) {
+                    if t < t_max {
+                        t_max = t;
+                        found = true;
                     }
                 }
             } else {
@@ -101,16 +120,25 @@ impl Bvh {
     where
         F: FnMut(u32, f32) -> bool,
     {
+        self.any_hit_leaves(ray, t_max, |leaf, t_max| {
+            (leaf.index..leaf.index + leaf.count).any(|slot| hit(slot, t_max))
+        })
+    }
+
+    /// Like [`Bvh::any_hit`], but the closure gets a whole leaf.
+    #[inline]
+    pub fn any_hit_leaves<F>(&self, ray: &Ray, t_max: f32, mut hit: F) -> bool
+    where
+        F: FnMut(ChildRef, f32) -> bool,
+    {
         let nray = NodeRay::new(ray.origin, ray.dir);
         let mut stack = [ChildRef::EMPTY; STACK];
         let mut sp = 0usize;
         let mut current = ChildRef { index: 0, count: 0 };
         loop {
             if current.is_leaf() {
-                for slot in current.index..current.index + current.count {
-                    if hit(slot, t_max) {
-                        return true;
-                    }
+                if hit(current, t_max) {
+                    return true;
                 }
             } else {
                 let node = &self.nodes[current.index as usize];

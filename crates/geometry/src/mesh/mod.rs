@@ -2,7 +2,11 @@
 //! texture coordinates, hit through their own BVH (the second level of the scene's
 //! two-level hierarchy) with the watertight triangle test.
 
-use crate::bvh::Bvh;
+mod packet;
+
+pub use packet::Triangle4;
+
+use crate::bvh::{Bvh, ChildRef};
 use crate::shape::{Facets, Hit, Shape, Span};
 use crate::triangle::{TriangleHit, TriangleRay};
 use glam::{Vec2, Vec3};
@@ -50,9 +54,13 @@ pub struct TriangleMesh {
     /// agree with them, as pbrt does) or were computed from the winding.
     normals_given: bool,
     uvs: Option<Vec<Vec2>>,
+    /// Leaves index `packets`: a leaf of n triangles owns ceil(n / 4) consecutive
+    /// packets.
     bvh: Bvh,
-    /// Triangle corners in BVH slot order, so a leaf reads one contiguous block.
-    packed: Vec<[Vec3; 3]>,
+    /// Triangle corners in leaf order, four to a packet.
+    packets: Vec<Triangle4>,
+    /// The triangle index of each packet lane.
+    packet_triangles: Vec<[u32; 4]>,
     bounds: Aabb,
 }
 
@@ -143,13 +151,27 @@ impl TriangleMesh {
                 }
             })
             .collect();
-        let bvh = Bvh::build(&boxes);
+        let mut bvh = Bvh::build(&boxes);
         drop(boxes);
-        let packed = bvh
-            .order()
-            .par_iter()
-            .map(|&t| corners(&indices[t as usize]))
-            .collect();
+        let mut slot_triangles: Vec<u32> = bvh.order().to_vec();
+        let mut packets = Vec::with_capacity(slot_triangles.len() / 3 + 1);
+        let mut packet_triangles = Vec::with_capacity(slot_triangles.len() / 3 + 1);
+        bvh.map_leaves(|start, count| {
+            let first = packets.len() as u32;
+            let tris = &slot_triangles[start as usize..(start + count) as usize];
+            for chunk in tris.chunks(4) {
+                let corners: Vec<[Vec3; 3]> = chunk
+                    .iter()
+                    .map(|&t| corners(&indices[t as usize]))
+                    .collect();
+                packets.push(Triangle4::new(&corners));
+                let mut ids = [u32::MAX; 4];
+                ids[..chunk.len()].copy_from_slice(chunk);
+                packet_triangles.push(ids);
+            }
+            first
+        });
+        slot_triangles.clear();
         let bounds = bvh.bounds();
         Ok(TriangleMesh {
             positions,
@@ -158,7 +180,8 @@ impl TriangleMesh {
             normals_given,
             uvs,
             bvh,
-            packed,
+            packets,
+            packet_triangles,
             bounds,
         })
     }
@@ -189,14 +212,25 @@ impl TriangleMesh {
     pub fn intersect_triangle(&self, ray: &Ray, t_max: f32) -> Option<(u32, TriangleHit)> {
         let tray = TriangleRay::new(ray);
         let mut best: Option<(u32, TriangleHit)> = None;
-        self.bvh.closest_hit(ray, t_max, |slot, t_max| {
-            // SAFETY-free fast path: slots come from the hierarchy, always in range.
-            let [a, b, c] = self.packed[slot as usize];
-            let h = tray.intersect(a, b, c, t_max)?;
-            best = Some((slot, h));
-            Some(h.t)
+        self.bvh.closest_hit_leaves(ray, t_max, |leaf, mut t_max| {
+            let mut found = None;
+            for (k, packet) in self.leaf_packets(leaf).iter().enumerate() {
+                let lanes = (leaf.count as usize - 4 * k).min(4);
+                if let Some((lane, h)) = packet.intersect(&tray, lanes, t_max) {
+                    t_max = h.t;
+                    found = Some(h.t);
+                    best = Some((self.packet_triangles[leaf.index as usize + k][lane], h));
+                }
+            }
+            found
         })?;
-        best.map(|(slot, h)| (self.bvh.order()[slot as usize], h))
+        best
+    }
+
+    #[inline(always)]
+    fn leaf_packets(&self, leaf: ChildRef) -> &[Triangle4] {
+        let start = leaf.index as usize;
+        &self.packets[start..start + (leaf.count as usize).div_ceil(4)]
     }
 
     fn hit_record(&self, tri: u32, h: &TriangleHit) -> Hit {
@@ -265,9 +299,14 @@ impl Shape for TriangleMesh {
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let tray = TriangleRay::new(ray);
-        self.bvh.any_hit(ray, t_max, |slot, t_max| {
-            let [a, b, c] = self.packed[slot as usize];
-            tray.intersect(a, b, c, t_max).is_some()
+        self.bvh.any_hit_leaves(ray, t_max, |leaf, t_max| {
+            self.leaf_packets(leaf)
+                .iter()
+                .enumerate()
+                .any(|(k, packet)| {
+                    let lanes = (leaf.count as usize - 4 * k).min(4);
+                    packet.intersect(&tray, lanes, t_max).is_some()
+                })
         })
     }
 
