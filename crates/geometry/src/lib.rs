@@ -9,6 +9,7 @@ pub mod accel;
 pub mod bvh;
 pub mod csg;
 pub mod expr;
+pub mod generators;
 pub mod mesh;
 pub mod triangle;
 pub mod instance;
