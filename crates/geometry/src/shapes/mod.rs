@@ -9,6 +9,7 @@ pub mod quadric;
 pub mod shape_error;
 pub mod sphere;
 pub mod torus;
+pub mod parametric;
 pub mod bezier;
 pub mod implicit;
 
@@ -21,5 +22,6 @@ pub use quadric::Quadric;
 pub use shape_error::ShapeError;
 pub use sphere::Sphere;
 pub use torus::Torus;
+pub use parametric::{ParametricError, ParametricSurface};
 pub use bezier::{teapot_mesh, teapot_patches, BezierPatch, BezierSurface};
 pub use implicit::{ImplicitError, ImplicitSurface, RootMethod};
