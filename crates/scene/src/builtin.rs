@@ -7,11 +7,28 @@ use crate::scene::Scene;
 use std::path::PathBuf;
 
 /// (name, one-line description, TOML text).
-const SCENES: &[(&str, &str, &str)] = &[(
-    "default",
-    "a showcase: mirror and glass, CSG, quadrics, a teapot, an implicit surface, soft shadows",
-    include_str!("../scenes/default.toml"),
-)];
+const SCENES: &[(&str, &str, &str)] = &[
+    (
+        "default",
+        "a showcase: mirror and glass, CSG, quadrics, a teapot, an implicit surface, soft shadows",
+        include_str!("../scenes/default.toml"),
+    ),
+    (
+        "whitted",
+        "Whitted's 1980 scene: mirror and glass spheres over a checker (POV-Ray's whitted.pov)",
+        include_str!("../scenes/whitted.toml"),
+    ),
+    (
+        "cornell",
+        "the RGB Cornell box of Mitsuba 3, path traced (512x512, 64 spp, max depth 8)",
+        include_str!("../scenes/cornell.toml"),
+    ),
+    (
+        "cornell-measured",
+        "the measured Cornell box (millimetres), the reference scene of radiosity",
+        include_str!("../scenes/cornell-measured.toml"),
+    ),
+];
 
 /// The built-in scenes: (name, one-line description).
 pub fn names() -> Vec<(&'static str, &'static str)> {

@@ -5,7 +5,7 @@
 
 use super::materials::material_index;
 use super::reader::{Result, Table, Val};
-use super::shapes::build_primitive;
+use super::shapes::{build_primitive, unknown_kind};
 use super::transform::read_transform;
 use crate::material::Material;
 use crate::scene::Object;
@@ -67,7 +67,10 @@ pub fn read_objects(
         let shape = if CSG_KINDS.contains(&kind) {
             read_csg(kind, &t, material, mats, &mut leaf_materials)?
         } else {
-            build_primitive(kind, &kind_v, &t)?
+            match build_primitive(kind, &t)? {
+                Some(s) => s,
+                None => return Err(unknown_kind(&kind_v, kind, CSG_KINDS)),
+            }
         };
         t.finish()?;
         objects.push(Object {

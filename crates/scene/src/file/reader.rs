@@ -46,6 +46,7 @@ pub struct Val<'d> {
     pub path: String,
 }
 
+pub type Error = SceneError;
 pub type Result<T> = std::result::Result<T, SceneError>;
 
 impl<'d> Val<'d> {

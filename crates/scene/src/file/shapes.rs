@@ -1,27 +1,247 @@
 //! Shape constructors by `type`: each reads its own fields from the object's table and
-//! validates them (a radius must be positive, a polygon must not be degenerate).
+//! validates them (a radius must be positive, a polygon must not be degenerate). The
+//! geometry crate's constructors check again and their refusals ([`ShapeError`]) are
+//! reported at the field they concern.
 
 use super::reader::{unknown_name_message, Result, Table, Val};
-use irradia_geometry::shapes::Sphere;
+use glam::Vec3;
+use irradia_geometry::shapes::{
+    Cuboid, Disk, Plane, Polygon, Polyhedron, Quadric, ShapeError, Sphere, Torus,
+};
 use irradia_geometry::Shape;
 use std::sync::Arc;
 
-/// Every primitive shape `type` the scene format knows (CSG nodes are handled by the
-/// object reader).
-pub const PRIMITIVES: &[&str] = &["sphere"];
+/// Every primitive shape `type` the scene format knows (CSG nodes, meshes and implicit
+/// surfaces are handled by the object reader).
+pub const PRIMITIVES: &[&str] = &[
+    "sphere",
+    "plane",
+    "box",
+    "polyhedron",
+    "polygon",
+    "disk",
+    "quadric",
+    "ellipsoid",
+    "cylinder",
+    "cone",
+    "paraboloid",
+    "hyperboloid",
+    "torus",
+];
 
-/// Builds the primitive named `kind` from table `t`.
-pub fn build_primitive(kind: &str, kind_v: &Val, t: &Table) -> Result<Arc<dyn Shape>> {
+/// The constructor's refusal, reported at `at`.
+fn refused(at: &Val, e: ShapeError) -> super::reader::Error {
+    at.err(e.to_string())
+}
+
+/// Builds the primitive named `kind` from table `t`; `None` when `kind` is not one.
+pub fn build_primitive(kind: &str, t: &Table) -> Result<Option<Arc<dyn Shape>>> {
     let shape: Arc<dyn Shape> = match kind {
-        "sphere" => Arc::new(Sphere::new(
-            t.vec3_or("center", glam::Vec3::ZERO)?,
-            t.req("radius")?.positive()?,
-        )),
+        "sphere" => {
+            let r = t.req("radius")?;
+            let center = t.vec3_or("center", Vec3::ZERO)?;
+            Arc::new(Sphere::try_new(center, r.positive()?).map_err(|e| refused(&r, e))?)
+        }
+        "plane" => {
+            let n = t.req("normal")?;
+            let normal = n.direction()?;
+            let offset = t.f32_or("offset", 0.0)?;
+            Arc::new(Plane::new(normal, offset).map_err(|e| refused(&n, e))?)
+        }
+        "box" => {
+            let lo = t.req("min")?.vec3()?;
+            let hi_v = t.req("max")?;
+            let hi = hi_v.vec3()?;
+            if lo.cmpge(hi).any() {
+                return Err(hi_v.err(format!(
+                    "every coordinate of max must exceed min (min {lo}, max {hi})"
+                )));
+            }
+            Arc::new(Cuboid::new(lo, hi).map_err(|e| refused(&hi_v, e))?)
+        }
+        "polyhedron" => Arc::new(polyhedron(t)?),
+        "polygon" => {
+            let v = t.req("vertices")?;
+            let points: Vec<Vec3> = v.array()?.iter().map(|p| p.vec3()).collect::<Result<_>>()?;
+            Arc::new(Polygon::new(points).map_err(|e| refused(&v, e))?)
+        }
+        "disk" => {
+            let r = t.req("radius")?;
+            let radius = r.positive()?;
+            let center = t.vec3_or("center", Vec3::ZERO)?;
+            let normal = t.get("normal").map_or(Ok(Vec3::Y), |n| n.direction())?;
+            let mut d = Disk::new(center, normal, radius).map_err(|e| refused(&r, e))?;
+            if let Some(h) = t.get("hole") {
+                d = d.with_hole(h.non_negative()?).map_err(|e| refused(&h, e))?;
+            }
+            Arc::new(d)
+        }
+        "torus" => {
+            let major = t.req("major")?.positive()?;
+            let minor_v = t.req("minor")?;
+            let minor = minor_v.positive()?;
+            Arc::new(Torus::try_new(major, minor).map_err(|e| minor_v.err(e))?)
+        }
+        "quadric" | "ellipsoid" | "cylinder" | "cone" | "paraboloid" | "hyperboloid" => {
+            Arc::new(quadric(kind, t)?)
+        }
+        _ => return Ok(None),
+    };
+    Ok(Some(shape))
+}
+
+/// The message for an unknown `type`, with every valid one.
+pub fn unknown_kind(kind_v: &Val, kind: &str, others: &[&str]) -> super::reader::Error {
+    let mut valid = PRIMITIVES.to_vec();
+    valid.extend_from_slice(others);
+    kind_v.err(unknown_name_message("object type", kind, &valid))
+}
+
+/// `planes = [{ normal, offset }, ...]` (the solid `normal · p <= offset`) or
+/// `platonic = "tetrahedron" | "cube" | "octahedron" | "dodecahedron" | "icosahedron"`
+/// (inradius 1 at the origin).
+fn polyhedron(t: &Table) -> Result<Polyhedron> {
+    match (t.get("planes"), t.get("platonic")) {
+        (Some(_), Some(p)) => Err(p.err("give either planes or platonic, not both")),
+        (Some(planes_v), None) => {
+            let mut planes = Vec::new();
+            for p in planes_v.array()? {
+                planes.push(half_space(&p)?);
+            }
+            Polyhedron::new(&planes).map_err(|e| refused(&planes_v, e))
+        }
+        (None, Some(p)) => {
+            let faces = match p.choice(&[
+                "tetrahedron",
+                "cube",
+                "octahedron",
+                "dodecahedron",
+                "icosahedron",
+            ])? {
+                "tetrahedron" => 4,
+                "cube" => 6,
+                "octahedron" => 8,
+                "dodecahedron" => 12,
+                _ => 20,
+            };
+            Polyhedron::platonic(faces).map_err(|e| refused(&p, e))
+        }
+        (None, None) => Err(t.err("a polyhedron needs planes or platonic")),
+    }
+}
+
+/// `{ normal = [x, y, z], offset = d }`: the half-space `normal · p <= d`.
+fn half_space(v: &Val) -> Result<(Vec3, f32)> {
+    let t = v.table()?;
+    let n = t.req("normal")?.direction()?;
+    let d = t.f32_or("offset", 0.0)?;
+    t.finish()?;
+    Ok((n, d))
+}
+
+/// The quadric family. Unclipped named quadrics are infinite (except the ellipsoid);
+/// `clip_box = { min, max }` and `clip_planes = [{ normal, offset }]` cut them (capped,
+/// a solid) and `open = true` drops the caps (a surface, not usable in CSG).
+fn quadric(kind: &str, t: &Table) -> Result<Quadric> {
+    let mut q = match kind {
+        "quadric" => {
+            let c_v = t.req("coefficients")?;
+            let c = c_v.numbers(10)?;
+            let mut k = [0f64; 10];
+            for (ki, ci) in k.iter_mut().zip(&c) {
+                *ki = *ci as f64;
+            }
+            Quadric::new(k).map_err(|e| refused(&c_v, e))?
+        }
+        "ellipsoid" => {
+            let r_v = t.req("radii")?;
+            let radii = r_v.vec3()?;
+            if radii.cmple(Vec3::ZERO).any() {
+                return Err(r_v.err(format!("radii must be positive (got {radii})")));
+            }
+            let center = t.vec3_or("center", Vec3::ZERO)?;
+            Quadric::ellipsoid(center, radii).map_err(|e| refused(&r_v, e))?
+        }
+        "cylinder" => {
+            let r_v = t.req("radius")?;
+            let r = r_v.positive()?;
+            match (t.get("from"), t.get("to")) {
+                (Some(a), Some(b)) => {
+                    let (pa, pb) = (a.vec3()?, b.vec3()?);
+                    if pa == pb {
+                        return Err(b.err("from and to must differ"));
+                    }
+                    Quadric::capped_cylinder(pa, pb, r).map_err(|e| refused(&b, e))?
+                }
+                (None, None) => Quadric::cylinder(r).map_err(|e| refused(&r_v, e))?,
+                (Some(a), None) | (None, Some(a)) => {
+                    return Err(a.err("give both from and to (a capped cylinder) or neither"))
+                }
+            }
+        }
+        "cone" => match (t.get("from"), t.get("to")) {
+            (Some(a), Some(b)) => {
+                let (pa, pb) = (a.vec3()?, b.vec3()?);
+                if pa == pb {
+                    return Err(b.err("from and to must differ"));
+                }
+                let ra_v = t.req("radius_from")?;
+                let ra = ra_v.non_negative()?;
+                let rb_v = t.req("radius_to")?;
+                let rb = rb_v.non_negative()?;
+                if ra == 0.0 && rb == 0.0 {
+                    return Err(rb_v.err("at least one of the radii must be positive"));
+                }
+                Quadric::capped_cone(pa, ra, pb, rb).map_err(|e| refused(&rb_v, e))?
+            }
+            (None, None) => {
+                let s = t.req("slope")?;
+                Quadric::cone(s.positive()?).map_err(|e| refused(&s, e))?
+            }
+            (Some(a), None) | (None, Some(a)) => {
+                return Err(a.err("give both from and to (a capped cone) or neither"))
+            }
+        },
+        "paraboloid" => {
+            let k = t.req("curvature")?;
+            let kv = k.f32()?;
+            if kv == 0.0 {
+                return Err(k.err("must not be zero"));
+            }
+            Quadric::paraboloid(kv).map_err(|e| refused(&k, e))?
+        }
         _ => {
-            let mut valid = PRIMITIVES.to_vec();
-            valid.extend_from_slice(super::objects::CSG_KINDS);
-            return Err(kind_v.err(unknown_name_message("object type", kind, &valid)));
+            let a = t.req("a")?.positive()?;
+            let c_v = t.req("c")?;
+            let c = c_v.positive()?;
+            match t.get("sheets") {
+                Some(s) if s.u32()? == 2 => {
+                    Quadric::hyperboloid_two_sheets(a, c).map_err(|e| refused(&c_v, e))?
+                }
+                Some(s) if s.u32()? != 1 => return Err(s.err("must be 1 or 2")),
+                _ => Quadric::hyperboloid_one_sheet(a, c).map_err(|e| refused(&c_v, e))?,
+            }
         }
     };
-    Ok(shape)
+    if let Some(b) = t.get("clip_box") {
+        let bt = b.table()?;
+        let lo = bt.req("min")?.vec3()?;
+        let hi_v = bt.req("max")?;
+        let hi = hi_v.vec3()?;
+        bt.finish()?;
+        if lo.cmpge(hi).any() {
+            return Err(hi_v.err("every coordinate of max must exceed min"));
+        }
+        q = q.clipped_by_box(lo, hi).map_err(|e| refused(&b, e))?;
+    }
+    if let Some(planes) = t.get("clip_planes") {
+        for p in planes.array()? {
+            let (n, d) = half_space(&p)?;
+            q = q.clipped_by_plane(n, d).map_err(|e| refused(&p, e))?;
+        }
+    }
+    if t.bool_or("open", false)? {
+        q = q.open();
+    }
+    Ok(q)
 }

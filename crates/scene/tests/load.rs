@@ -1,0 +1,199 @@
+//! Loading: TOML and JSON give the same scene; every built-in loads; transforms compose
+//! in the order written; settings and defaults arrive where the renderer reads them.
+
+use glam::Vec3;
+use irradia_core::Ray;
+use irradia_scene::{builtin, load_file, load_str, Format, Light, Projection, Scene};
+use std::path::Path;
+
+const TOML: &str = r#"
+[image]
+width = 64
+height = 48
+
+[camera]
+eye = [0, 1, 6]
+look_at = [0, 0.5, 0]
+fov = 40
+fov_axis = "vertical"
+
+[render]
+max_depth = 7
+min_weight = 0.01
+spp = 4
+adaptive_threshold = 0.05
+background = [0.1, 0.2, 0.3]
+ambient_light = 0.5
+integrator = "path"
+
+[materials.red]
+color = [0.9, 0.1, 0.1]
+specular = 0.5
+shininess = 30
+model = "povray"
+
+[materials.floor]
+color = { type = "checker", colors = [0.2, 0.8], scale = 0.5 }
+
+[[lights]]
+type = "point"
+position = [1, 5, 2]
+intensity = [10, 9, 8]
+
+[[lights]]
+type = "rect"
+corner = [-1, 4, -1]
+edge_u = [2, 0, 0]
+edge_v = [0, 0, 2]
+radiance = 5
+samples = 9
+
+[[objects]]
+type = "sphere"
+radius = 0.5
+material = "red"
+transform = [{ scale = 2 }, { translate = [1, 0, 0] }]
+
+[[objects]]
+type = "plane"
+normal = [0, 1, 0]
+material = "floor"
+"#;
+
+const JSON: &str = r#"{
+  "image": {"width": 64, "height": 48},
+  "camera": {"eye": [0, 1, 6], "look_at": [0, 0.5, 0], "fov": 40, "fov_axis": "vertical"},
+  "render": {"max_depth": 7, "min_weight": 0.01, "spp": 4, "adaptive_threshold": 0.05,
+             "background": [0.1, 0.2, 0.3], "ambient_light": 0.5, "integrator": "path"},
+  "materials": {
+    "red": {"color": [0.9, 0.1, 0.1], "specular": 0.5, "shininess": 30, "model": "povray"},
+    "floor": {"color": {"type": "checker", "colors": [0.2, 0.8], "scale": 0.5}}
+  },
+  "lights": [
+    {"type": "point", "position": [1, 5, 2], "intensity": [10, 9, 8]},
+    {"type": "rect", "corner": [-1, 4, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2],
+     "radiance": 5, "samples": 9}
+  ],
+  "objects": [
+    {"type": "sphere", "radius": 0.5, "material": "red",
+     "transform": [{"scale": 2}, {"translate": [1, 0, 0]}]},
+    {"type": "plane", "normal": [0, 1, 0], "material": "floor"}
+  ]
+}"#;
+
+/// Everything observable about a scene, as text (materials hold textures that are not
+/// comparable directly).
+fn fingerprint(s: &Scene) -> String {
+    let mut out = format!("{:?}\n{:?}\n{:?}\n", s.camera, s.settings, s.lights);
+    for m in &s.materials {
+        out += &format!("{m:?}\n");
+    }
+    for (o, i) in s.objects.iter().zip(s.accel.instances()) {
+        out += &format!(
+            "{} {} {:?} {} {:?}\n",
+            o.name,
+            o.material,
+            o.leaf_materials,
+            i.shape.kind(),
+            i.to_world()
+        );
+    }
+    out
+}
+
+#[test]
+fn toml_and_json_load_identically() {
+    let a = load_str(TOML, Format::Toml, Path::new("a.toml")).unwrap();
+    let b = load_str(JSON, Format::Json, Path::new("a.json")).unwrap();
+    assert_eq!(fingerprint(&a), fingerprint(&b));
+    // And the values are the ones written.
+    assert_eq!(a.settings.width, 64);
+    assert_eq!(a.settings.max_depth, 7);
+    assert_eq!(a.settings.spp, 4);
+    assert_eq!(a.settings.adaptive_threshold, Some(0.05));
+    assert_eq!(a.settings.integrator, irradia_scene::Integrator::Path);
+    assert_eq!(a.settings.ambient_light, irradia_core::Rgb::splat(0.5));
+    assert!(matches!(
+        a.camera.projection,
+        Projection::Perspective { fov_degrees, axis: irradia_scene::FovAxis::Vertical } if fov_degrees == 40.0
+    ));
+    assert!(matches!(a.lights[1], Light::Rect { samples: 9, .. }));
+    assert_eq!(a.materials[0].model, irradia_scene::ShadingModel::PovRay);
+    // Rays hit the same things in both.
+    let ray = Ray::new(Vec3::new(1.0, 0.0, 5.0), -Vec3::Z);
+    let ha = a.accel.intersect(&ray, f32::INFINITY).unwrap();
+    let hb = b.accel.intersect(&ray, f32::INFINITY).unwrap();
+    assert_eq!(ha.hit.t, hb.hit.t);
+    assert!(
+        (ha.hit.t - 4.0).abs() < 1e-4,
+        "scaled sphere of radius 1 at x = 1"
+    );
+}
+
+#[test]
+fn transforms_apply_in_the_order_written() {
+    let scene = |steps: &str| {
+        let text = format!(
+            "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n[[objects]]\ntype = \"sphere\"\nradius = 1\ntransform = {steps}\n"
+        );
+        load_str(&text, Format::Toml, Path::new("t.toml")).unwrap()
+    };
+    let map = |s: &Scene, p: Vec3| s.accel.instances()[0].to_world().transform_point3(p);
+    let p = Vec3::new(1.0, 0.0, 0.0);
+    // Scale, then translate: 2p + t.
+    let s = scene("[{ scale = 2 }, { translate = [0, 3, 0] }]");
+    assert!((map(&s, p) - Vec3::new(2.0, 3.0, 0.0)).length() < 1e-6);
+    // Translate, then scale: 2(p + t).
+    let s = scene("[{ translate = [0, 3, 0] }, { scale = 2 }]");
+    assert!((map(&s, p) - Vec3::new(2.0, 6.0, 0.0)).length() < 1e-6);
+    // Rotate 90 degrees about z (counter-clockwise), then translate.
+    let s = scene("[{ rotate = { axis = [0, 0, 1], angle = 90 } }, { translate = [5, 0, 0] }]");
+    assert!((map(&s, p) - Vec3::new(5.0, 1.0, 0.0)).length() < 1e-6);
+    // Euler angles: x first, then y, then z. x by 90 takes +y to +z; y by 90 takes +z to +x.
+    let s = scene("[{ rotate = [90, 90, 0] }]");
+    assert!(
+        (map(&s, Vec3::Y) - Vec3::X).length() < 1e-6,
+        "{}",
+        map(&s, Vec3::Y)
+    );
+    // A matrix (rows), then a translation.
+    let s = scene(
+        "[{ matrix = [[0, -1, 0, 1], [1, 0, 0, 2], [0, 0, 1, 3]] }, { translate = [1, 1, 1] }]",
+    );
+    assert!((map(&s, p) - Vec3::new(2.0, 4.0, 4.0)).length() < 1e-6);
+}
+
+#[test]
+fn every_builtin_loads() {
+    let names = builtin::names();
+    for want in ["default", "whitted"] {
+        assert!(
+            names.iter().any(|(n, _)| *n == want),
+            "missing built-in {want}"
+        );
+    }
+    for (name, description) in names {
+        assert!(!description.is_empty());
+        let s = builtin::load(name).unwrap_or_else(|e| panic!("built-in {name}: {e}"));
+        assert!(!s.objects.is_empty(), "{name} has objects");
+        assert!(!s.lights.is_empty() || s.materials.iter().any(|m| !m.emission.is_black()));
+    }
+}
+
+#[test]
+fn builtin_files_on_disk_load_too() {
+    // The built-ins are the format's examples: they load as ordinary files.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        load_file(&path).unwrap_or_else(|e| panic!("{e}"));
+    }
+}
+
+#[test]
+fn objects_without_material_get_the_default_one() {
+    let text = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n[[objects]]\ntype = \"sphere\"\nradius = 1\n";
+    let s = load_str(text, Format::Toml, Path::new("d.toml")).unwrap();
+    assert_eq!(s.materials.len(), 1);
+    assert_eq!(s.materials[s.objects[0].material as usize].name, "default");
+}
