@@ -10,6 +10,7 @@ pub mod bvh;
 pub mod csg;
 pub mod expr;
 pub mod generators;
+pub mod io;
 pub mod mesh;
 pub mod triangle;
 pub mod instance;

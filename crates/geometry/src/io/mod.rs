@@ -1,0 +1,72 @@
+//! Mesh files: Wavefront OBJ and PLY (ASCII, binary little- and big-endian) into a
+//! [`TriangleMesh`]. Bad files give a [`MeshFileError`] naming the file, the line
+//! (text formats) or element (binary PLY), and the field; nothing here panics on
+//! malformed input, and sizes claimed by a header are checked against the file
+//! before memory is allocated for them.
+
+mod error;
+pub mod obj;
+pub mod ply;
+
+pub use error::MeshFileError;
+
+use crate::mesh::{MeshError, TriangleMesh};
+use glam::{Vec2, Vec3};
+use std::path::Path;
+
+/// What a file holds, before it is checked and turned into a [`TriangleMesh`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshFile {
+    pub positions: Vec<Vec3>,
+    pub indices: Vec<[u32; 3]>,
+    pub normals: Option<Vec<Vec3>>,
+    pub uvs: Option<Vec<Vec2>>,
+}
+
+impl MeshFile {
+    /// Builds the mesh; mesh-level problems (no triangles, ...) are reported against
+    /// `path`.
+    pub fn into_mesh(self, path: &Path) -> Result<TriangleMesh, MeshFileError> {
+        TriangleMesh::new(self.positions, self.indices, self.normals, self.uvs).map_err(|e| {
+            let field = match &e {
+                MeshError::IndexOutOfRange { triangle, .. } => Some(format!("triangle {triangle}")),
+                MeshError::NonFinitePosition { vertex, .. }
+                | MeshError::NonFiniteAttribute { vertex, .. } => Some(format!("vertex {vertex}")),
+                _ => None,
+            };
+            MeshFileError::new(path, None, field, e.to_string())
+        })
+    }
+}
+
+/// Reads an OBJ or PLY file (chosen by the extension) into a mesh.
+pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshFileError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    let data = match ext.as_deref() {
+        Some("obj") => obj::read_obj(path)?,
+        Some("ply") => ply::read_ply(path)?,
+        _ => {
+            return Err(MeshFileError::new(
+                path,
+                None,
+                None,
+                "unknown mesh format: the name must end in .obj or .ply",
+            ))
+        }
+    };
+    data.into_mesh(path)
+}
+
+/// Reads a whole file, naming it in the error.
+pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, MeshFileError> {
+    std::fs::read(path).map_err(|e| {
+        let what = match e.kind() {
+            std::io::ErrorKind::NotFound => "no such file".to_string(),
+            _ => format!("cannot read the file: {e}"),
+        };
+        MeshFileError::new(path, None, None, what)
+    })
+}
