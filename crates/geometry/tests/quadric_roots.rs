@@ -27,25 +27,28 @@ const SCALES: [f64; 7] = [1e-3, 1e-2, 1.0, 10.0, 1e3, 1e4, 1e6];
 /// expected parameters (sorted, finite ones only).
 fn check(q: &Quadric, o: Vec3, d: Vec3, expected: &[f64], scale: f64, what: &str) {
     let (od, dd) = (o.as_dvec3(), d.as_dvec3());
-    let iv = q.form().inside_intervals(od, dd);
-    let mut got: Vec<f64> = iv
-        .as_slice()
-        .iter()
-        .flat_map(|&(a, b)| [a, b])
-        .filter(|t| t.is_finite())
-        .collect();
-    got.sort_by(f64::total_cmp);
-    assert_eq!(
-        got.len(),
-        expected.len(),
-        "{what} at scale {scale}: roots {got:?} vs {expected:?}"
-    );
-    for (g, e) in got.iter().zip(expected) {
-        let err = (g - e).abs() / scale;
-        assert!(
-            err <= 1e-11,
-            "{what} at scale {scale}: root {g} vs {e} (error {err:e} of scale)"
+    // Both solvers: Newton-polished from the ray's origin, and the one intersection
+    // uses (from the point nearest the bounds' centre when bounded).
+    for iv in [q.form().inside_intervals(od, dd), q.line_intervals(od, dd)] {
+        let mut got: Vec<f64> = iv
+            .as_slice()
+            .iter()
+            .flat_map(|&(a, b)| [a, b])
+            .filter(|t| t.is_finite())
+            .collect();
+        got.sort_by(f64::total_cmp);
+        assert_eq!(
+            got.len(),
+            expected.len(),
+            "{what} at scale {scale}: roots {got:?} vs {expected:?}"
         );
+        for (g, e) in got.iter().zip(expected) {
+            let err = (g - e).abs() / scale;
+            assert!(
+                err <= 1e-11,
+                "{what} at scale {scale}: root {g} vs {e} (error {err:e} of scale)"
+            );
+        }
     }
     let first = expected.iter().copied().find(|&t| t > 0.0).unwrap();
     let hit = q

@@ -58,9 +58,12 @@ impl Sphere {
         let p = ray.origin.as_dvec3() + ray.dir.as_dvec3() * t;
         let n = (p - self.center.as_dvec3()) / self.radius as f64;
         let n = n.normalize();
+        // Texture coordinates in f32: plenty for textures, and f32 atan2/acos cost a
+        // fraction of the f64 ones (this runs for both ends of every CSG span).
+        let nf = n.as_vec3();
         let uv = Vec2::new(
-            (0.5 + n.z.atan2(n.x) / (2.0 * PI)) as f32,
-            (n.y.clamp(-1.0, 1.0).acos() / PI) as f32,
+            0.5 + nf.z.atan2(nf.x) / std::f32::consts::TAU,
+            nf.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI,
         );
         // Project the point onto the sphere to remove the error of t.
         let p = self.center.as_dvec3() + n * self.radius as f64;

@@ -143,8 +143,33 @@ impl QuadricForm {
     }
 
     /// The parameter intervals in which `o + t d` lies in the solid `Q ≤ 0`, over the
-    /// whole line (ends may be `±∞`).
+    /// whole line (ends may be `±∞`). Roots are polished by Newton's method.
     pub fn inside_intervals(&self, o: DVec3, d: DVec3) -> LineIntervals {
+        self.intervals(o, d, true)
+    }
+
+    /// As `inside_intervals`, for a solid known to lie around `centre`: the ray's origin
+    /// is first moved along the ray to the point nearest `centre` (as Haines et al. do
+    /// for spheres, "Precision Improvements for Ray/Sphere Intersection", Ray Tracing
+    /// Gems ch. 7), so that `γ = Q(o')` is of the size of the solid rather than of the
+    /// distance to it; the roots are then accurate without the Newton polish, and the
+    /// shift is added back.
+    pub fn inside_intervals_near(&self, o: DVec3, d: DVec3, centre: DVec3) -> LineIntervals {
+        let shift = (centre - o).dot(d) / d.dot(d);
+        if !shift.is_finite() {
+            return self.intervals(o, d, true);
+        }
+        let mut iv = self.intervals(o + d * shift, d, false);
+        for (a, b) in iv.iv[..iv.len].iter_mut() {
+            *a += shift;
+            *b += shift;
+        }
+        iv
+    }
+
+    #[inline]
+    fn intervals(&self, o: DVec3, d: DVec3, polish: bool) -> LineIntervals {
+        let polish = |t: f64| if polish { self.polish(o, d, t) } else { t };
         let mut out = LineIntervals::default();
         let ad = self.a * d;
         let alpha = d.dot(ad);
@@ -153,9 +178,9 @@ impl QuadricForm {
         if alpha == 0.0 {
             // Linear in t (a ray parallel to a cylinder's axis, say).
             if beta > 0.0 {
-                out.push(f64::NEG_INFINITY, self.polish(o, d, -gamma / beta));
+                out.push(f64::NEG_INFINITY, polish(-gamma / beta));
             } else if beta < 0.0 {
-                out.push(self.polish(o, d, -gamma / beta), f64::INFINITY);
+                out.push(polish(-gamma / beta), f64::INFINITY);
             } else if gamma <= 0.0 {
                 out.push(f64::NEG_INFINITY, f64::INFINITY);
             }
@@ -174,10 +199,10 @@ impl QuadricForm {
         let (lo, hi) = if r0 <= r1 { (r0, r1) } else { (r1, r0) };
         let (mut t0, mut t1) = (lo, hi);
         if t0.is_finite() {
-            t0 = self.polish(o, d, t0);
+            t0 = polish(t0);
         }
         if t1.is_finite() {
-            t1 = self.polish(o, d, t1);
+            t1 = polish(t1);
         }
         if !(t0 <= t1) {
             // Polishing a nearly double root can swap the pair; keep the unpolished ones.

@@ -24,7 +24,6 @@ use crate::shape::{Boundary, Hit, Shape, Span};
 use clip::{clip_interval, NO_PLANE};
 use glam::{DAffine3, DVec3, Vec2, Vec3};
 use irradia_core::{Aabb, Ray};
-use std::f64::consts::PI;
 
 /// Which quadric this is, for names, texture coordinates and facets. The canonical
 /// (local) frame has the axis of symmetry along `y`.
@@ -84,6 +83,9 @@ pub struct Quadric {
     /// Bounds known from construction (named shapes, clipping boxes), object space.
     known_bounds: (DVec3, DVec3),
     bounds: Aabb,
+    /// The centre of the bounds when they are finite: rays are solved from the point
+    /// nearest it (see `QuadricForm::inside_intervals_near`).
+    centre: Option<DVec3>,
 }
 
 /// One end of an inside interval: its parameter and which surface it lies on.
@@ -112,8 +114,9 @@ impl Quadric {
             to_local,
             known_bounds,
             bounds: Aabb::INFINITE,
+            centre: None,
         };
-        q.bounds = q.compute_bounds();
+        q.update_bounds();
         q
     }
 
@@ -133,6 +136,24 @@ impl Quadric {
         &self.to_local
     }
 
+    pub(crate) fn update_bounds(&mut self) {
+        self.bounds = self.compute_bounds();
+        self.centre = self
+            .bounds
+            .is_finite()
+            .then(|| self.bounds.center().as_dvec3());
+    }
+
+    /// The f64 parameter intervals of the unclipped solid `Q ≤ 0` along `o + t d`, as
+    /// intersection uses them (solved near the bounds' centre when bounded).
+    #[inline]
+    pub fn line_intervals(&self, o: DVec3, d: DVec3) -> form::LineIntervals {
+        match self.centre {
+            Some(c) => self.form.inside_intervals_near(o, d, c),
+            None => self.form.inside_intervals(o, d),
+        }
+    }
+
     fn compute_bounds(&self) -> Aabb {
         let (mut lo, mut hi) = self.known_bounds;
         if let Some((a, b)) = self.form.ellipsoid_bounds() {
@@ -150,7 +171,7 @@ impl Quadric {
     /// The ends of the inside intervals of the (clipped) solid along `o + t d`.
     #[inline]
     fn solid_spans(&self, o: DVec3, d: DVec3, out: &mut [(End, End); 2]) -> usize {
-        let iv = self.form.inside_intervals(o, d);
+        let iv = self.line_intervals(o, d);
         let end = |t: f64, side: u32| End {
             t,
             side: if t.is_finite() { side } else { NO_PLANE },
@@ -201,7 +222,7 @@ impl Quadric {
                 .flat_map(|(a, b)| [*a, *b])
                 .find(|e| ok(e))
         } else {
-            let iv = self.form.inside_intervals(o, d);
+            let iv = self.line_intervals(o, d);
             let c = if self.clip.is_empty() {
                 None
             } else {
@@ -234,29 +255,32 @@ impl Quadric {
         }
     }
 
+    /// Texture coordinates, computed in f32 (accurate enough for textures, and f32
+    /// `atan2` costs a fraction of the f64 one; this runs for both ends of every span).
     fn uv_at(&self, p: DVec3, side: u32) -> Vec2 {
-        let l = self.to_local.transform_point3(p);
-        let angle = 0.5 + l.z.atan2(l.x) / (2.0 * PI);
-        let uv = match self.kind {
+        use std::f32::consts::{PI, TAU};
+        let l = self.to_local.transform_point3(p).as_vec3();
+        let angle = || 0.5 + l.z.atan2(l.x) / TAU;
+        match self.kind {
             QuadricKind::Ellipsoid { radii } => {
-                let u = (l / radii).normalize_or_zero();
-                (angle, u.y.clamp(-1.0, 1.0).acos() / PI)
+                let u = (l / radii.as_vec3()).normalize_or_zero();
+                Vec2::new(angle(), u.y.clamp(-1.0, 1.0).acos() / PI)
             }
-            QuadricKind::CappedCylinder { radius, height } if side == SURFACE => {
-                let _ = radius;
-                (angle, l.y / height)
+            QuadricKind::CappedCylinder { height, .. } | QuadricKind::CappedCone { height, .. }
+                if side == SURFACE =>
+            {
+                Vec2::new(angle(), l.y / height as f32)
             }
-            QuadricKind::CappedCone { height, .. } if side == SURFACE => (angle, l.y / height),
             QuadricKind::CappedCylinder { radius, .. } => {
-                (0.5 + l.x / (2.0 * radius), 0.5 + l.z / (2.0 * radius))
+                let r = radius as f32;
+                Vec2::new(0.5 + l.x / (2.0 * r), 0.5 + l.z / (2.0 * r))
             }
             QuadricKind::CappedCone { r0, r1, .. } => {
-                let r = r0.max(r1);
-                (0.5 + l.x / (2.0 * r), 0.5 + l.z / (2.0 * r))
+                let r = r0.max(r1) as f32;
+                Vec2::new(0.5 + l.x / (2.0 * r), 0.5 + l.z / (2.0 * r))
             }
-            _ => (angle, l.y),
-        };
-        Vec2::new(uv.0 as f32, uv.1 as f32)
+            _ => Vec2::new(angle(), l.y),
+        }
     }
 
     fn boundary(&self, o: DVec3, d: DVec3, e: End) -> Boundary {

@@ -136,7 +136,7 @@ impl Quadric {
             what: "clipping plane normal",
         })?;
         self.clip.push(h);
-        self.bounds = self.compute_bounds();
+        self.update_bounds();
         Ok(self)
     }
 
@@ -164,7 +164,7 @@ impl Quadric {
             });
         }
         self.known_bounds = (self.known_bounds.0.max(lo), self.known_bounds.1.min(hi));
-        self.bounds = self.compute_bounds();
+        self.update_bounds();
         Ok(self)
     }
 
