@@ -19,6 +19,11 @@ const SCENES: &[(&str, &str, &str)] = &[
         include_str!("../scenes/whitted.toml"),
     ),
     (
+        "csg",
+        "CSG: cube minus sphere, Steinmetz solid, union of spheres (POV-Ray's csg.pov)",
+        include_str!("../scenes/csg.toml"),
+    ),
+    (
         "cornell",
         "the RGB Cornell box of Mitsuba 3, path traced (512x512, 64 spp, max depth 8)",
         include_str!("../scenes/cornell.toml"),

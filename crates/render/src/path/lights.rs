@@ -34,8 +34,60 @@ enum Emitter {
     Directional { direction: Vec3, irradiance: Rgb },
     Rect { corner: Vec3, edge_u: Vec3, edge_v: Vec3, normal: Vec3, area: f32, radiance: Rgb },
     Sphere { center: Vec3, radius: f32, radiance: Rgb },
-    Object { instance: u32, radiance: Rgb, area: f32, two_sided: bool },
+    Object { instance: u32, radiance: Rgb, area: f32, two_sided: bool, surface: SurfaceSampler },
     Environment { radiance: Rgb, radius: f32 },
+}
+
+/// Uniform-by-area points on an emissive shape, in object space: the shape's own
+/// sampler when it has one, otherwise its planar facets (exact for polygons, boxes and
+/// polyhedra; an approximation of curved shapes, documented in docs/path-tracing.md).
+#[derive(Clone, Debug)]
+enum SurfaceSampler {
+    Exact,
+    Facets { triangles: Vec<[Vec3; 3]>, cdf: Vec<f32> },
+}
+
+impl SurfaceSampler {
+    /// The sampler and the object-space area it samples.
+    fn for_shape(shape: &dyn irradia_geometry::Shape) -> Option<(Self, f32)> {
+        if let (Some(area), Some(_)) = (shape.area(), shape.sample_surface(Vec2::splat(0.5))) {
+            return Some((SurfaceSampler::Exact, area));
+        }
+        let facets = shape.facets(64)?;
+        let mut triangles = Vec::new();
+        for face in &facets.faces {
+            for k in 1..face.len().saturating_sub(1) {
+                let v = |i: usize| facets.vertices[face[i] as usize];
+                triangles.push([v(0), v(k), v(k + 1)]);
+            }
+        }
+        let mut acc = 0.0;
+        let cdf: Vec<f32> = triangles
+            .iter()
+            .map(|t| {
+                acc += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length();
+                acc
+            })
+            .collect();
+        (acc > 0.0).then_some((SurfaceSampler::Facets { triangles, cdf }, acc))
+    }
+
+    fn sample(&self, shape: &dyn irradia_geometry::Shape, u: Vec2) -> Option<(Vec3, Vec3)> {
+        match self {
+            SurfaceSampler::Exact => shape.sample_surface(u),
+            SurfaceSampler::Facets { triangles, cdf } => {
+                let total = *cdf.last()?;
+                let x = u.x * total;
+                let i = cdf.partition_point(|&c| c <= x).min(triangles.len() - 1);
+                let lo = if i == 0 { 0.0 } else { cdf[i - 1] };
+                let ux = ((x - lo) / (cdf[i] - lo)).clamp(0.0, 1.0 - f32::EPSILON);
+                let b = sampling::uniform_triangle(Vec2::new(ux, u.y));
+                let [a, p, q] = triangles[i];
+                let n = (p - a).cross(q - a).normalize();
+                Some((a * (1.0 - b.x - b.y) + p * b.x + q * b.y, n))
+            }
+        }
+    }
 }
 
 /// The emitters of a scene with a discrete distribution proportional to power.
@@ -106,9 +158,9 @@ impl LightSampler {
             if e.is_black() {
                 continue;
             }
-            if let (Some(area), Some(_)) = (inst.shape.area(), inst.shape.sample_surface(Vec2::splat(0.5))) {
+            if let Some((surface, area)) = SurfaceSampler::for_shape(inst.shape.as_ref()) {
                 by_instance[i] = Some(emitters.len() as u32);
-                emitters.push(Emitter::Object { instance: i as u32, radiance: e, area, two_sided: material.emission_two_sided });
+                emitters.push(Emitter::Object { instance: i as u32, radiance: e, area, two_sided: material.emission_two_sided, surface });
             }
         }
         let mut environment = None;
@@ -195,9 +247,9 @@ impl LightSampler {
                 let n = sampling::uniform_sphere(u);
                 on_surface(center + n * radius, n, radiance, 1.0 / (4.0 * PI * radius * radius), false)
             }
-            Emitter::Object { instance, radiance, area, two_sided } => {
+            Emitter::Object { instance, radiance, area, two_sided, ref surface } => {
                 let inst = &scene.accel.instances()[instance as usize];
-                let (qo, no) = inst.shape.sample_surface(u)?;
+                let (qo, no) = surface.sample(inst.shape.as_ref(), u)?;
                 let q = inst.to_world().transform_point3(qo);
                 let n = Vec3::from(inst.to_object().matrix3.transpose() * glam::Vec3A::from(no)).normalize();
                 on_surface(q, n, radiance, 1.0 / (area * area_jacobian(inst, no)), two_sided)
