@@ -237,3 +237,101 @@ fn unknown_builtin_lists_the_valid_names() {
     assert!(e.is_bad_input());
     assert!(e.to_string().contains("default"), "{e}");
 }
+
+#[test]
+fn missing_mesh_file_names_the_scene_line_and_the_mesh() {
+    let text = format!("{HEAD}\n[[objects]]\ntype = \"mesh\"\npath = \"nowhere/bunny.obj\"\n");
+    let (e, p) = fails("s.toml", &text);
+    check(
+        &e,
+        &p,
+        line_of(&text, "bunny"),
+        "objects[0].path",
+        "bunny.obj",
+    );
+    assert!(e.to_string().contains("cannot load the mesh"), "{e}");
+}
+
+#[test]
+fn ply_header_claiming_more_data_than_the_file_holds() {
+    let data =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/meshes/truncated.ply");
+    let text = format!(
+        "{HEAD}\n[[objects]]\ntype = \"mesh\"\npath = {:?}\n",
+        data.display().to_string()
+    );
+    let (e, p) = fails("s.toml", &text);
+    check(
+        &e,
+        &p,
+        line_of(&text, "truncated.ply"),
+        "objects[0].path",
+        "truncated.ply",
+    );
+}
+
+#[test]
+fn malformed_obj_is_reported_with_the_mesh_line() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("bad.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 x 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let path = dir.path().join("s.toml");
+    let text = format!("{HEAD}\n[[objects]]\ntype = \"mesh\"\npath = \"bad.obj\"\n");
+    std::fs::write(&path, &text).unwrap();
+    let e = load_file(&path).unwrap_err();
+    check(
+        &e,
+        &path,
+        line_of(&text, "bad.obj"),
+        "objects[0].path",
+        "bad.obj:3",
+    );
+}
+
+#[test]
+fn degenerate_polygon() {
+    let text = format!(
+        "{HEAD}\n[[objects]]\ntype = \"polygon\"\nvertices = [[0, 0, 0], [1, 1, 1], [2, 2, 2]]\n"
+    );
+    let (e, p) = fails("s.toml", &text);
+    check(
+        &e,
+        &p,
+        line_of(&text, "vertices"),
+        "objects[0].vertices",
+        "zero area",
+    );
+}
+
+#[test]
+fn open_surface_in_csg_is_refused_at_the_child() {
+    let text = format!(
+        "{HEAD}\n[[objects]]\ntype = \"union\"\nchildren = [\n  {{ type = \"sphere\", radius = 1 }},\n  {{ type = \"disk\", radius = 1 }},\n]\n"
+    );
+    let (e, p) = fails("s.toml", &text);
+    check(
+        &e,
+        &p,
+        line_of(&text, "disk"),
+        "objects[0].children[1].type",
+        "closed solid",
+    );
+}
+
+#[test]
+fn bad_radius_deep_inside_csg() {
+    let text = format!(
+        "{HEAD}\n[[objects]]\ntype = \"difference\"\nchildren = [\n  {{ type = \"box\", min = [-1, -1, -1], max = [1, 1, 1] }},\n  {{ type = \"union\", children = [\n    {{ type = \"sphere\", radius = 1 }},\n    {{ type = \"sphere\", radius = -2 }},\n  ] }},\n]\n"
+    );
+    let (e, p) = fails("s.toml", &text);
+    check(
+        &e,
+        &p,
+        line_of(&text, "radius = -2"),
+        "objects[0].children[1].children[1].radius",
+        "must be positive (got -2)",
+    );
+}

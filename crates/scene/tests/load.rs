@@ -197,3 +197,61 @@ fn objects_without_material_get_the_default_one() {
     assert_eq!(s.materials.len(), 1);
     assert_eq!(s.materials[s.objects[0].material as usize].name, "default");
 }
+
+#[test]
+fn relative_mesh_paths_resolve_against_the_scene_file() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/meshes/scene.toml");
+    // Load from another working directory's point of view: the path is absolute, the
+    // mesh paths inside are relative to the scene file's folder.
+    let s = load_file(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.objects.len(), 2);
+    let kinds: Vec<&str> = s.accel.instances().iter().map(|i| i.shape.kind()).collect();
+    assert_eq!(kinds[0], kinds[1]);
+    // Both tetrahedra are where the scene puts them: a ray down -z through (0.2, 0.2)
+    // hits the OBJ one on its slanted face x + y + z = 1; the PLY one is moved by -1.5.
+    let hit = |x: f32| {
+        s.accel
+            .intersect(&Ray::new(Vec3::new(x, 0.2, 5.0), -Vec3::Z), f32::INFINITY)
+            .map(|h| (h.instance, h.hit.point))
+    };
+    let (i, p) = hit(0.2).unwrap();
+    assert_eq!(i, 0);
+    assert!((p.z - 0.6).abs() < 1e-5, "{p}");
+    let (i, p) = hit(-1.3).unwrap();
+    assert_eq!(i, 1);
+    assert!((p.z - 0.6).abs() < 1e-5, "{p}");
+}
+
+#[test]
+fn csg_leaves_get_their_own_materials_depth_first() {
+    let text = r#"
+[camera]
+eye = [0, 0, 5]
+look_at = [0, 0, 0]
+[materials.a]
+[materials.b]
+[materials.c]
+[[objects]]
+type = "difference"
+material = "a"
+children = [
+  { type = "box", min = [-1, -1, -1], max = [1, 1, 1] },
+  { type = "union", material = "b", children = [
+      { type = "sphere", radius = 1.2 },
+      { type = "sphere", radius = 0.2, center = [3, 0, 0], material = "c" },
+  ] },
+]
+"#;
+    let s = load_str(text, Format::Toml, Path::new("c.toml")).unwrap();
+    assert_eq!(s.objects[0].leaf_materials, vec![0, 1, 2]);
+    assert_eq!(s.objects[0].material_for_leaf(1), 1);
+    // A ray along the x axis enters the box at a corner region outside the sphere? No:
+    // along a diagonal the box corner lies outside the sphere of radius 1.2.
+    let d = Vec3::new(-1.0, -1.0, -1.0).normalize();
+    let h = s
+        .accel
+        .intersect(&Ray::new(-d * 5.0, d), f32::INFINITY)
+        .unwrap();
+    assert!((h.hit.point - Vec3::ONE).length() < 1e-4, "{}", h.hit.point);
+    assert_eq!(h.hit.leaf, 0);
+}

@@ -9,10 +9,14 @@ use super::shapes::{build_primitive, unknown_kind};
 use super::transform::read_transform;
 use crate::material::Material;
 use crate::scene::Object;
-use irradia_geometry::Instance;
+use irradia_geometry::{Csg, CsgOp, CsgOperand, Instance, Shape, TriangleMesh};
+use std::sync::Arc;
 
 /// CSG operations (their shapes come from the geometry crate's CSG module).
-pub const CSG_KINDS: &[&str] = &[];
+pub const CSG_KINDS: &[&str] = &["union", "intersection", "difference", "merge"];
+
+/// Object types besides the primitives and CSG.
+pub const OTHER_KINDS: &[&str] = &["mesh", "union", "intersection", "difference", "merge"];
 
 /// Materials, with a default one added on first use by an object that names none.
 pub struct MaterialTable {
@@ -65,11 +69,15 @@ pub fn read_objects(
         let kind = kind_v.str()?;
         let mut leaf_materials = Vec::new();
         let shape = if CSG_KINDS.contains(&kind) {
-            read_csg(kind, &t, material, mats, &mut leaf_materials)?
+            let csg = read_csg(kind, &t, material, mats, &mut leaf_materials)?;
+            if leaf_materials.iter().all(|m| *m == material) {
+                leaf_materials.clear();
+            }
+            Arc::new(csg)
         } else {
-            match build_primitive(kind, &t)? {
+            match build_shape(kind, &t)? {
                 Some(s) => s,
-                None => return Err(unknown_kind(&kind_v, kind, CSG_KINDS)),
+                None => return Err(unknown_kind(&kind_v, kind, OTHER_KINDS)),
             }
         };
         t.finish()?;
@@ -83,12 +91,71 @@ pub fn read_objects(
     Ok((objects, instances))
 }
 
+/// Reads a CSG node: `children` is an array of objects (primitives or CSG nodes), each
+/// with an optional `transform` (child to parent) and `material` (default: the
+/// parent's). Leaf materials are pushed in depth-first order, matching `Hit::leaf`.
 fn read_csg(
     kind: &str,
     t: &Table,
-    _material: u32,
-    _mats: &mut MaterialTable,
-    _leaf_materials: &mut Vec<u32>,
-) -> Result<std::sync::Arc<dyn irradia_geometry::Shape>> {
-    Err(t.err(format!("CSG `{kind}` is not available yet")))
+    material: u32,
+    mats: &mut MaterialTable,
+    leaf_materials: &mut Vec<u32>,
+) -> Result<Csg> {
+    let op = match kind {
+        "union" => CsgOp::Union,
+        "intersection" => CsgOp::Intersection,
+        "difference" => CsgOp::Difference,
+        _ => CsgOp::Merge,
+    };
+    let children_v = t.req("children")?;
+    let children = children_v.array()?;
+    if children.is_empty() {
+        return Err(children_v.err(format!("a CSG {kind} needs at least one child")));
+    }
+    let mut operands = Vec::new();
+    for c in &children {
+        let ct = c.table()?;
+        let child_material = match ct.get("material") {
+            Some(m) => material_index(&mats.materials, &m)?,
+            None => material,
+        };
+        let to_parent = read_transform(ct.get("transform"))?;
+        let kind_v = ct.req("type")?;
+        let child_kind = kind_v.str()?;
+        let operand = if CSG_KINDS.contains(&child_kind) {
+            let node = read_csg(child_kind, &ct, child_material, mats, leaf_materials)?;
+            CsgOperand::node(node, to_parent)
+        } else {
+            let shape = match build_shape(child_kind, &ct)? {
+                Some(s) => s,
+                None => return Err(unknown_kind(&kind_v, child_kind, OTHER_KINDS)),
+            };
+            if !shape.is_solid() {
+                return Err(kind_v.err(format!(
+                    "a CSG operand must be a closed solid, but a {child_kind} here is an open surface"
+                )));
+            }
+            leaf_materials.push(child_material);
+            CsgOperand::shape(shape, to_parent)
+        };
+        ct.finish()?;
+        operands.push(operand);
+    }
+    Csg::new(op, operands).map_err(|e| children_v.err(e.to_string()))
+}
+
+/// A primitive, mesh or implicit surface; `None` when `kind` names none of them.
+fn build_shape(kind: &str, t: &Table) -> Result<Option<Arc<dyn Shape>>> {
+    if kind == "mesh" {
+        return Ok(Some(Arc::new(read_mesh(t)?)));
+    }
+    build_primitive(kind, t)
+}
+
+/// `type = "mesh"`, `path = "bunny.ply"` (OBJ or PLY, relative to the scene file).
+fn read_mesh(t: &Table) -> Result<TriangleMesh> {
+    let path_v = t.req("path")?;
+    let path = path_v.doc.resolve(path_v.str()?);
+    irradia_geometry::io::load_mesh(&path)
+        .map_err(|e| path_v.err(format!("cannot load the mesh: {e}")))
 }
