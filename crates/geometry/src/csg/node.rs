@@ -11,7 +11,7 @@
 use super::combine::combine;
 use super::op::CsgOp;
 use super::scratch::{with_buffers, Buffers};
-use super::window::overlaps;
+use super::window::SlabRay;
 use crate::instance::Instance;
 use crate::shape::{Boundary, Hit, Shape, Span};
 use crate::shapes::ShapeError;
@@ -158,9 +158,17 @@ impl Csg {
 
     /// The operand's spans that overlap `[lo, hi]`, leaves renumbered, into `out`.
     #[inline]
-    fn operand_spans(&self, c: &Child, ray: &Ray, lo: f32, hi: f32, out: &mut Vec<Span>) {
+    fn operand_spans(
+        &self,
+        c: &Child,
+        ray: &Ray,
+        slab: &SlabRay,
+        lo: f32,
+        hi: f32,
+        out: &mut Vec<Span>,
+    ) {
         out.clear();
-        if !overlaps(&c.bounds, ray, lo, hi) {
+        if !slab.overlaps(&c.bounds, lo, hi) {
             return;
         }
         c.instance.spans(ray, out);
@@ -176,19 +184,20 @@ impl Csg {
     /// The node's spans that overlap `[lo, hi]` (exact inside the window), in `b.acc`.
     fn collect(&self, ray: &Ray, lo: f32, hi: f32, b: &mut Buffers) {
         b.acc.clear();
+        let slab = SlabRay::new(ray);
         let narrowing = matches!(self.op, CsgOp::Intersection | CsgOp::Difference);
         if self.op == CsgOp::Intersection
             && !self
                 .children
                 .iter()
-                .all(|c| overlaps(&c.bounds, ray, lo, hi))
+                .all(|c| slab.overlaps(&c.bounds, lo, hi))
         {
             return;
         }
         let (mut lo, mut hi) = (lo, hi);
         let mut children = self.children.iter();
         let first = children.next().expect("a CSG node has operands");
-        self.operand_spans(first, ray, lo, hi, &mut b.acc);
+        self.operand_spans(first, ray, &slab, lo, hi, &mut b.acc);
         for c in children {
             if narrowing {
                 // Nothing outside the current result can come back in.
@@ -200,7 +209,7 @@ impl Csg {
                     _ => return,
                 }
             }
-            self.operand_spans(c, ray, lo, hi, &mut b.operand);
+            self.operand_spans(c, ray, &slab, lo, hi, &mut b.operand);
             if b.operand.is_empty() {
                 if self.op == CsgOp::Intersection {
                     b.acc.clear();
@@ -233,8 +242,9 @@ impl Csg {
     fn nearest_operand_hit(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         let mut t_max = t_max;
+        let slab = SlabRay::new(ray);
         for c in &self.children {
-            if !overlaps(&c.bounds, ray, 0.0, t_max) {
+            if !slab.overlaps(&c.bounds, 0.0, t_max) {
                 continue;
             }
             if let Some(mut h) = c.instance.intersect(ray, t_max) {
@@ -283,10 +293,11 @@ impl Shape for Csg {
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         if self.op == CsgOp::Union {
+            let slab = SlabRay::new(ray);
             return self
                 .children
                 .iter()
-                .any(|c| overlaps(&c.bounds, ray, 0.0, t_max) && c.instance.occluded(ray, t_max));
+                .any(|c| slab.overlaps(&c.bounds, 0.0, t_max) && c.instance.occluded(ray, t_max));
         }
         self.first_boundary(ray, t_max).is_some()
     }
