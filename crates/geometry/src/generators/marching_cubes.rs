@@ -96,6 +96,18 @@ fn edge_corners(e: usize) -> (usize, usize) {
     (a, a | 1 << axis)
 }
 
+/// Whether two edges of the cube lie on a common face.
+fn share_face(a: usize, b: usize) -> bool {
+    let faces = |e: usize| {
+        let (c0, c1) = edge_corners(e);
+        // A face (axis, side) holds the edge when both corners have that coordinate.
+        (0..3)
+            .flat_map(|axis| (0..2).map(move |side| (axis, side)))
+            .filter(move |&(axis, side)| corner(c0)[axis] == side && corner(c1)[axis] == side)
+    };
+    faces(a).any(|fa| faces(b).any(|fb| fa == fb))
+}
+
 fn corner_pos(c: usize) -> Vec3 {
     let [x, y, z] = corner(c);
     Vec3::new(x as f32, y as f32, z as f32)
@@ -165,7 +177,11 @@ fn triangulate_case(case: u8) -> Vec<[u8; 3]> {
                 // Walk so the surface (inside the cube) is on the left seen from the
                 // positive side: direction g x n.
                 let d = g.cross(normal);
-                let (from, to) = if (q - p).dot(d) > 0.0 { (ei, ej) } else { (ej, ei) };
+                let (from, to) = if (q - p).dot(d) > 0.0 {
+                    (ei, ej)
+                } else {
+                    (ej, ei)
+                };
                 assert_eq!(next[from], usize::MAX, "case {case}: edge {from} twice");
                 next[from] = to;
             }
@@ -186,8 +202,19 @@ fn triangulate_case(case: u8) -> Vec<[u8; 3]> {
             assert!(e != usize::MAX, "case {case}: open loop");
         }
         assert_eq!(e, start, "case {case}: loop does not close");
-        for k in 1..lp.len() - 1 {
-            tris.push([lp[0], lp[k], lp[k + 1]]);
+        // Fan from a corner whose diagonals never join two vertices on one cube face:
+        // the neighbouring cell may use that pair as a segment or diagonal too, and
+        // the edge would then belong to more than two triangles.
+        let n = lp.len();
+        let conflicts = |k: usize| {
+            (0..n)
+                .filter(|&j| j != k && j != (k + 1) % n && (j + 1) % n != k)
+                .filter(|&j| share_face(lp[k] as usize, lp[j] as usize))
+                .count()
+        };
+        let apex = (0..n).min_by_key(|&k| conflicts(k)).unwrap_or(0);
+        for k in 1..n - 1 {
+            tris.push([lp[apex], lp[(apex + k) % n], lp[(apex + k + 1) % n]]);
         }
     }
     tris
@@ -302,4 +329,35 @@ pub fn marching_cubes(grid: &ScalarGrid, iso: f32) -> MeshData {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_case_has_closed_loops_and_clean_fans() {
+        for case in 0..=255u8 {
+            let tris = triangulate_case(case);
+            // Triangles come in fans, so no triangle edge joins two vertices on one
+            // face unless it is a loop segment; count each undirected edge.
+            let mut count = std::collections::HashMap::new();
+            for t in &tris {
+                for k in 0..3 {
+                    let (a, b) = (t[k], t[(k + 1) % 3]);
+                    *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+                }
+            }
+            for (&(a, b), &n) in &count {
+                // An inner diagonal (used twice) never joins two vertices of one face.
+                if n == 2 {
+                    assert!(!share_face(a as usize, b as usize), "case {case}: {a}-{b}");
+                } else {
+                    assert_eq!(n, 1, "case {case}");
+                    assert!(share_face(a as usize, b as usize), "case {case}");
+                }
+            }
+            assert_eq!(tris.is_empty(), case == 0 || case == 255);
+        }
+    }
 }

@@ -51,7 +51,9 @@ impl SizeDistribution {
                     0.0
                 }
             }
-            SizeDistribution::Uniform { min, max } => ((x - min as f64) / (max as f64 - min as f64)).clamp(0.0, 1.0),
+            SizeDistribution::Uniform { min, max } => {
+                ((x - min as f64) / (max as f64 - min as f64)).clamp(0.0, 1.0)
+            }
             SizeDistribution::Exponential { mean } => {
                 if x <= 0.0 {
                     0.0
@@ -63,7 +65,8 @@ impl SizeDistribution {
                 if x <= 0.0 {
                     0.0
                 } else {
-                    0.5 * (1.0 + erf((x / median as f64).ln() / (sigma as f64 * std::f64::consts::SQRT_2)))
+                    0.5 * (1.0
+                        + erf((x / median as f64).ln() / (sigma as f64 * std::f64::consts::SQRT_2)))
                 }
             }
         }
@@ -75,7 +78,9 @@ impl SizeDistribution {
             SizeDistribution::Constant(a) => a as f64,
             SizeDistribution::Uniform { min, max } => 0.5 * (min as f64 + max as f64),
             SizeDistribution::Exponential { mean } => mean as f64,
-            SizeDistribution::LogNormal { median, sigma } => median as f64 * (0.5 * (sigma as f64).powi(2)).exp(),
+            SizeDistribution::LogNormal { median, sigma } => {
+                median as f64 * (0.5 * (sigma as f64).powi(2)).exp()
+            }
         }
     }
 }
@@ -85,14 +90,17 @@ impl SizeDistribution {
 fn erf(x: f64) -> f64 {
     let z = x.abs();
     let t = 1.0 / (1.0 + 0.5 * z);
-    let ans = t * (-z * z - 1.265_512_23
-        + t * (1.000_023_68
-            + t * (0.374_091_96
-                + t * (0.096_784_18
-                    + t * (-0.186_288_06
-                        + t * (0.278_868_07
-                            + t * (-1.135_203_98 + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
-        .exp();
+    let ans = t
+        * (-z * z - 1.265_512_23
+            + t * (1.000_023_68
+                + t * (0.374_091_96
+                    + t * (0.096_784_18
+                        + t * (-0.186_288_06
+                            + t * (0.278_868_07
+                                + t * (-1.135_203_98
+                                    + t * (1.488_515_87
+                                        + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
+            .exp();
     if x >= 0.0 {
         1.0 - ans
     } else {
@@ -116,7 +124,13 @@ pub struct RandomTriangles {
 impl RandomTriangles {
     /// `count` triangles in [-1, 1]^3, random orientation.
     pub fn new(count: usize, area: SizeDistribution, seed: u64) -> Self {
-        Self { count, area, bounds: Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0)), facing: None, seed }
+        Self {
+            count,
+            area,
+            bounds: Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0)),
+            facing: None,
+            seed,
+        }
     }
 }
 
@@ -129,8 +143,12 @@ pub fn random_triangles(spec: &RandomTriangles) -> MeshData {
         .map(|i| {
             let mut rng = Rng::new(spec.seed, i as u64);
             let area = spec.area.sample(&mut rng);
-            let centre = b.min + (b.max - b.min) * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
-            let normal = spec.facing.map(|n| n.normalize()).unwrap_or_else(|| uniform_sphere(rng.next_2d()));
+            let centre =
+                b.min + (b.max - b.min) * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+            let normal = spec
+                .facing
+                .map(|n| n.normalize())
+                .unwrap_or_else(|| uniform_sphere(rng.next_2d()));
             let frame = Frame::from_normal(normal);
             // Corners on the unit circle at jittered thirds: never degenerate (each gap
             // between corners stays within [60, 180) degrees).
@@ -150,7 +168,9 @@ pub fn random_triangles(spec: &RandomTriangles) -> MeshData {
         .collect();
     MeshData {
         positions: tris.iter().flatten().copied().collect(),
-        indices: (0..spec.count as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect(),
+        indices: (0..spec.count as u32)
+            .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+            .collect(),
     }
 }
 
@@ -183,20 +203,34 @@ mod tests {
         // The 0.1% critical value of the KS statistic for n = 4000 is 1.95 / sqrt(n).
         let crit = 1.95 / 4000f64.sqrt();
         for d in [
-            SizeDistribution::Uniform { min: 0.001, max: 0.01 },
+            SizeDistribution::Uniform {
+                min: 0.001,
+                max: 0.01,
+            },
             SizeDistribution::Exponential { mean: 0.004 },
-            SizeDistribution::LogNormal { median: 0.003, sigma: 0.7 },
+            SizeDistribution::LogNormal {
+                median: 0.003,
+                sigma: 0.7,
+            },
         ] {
             let k = ks(d);
             assert!(k < crit, "{d:?}: KS statistic {k} >= {crit}");
         }
         // And a wrong distribution is rejected, so the test can fail.
-        let m = random_triangles(&RandomTriangles::new(4000, SizeDistribution::Exponential { mean: 0.004 }, 7));
+        let m = random_triangles(&RandomTriangles::new(
+            4000,
+            SizeDistribution::Exponential { mean: 0.004 },
+            7,
+        ));
         let mut a: Vec<f64> = (0..m.indices.len()).map(|t| area(&m, t)).collect();
         a.sort_by(|x, y| x.partial_cmp(y).unwrap());
         let wrong = SizeDistribution::Exponential { mean: 0.0044 };
         let n = a.len() as f64;
-        let k = a.iter().enumerate().map(|(i, &x)| (wrong.cdf(x) - i as f64 / n).abs()).fold(0.0, f64::max);
+        let k = a
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| (wrong.cdf(x) - i as f64 / n).abs())
+            .fold(0.0, f64::max);
         assert!(k > crit, "a 10% wrong mean should be detected: {k}");
     }
 
