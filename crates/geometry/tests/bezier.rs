@@ -2,6 +2,8 @@
 //! collapsed poles, a flat patch against its plane, watertight seams, and spawned rays
 //! that never re-hit at their origin.
 
+#![allow(clippy::needless_range_loop)]
+
 use glam::{DVec3, Vec3};
 use irradia_core::{offset_ray_origin, Ray, Rng};
 use irradia_geometry::shapes::bezier::{

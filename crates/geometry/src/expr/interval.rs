@@ -10,6 +10,9 @@
 //! the interval is clipped to the domain; an interval entirely outside is [`Interval::EMPTY`].
 //! Division by an interval containing 0 gives [`Interval::ENTIRE`].
 
+// `!(a < b)` comparisons are deliberate: they are also true when a value is NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use super::ast::{Binary, Func};
 use super::number::Number;
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -149,9 +152,7 @@ impl Interval {
         // powi is not correctly rounded: allow n ulps of error.
         let k = n as f64 + 1.0;
         let (a, b) = (self.lo.powi(n), self.hi.powi(n));
-        if n % 2 == 1 {
-            Self::widened(a, b, k)
-        } else if self.lo >= 0.0 {
+        if n % 2 == 1 || self.lo >= 0.0 {
             Self::widened(a, b, k)
         } else if self.hi <= 0.0 {
             Self::widened(b, a, k)

@@ -1,6 +1,9 @@
 //! Every real root of a polynomial inside a finite interval, by derivative isolation
 //! with safeguarded Newton refinement (see the module summary in `roots/mod.rs`).
 
+// `!(a < b)` comparisons are deliberate: they are also true when a value is NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use super::polynomial::Polynomial;
 
 /// Most roots a polynomial of degree 8 can have.

@@ -30,6 +30,9 @@
 //! `Hit::error` bounds the distance from the reported point to the true surface: the
 //! residual `|f| / |∇f|` at the root, the final bracket, and f32 rounding of the point.
 
+// `!(a < b)` comparisons are deliberate: they are also true when a value is NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::expr::{Expr, ExprError, Interval};
 use crate::roots::refine_bracketed;
 use crate::shape::{Boundary, Hit, Shape, Span};

@@ -23,6 +23,9 @@
 //! measured at build time ([`ParametricSurface::max_deviation`]), which shrinks as
 //! `1 / resolution²`.
 
+// `!(a < b)` comparisons are deliberate: they are also true when a value is NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::expr::{Expr, ExprError};
 use crate::mesh::{MeshError, TriangleMesh};
 use crate::shape::{Facets, Hit, Shape, Span};

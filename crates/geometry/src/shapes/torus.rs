@@ -19,6 +19,9 @@
 //! torus's signed distance, whose gradient has unit length, so the final root does not
 //! suffer from the cancellation of the quartic's constant term.
 
+// `!(a < b)` comparisons are deliberate: they are also true when a value is NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::roots::{real_roots_in, Polynomial};
 use crate::shape::{Boundary, Facets, Hit, Shape, Span};
 use glam::{DVec3, Vec2, Vec3};

@@ -3,6 +3,8 @@
 //! normals that stay exact where a derivative vanishes (collapsed edges such as the
 //! teapot's lid top and bottom, where one whole patch edge is a single point).
 
+#![allow(clippy::needless_range_loop)]
+
 use glam::{DVec3, Vec3};
 
 /// A bicubic Bézier patch. `points[4 * i + j]` is `P_ij`: `i` runs along `u`, `j`

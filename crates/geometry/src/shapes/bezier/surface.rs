@@ -10,6 +10,9 @@
 //! true surface, bounded by [`BezierSurface::max_deviation`] (measured at build time),
 //! which shrinks as `1 / level²`.
 
+// `!(a < b)` comparisons are deliberate: they are also true when a value is NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use super::patch::BezierPatch;
 use super::tessellate::{tessellate, PatchTriangles};
 use crate::mesh::{MeshError, TriangleMesh};
