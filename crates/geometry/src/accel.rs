@@ -1,9 +1,9 @@
 //! The scene-level acceleration structure: the top level of the two-level hierarchy
-//! (over instances; meshes keep their own hierarchy over triangles inside).
-//!
-//! This first version tests every instance; the BVH replaces its inside without
-//! changing this interface.
+//! (a [`Bvh`] over the world boxes of the instances; meshes keep their own hierarchy
+//! over triangles inside), plus a plain list for unbounded shapes (planes, unclipped
+//! quadrics), which no box can hold and every ray tests.
 
+use crate::bvh::Bvh;
 use crate::instance::Instance;
 use crate::shape::Hit;
 use irradia_core::Ray;
@@ -15,43 +15,74 @@ pub struct SceneHit {
     pub hit: Hit,
 }
 
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct Accel {
     instances: Vec<Instance>,
+    /// Over the instances with finite bounds (leaf slots map to instance indices).
+    bvh: Bvh,
+    /// Instances whose bounds are not finite.
+    unbounded: Vec<u32>,
+}
+
+impl Default for Accel {
+    fn default() -> Self {
+        Self::build(Vec::new())
+    }
 }
 
 impl Accel {
+    /// Builds the top-level hierarchy over `instances` (in parallel when large).
     pub fn build(instances: Vec<Instance>) -> Self {
-        Self { instances }
+        let boxes: Vec<_> = instances.iter().map(|i| i.bounds()).collect();
+        let bvh = Bvh::build(&boxes);
+        let unbounded = boxes
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| !b.is_finite() && !b.is_empty())
+            .map(|(i, _)| i as u32)
+            .collect();
+        Self {
+            instances,
+            bvh,
+            unbounded,
+        }
     }
 
     pub fn instances(&self) -> &[Instance] {
         &self.instances
     }
 
+    /// The hierarchy over the bounded instances.
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
+    }
+
     /// Nearest hit with `0 < t < t_max`.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SceneHit> {
         let mut best: Option<SceneHit> = None;
         let mut t_max = t_max;
-        for (i, inst) in self.instances.iter().enumerate() {
-            if !inst.bounds().is_finite() || inst.bounds().hit(ray, t_max).is_some() {
-                if let Some(hit) = inst.intersect(ray, t_max) {
-                    t_max = hit.t;
-                    best = Some(SceneHit {
-                        instance: i as u32,
-                        hit,
-                    });
-                }
+        for &i in &self.unbounded {
+            if let Some(hit) = self.instances[i as usize].intersect(ray, t_max) {
+                t_max = hit.t;
+                best = Some(SceneHit { instance: i, hit });
             }
         }
+        self.bvh.closest_hit(ray, t_max, |slot, t_max| {
+            let i = self.bvh.order()[slot as usize];
+            let hit = self.instances[i as usize].intersect(ray, t_max)?;
+            best = Some(SceneHit { instance: i, hit });
+            Some(hit.t)
+        });
         best
     }
 
     /// Whether anything is hit with `0 < t < t_max`.
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.instances.iter().any(|inst| {
-            (!inst.bounds().is_finite() || inst.bounds().hit(ray, t_max).is_some())
-                && inst.occluded(ray, t_max)
-        })
+        self.unbounded
+            .iter()
+            .any(|&i| self.instances[i as usize].occluded(ray, t_max))
+            || self.bvh.any_hit(ray, t_max, |slot, t_max| {
+                self.instances[self.bvh.order()[slot as usize] as usize].occluded(ray, t_max)
+            })
     }
 }

@@ -189,3 +189,93 @@ fn many_coincident_boxes_build_a_bounded_tree() {
     });
     assert_eq!(visited, 10_000);
 }
+
+/// An unbounded test shape: the plane `y = height`, hit from either side.
+#[derive(Debug)]
+struct Floor {
+    height: f32,
+}
+
+impl Shape for Floor {
+    fn kind(&self) -> &'static str {
+        "floor"
+    }
+    fn bounds(&self) -> Aabb {
+        Aabb::INFINITE
+    }
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<irradia_geometry::Hit> {
+        let t = (self.height - ray.origin.y) / ray.dir.y;
+        (t > 0.0 && t < t_max)
+            .then(|| irradia_geometry::Hit::new(t, ray.at(t), Vec3::Y, irradia_core::Vec2::ZERO))
+    }
+    fn is_solid(&self) -> bool {
+        false
+    }
+    fn spans(&self, _: &Ray, _: &mut Vec<irradia_geometry::Span>) {}
+}
+
+#[test]
+fn accel_equals_brute_force_over_instances() {
+    use irradia_core::Affine3A;
+    use irradia_geometry::shapes::Sphere;
+    use irradia_geometry::{Accel, Instance};
+    use std::sync::Arc;
+    let mut rng = Rng::new(21, 4);
+    let mut instances = vec![Instance::untransformed(Arc::new(Floor { height: -3.0 }))];
+    let tris = random_triangles(&mut rng, 50);
+    let positions: Vec<Vec3> = tris.iter().flatten().copied().collect();
+    let indices: Vec<[u32; 3]> = (0..50u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+    let mesh: Arc<dyn Shape> = Arc::new(TriangleMesh::new(positions, indices, None, None).unwrap());
+    for i in 0..300 {
+        let at = rand_vec(&mut rng, -2.5, 2.5);
+        let inst = if i % 10 == 0 {
+            // Meshes placed with rotation and scale: the second level.
+            Instance::new(
+                mesh.clone(),
+                Affine3A::from_scale_rotation_translation(
+                    Vec3::splat(0.3 + rng.next_f32()),
+                    glam::Quat::from_axis_angle(
+                        Vec3::new(1.0, 2.0, 0.5).normalize(),
+                        rng.next_f32() * 6.0,
+                    ),
+                    at,
+                ),
+            )
+        } else {
+            Instance::new(
+                Arc::new(Sphere::new(Vec3::ZERO, 0.05 + 0.2 * rng.next_f32())),
+                Affine3A::from_translation(at),
+            )
+        };
+        instances.push(inst);
+    }
+    let brute: Vec<Instance> = instances.clone();
+    let accel = Accel::build(instances);
+    let mut hits = 0;
+    for k in 0..3000 {
+        let ray = Ray::new(rand_vec(&mut rng, -3.0, 3.0), rand_dir(&mut rng));
+        let t_max = if k % 4 == 0 { 2.0 } else { f32::INFINITY };
+        let mut expect: Option<(usize, f32)> = None;
+        let mut tm = t_max;
+        for (i, inst) in brute.iter().enumerate() {
+            if let Some(h) = inst.intersect(&ray, tm) {
+                tm = h.t;
+                expect = Some((i, h.t));
+            }
+        }
+        let got = accel.intersect(&ray, t_max);
+        assert_eq!(got.map(|h| h.hit.t), expect.map(|e| e.1), "ray {k}");
+        if let (Some(g), Some(e)) = (got, expect) {
+            hits += 1;
+            assert!(
+                g.instance as usize == e.0
+                    || brute[g.instance as usize]
+                        .intersect(&ray, f32::INFINITY)
+                        .map(|h| h.t)
+                        == Some(e.1)
+            );
+        }
+        assert_eq!(accel.occluded(&ray, t_max), expect.is_some(), "ray {k}");
+    }
+    assert!(hits > 1000);
+}

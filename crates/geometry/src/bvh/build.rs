@@ -22,13 +22,11 @@ pub const MAX_LEAF: usize = 8;
 /// Relative costs of visiting a node and of intersecting one block of primitives.
 const TRAVERSAL_COST: f32 = 1.0;
 const INTERSECT_COST: f32 = 1.0;
-/// Primitives are intersected in blocks of this many (SIMD triangle packets), so
-/// the SAH counts blocks, as Embree's builders do.
-const BLOCK: usize = 4;
-
+/// The SAH's intersection cost of `n` primitives tested in blocks of `block` (4 for
+/// SIMD triangle packets, 1 otherwise), counted in blocks as Embree's builders do.
 #[inline]
-fn blocks(n: usize) -> f32 {
-    n.div_ceil(BLOCK) as f32
+fn blocks(n: usize, block: usize) -> f32 {
+    n.div_ceil(block) as f32
 }
 /// Sets larger than this are binned with several threads.
 const PARALLEL_BINNING: usize = 1 << 16;
@@ -196,7 +194,7 @@ struct Split {
     right: SetInfo,
 }
 
-fn best_split(bins: &Bins, parent_area: f32) -> Option<Split> {
+fn best_split(bins: &Bins, parent_area: f32, block: usize) -> Option<Split> {
     let mut best: Option<Split> = None;
     for axis in 0..3 {
         let mut right_area = [0f32; BINS];
@@ -218,7 +216,8 @@ fn best_split(bins: &Bins, parent_area: f32) -> Option<Split> {
             if nl == 0 || nr == 0 {
                 continue;
             }
-            let cost = left.area() * blocks(nl as usize) + right_area[i] * blocks(nr as usize);
+            let cost = left.area() * blocks(nl as usize, block)
+                + right_area[i] * blocks(nr as usize, block);
             if best.as_ref().is_none_or(|b| cost < b.cost) {
                 best = Some(Split {
                     axis,
@@ -242,24 +241,29 @@ fn best_split(bins: &Bins, parent_area: f32) -> Option<Split> {
 
 /// Splits `prims` in two; the left part is moved to the front. Returns the size of the
 /// left part and the two sets' bounds, or `None` when the set should stay a leaf.
-fn split(prims: &mut [PrimRef], info: &SetInfo, depth: u32) -> Option<(usize, SetInfo, SetInfo)> {
+fn split(
+    prims: &mut [PrimRef],
+    info: &SetInfo,
+    depth: u32,
+    block: usize,
+) -> Option<(usize, SetInfo, SetInfo)> {
     let n = prims.len();
     if n <= 1 {
         return None;
     }
     if n <= SWEEP_MAX && depth < MAX_SAH_DEPTH {
-        return sweep_split(prims, info);
+        return sweep_split(prims, info, block);
     }
     let sah = if depth < MAX_SAH_DEPTH && (info.chi - info.clo).max_element() > 0.0 {
         let binner = Binner::new(info);
         let bins = Bins::fill(&binner, prims);
-        best_split(&bins, info.area()).map(|s| (s, binner))
+        best_split(&bins, info.area(), block).map(|s| (s, binner))
     } else {
         None
     };
     match sah {
         Some((s, binner)) => {
-            if n <= MAX_LEAF && s.cost >= INTERSECT_COST * blocks(n) {
+            if n <= MAX_LEAF && s.cost >= INTERSECT_COST * blocks(n, block) {
                 return None;
             }
             let mid = partition(prims, |p| binner.bins(p)[s.axis] < s.bin);
@@ -283,7 +287,11 @@ fn split(prims: &mut [PrimRef], info: &SetInfo, depth: u32) -> Option<(usize, Se
 }
 
 /// Exact SAH for small sets: sort along each axis and try every split position.
-fn sweep_split(prims: &mut [PrimRef], info: &SetInfo) -> Option<(usize, SetInfo, SetInfo)> {
+fn sweep_split(
+    prims: &mut [PrimRef],
+    info: &SetInfo,
+    block: usize,
+) -> Option<(usize, SetInfo, SetInfo)> {
     let n = prims.len();
     let mut best = (f32::INFINITY, 0usize, 0usize);
     let mut right_area = [0f32; SWEEP_MAX + 1];
@@ -297,7 +305,7 @@ fn sweep_split(prims: &mut [PrimRef], info: &SetInfo) -> Option<(usize, SetInfo,
         let mut left = SetInfo::EMPTY;
         for i in 1..n {
             left.add(&prims[i - 1]);
-            let cost = left.area() * blocks(i) + right_area[i] * blocks(n - i);
+            let cost = left.area() * blocks(i, block) + right_area[i] * blocks(n - i, block);
             if cost < best.0 {
                 best = (cost, axis, i);
             }
@@ -305,7 +313,7 @@ fn sweep_split(prims: &mut [PrimRef], info: &SetInfo) -> Option<(usize, SetInfo,
     }
     let (cost, axis, mid) = best;
     let cost = TRAVERSAL_COST + INTERSECT_COST * cost / info.area().max(f32::MIN_POSITIVE);
-    if cost >= INTERSECT_COST * blocks(n) && n <= MAX_LEAF {
+    if cost >= INTERSECT_COST * blocks(n, block) && n <= MAX_LEAF {
         return None;
     }
     if axis != 2 {
@@ -339,6 +347,8 @@ struct Arena {
     ptr: *mut WideNode,
     capacity: usize,
     next: AtomicUsize,
+    /// Primitives per intersection block (see `blocks`).
+    block: usize,
 }
 
 // SAFETY: every index is handed out exactly once (fetch_add), so no two threads write
@@ -392,7 +402,12 @@ fn build_node(
         };
         let p = &parts[k];
         let (start, len) = (p.start, p.len);
-        match split(&mut prims[start..start + len], &p.info, binary_depth) {
+        match split(
+            &mut prims[start..start + len],
+            &p.info,
+            binary_depth,
+            arena.block,
+        ) {
             None => parts[k].leaf = true,
             Some((mid, l, r)) => {
                 parts[k] = Part {
@@ -475,7 +490,7 @@ fn prims_len(parts: &[Part]) -> usize {
 
 /// Builds the node array over `boxes`. Boxes that are empty or not finite are left
 /// out. Returns the nodes (root first) and the primitive order (slot -> index).
-pub(crate) fn build(boxes: &[Aabb]) -> (Vec<WideNode>, Vec<u32>) {
+pub(crate) fn build(boxes: &[Aabb], block: usize) -> (Vec<WideNode>, Vec<u32>) {
     use rayon::prelude::*;
     let mut prims: Vec<PrimRef> = boxes
         .par_iter()
@@ -513,6 +528,7 @@ pub(crate) fn build(boxes: &[Aabb]) -> (Vec<WideNode>, Vec<u32>) {
         ptr: nodes.as_mut_ptr(),
         capacity,
         next: AtomicUsize::new(0),
+        block: block.max(1),
     };
     let root = build_node(&mut prims, 0, info, 0, &arena);
     debug_assert_eq!(root.index, 0);

@@ -62,7 +62,14 @@ impl Bvh {
     /// Primitives whose box is empty or not finite are left out and never reported:
     /// keep unbounded primitives in a list beside the hierarchy.
     pub fn build(boxes: &[Aabb]) -> Self {
-        let (nodes, order) = build::build(boxes);
+        Self::build_blocked(boxes, 1)
+    }
+
+    /// Like [`Bvh::build`] for callers that intersect a leaf's primitives `block` at
+    /// a time (4 for SIMD triangle packets): the SAH then counts blocks, so leaves
+    /// fill whole blocks.
+    pub fn build_blocked(boxes: &[Aabb], block: usize) -> Self {
+        let (nodes, order) = build::build(boxes, block);
         let bounds = (0..WIDTH)
             .map(|i| nodes[0].child_bounds(i))
             .fold(Aabb::EMPTY, Aabb::union);

@@ -151,7 +151,7 @@ impl TriangleMesh {
                 }
             })
             .collect();
-        let mut bvh = Bvh::build(&boxes);
+        let mut bvh = Bvh::build_blocked(&boxes, 4);
         drop(boxes);
         let mut slot_triangles: Vec<u32> = bvh.order().to_vec();
         let mut packets = Vec::with_capacity(slot_triangles.len() / 3 + 1);
