@@ -1,1 +1,25 @@
-//! placeholder
+//! irradia-radiosity: the "Radiosity" half of the lecture as a lighting-simulation tool.
+//!
+//! Data flows one way: patches (`scenes`, or your own `PatchSpec`s) -> `mesh::Mesh`
+//! (patches cut into elements) -> form factors (`formfactor`, one method per file) ->
+//! solver (`solver`, one per file; `solver::hierarchical` needs no matrix) -> display
+//! (`display`: vertex radiosity, Gouraud images, PLY). `instant` is Keller's instant
+//! radiosity; `convergence` writes residual histories and charts; `pipeline` runs the
+//! whole job with timings, as the `irradia radiosity` command does.
+
+pub mod convergence;
+pub mod display;
+pub mod error;
+pub mod formfactor;
+pub mod geom;
+pub mod instant;
+pub mod mesh;
+pub mod pipeline;
+pub mod scene_input;
+pub mod scenes;
+pub mod solver;
+pub mod visibility;
+pub mod zbuffer;
+
+pub use error::{RadiosityError, Result};
+pub use mesh::{Mesh, MeshOptions, PatchSpec};

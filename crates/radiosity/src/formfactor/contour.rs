@@ -1,0 +1,102 @@
+//! The closed-form differential-area-to-polygon form factor (the contour integral, by
+//! Stokes' theorem; Lambert 1760, in Sillion and Puech, "Radiosity and Global
+//! Illumination", 1994, eq. 4.17):
+//!
+//! `F_{dA→A} = (1/2π) Σ_k γ_k · n`, `γ_k = θ_k (R_k × R_{k+1}) / |R_k × R_{k+1}|`,
+//!
+//! where `R_k` runs from the point to the polygon's k-th corner and `θ_k` is the angle
+//! between `R_k` and `R_{k+1}`. The polygon is first clipped to the half-space in
+//! front of the point. The matrix method evaluates it at each element's centroid and
+//! estimates visibility with a few rays to points of the receiving element.
+
+use super::{FormFactorMethod, FormFactors};
+use crate::error::Result;
+use crate::geom::Poly;
+use crate::mesh::Mesh;
+use crate::visibility::Visibility;
+use glam::DVec3;
+
+/// Form factor from a differential area at `x` with unit normal `n` to a polygon
+/// (any closed loop of corners; only the part in front of `x` counts). The polygon
+/// must face `x` for the result to be physical; the sign of the loop does not matter.
+pub fn point_to_polygon(x: DVec3, n: DVec3, corners: &[DVec3]) -> f64 {
+    let mut clipped: Vec<DVec3> = Vec::with_capacity(corners.len() + 2);
+    clip_front(x, n, corners, &mut clipped);
+    if clipped.len() < 3 {
+        return 0.0;
+    }
+    let mut sum = 0.0;
+    for k in 0..clipped.len() {
+        let a = clipped[k] - x;
+        let b = clipped[(k + 1) % clipped.len()] - x;
+        let c = a.cross(b);
+        let cl = c.length();
+        if cl <= 1e-300 {
+            continue;
+        }
+        let theta = cl.atan2(a.dot(b));
+        sum += theta * c.dot(n) / cl;
+    }
+    (sum / (2.0 * std::f64::consts::PI)).abs()
+}
+
+/// Sutherland-Hodgman clip of a loop to `n · (p − x) >= 0`.
+fn clip_front(x: DVec3, n: DVec3, poly: &[DVec3], out: &mut Vec<DVec3>) {
+    let d = |p: DVec3| n.dot(p - x);
+    for k in 0..poly.len() {
+        let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+        let (da, db) = (d(a), d(b));
+        if da >= 0.0 {
+            out.push(a);
+        }
+        if (da >= 0.0) != (db >= 0.0) {
+            let t = da / (da - db);
+            out.push(a + (b - a) * t);
+        }
+    }
+}
+
+/// Whether the front of polygon `q` (normal `nq`, centroid `cq`) faces the point `x`.
+#[inline]
+pub fn faces(x: DVec3, cq: DVec3, nq: DVec3) -> bool {
+    nq.dot(x - cq) > 0.0
+}
+
+/// Fraction of `k` x `k` Gauss points of `q` that `x` sees (1 when `k == 0`).
+pub fn visible_fraction(vis: Option<&Visibility>, x: DVec3, nx: DVec3, q: &Poly, nq: DVec3, k: usize) -> f64 {
+    let Some(vis) = vis else { return 1.0 };
+    if k == 0 {
+        return 1.0;
+    }
+    let side = (k as f64).sqrt().ceil().max(1.0) as usize;
+    let pts = q.gauss_points(side);
+    let seen = pts.iter().filter(|(p, _)| vis.visible(x, nx, *p, nq)).count();
+    seen as f64 / pts.len() as f64
+}
+
+/// The contour formula at element centroids.
+pub struct Contour {
+    pub visibility_samples: usize,
+}
+
+impl FormFactorMethod for Contour {
+    fn name(&self) -> &'static str {
+        "contour"
+    }
+    fn compute(&self, mesh: &Mesh, progress: Option<&(dyn Fn(usize) + Sync)>) -> Result<FormFactors> {
+        let vis = (self.visibility_samples > 0).then(|| Visibility::new(mesh));
+        let els = &mesh.elements;
+        FormFactors::compute_rows(els.len(), progress, |i, row| {
+            let ei = &els[i];
+            for (j, ej) in els.iter().enumerate() {
+                if i == j || !faces(ei.centroid, ej.centroid, ej.normal) || !faces(ej.centroid, ei.centroid, ei.normal) {
+                    continue;
+                }
+                let f = point_to_polygon(ei.centroid, ei.normal, ej.poly.verts());
+                if f > 0.0 {
+                    row[j] = f * visible_fraction(vis.as_ref(), ei.centroid, ei.normal, &ej.poly, ej.normal, self.visibility_samples);
+                }
+            }
+        })
+    }
+}

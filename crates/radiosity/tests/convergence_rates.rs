@@ -1,0 +1,116 @@
+//! Convergence of the numerical form factors: the hemicube's error falls as its
+//! resolution grows, and the ray-cast error falls at least as fast as rays^-1/2 (the
+//! slope of log error against log rays is fitted).
+
+use glam::DVec3;
+use irradia_radiosity::formfactor::contour::point_to_polygon;
+use irradia_radiosity::formfactor::{self, Method, Params};
+use irradia_radiosity::mesh::{spec, Mesh, MeshOptions};
+use irradia_radiosity::scenes;
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+#[test]
+fn hemicube_error_falls_with_resolution() {
+    // Empty closed box: no occlusion, so the contour formula at the centroids is the
+    // exact value the hemicube approximates.
+    let mesh = Mesh::build(
+        &scenes::closed_box(1.0, [0.5; 3], [1.0; 3]),
+        MeshOptions {
+            max_element_area: Some(0.25 * 1.000001),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let p = Params {
+        visibility_samples: 0,
+        ..Default::default()
+    };
+    let exact = formfactor::method(Method::Contour, p).compute(&mesh, None).unwrap();
+    let mut errors = Vec::new();
+    for r in [8usize, 32, 128, 512] {
+        let hc = formfactor::method(Method::Hemicube, Params { hemicube_resolution: r, ..p }).compute(&mesh, None).unwrap();
+        let e = max_diff(&hc.f, &exact.f);
+        println!("hemicube {r:>4}: max error {e:.3e}");
+        errors.push(e);
+    }
+    for w in errors.windows(2) {
+        assert!(w[1] < w[0] * 0.6, "hemicube error did not fall: {errors:?}");
+    }
+    assert!(errors[3] < 2e-3, "{errors:?}");
+}
+
+#[test]
+fn hemisphere_error_falls_with_resolution() {
+    let mesh = Mesh::build(
+        &scenes::closed_box(1.0, [0.5; 3], [1.0; 3]),
+        MeshOptions {
+            max_element_area: Some(0.25 * 1.000001),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let p = Params {
+        visibility_samples: 0,
+        ..Default::default()
+    };
+    let exact = formfactor::method(Method::Contour, p).compute(&mesh, None).unwrap();
+    let mut errors = Vec::new();
+    for r in [8usize, 32, 128] {
+        let h = formfactor::method(Method::Hemisphere, Params { hemisphere_resolution: r, ..p }).compute(&mesh, None).unwrap();
+        let e = max_diff(&h.f, &exact.f);
+        println!("hemisphere {r:>4}: max error {e:.3e}");
+        errors.push(e);
+    }
+    for w in errors.windows(2) {
+        assert!(w[1] < w[0] * 0.6, "hemisphere error did not fall: {errors:?}");
+    }
+}
+
+#[test]
+fn raycast_error_falls_as_rays_to_the_minus_half() {
+    // Two parallel unit squares one unit apart.
+    let sq = |z: f64, up: bool| {
+        let c = vec![DVec3::new(0., 0., z), DVec3::new(1., 0., z), DVec3::new(1., 1., z), DVec3::new(0., 1., z)];
+        if up {
+            c
+        } else {
+            c.into_iter().rev().collect()
+        }
+    };
+    let specs = vec![spec("bottom", &sq(0.0, true), [0.5; 3], [1.0; 3]), spec("top", &sq(1.0, false), [0.5; 3], [0.0; 3])];
+    let mesh = Mesh::build(&specs, MeshOptions::default()).unwrap();
+    // The limit of the estimator: mean over the (nudged) vertices of the exact
+    // point-to-polygon factor.
+    let e0 = &mesh.elements[0];
+    let target = mesh.elements[1].poly.verts().to_vec();
+    let exact: f64 = e0
+        .poly
+        .verts()
+        .iter()
+        .map(|v| point_to_polygon(*v + (e0.centroid - *v) * 1e-4, e0.normal, &target))
+        .sum::<f64>()
+        / 4.0;
+    let mut xs = Vec::new();
+    let mut ys = Vec::new();
+    for k in [4usize, 16, 64, 256] {
+        let mut sq_err = 0.0;
+        let seeds = 24;
+        for seed in 0..seeds {
+            let ff = formfactor::method(Method::RayCast, Params { rays: k, seed, ..Default::default() }).compute(&mesh, None).unwrap();
+            sq_err += (ff.get(0, 1) - exact).powi(2);
+        }
+        let rms = (sq_err / seeds as f64).sqrt();
+        println!("raycast {k:>4} rays: rms error {rms:.3e}");
+        xs.push((k as f64).ln());
+        ys.push(rms.ln());
+    }
+    let n = xs.len() as f64;
+    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
+    let slope = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum::<f64>() / xs.iter().map(|x| (x - mx).powi(2)).sum::<f64>();
+    println!("fitted slope {slope:.3} (−0.5 for plain Monte Carlo; stratified jitter falls faster)");
+    assert!(slope < -0.4, "ray-cast error falls too slowly: slope {slope}");
+    assert!(slope > -2.0, "implausible slope {slope}");
+}
