@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Binary swap of 1280x720 RGBA8 + f32 depth over MPI: Irradia against mpi4py + numpy,
+# interleaved A B A B (ROUNDS times, default 5) at 2 and 4 ranks, in one run, with the
+# ping-pong bandwidth bound measured by the Irradia binary in the same run.
+#   bash bench/composite/run.sh            # prints a summary; raw lines in $OUT (default /tmp/composite-bench.txt)
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+ROUNDS=${ROUNDS:-5}
+OUT=${OUT:-/tmp/composite-bench.txt}
+command -v mpirun >/dev/null || { echo "composite bench: mpirun not found (apt-get install openmpi-bin libopenmpi-dev libclang-dev); skipping"; exit 0; }
+python3 -c "import mpi4py" 2>/dev/null || python3 -m pip install mpi4py || { echo "composite bench: mpi4py unavailable; skipping the baseline"; }
+cargo build --release --locked -p irradia-parallel --features mpi --example composite_bench
+BIN="${CARGO_TARGET_DIR:-target}/release/examples/composite_bench"
+MPIRUN=(mpirun --oversubscribe --bind-to none)
+if [ "$(id -u)" = 0 ]; then MPIRUN+=(--allow-run-as-root); fi
+: > "$OUT"
+echo "load: $(uptime)" | tee -a "$OUT"
+for round in $(seq 1 "$ROUNDS"); do
+  for np in 2 4; do
+    "${MPIRUN[@]}" -np "$np" "$BIN" | grep RESULT | sed "s/^/round=$round /" >> "$OUT"
+    if python3 -c "import mpi4py" 2>/dev/null; then
+      "${MPIRUN[@]}" -np "$np" python3 bench/composite/binary_swap_mpi4py.py | grep RESULT | sed "s/^/round=$round /" >> "$OUT"
+    fi
+  done
+done
+echo "load: $(uptime)" | tee -a "$OUT"
+python3 - "$OUT" <<'PY'
+import re, statistics, sys
+rows = []
+for line in open(sys.argv[1]):
+    if "RESULT" not in line:
+        continue
+    rows.append(dict(re.findall(r"(\w+)=([\w.]+)", line)))
+def med(np_, key, case=None):
+    v = [float(r[key]) for r in rows if r.get("np") == np_ and key in r and (case is None or r.get("case") == case)]
+    return statistics.median(v) if v else float("nan")
+print("\nnp | irradia dense ms | mpi4py ms | ratio | ping-pong GB/s | bound ms | dense/bound | 10%-active ms | dense/10%")
+for np_ in ["2", "4"]:
+    d, b = med(np_, "median_ms", "dense"), med(np_, "median_ms", "mpi4py")
+    bound, bw = med(np_, "bound_ms"), med(np_, "pingpong_gbps")
+    s = med(np_, "median_ms", "active10")
+    print(f"{np_} | {d:.2f} | {b:.2f} | {d/b:.2f} | {bw:.2f} | {bound:.2f} | {d/bound:.2f} | {s:.2f} | {d/s:.1f}")
+print("\ntargets: ratio <= 0.5, dense/bound <= 2, dense/10% >= 4 (medians of per-round medians)")
+PY

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# The MPI tests: builds irradia-parallel with --features mpi and runs the compositing
+# check (every strategy, opaque bit-exact and ordered "over") under mpirun for 1 to 16
+# ranks. Skips cleanly when OpenMPI is missing. Exits non-zero on any failure and ends
+# with a line "N passed, N failed" (one count per mpirun launch).
+set -uo pipefail
+cd "$(dirname "$0")/.."
+if ! command -v mpirun >/dev/null 2>&1; then
+  echo "test-mpi: mpirun not found; skipping the MPI tests (apt-get install openmpi-bin libopenmpi-dev libclang-dev)"
+  exit 0
+fi
+if ! cargo build --locked --release -p irradia-parallel --features mpi --example mpi_check 2>&1; then
+  echo "test-mpi: build failed"
+  echo "0 passed, 1 failed"
+  exit 1
+fi
+dir="${CARGO_TARGET_DIR:-target}/release/examples"
+MPIRUN=(mpirun --oversubscribe)
+if [ "$(id -u)" = 0 ]; then MPIRUN+=(--allow-run-as-root); fi
+passed=0
+failed=0
+for np in $(seq 1 16); do
+  if out=$(timeout 120 "${MPIRUN[@]}" -np "$np" "$dir/mpi_check" 2>&1); then
+    passed=$((passed + 1))
+    echo "$out" | tail -n 1
+  else
+    failed=$((failed + 1))
+    echo "$out" | grep -v '^ok' | tail -n 20
+    echo "test-mpi: np=$np FAILED"
+  fi
+done
+echo "test-mpi: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
