@@ -29,6 +29,7 @@ use crate::raytree::{NoRecorder, RayKind, Recorder};
 use crate::stats::Stats;
 use glam::Vec3;
 use irradia_core::{offset_ray_origin, Ray, Rgb, Rng};
+use irradia_geometry::Accel;
 use irradia_scene::{Scene, ShadingModel};
 use lights::PreparedLight;
 use media::MediaStack;
@@ -41,9 +42,50 @@ pub struct Whitted<'s> {
     min_weight: f32,
     background: Rgb,
     ambient_light: Rgb,
-    /// Whether any material transmits light: if not, shadow rays only need an
-    /// any-hit query.
-    any_transparent: bool,
+    /// Objects split by whether light can pass through them, for shadow rays: an
+    /// any-hit query against the opaque ones, then a walk through the clear ones.
+    shadow_sets: Option<ShadowSets>,
+}
+
+/// Two acceleration structures over the scene's objects: those no light passes
+/// (any-hit test suffices) and those that filter it. `*_ids` map back to objects.
+pub(crate) struct ShadowSets {
+    pub opaque: Accel,
+    pub opaque_ids: Vec<u32>,
+    pub clear: Accel,
+    pub clear_ids: Vec<u32>,
+}
+
+impl ShadowSets {
+    /// `None` when no object transmits light (then the scene's own structure serves).
+    fn build(scene: &Scene) -> Option<Self> {
+        let transmits = |m: u32| scene.materials[m as usize].transmission > 0.0;
+        let clear_object: Vec<bool> = scene
+            .objects
+            .iter()
+            .map(|o| transmits(o.material) || o.leaf_materials.iter().any(|&m| transmits(m)))
+            .collect();
+        if !clear_object.iter().any(|&c| c) {
+            return None;
+        }
+        let (mut opaque, mut opaque_ids, mut clear, mut clear_ids) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (i, inst) in scene.accel.instances().iter().enumerate() {
+            if clear_object[i] {
+                clear.push(inst.clone());
+                clear_ids.push(i as u32);
+            } else {
+                opaque.push(inst.clone());
+                opaque_ids.push(i as u32);
+            }
+        }
+        Some(Self {
+            opaque: Accel::build(opaque),
+            opaque_ids,
+            clear: Accel::build(clear),
+            clear_ids,
+        })
+    }
 }
 
 /// Per-sample state threaded through the recursion.
@@ -65,7 +107,7 @@ impl<'s> Whitted<'s> {
             min_weight: s.min_weight.max(0.0),
             background: s.background,
             ambient_light: s.ambient_light,
-            any_transparent: scene.materials.iter().any(|m| m.transmission > 0.0),
+            shadow_sets: ShadowSets::build(scene),
         }
     }
 
@@ -148,7 +190,8 @@ impl<'s> Whitted<'s> {
 
         let pov = mat.model == ShadingModel::PovRay;
         let colour = mat.color.eval(hit.point, hit.uv);
-        let view = -ray.dir.normalize();
+        let d = ray.dir.normalize();
+        let view = -d;
         let filter = mat.filter_color.unwrap_or(colour) * mat.transmission;
         let mut result = self.local(hit, ng, ns, view, mat, colour, filter, depth, cx);
         cx.rec.local(result);
@@ -170,7 +213,6 @@ impl<'s> Whitted<'s> {
         }
 
         if !kt.is_black() {
-            let d = ray.dir.normalize();
             match refract(d, ns, eta) {
                 Some(t) => {
                     let o = offset_ray_origin(hit.point, -ng, hit.error);
@@ -203,7 +245,6 @@ impl<'s> Whitted<'s> {
             }
         }
         if !kr.is_black() {
-            let d = ray.dir.normalize();
             let r = mirror(d, ns, ng);
             let o = offset_ray_origin(hit.point, ng, hit.error);
             result += self.spawn(

@@ -8,6 +8,7 @@ use super::{Ctx, Whitted};
 use crate::raytree::{Blocker, Recorder};
 use glam::Vec3;
 use irradia_core::{offset_ray_origin, Ray, Rgb};
+use irradia_geometry::Accel;
 
 /// Most transparent surfaces one shadow ray walks through before giving up (dark).
 const MAX_CROSSINGS: u32 = 64;
@@ -32,48 +33,68 @@ impl Whitted<'_> {
         } else {
             f32::INFINITY
         };
-        if !self.any_transparent {
-            let blocked = scene.accel.occluded(&first, t_max);
-            if blocked {
+        let blocker_of = |accel: &Accel, ids: Option<&[u32]>| {
+            accel.intersect(&first, t_max).map(|h| {
+                let object = ids.map_or(h.instance, |ids| ids[h.instance as usize]);
+                Blocker {
+                    object,
+                    name: &scene.objects[object as usize].name,
+                    point: h.hit.point,
+                    normal: h.hit.normal,
+                }
+            })
+        };
+        let Some(sets) = &self.shadow_sets else {
+            // Nothing in the scene lets light through: an any-hit query decides.
+            if scene.accel.occluded(&first, t_max) {
                 cx.stats.shadow_blocked += 1;
                 if R::RECORDS {
-                    // Only the tree recorder needs to know the blocker.
-                    let b = scene.accel.intersect(&first, t_max);
-                    let blocker = b.map(|h| Blocker {
-                        object: h.instance,
-                        name: &scene.objects[h.instance as usize].name,
-                        point: h.hit.point,
-                        normal: h.hit.normal,
-                    });
-                    cx.rec.shadow(&first, depth, blocker, Rgb::BLACK);
+                    cx.rec
+                        .shadow(&first, depth, blocker_of(&scene.accel, None), Rgb::BLACK);
                 }
                 return Rgb::BLACK;
             }
             cx.rec.shadow(&first, depth, None, Rgb::WHITE);
             return Rgb::WHITE;
+        };
+        // Most shadow rays reach their light: one any-hit query over everything
+        // settles those.
+        if !scene.accel.occluded(&first, t_max) {
+            cx.rec.shadow(&first, depth, None, Rgb::WHITE);
+            return Rgb::WHITE;
+        }
+        if sets.opaque.occluded(&first, t_max) {
+            cx.stats.shadow_blocked += 1;
+            if R::RECORDS {
+                let b = blocker_of(&sets.opaque, Some(&sets.opaque_ids));
+                cx.rec.shadow(&first, depth, b, Rgb::BLACK);
+            }
+            return Rgb::BLACK;
         }
 
+        // Only clear objects lie in the way: walk through them, filtering the light.
         let target = origin + dir * t_max;
         let mut ray = first;
         let mut limit = t_max;
         let mut tr = Rgb::WHITE;
         let mut first_blocker = None;
         for _ in 0..MAX_CROSSINGS {
-            let Some(h) = scene.accel.intersect(&ray, limit) else {
-                cx.rec.shadow(&first, depth, first_blocker, tr);
-                return tr;
+            let Some(h) = sets.clear.intersect(&ray, limit) else {
+                break;
             };
-            let object = &scene.objects[h.instance as usize];
+            let id = sets.clear_ids[h.instance as usize];
+            let object = &scene.objects[id as usize];
             let mat = &scene.materials[object.material_for_leaf(h.hit.leaf) as usize];
             if first_blocker.is_none() {
                 first_blocker = Some(Blocker {
-                    object: h.instance,
+                    object: id,
                     name: &object.name,
                     point: h.hit.point,
                     normal: h.hit.normal,
                 });
             }
             if mat.transmission <= 0.0 {
+                // An opaque leaf of a partly clear CSG object.
                 tr = Rgb::BLACK;
                 break;
             }
