@@ -18,7 +18,7 @@ use rayon::prelude::*;
 /// Rows per band (tile height).
 pub const BAND_ROWS: u32 = 16;
 /// Triangles binned by one task.
-const BATCH: usize = 8192;
+pub(crate) const BATCH: usize = 8192;
 
 /// The fragment stage's settings.
 pub(crate) struct FragmentState<'a> {
@@ -35,20 +35,48 @@ pub(crate) fn rasterize_batches(
     region: Rect,
     state: &FragmentState,
 ) {
-    let width = fb.width();
-    let height = fb.height();
-    let region = region.intersect(&Rect::full(width, height));
+    let region = region.intersect(&Rect::full(fb.width(), fb.height()));
     if region.is_empty() {
         return;
     }
     let pieces: Vec<&[ScreenTriangle]> = batches.iter().flat_map(|b| b.chunks(BATCH)).collect();
-    let bands = height.div_ceil(BAND_ROWS) as usize;
+    let bands = band_count(fb.height());
     let bins: Vec<Vec<Vec<u32>>> = pieces.par_iter().map(|p| bin(p, &region, bands)).collect();
+    let bins: Vec<&[Vec<u32>]> = bins.iter().map(|b| b.as_slice()).collect();
+    rasterize_binned(&pieces, &bins, fb, region, state);
+}
+
+/// The number of bands of a screen `height` rows high.
+pub(crate) fn band_count(height: u32) -> usize {
+    height.div_ceil(BAND_ROWS) as usize
+}
+
+/// Appends triangle `i` to the bins of the bands that rows `y0..=y1` touch.
+#[inline(always)]
+pub(crate) fn push_to_bands(bins: &mut [Vec<u32>], i: u32, y0: i64, y1: i64) {
+    for b in (y0 as usize / BAND_ROWS as usize)..=(y1 as usize / BAND_ROWS as usize) {
+        bins[b].push(i);
+    }
+}
+
+/// Draws already binned triangles: `bins[p][band]` lists the triangles of `pieces[p]`
+/// that touch `band` inside `region`.
+pub(crate) fn rasterize_binned(
+    pieces: &[&[ScreenTriangle]],
+    bins: &[&[Vec<u32>]],
+    fb: &mut Framebuffer,
+    region: Rect,
+    state: &FragmentState,
+) {
+    let region = region.intersect(&Rect::full(fb.width(), fb.height()));
+    if region.is_empty() {
+        return;
+    }
     let job = Job {
-        pieces: &pieces,
-        bins: &bins,
+        pieces,
+        bins,
         region,
-        width: width as usize,
+        width: fb.width() as usize,
         depth_func: state.depth_func,
     };
     let depth = &mut fb.depth;
@@ -74,16 +102,14 @@ fn bin(tris: &[ScreenTriangle], region: &Rect, bands: usize) -> Vec<Vec<u32>> {
         if x0 > x1 || y0 > y1 {
             continue;
         }
-        for b in (y0 as usize / BAND_ROWS as usize)..=(y1 as usize / BAND_ROWS as usize) {
-            bins[b].push(i as u32);
-        }
+        push_to_bands(&mut bins, i as u32, y0, y1);
     }
     bins
 }
 
 struct Job<'a> {
     pieces: &'a [&'a [ScreenTriangle]],
-    bins: &'a [Vec<Vec<u32>>],
+    bins: &'a [&'a [Vec<u32>]],
     region: Rect,
     width: usize,
     depth_func: DepthFunc,
@@ -109,7 +135,11 @@ impl Job<'_> {
                     return;
                 }
                 for (piece, bins) in self.pieces.iter().zip(self.bins) {
-                    for &i in &bins[band] {
+                    let list = &bins[band];
+                    for (j, &i) in list.iter().enumerate() {
+                        if let Some(&ahead) = list.get(j + PREFETCH_AHEAD) {
+                            prefetch(&piece[ahead as usize]);
+                        }
                         draw(
                             &piece[i as usize],
                             &clip,
@@ -124,4 +154,27 @@ impl Job<'_> {
                 }
             });
     }
+}
+
+/// How many triangles ahead of the one being drawn a band prefetches: a band reads
+/// every 45th or so triangle of the batch, a stride the hardware prefetcher misses.
+const PREFETCH_AHEAD: usize = 8;
+
+/// Asks for the cache lines of `t` (a hint; no effect on results).
+#[inline(always)]
+fn prefetch(t: &ScreenTriangle) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let p = t as *const ScreenTriangle as *const i8;
+        // SAFETY: prefetching is only a hint and never faults; the addresses lie
+        // inside `t`, a live reference.
+        unsafe {
+            _mm_prefetch(p, _MM_HINT_T0);
+            _mm_prefetch(p.add(64), _MM_HINT_T0);
+            _mm_prefetch(p.add(128), _MM_HINT_T0);
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = t;
 }

@@ -2,7 +2,7 @@
 //! per-pixel Phong lighting) and the write to the colour buffer's format.
 
 use crate::framebuffer::to_rgba8;
-use crate::interpolate::{depth, perspective_weights, varyings};
+use crate::interpolate::{perspective_weights, varyings};
 use crate::lighting::EyeLights;
 use crate::rasterizer::Setup;
 use crate::screen::{varying, Rect, ScreenTriangle};
@@ -129,12 +129,20 @@ pub(crate) fn draw<C: ColorTarget + ?Sized, S: PixelShader>(
     func: DepthFunc,
 ) {
     let Some(s) = Setup::new(tri) else { return };
-    s.scan(clip, |x, y, l| {
-        let i = (y - band_y0) as usize * width + x as usize;
-        let z = depth(&s.v, l);
+    let mut row_y = u32::MAX;
+    let mut row_z = 0.0;
+    let mut row_i = 0;
+    s.scan(clip, |x, y, e| {
+        if y != row_y {
+            row_y = y;
+            row_z = s.depth_row(y);
+            row_i = (y - band_y0) as usize * width;
+        }
+        let i = row_i + x as usize;
+        let z = s.depth_in_row(row_z, x);
         if func.pass(z, depth_buf[i]) {
             depth_buf[i] = z;
-            target.write(i, tri, &s, l, shader);
+            target.write(i, tri, &s, s.lambda(e), shader);
         }
     });
 }

@@ -3,16 +3,16 @@
 //! (Phong), homogeneous clipping, perspective divide, viewport mapping and back-face
 //! culling. Its output, screen-space triangles, is what the rasterizer consumes.
 
+use crate::binning::{band_count, push_to_bands};
 use crate::clip::{ClipPlanes, ClipVertex};
 use crate::lighting::{EyeLights, Shading};
 use crate::mesh::{Mesh, Triangle};
-use crate::rasterizer::{may_cover, CullMode};
+use crate::rasterizer::{covered_bounds, CullMode};
 use crate::screen::{varying, Rect, ScreenTriangle, ScreenVertex, VARYINGS};
-use glam::{Mat3, Mat4, Vec2, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
-/// Triangles processed by one task; the output keeps the input order.
-const BATCH: usize = 8192;
+use crate::binning::BATCH;
 
 /// A configured geometry unit for one frame.
 pub(crate) struct GeometryStage<'a> {
@@ -26,6 +26,9 @@ pub(crate) struct GeometryStage<'a> {
     height: f32,
     planes: ClipPlanes,
     screen: Rect,
+    /// Bin triangles into bands while emitting them (for the fused render path).
+    bin: bool,
+    bands: usize,
 }
 
 impl<'a> GeometryStage<'a> {
@@ -37,6 +40,7 @@ impl<'a> GeometryStage<'a> {
         cull: CullMode,
         width: u32,
         height: u32,
+        bin: bool,
     ) -> Self {
         Self {
             view,
@@ -49,6 +53,8 @@ impl<'a> GeometryStage<'a> {
             height: height as f32,
             planes: ClipPlanes::new(width, height),
             screen: Rect::full(width, height),
+            bin,
+            bands: band_count(height),
         }
     }
 
@@ -92,51 +98,85 @@ impl<'a> GeometryStage<'a> {
         }
     }
 
+    /// A vertex with its clip outcode, projected when it needs no clipping.
     #[inline(always)]
-    fn emit(
-        &self,
-        a: &ClipVertex,
-        b: &ClipVertex,
-        c: &ClipVertex,
-        id: u32,
-        out: &mut Vec<ScreenTriangle>,
-    ) {
-        let t = ScreenTriangle {
-            v: [self.project(a), self.project(b), self.project(c)],
-            id,
+    fn prepare(&self, clip: ClipVertex) -> Prepared {
+        let code = self.planes.outcode(clip.pos);
+        let screen = if code == 0 {
+            self.project(&clip)
+        } else {
+            ScreenVertex::default()
         };
-        if may_cover(&t, self.cull, &self.screen) {
-            out.push(t);
+        Prepared {
+            pos: clip.pos,
+            screen,
+            code,
+        }
+    }
+
+    #[inline(always)]
+    fn emit(&self, t: ScreenTriangle, out: &mut Batch) {
+        if let Some((_, _, y0, y1)) = covered_bounds(&t, self.cull, &self.screen) {
+            if self.bin {
+                push_to_bands(&mut out.bins, out.tris.len() as u32, y0, y1);
+            }
+            out.tris.push(t);
         }
     }
 
     /// Clips, projects and culls one triangle, appending what is left (one triangle, or
     /// a fan when clipping cut it into a polygon).
     #[inline(always)]
-    pub fn assemble(&self, t: [&ClipVertex; 3], id: u32, out: &mut Vec<ScreenTriangle>) {
-        let codes = [0, 1, 2].map(|k| self.planes.outcode(t[k].pos));
+    fn assemble(&self, t: [&Prepared; 3], id: u32, out: &mut Batch) {
+        let codes = [t[0].code, t[1].code, t[2].code];
         if codes[0] & codes[1] & codes[2] != 0 {
             return; // all outside one plane
         }
         let any = codes[0] | codes[1] | codes[2];
         if any == 0 {
-            self.emit(t[0], t[1], t[2], id, out);
+            self.emit(
+                ScreenTriangle {
+                    v: [t[0].screen, t[1].screen, t[2].screen],
+                    id,
+                },
+                out,
+            );
             return;
         }
-        let poly = self.planes.clip(t, any);
+        let c = t.map(|p| ClipVertex {
+            pos: p.pos,
+            var: p.screen.var,
+        });
+        let poly = self.planes.clip([&c[0], &c[1], &c[2]], any);
         for i in 1..poly.len.saturating_sub(1) {
-            self.emit(&poly.v[0], &poly.v[i], &poly.v[i + 1], id, out);
+            let v = [
+                self.project(&poly.v[0]),
+                self.project(&poly.v[i]),
+                self.project(&poly.v[i + 1]),
+            ];
+            self.emit(ScreenTriangle { v, id }, out);
+        }
+    }
+
+    fn new_batch(&self, capacity: usize) -> Batch {
+        Batch {
+            tris: Vec::with_capacity(capacity),
+            bins: if self.bin {
+                vec![Vec::new(); self.bands]
+            } else {
+                Vec::new()
+            },
         }
     }
 
     /// Independent triangles, in batches that keep the input order.
-    pub fn triangles(&self, tris: &[Triangle]) -> Vec<Vec<ScreenTriangle>> {
+    pub fn triangles(&self, tris: &[Triangle]) -> Vec<Batch> {
         tris.par_chunks(BATCH)
             .map(|chunk| {
-                let mut out = Vec::with_capacity(chunk.len());
+                let mut out = self.new_batch(chunk.len());
                 for t in chunk {
                     let v =
-                        t.v.map(|v| self.vertex(v.position, v.normal, v.color, v.uv));
+                        t.v.map(|v| self.prepare(self.vertex(v.position, v.normal, v.color, v.uv)));
                     self.assemble([&v[0], &v[1], &v[2]], t.id, &mut out);
                 }
                 out
@@ -145,8 +185,9 @@ impl<'a> GeometryStage<'a> {
     }
 
     /// An indexed mesh (validated by the caller). With vertex normals every vertex is
-    /// transformed and lit once; without, each triangle is lit with its face normal.
-    pub fn mesh(&self, mesh: &Mesh) -> Vec<Vec<ScreenTriangle>> {
+    /// transformed, lit and projected once; without, each triangle is lit with its
+    /// face normal.
+    pub fn mesh(&self, mesh: &Mesh) -> Vec<Batch> {
         let color = |i: usize| {
             if mesh.colors.is_empty() {
                 [1.0; 4]
@@ -161,18 +202,27 @@ impl<'a> GeometryStage<'a> {
                 mesh.uvs[i]
             }
         };
-        if mesh.normals.is_empty() {
+        // Flat meshes, and meshes that share few vertices (a triangle soup), are done
+        // triangle by triangle: no per-vertex array to write and read back.
+        let flat = mesh.normals.is_empty();
+        if flat || mesh.positions.len() >= 2 * mesh.indices.len() {
             return mesh
                 .indices
                 .par_chunks(BATCH)
                 .enumerate()
                 .map(|(c, chunk)| {
-                    let mut out = Vec::with_capacity(chunk.len());
+                    let mut out = self.new_batch(chunk.len());
                     for (k, idx) in chunk.iter().enumerate() {
                         let p = idx.map(|i| mesh.positions[i as usize]);
-                        let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+                        let face = if flat {
+                            (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero()
+                        } else {
+                            Vec3::ZERO
+                        };
                         let v = [0, 1, 2].map(|j| {
-                            self.vertex(p[j], n, color(idx[j] as usize), uv(idx[j] as usize))
+                            let i = idx[j] as usize;
+                            let n = if flat { face } else { mesh.normals[i] };
+                            self.prepare(self.vertex(p[j], n, color(i), uv(i)))
                         });
                         self.assemble([&v[0], &v[1], &v[2]], mesh.id(c * BATCH + k), &mut out);
                     }
@@ -180,16 +230,16 @@ impl<'a> GeometryStage<'a> {
                 })
                 .collect();
         }
-        let verts: Vec<ClipVertex> = (0..mesh.positions.len())
+        let verts: Vec<Prepared> = (0..mesh.positions.len())
             .into_par_iter()
             .with_min_len(4096)
-            .map(|i| self.vertex(mesh.positions[i], mesh.normals[i], color(i), uv(i)))
+            .map(|i| self.prepare(self.vertex(mesh.positions[i], mesh.normals[i], color(i), uv(i))))
             .collect();
         mesh.indices
             .par_chunks(BATCH)
             .enumerate()
             .map(|(c, chunk)| {
-                let mut out = Vec::with_capacity(chunk.len());
+                let mut out = self.new_batch(chunk.len());
                 for (k, idx) in chunk.iter().enumerate() {
                     let v = idx.map(|i| &verts[i as usize]);
                     self.assemble(v, mesh.id(c * BATCH + k), &mut out);
@@ -198,4 +248,20 @@ impl<'a> GeometryStage<'a> {
             })
             .collect()
     }
+}
+
+/// A transformed vertex: clip position, outcode, and (when inside every plane) its
+/// screen position; `screen.var` always holds the attributes.
+#[derive(Clone, Copy, Debug)]
+struct Prepared {
+    pos: Vec4,
+    screen: ScreenVertex,
+    code: u8,
+}
+
+/// Screen triangles of one batch, in input order, and (when binning) for each band of
+/// the screen the indices of the triangles touching it.
+pub(crate) struct Batch {
+    pub tris: Vec<ScreenTriangle>,
+    pub bins: Vec<Vec<u32>>,
 }

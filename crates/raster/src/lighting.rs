@@ -190,13 +190,11 @@ impl EyeLights {
     #[inline]
     pub fn shade(&self, p: Vec3, n: Vec3, base: Vec3) -> Vec3 {
         let m = &self.material;
-        let to_eye = if self.orthographic {
-            Vec3::Z
-        } else {
-            (-p).normalize_or_zero()
-        };
+        // The eye direction, unnormalised: only its sign matters unless there is a
+        // specular term.
+        let eye_dir = if self.orthographic { Vec3::Z } else { -p };
         let mut n = n;
-        if m.two_sided && n.dot(to_eye) < 0.0 {
+        if m.two_sided && n.dot(eye_dir) < 0.0 {
             n = -n;
         }
         let kd = base * v3(m.diffuse);
@@ -217,7 +215,7 @@ impl EyeLights {
             if cos > 0.0 {
                 diffuse_sum += e * cos;
                 if specular {
-                    let h = (to_light + to_eye).normalize_or_zero();
+                    let h = (to_light + eye_dir.normalize_or_zero()).normalize_or_zero();
                     specular_sum += e * n.dot(h).max(0.0).powf(m.shininess);
                 }
             }

@@ -2,10 +2,10 @@
 //! depth test) plus the two stages, callable separately (sort-first and sort-middle
 //! rendering run them on different ranks) or together.
 
-use crate::binning::{rasterize_batches, FragmentState};
+use crate::binning::{rasterize_batches, rasterize_binned, FragmentState};
 use crate::fragment::DepthFunc;
 use crate::framebuffer::Framebuffer;
-use crate::geometry_stage::GeometryStage;
+use crate::geometry_stage::{Batch, GeometryStage};
 use crate::lighting::{EyeLights, Lights, Material, Shading};
 use crate::mesh::{Mesh, MeshError, Triangle};
 use crate::rasterizer::CullMode;
@@ -75,7 +75,7 @@ impl Pipeline {
         )
     }
 
-    fn stage<'a>(&self, lights: &'a EyeLights) -> GeometryStage<'a> {
+    fn stage<'a>(&self, lights: &'a EyeLights, bin: bool) -> GeometryStage<'a> {
         GeometryStage::new(
             self.view.view,
             self.view.proj,
@@ -84,21 +84,30 @@ impl Pipeline {
             self.cull,
             self.width,
             self.height,
+            bin,
         )
+    }
+
+    fn fragment_state<'a>(&self, lights: &'a EyeLights) -> FragmentState<'a> {
+        FragmentState {
+            shading: self.shading,
+            lights,
+            depth_func: self.depth_func,
+        }
     }
 
     /// The geometry stage on independent triangles: transformed, lit, clipped,
     /// culled, in screen space, in input order (a clipped triangle may become several).
     pub fn transform_and_light(&self, tris: &[Triangle]) -> Vec<ScreenTriangle> {
         let lights = self.eye_lights();
-        self.stage(&lights).triangles(tris).concat()
+        concat(self.stage(&lights, false).triangles(tris))
     }
 
     /// The geometry stage on an indexed mesh.
     pub fn transform_mesh(&self, mesh: &Mesh) -> Result<Vec<ScreenTriangle>, RasterError> {
         mesh.validate()?;
         let lights = self.eye_lights();
-        Ok(self.stage(&lights).mesh(mesh).concat())
+        Ok(concat(self.stage(&lights, false).mesh(mesh)))
     }
 
     /// The rasterizer: draws `tris` in order into `fb`, touching only pixels inside
@@ -111,33 +120,18 @@ impl Pipeline {
     ) -> Result<(), RasterError> {
         self.check(fb)?;
         let lights = self.eye_lights();
-        let state = FragmentState {
-            shading: self.shading,
-            lights: &lights,
-            depth_func: self.depth_func,
-        };
-        rasterize_batches(
-            &[tris],
-            fb,
-            region.unwrap_or(Rect::full(self.width, self.height)),
-            &state,
-        );
+        let region = region.unwrap_or(Rect::full(self.width, self.height));
+        rasterize_batches(&[tris], fb, region, &self.fragment_state(&lights));
         Ok(())
     }
 
-    /// Both stages on an indexed mesh.
+    /// Both stages on an indexed mesh (binning fused into the geometry stage).
     pub fn render_mesh(&self, mesh: &Mesh, fb: &mut Framebuffer) -> Result<(), RasterError> {
         self.check(fb)?;
         mesh.validate()?;
         let lights = self.eye_lights();
-        let batches = self.stage(&lights).mesh(mesh);
-        let slices: Vec<&[ScreenTriangle]> = batches.iter().map(|b| b.as_slice()).collect();
-        let state = FragmentState {
-            shading: self.shading,
-            lights: &lights,
-            depth_func: self.depth_func,
-        };
-        rasterize_batches(&slices, fb, Rect::full(self.width, self.height), &state);
+        let batches = self.stage(&lights, true).mesh(mesh);
+        self.draw_batches(&lights, &batches, fb);
         Ok(())
     }
 
@@ -149,15 +143,21 @@ impl Pipeline {
     ) -> Result<(), RasterError> {
         self.check(fb)?;
         let lights = self.eye_lights();
-        let batches = self.stage(&lights).triangles(tris);
-        let slices: Vec<&[ScreenTriangle]> = batches.iter().map(|b| b.as_slice()).collect();
-        let state = FragmentState {
-            shading: self.shading,
-            lights: &lights,
-            depth_func: self.depth_func,
-        };
-        rasterize_batches(&slices, fb, Rect::full(self.width, self.height), &state);
+        let batches = self.stage(&lights, true).triangles(tris);
+        self.draw_batches(&lights, &batches, fb);
         Ok(())
+    }
+
+    fn draw_batches(&self, lights: &EyeLights, batches: &[Batch], fb: &mut Framebuffer) {
+        let pieces: Vec<&[ScreenTriangle]> = batches.iter().map(|b| b.tris.as_slice()).collect();
+        let bins: Vec<&[Vec<u32>]> = batches.iter().map(|b| b.bins.as_slice()).collect();
+        rasterize_binned(
+            &pieces,
+            &bins,
+            fb,
+            Rect::full(self.width, self.height),
+            &self.fragment_state(lights),
+        );
     }
 
     fn check(&self, fb: &Framebuffer) -> Result<(), RasterError> {
@@ -171,4 +171,12 @@ impl Pipeline {
         }
         Ok(())
     }
+}
+
+fn concat(batches: Vec<Batch>) -> Vec<ScreenTriangle> {
+    let mut out = Vec::with_capacity(batches.iter().map(|b| b.tris.len()).sum());
+    for b in batches {
+        out.extend_from_slice(&b.tris);
+    }
+    out
 }

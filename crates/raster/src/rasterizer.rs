@@ -34,7 +34,9 @@ pub enum CullMode {
 /// A screen coordinate on the fixed-point grid.
 #[inline(always)]
 pub fn snap(v: f32) -> i64 {
-    (v * ONE as f32).round() as i64
+    // Round half away from zero without a libm call (x86-64 has no SSE4.1 `round`).
+    let t = v * ONE as f32;
+    (t + if t >= 0.0 { 0.5 } else { -0.5 }) as i64
 }
 
 /// Twice the signed area in fixed point (y down, so counter-clockwise as seen on
@@ -68,6 +70,17 @@ fn snapped(t: &ScreenTriangle) -> [(i64, i64); 3] {
 /// box holds a pixel centre inside `screen`. The geometry stage drops the rest.
 #[inline]
 pub fn may_cover(t: &ScreenTriangle, cull: CullMode, screen: &Rect) -> bool {
+    covered_bounds(t, cull, screen).is_some()
+}
+
+/// [`may_cover`], returning the inclusive pixel bounds `(x0, x1, y0, y1)` clipped to
+/// `screen` when the triangle survives.
+#[inline]
+pub fn covered_bounds(
+    t: &ScreenTriangle,
+    cull: CullMode,
+    screen: &Rect,
+) -> Option<(i64, i64, i64, i64)> {
     let p = snapped(t);
     let a = area2(&p);
     let keep = match cull {
@@ -76,11 +89,27 @@ pub fn may_cover(t: &ScreenTriangle, cull: CullMode, screen: &Rect) -> bool {
         CullMode::Front => a > 0,
     };
     if !keep {
-        return false;
+        return None;
     }
     let (x0, x1, y0, y1) = pixel_bounds(&p);
-    x0.max(screen.x0 as i64) <= x1.min(screen.x1 as i64 - 1)
-        && y0.max(screen.y0 as i64) <= y1.min(screen.y1 as i64 - 1)
+    let (x0, x1) = (x0.max(screen.x0 as i64), x1.min(screen.x1 as i64 - 1));
+    let (y0, y1) = (y0.max(screen.y0 as i64), y1.min(screen.y1 as i64 - 1));
+    if x0 > x1 || y0 > y1 {
+        return None;
+    }
+    if x0 == x1 && y0 == y1 {
+        // A bounding box of one pixel centre (most sub-pixel triangles): test it.
+        let mut covered = false;
+        for_each_fragment(
+            t,
+            &Rect::new(x0 as u32, y0 as u32, x0 as u32 + 1, y0 as u32 + 1),
+            |_, _, _| covered = true,
+        );
+        if !covered {
+            return None;
+        }
+    }
+    Some((x0, x1, y0, y1))
 }
 
 /// Inclusive pixel rows `(y0, y1)` that the triangle may cover.
@@ -100,6 +129,13 @@ pub struct Setup<'a> {
     b: [i64; 3],
     c: [i64; 3],
     inv_area: f32,
+    /// Depth plane z = zc + zx x + zy y at pixel centres (pixel units, f64 so the plane
+    /// is exact enough for thin slivers).
+    zc: f64,
+    zx: f64,
+    zy: f64,
+    /// Whether `v` is the input order with the last two vertices swapped.
+    pub swapped: bool,
     /// Inclusive pixel bounds.
     x0: i64,
     x1: i64,
@@ -117,7 +153,8 @@ impl<'a> Setup<'a> {
         if area == 0 {
             return None;
         }
-        if area < 0 {
+        let swapped = area < 0;
+        if swapped {
             p.swap(1, 2);
             v.swap(1, 2);
             area = -area;
@@ -143,12 +180,26 @@ impl<'a> Setup<'a> {
             }
         }
         let (x0, x1, y0, y1) = pixel_bounds(&p);
+        let inv = 1.0 / area as f64;
+        let z = [v[0].z as f64, v[1].z as f64, v[2].z as f64];
+        let mut zc = 0.0;
+        let mut zx = 0.0;
+        let mut zy = 0.0;
+        for k in 0..3 {
+            zx += (a[k] * ONE) as f64 * z[k];
+            zy += (b[k] * ONE) as f64 * z[k];
+            zc += (a[k] * HALF + b[k] * HALF + c[k]) as f64 * z[k];
+        }
         Some(Self {
             v,
             a,
             b,
             c,
-            inv_area: 1.0 / area as f32,
+            swapped,
+            inv_area: inv as f32,
+            zc: zc * inv,
+            zx: zx * inv,
+            zy: zy * inv,
             x0,
             x1,
             y0,
@@ -156,10 +207,38 @@ impl<'a> Setup<'a> {
         })
     }
 
-    /// Calls `f(x, y, lambda)` for every covered pixel inside `clip`, row by row, where
-    /// `lambda` are the screen-space barycentric weights of `self.v`.
+    /// Screen-space barycentric weights of `self.v` from the edge values of a fragment.
     #[inline(always)]
-    pub fn scan(&self, clip: &Rect, mut f: impl FnMut(u32, u32, [f32; 3])) {
+    pub fn lambda(&self, e: &[i64; 3]) -> [f32; 3] {
+        [
+            e[0] as f32 * self.inv_area,
+            e[1] as f32 * self.inv_area,
+            e[2] as f32 * self.inv_area,
+        ]
+    }
+
+    /// The interpolated NDC depth at the centre of pixel (x, y).
+    #[inline(always)]
+    pub fn depth(&self, x: u32, y: u32) -> f32 {
+        self.depth_in_row(self.depth_row(y), x)
+    }
+
+    /// The part of the depth plane that depends on the row only.
+    #[inline(always)]
+    pub fn depth_row(&self, y: u32) -> f64 {
+        self.zc + self.zy * y as f64
+    }
+
+    /// Depth at pixel (x, y) from `depth_row(y)`.
+    #[inline(always)]
+    pub fn depth_in_row(&self, row: f64, x: u32) -> f32 {
+        (row + self.zx * x as f64) as f32
+    }
+
+    /// Calls `f(x, y, edges)` for every covered pixel inside `clip`, row by row;
+    /// [`Setup::lambda`] turns `edges` into barycentric weights.
+    #[inline(always)]
+    pub fn scan(&self, clip: &Rect, mut f: impl FnMut(u32, u32, &[i64; 3])) {
         let x0 = self.x0.max(clip.x0 as i64);
         let x1 = self.x1.min(clip.x1 as i64 - 1);
         let y0 = self.y0.max(clip.y0 as i64);
@@ -174,46 +253,47 @@ impl<'a> Setup<'a> {
         for k in 0..3 {
             row[k] = self.a[k] * px + self.b[k] * (y0 * ONE + HALF) + self.c[k];
         }
+        let wide = x1 - x0 >= 16;
         for y in y0..=y1 {
             let mut e = row;
             let mut x = x0;
-            // Skip the uncovered start of the row in one step per edge: for an edge
-            // with a > 0 that is negative here, the first x where it turns >= 0.
-            let mut start = x0;
-            let mut empty = false;
-            for k in 0..3 {
-                if e[k] < 0 {
-                    if step_x[k] > 0 {
-                        let n = (-e[k] + step_x[k] - 1) / step_x[k];
-                        start = start.max(x0 + n);
-                    } else {
-                        empty = true;
+            if wide {
+                // Skip the uncovered start of the row in one step per edge: for an
+                // edge that is negative here and rising, the first x where it is >= 0.
+                let mut start = x0;
+                let mut empty = false;
+                for k in 0..3 {
+                    if e[k] < 0 {
+                        if step_x[k] > 0 {
+                            start = start.max(x0 + (-e[k] + step_x[k] - 1) / step_x[k]);
+                        } else {
+                            empty = true;
+                        }
                     }
                 }
-            }
-            if !empty && start <= x1 {
-                if start > x {
+                if empty || start > x1 {
+                    x = x1 + 1;
+                } else if start > x {
                     let n = start - x;
                     for k in 0..3 {
                         e[k] += step_x[k] * n;
                     }
                     x = start;
                 }
-                while x <= x1 {
-                    if (e[0] | e[1] | e[2]) < 0 {
-                        break;
-                    }
-                    let l = [
-                        e[0] as f32 * self.inv_area,
-                        e[1] as f32 * self.inv_area,
-                        e[2] as f32 * self.inv_area,
-                    ];
-                    f(x as u32, y as u32, l);
-                    e[0] += step_x[0];
-                    e[1] += step_x[1];
-                    e[2] += step_x[2];
-                    x += 1;
+            }
+            // The covered pixels of a row are contiguous (the triangle is convex).
+            let mut inside = false;
+            while x <= x1 {
+                if (e[0] | e[1] | e[2]) >= 0 {
+                    inside = true;
+                    f(x as u32, y as u32, &e);
+                } else if inside {
+                    break;
                 }
+                e[0] += step_x[0];
+                e[1] += step_x[1];
+                e[2] += step_x[2];
+                x += 1;
             }
             for k in 0..3 {
                 row[k] += step_y[k];
@@ -222,10 +302,14 @@ impl<'a> Setup<'a> {
     }
 }
 
-/// Calls `f(x, y, lambda)` for every pixel of `clip` that `t` covers (a convenience
+/// Calls `f(x, y, lambda)` for every pixel of `clip` that `t` covers, with the
+/// screen-space barycentric weights of `t.v` (in the triangle's own vertex order) (a convenience
 /// for tests and custom fragment processing; the pipeline uses [`Setup`] directly).
-pub fn for_each_fragment(t: &ScreenTriangle, clip: &Rect, f: impl FnMut(u32, u32, [f32; 3])) {
+pub fn for_each_fragment(t: &ScreenTriangle, clip: &Rect, mut f: impl FnMut(u32, u32, [f32; 3])) {
     if let Some(s) = Setup::new(t) {
-        s.scan(clip, f);
+        s.scan(clip, |x, y, e| {
+            let l = s.lambda(e);
+            f(x, y, if s.swapped { [l[0], l[2], l[1]] } else { l })
+        });
     }
 }
