@@ -432,3 +432,56 @@ fn bad_operands_are_errors() {
         .open();
     assert!(Csg::merge(vec![leaf(tube)]).is_err());
 }
+
+#[test]
+fn degenerate_rays_neither_panic_nor_hang() {
+    let shapes: Vec<Arc<dyn Shape>> = vec![
+        Arc::new(Csg::merge(seven_spheres()).unwrap()),
+        Arc::new(Csg::union(seven_spheres()).unwrap()),
+        Arc::new(
+            Csg::difference(vec![
+                leaf(Cuboid::new(Vec3::splat(-1.0), Vec3::splat(1.0)).unwrap()),
+                leaf(Sphere::new(Vec3::ZERO, 1.3)),
+                leaf(Plane::new(Vec3::new(1.0, 1.0, 0.0), 0.5).unwrap()),
+                leaf(Polyhedron::platonic(12).unwrap()),
+                leaf(Quadric::capped_cone(Vec3::ZERO, 0.5, Vec3::Y, 0.2).unwrap()),
+            ])
+            .unwrap(),
+        ),
+        Arc::new(
+            Polygon::new(vec![
+                Vec3::ZERO,
+                Vec3::X,
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(0.5, 0.2, 0.0),
+                Vec3::Y,
+            ])
+            .unwrap(),
+        ),
+        Arc::new(irradia_geometry::shapes::Disk::new(Vec3::ZERO, Vec3::Z, 1.0).unwrap()),
+        Arc::new(
+            Quadric::cylinder(1.0)
+                .unwrap()
+                .clipped_by_box(Vec3::splat(-1.0), Vec3::splat(1.0))
+                .unwrap()
+                .open(),
+        ),
+        Arc::new(Quadric::hyperboloid_two_sheets(1.0, 1.0).unwrap()),
+        Arc::new(Quadric::new([1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0]).unwrap()),
+    ];
+    let rays = [
+        Ray::new(Vec3::ZERO, Vec3::ZERO),
+        Ray::new(Vec3::new(3.0, 0.0, 0.0), Vec3::ZERO),
+        Ray::new(Vec3::new(f32::NAN, 0.0, 0.0), Vec3::X),
+        Ray::new(Vec3::ZERO, Vec3::new(f32::NAN, 1.0, 0.0)),
+        Ray::new(Vec3::ZERO, Vec3::new(f32::INFINITY, 1.0, 0.0)),
+    ];
+    for s in &shapes {
+        for r in &rays {
+            let _ = s.intersect(r, f32::INFINITY);
+            let _ = s.occluded(r, f32::INFINITY);
+            let mut v = Vec::new();
+            s.spans(r, &mut v);
+        }
+    }
+}

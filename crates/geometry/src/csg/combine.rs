@@ -41,7 +41,7 @@ pub fn combine(op: CsgOp, a: &[Span], b: &[Span], out: &mut Vec<Span>) {
             (true, false) => event(a, ia).t,
             _ => event(b, ib).t,
         };
-        let was_a = in_a;
+        let (was_a, ia0, ib0) = (in_a, ia, ib);
         let (mut last_a, mut last_b) = (None, None);
         while ia < na && event(a, ia).t == t {
             in_a = ia & 1 == 0;
@@ -52,6 +52,16 @@ pub fn combine(op: CsgOp, a: &[Span], b: &[Span], out: &mut Vec<Span>) {
             in_b = ib & 1 == 0;
             last_b = Some(event(b, ib));
             ib += 1;
+        }
+        if ia == ia0 && ib == ib0 {
+            // A NaN parameter (from a degenerate ray) equals nothing: skip it rather
+            // than loop for ever.
+            if ia < na {
+                ia += 1;
+            } else {
+                ib += 1;
+            }
+            continue;
         }
         let now = op.apply(in_a, in_b);
         if now == inside {

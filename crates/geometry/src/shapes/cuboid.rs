@@ -100,7 +100,8 @@ impl Cuboid {
                 far = b;
             }
         }
-        (near.t <= far.t).then_some((near, far))
+        // A zero or NaN direction leaves a face unset: no hit.
+        (near.t <= far.t && near.face != u32::MAX && far.face != u32::MAX).then_some((near, far))
     }
 
     fn surface(&self, ray: &Ray, e: FaceT) -> (Vec3, Vec3, Vec2) {
