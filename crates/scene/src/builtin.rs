@@ -24,6 +24,26 @@ const SCENES: &[(&str, &str, &str)] = &[
         include_str!("../scenes/csg.toml"),
     ),
     (
+        "quadrics",
+        "every named quadric (clipped) and a general quadric from its ten coefficients",
+        include_str!("../scenes/quadrics.toml"),
+    ),
+    (
+        "polyhedra",
+        "tetrahedron, octahedron, dodecahedron as half-spaces; non-convex polygons",
+        include_str!("../scenes/polyhedra.toml"),
+    ),
+    (
+        "teapot",
+        "the Utah teapot from its 32 Bezier patches, with a soft area-light shadow",
+        include_str!("../scenes/teapot.toml"),
+    ),
+    (
+        "implicit",
+        "implicit surfaces from expressions: a gyroid slab, metaballs, a quartic torus",
+        include_str!("../scenes/implicit.toml"),
+    ),
+    (
         "cornell",
         "the RGB Cornell box of Mitsuba 3, path traced (512x512, 64 spp, max depth 8)",
         include_str!("../scenes/cornell.toml"),

@@ -7,6 +7,7 @@ pub mod materials;
 pub mod objects;
 pub mod reader;
 pub mod shapes;
+pub mod surfaces;
 pub mod transform;
 pub mod tree;
 pub mod view;

@@ -6,6 +6,7 @@
 use super::materials::material_index;
 use super::reader::{Result, Table, Val};
 use super::shapes::{build_primitive, unknown_kind};
+use super::surfaces::build_surface;
 use super::transform::read_transform;
 use crate::material::Material;
 use crate::scene::Object;
@@ -16,7 +17,17 @@ use std::sync::Arc;
 pub const CSG_KINDS: &[&str] = &["union", "intersection", "difference", "merge"];
 
 /// Object types besides the primitives and CSG.
-pub const OTHER_KINDS: &[&str] = &["mesh", "union", "intersection", "difference", "merge"];
+pub const OTHER_KINDS: &[&str] = &[
+    "mesh",
+    "implicit",
+    "parametric",
+    "bezier",
+    "teapot",
+    "union",
+    "intersection",
+    "difference",
+    "merge",
+];
 
 /// Materials, with a default one added on first use by an object that names none.
 pub struct MaterialTable {
@@ -149,7 +160,10 @@ fn build_shape(kind: &str, t: &Table) -> Result<Option<Arc<dyn Shape>>> {
     if kind == "mesh" {
         return Ok(Some(Arc::new(read_mesh(t)?)));
     }
-    build_primitive(kind, t)
+    if let Some(s) = build_primitive(kind, t)? {
+        return Ok(Some(s));
+    }
+    build_surface(kind, t)
 }
 
 /// `type = "mesh"`, `path = "bunny.ply"` (OBJ or PLY, relative to the scene file).
