@@ -156,7 +156,7 @@ fn main() {
                 .collect();
             let t0 = Instant::now();
             let c0 = cpu_seconds();
-            let bvh = Bvh::build(&boxes);
+            let bvh = Bvh::build_blocked(&boxes, 4);
             let bvh_s = t0.elapsed().as_secs_f64();
             let bvh_cpu = cpu_seconds() - c0;
             let stats = bvh.stats();

@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 const BINS: usize = 32;
 /// Sets up to this size are split by an exact sweep instead of binning.
-const SWEEP_MAX: usize = 16;
+const SWEEP_MAX: usize = 8;
 /// Leaves never hold more primitives than this.
 pub const MAX_LEAF: usize = 8;
 /// Relative costs of visiting a node and of intersecting one block of primitives.
@@ -121,27 +121,49 @@ struct Bins {
 struct Binner {
     origin: Vec3A,
     scale: Vec3A,
+    /// Bins in use (fewer for small sets, where 32 would cost more than they gain).
+    bins: usize,
 }
 
 impl Binner {
-    fn new(info: &SetInfo) -> Self {
+    fn new(info: &SetInfo, n: usize) -> Self {
+        let bins = if n < 64 {
+            8
+        } else if n < 1024 {
+            16
+        } else {
+            BINS
+        };
         let extent = info.chi - info.clo;
         let scale = Vec3A::select(
             extent.cmpgt(Vec3A::ZERO),
-            Vec3A::splat(BINS as f32 * 0.999_99) / extent,
+            Vec3A::splat(bins as f32 * 0.999_99) / extent,
             Vec3A::ZERO,
         );
         Self {
             origin: info.clo,
             scale,
+            bins,
         }
     }
     #[inline]
     fn bins(&self, p: &PrimRef) -> [usize; 3] {
         let b = ((p.centroid2() - self.origin) * self.scale)
             .max(Vec3A::ZERO)
-            .min(Vec3A::splat((BINS - 1) as f32));
+            .min(Vec3A::splat((self.bins - 1) as f32));
         [b.x as usize, b.y as usize, b.z as usize]
+    }
+}
+
+impl Binner {
+    /// The bin along one axis (the same arithmetic as `bins`, so partitions agree
+    /// with the counts).
+    #[inline]
+    fn bin_on(&self, p: &PrimRef, axis: usize) -> usize {
+        let c = p.lo_[axis] + p.hi_[axis];
+        ((c - self.origin[axis]) * self.scale[axis])
+            .max(0.0)
+            .min((self.bins - 1) as f32) as usize
     }
 }
 
@@ -177,6 +199,9 @@ impl Bins {
     fn merge(&mut self, o: &Bins) {
         for axis in 0..3 {
             for i in 0..BINS {
+                if self.count[axis][i] == 0 && o.count[axis][i] == 0 {
+                    continue;
+                }
                 self.count[axis][i] += o.count[axis][i];
                 self.info[axis][i].merge(&o.info[axis][i]);
             }
@@ -194,14 +219,14 @@ struct Split {
     right: SetInfo,
 }
 
-fn best_split(bins: &Bins, parent_area: f32, block: usize) -> Option<Split> {
+fn best_split(bins: &Bins, nb: usize, parent_area: f32, block: usize) -> Option<Split> {
     let mut best: Option<Split> = None;
     for axis in 0..3 {
         let mut right_area = [0f32; BINS];
         let mut acc = SetInfo::EMPTY;
         let mut n = 0u32;
         let mut right_count = [0u32; BINS];
-        for i in (1..BINS).rev() {
+        for i in (1..nb).rev() {
             acc.merge(&bins.info[axis][i]);
             n += bins.count[axis][i];
             right_area[i] = acc.area();
@@ -209,7 +234,7 @@ fn best_split(bins: &Bins, parent_area: f32, block: usize) -> Option<Split> {
         }
         let mut left = SetInfo::EMPTY;
         let mut nl = 0u32;
-        for i in 1..BINS {
+        for i in 1..nb {
             left.merge(&bins.info[axis][i - 1]);
             nl += bins.count[axis][i - 1];
             let nr = right_count[i];
@@ -231,7 +256,7 @@ fn best_split(bins: &Bins, parent_area: f32, block: usize) -> Option<Split> {
     }
     let mut s = best?;
     let mut right = SetInfo::EMPTY;
-    for i in s.bin..BINS {
+    for i in s.bin..nb {
         right.merge(&bins.info[s.axis][i]);
     }
     s.right = right;
@@ -255,9 +280,9 @@ fn split(
         return sweep_split(prims, info, block);
     }
     let sah = if depth < MAX_SAH_DEPTH && (info.chi - info.clo).max_element() > 0.0 {
-        let binner = Binner::new(info);
+        let binner = Binner::new(info, n);
         let bins = Bins::fill(&binner, prims);
-        best_split(&bins, info.area(), block).map(|s| (s, binner))
+        best_split(&bins, binner.bins, info.area(), block).map(|s| (s, binner))
     } else {
         None
     };
@@ -266,7 +291,7 @@ fn split(
             if n <= MAX_LEAF && s.cost >= INTERSECT_COST * blocks(n, block) {
                 return None;
             }
-            let mid = partition(prims, |p| binner.bins(p)[s.axis] < s.bin);
+            let mid = partition(prims, |p| binner.bin_on(p, s.axis) < s.bin);
             debug_assert!(mid > 0 && mid < n);
             Some((mid, s.left, s.right))
         }
@@ -524,6 +549,7 @@ pub(crate) fn build(boxes: &[Aabb], block: usize) -> (Vec<WideNode>, Vec<u32>) {
     // primitive, so there are fewer nodes than primitives (plus the root).
     let capacity = prims.len() + 1;
     let mut nodes: Vec<WideNode> = Vec::with_capacity(capacity);
+    super::memory::advise_huge_pages(&mut nodes);
     let arena = Arena {
         ptr: nodes.as_mut_ptr(),
         capacity,
@@ -536,7 +562,8 @@ pub(crate) fn build(boxes: &[Aabb], block: usize) -> (Vec<WideNode>, Vec<u32>) {
     // SAFETY: slots 0..used were each written exactly once by `build_node`, which has
     // returned, so all of them are initialised.
     unsafe { nodes.set_len(used) };
-    nodes.shrink_to_fit();
+    // No shrink_to_fit: the unused tail was never touched, so it costs no memory,
+    // and reallocating would lose the huge-page advice.
     let order = prims.par_iter().map(|p| p.index).collect();
     (nodes, order)
 }

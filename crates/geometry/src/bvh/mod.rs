@@ -31,10 +31,12 @@
 //! traversal).
 
 mod build;
+mod memory;
 pub mod node;
 mod traverse;
 
 use irradia_core::Aabb;
+pub use memory::advise_huge_pages;
 pub use node::{ChildRef, WideNode, WIDTH};
 
 /// A 4-wide bounding volume hierarchy.

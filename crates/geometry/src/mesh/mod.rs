@@ -154,7 +154,9 @@ impl TriangleMesh {
         let mut bvh = Bvh::build_blocked(&boxes, 4);
         drop(boxes);
         let mut slot_triangles: Vec<u32> = bvh.order().to_vec();
-        let mut packets = Vec::with_capacity(slot_triangles.len() / 3 + 1);
+        // At most one packet per leaf beyond a full packet per 4 triangles.
+        let mut packets = Vec::with_capacity(slot_triangles.len() / 2 + 1);
+        crate::bvh::advise_huge_pages(&mut packets);
         let mut packet_triangles = Vec::with_capacity(slot_triangles.len() / 3 + 1);
         bvh.map_leaves(|start, count| {
             let first = packets.len() as u32;
