@@ -7,4 +7,9 @@
 
 pub mod comm;
 pub mod composite;
+pub mod frame;
 pub mod report;
+pub mod sort_first;
+pub mod sort_last;
+pub mod sort_middle;
+pub mod workload;

@@ -1,0 +1,116 @@
+//! The lecture's benchmark applications as triangle lists with a view: random triangles,
+//! the Utah teapot, and a marching-cubes isosurface (the gyroid of PEERS.md). Triangle
+//! `i` keeps id `i`: the serial draw order every parallel mode must reproduce.
+
+use glam::Vec3;
+use irradia_geometry::generators::random_triangles::{
+    random_triangles, RandomTriangles, SizeDistribution,
+};
+use irradia_geometry::generators::{gyroid_mesh, MeshData};
+use irradia_geometry::shapes::bezier::{teapot_patches, tessellate};
+use irradia_raster::{Mesh, Pipeline, Triangle, ViewParams};
+
+/// A workload by name and size.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Workload {
+    /// `count` random triangles in [-1,1]^3 (mean area 0.002).
+    RandomTriangles { count: usize, seed: u64 },
+    /// The teapot tessellated at `level` (level^2 * 2 triangles per patch, 32 patches).
+    Teapot { level: u32 },
+    /// The gyroid by marching cubes on an n^3 grid.
+    MarchingCubes { n: u32 },
+}
+
+impl Workload {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Workload::RandomTriangles { .. } => "random-triangles",
+            Workload::Teapot { .. } => "teapot",
+            Workload::MarchingCubes { .. } => "marching-cubes",
+        }
+    }
+
+    /// The workload called `name` with about `triangles` triangles.
+    pub fn by_name(name: &str, triangles: usize) -> Option<Self> {
+        let t = triangles.max(1) as f64;
+        Some(match name {
+            "random-triangles" => Workload::RandomTriangles {
+                count: triangles,
+                seed: 1,
+            },
+            "teapot" => Workload::Teapot {
+                level: ((t / 64.0).sqrt().round() as u32).max(1),
+            },
+            // the gyroid makes about 19 n^2 triangles on an n^3 grid
+            "marching-cubes" => Workload::MarchingCubes {
+                n: ((t / 19.0).sqrt().round() as u32).max(4),
+            },
+            _ => return None,
+        })
+    }
+
+    /// The triangles, each with a colour, in serial order.
+    pub fn triangles(&self) -> Vec<Triangle> {
+        let (positions, indices, center, radius) = match self {
+            Workload::RandomTriangles { count, seed } => {
+                let m = random_triangles(&RandomTriangles::new(
+                    *count,
+                    SizeDistribution::Constant(0.002),
+                    *seed,
+                ));
+                (m.positions, m.indices, Vec3::ZERO, 1.8)
+            }
+            Workload::Teapot { level } => {
+                let t = tessellate(&teapot_patches(), (*level).max(1));
+                (t.positions, t.indices, Vec3::new(0.0, 0.0, 1.5), 3.8)
+            }
+            Workload::MarchingCubes { n } => {
+                let MeshData { positions, indices } = gyroid_mesh((*n).max(4));
+                (positions, indices, Vec3::ZERO, 1.8)
+            }
+        };
+        let _ = (center, radius);
+        let mut mesh = Mesh::new(positions, indices);
+        mesh.colors = (0..mesh.positions.len())
+            .map(|i| {
+                let h = (i as u32).wrapping_mul(2_654_435_761);
+                [
+                    0.35 + 0.6 * ((h >> 8) & 255) as f32 / 255.0,
+                    0.35 + 0.6 * ((h >> 16) & 255) as f32 / 255.0,
+                    0.8,
+                    1.0,
+                ]
+            })
+            .collect();
+        mesh.compute_vertex_normals();
+        let mut tris = mesh.to_triangles();
+        for (i, t) in tris.iter_mut().enumerate() {
+            t.id = i as u32;
+        }
+        tris
+    }
+
+    /// A pipeline looking at the workload from a fixed viewpoint.
+    pub fn pipeline(&self, width: u32, height: u32) -> Pipeline {
+        let (eye, target) = match self {
+            Workload::Teapot { .. } => (Vec3::new(4.5, 3.0, 6.0), Vec3::new(0.0, 0.0, 1.2)),
+            _ => (Vec3::new(1.5, 1.1, 1.9), Vec3::ZERO),
+        };
+        let up = if matches!(self, Workload::Teapot { .. }) {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        };
+        let mut p = Pipeline::new(width, height);
+        p.view = ViewParams::look_at_perspective(
+            eye,
+            target,
+            up,
+            45.0,
+            width as f32 / height as f32,
+            0.1,
+            100.0,
+        );
+        p
+    }
+}
