@@ -335,3 +335,126 @@ fn bad_radius_deep_inside_csg() {
         "must be positive (got -2)",
     );
 }
+
+#[test]
+fn expression_error_points_at_its_character() {
+    let text = format!(
+        "{HEAD}\n[[objects]]\ntype = \"implicit\"\nexpr = \"x^2 + y^2 + $ - 1\"\nbounds = {{ min = [-1, -1, -1], max = [1, 1, 1] }}\n"
+    );
+    let (e, p) = fails("s.toml", &text);
+    check(&e, &p, line_of(&text, "expr"), "objects[0].expr", "");
+    // The opening quote is column 8 and `$` is the 13th character of the expression.
+    assert_eq!(e.column, Some(8 + 13), "{e}");
+    assert!(e.to_string().contains("'$'"), "{e}");
+}
+
+#[test]
+fn implicit_needs_a_proper_box() {
+    let text = format!(
+        "{HEAD}\n[[objects]]\ntype = \"implicit\"\nexpr = \"x^2 + y^2 + z^2 - 1\"\nbounds = {{ min = [-1, -1, -1], max = [1, -2, 1] }}\n"
+    );
+    let (e, p) = fails("s.toml", &text);
+    check(
+        &e,
+        &p,
+        line_of(&text, "bounds"),
+        "objects[0].bounds.max",
+        "must exceed min",
+    );
+}
+
+#[test]
+fn json_errors_deep_in_csg_name_their_line() {
+    let text = r#"{
+  "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0]},
+  "objects": [
+    {"type": "difference", "children": [
+      {"type": "box", "min": [-1, -1, -1], "max": [1, 1, 1]},
+      {"type": "sphere",
+       "radius": -0.5}
+    ]}
+  ]
+}"#;
+    let (e, p) = fails("s.json", text);
+    check(
+        &e,
+        &p,
+        7,
+        "objects[0].children[1].radius",
+        "must be positive",
+    );
+}
+
+#[test]
+fn duplicate_json_key() {
+    let text =
+        "{\n \"camera\": {\"eye\": [0, 0, 5], \"look_at\": [0, 0, 0],\n  \"eye\": [0, 0, 4]}\n}\n";
+    let (e, p) = fails("s.json", text);
+    check(&e, &p, 3, "camera.eye", "more than once");
+}
+
+#[test]
+fn missing_image_texture() {
+    let text = format!(
+        "{HEAD}\n[materials.wood]\ncolor = {{ type = \"image\", path = \"no/wood.png\" }}\n"
+    );
+    let (e, p) = fails("s.toml", &text);
+    check(
+        &e,
+        &p,
+        line_of(&text, "wood.png"),
+        "materials.wood.color.path",
+        "wood.png",
+    );
+}
+
+#[test]
+fn out_of_range_material_and_light_values() {
+    let text = format!("{HEAD}\n[materials.glass]\ntransmission = 1.5\n");
+    let (e, p) = fails("s.toml", &text);
+    check(
+        &e,
+        &p,
+        line_of(&text, "transmission"),
+        "materials.glass.transmission",
+        "between 0 and 1",
+    );
+    let text = format!("{HEAD}\n[materials.m]\ncolor = [1, -0.5, 0]\n");
+    let (e, p) = fails("s.toml", &text);
+    check(
+        &e,
+        &p,
+        line_of(&text, "color"),
+        "materials.m.color",
+        "must not be negative",
+    );
+    let text = format!(
+        "{HEAD}\n[[lights]]\ntype = \"spot\"\nposition = [0, 5, 0]\nlook_at = [0, 0, 0]\nouter_angle = 120\n"
+    );
+    let (e, p) = fails("s.toml", &text);
+    check(
+        &e,
+        &p,
+        line_of(&text, "outer_angle"),
+        "lights[0].outer_angle",
+        "90 degrees",
+    );
+    let text = format!(
+        "{HEAD}\n[[lights]]\ntype = \"rect\"\ncorner = [0, 5, 0]\nedge_u = [1, 0, 0]\nedge_v = [2, 0, 0]\n"
+    );
+    let (e, p) = fails("s.toml", &text);
+    check(
+        &e,
+        &p,
+        line_of(&text, "edge_v"),
+        "lights[0].edge_v",
+        "non-zero area",
+    );
+}
+
+#[test]
+fn wrong_extension_is_refused() {
+    let (e, _) = fails("s.yaml", "camera: {}\n");
+    assert!(e.is_bad_input());
+    assert!(e.to_string().contains(".toml or .json"), "{e}");
+}
