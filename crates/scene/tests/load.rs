@@ -255,3 +255,103 @@ children = [
     assert!((h.hit.point - Vec3::ONE).length() < 1e-4, "{}", h.hit.point);
     assert_eq!(h.hit.leaf, 0);
 }
+
+#[test]
+fn every_object_type_loads_and_sits_where_it_is_put() {
+    // One object of each type, each moved to x = 10 * i; a ray straight down at the
+    // object's centre must hit object i (and nothing else).
+    let objects = [
+        r#"type = "sphere"
+radius = 1"#,
+        r#"type = "box"
+min = [-1, -1, -1]
+max = [1, 1, 1]"#,
+        r#"type = "polyhedron"
+platonic = "octahedron""#,
+        r#"type = "polygon"
+vertices = [[-1, 0, -1], [1, 0, -1], [0, 0, 1]]"#,
+        r#"type = "disk"
+radius = 1"#,
+        r#"type = "quadric"
+coefficients = [1, 1, 1, 0, 0, 0, 0, 0, 0, -1]"#,
+        r#"type = "ellipsoid"
+radii = [1, 0.5, 1]"#,
+        r#"type = "cylinder"
+from = [0, -1, 0]
+to = [0, 1, 0]
+radius = 0.5"#,
+        r#"type = "cone"
+from = [0, -1, 0]
+to = [0, 1, 0]
+radius_from = 1
+radius_to = 0.2"#,
+        r#"type = "paraboloid"
+curvature = 1
+clip_box = { min = [-2, -2, -2], max = [2, 1, 2] }"#,
+        r#"type = "hyperboloid"
+a = 0.5
+c = 1
+clip_box = { min = [-2, -1, -2], max = [2, 1, 2] }"#,
+        r#"type = "torus"
+major = 1
+minor = 0.3
+transform = [{ rotate = [90, 0, 0] }]"#,
+        r#"type = "teapot"
+level = 4"#,
+        r#"type = "bezier"
+level = 2
+patches = [[[-1, 0, -1], [-0.3, 0, -1], [0.3, 0, -1], [1, 0, -1],
+            [-1, 0, -0.3], [-0.3, 0.5, -0.3], [0.3, 0.5, -0.3], [1, 0, -0.3],
+            [-1, 0, 0.3], [-0.3, 0.5, 0.3], [0.3, 0.5, 0.3], [1, 0, 0.3],
+            [-1, 0, 1], [-0.3, 0, 1], [0.3, 0, 1], [1, 0, 1]]]"#,
+        r#"type = "implicit"
+expr = "x^2 + y^2 + z^2 - 1"
+bounds = { min = [-1.1, -1.1, -1.1], max = [1.1, 1.1, 1.1] }"#,
+        r#"type = "parametric"
+x = "cos(u)*sin(v)"
+y = "cos(v)"
+z = "sin(u)*sin(v)"
+u = [0, "2*pi"]
+v = [0, "pi"]
+resolution = [32, 16]"#,
+        r#"type = "union"
+children = [{ type = "sphere", radius = 1 }, { type = "box", min = [-0.5, -2, -0.5], max = [0.5, 0.5, 0.5] }]"#,
+        r#"type = "mesh"
+path = "tests/data/meshes/tetra.obj"
+transform = [{ translate = [-0.25, -0.25, -0.25] }]"#,
+    ];
+    let mut text = String::from("[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n");
+    for (i, o) in objects.iter().enumerate() {
+        text += &format!("\n[[objects]]\n{o}\n");
+        // Place each object by appending a translation (after its own transform).
+        if o.contains("transform") {
+            let last = text.rfind("}]").unwrap();
+            text.insert_str(last + 1, &format!(", {{ translate = [{}, 0, 0] }}", 10 * i));
+        } else {
+            text += &format!("transform = [{{ translate = [{}, 0, 0] }}]\n", 10 * i);
+        }
+    }
+    let origin = Path::new(env!("CARGO_MANIFEST_DIR")).join("scene.toml");
+    let s = load_str(&text, Format::Toml, &origin).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.objects.len(), objects.len());
+    for i in 0..objects.len() {
+        let x = 10.0 * i as f32;
+        // The teapot's body is off-centre of its origin less than 1.5; aim at y = 1 on it.
+        let y0 = if objects[i].contains("teapot") {
+            1.0
+        } else {
+            0.0
+        };
+        let ray = Ray::new(Vec3::new(x + 0.01, 20.0, 0.013), -Vec3::Y);
+        let ray = if y0 > 0.0 {
+            Ray::new(Vec3::new(x + 0.01, y0, 20.0), -Vec3::Z)
+        } else {
+            ray
+        };
+        let h = s
+            .accel
+            .intersect(&ray, f32::INFINITY)
+            .unwrap_or_else(|| panic!("object {i} ({}) not hit", objects[i]));
+        assert_eq!(h.instance as usize, i, "{}", objects[i]);
+    }
+}
