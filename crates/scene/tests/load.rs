@@ -355,3 +355,15 @@ transform = [{ translate = [-0.25, -0.25, -0.25] }]"#,
         assert_eq!(h.instance as usize, i, "{}", objects[i]);
     }
 }
+
+#[test]
+fn json_copies_of_the_povray_builtins_load_identically() {
+    // tests/data/{whitted,csg}.json were written from the TOML built-ins by a generic
+    // TOML-to-JSON conversion (Python's tomllib + json).
+    for name in ["whitted", "csg"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("tests/data/{name}.json"));
+        let json = load_file(&path).unwrap_or_else(|e| panic!("{e}"));
+        let toml = builtin::load(name).unwrap();
+        assert_eq!(fingerprint(&json), fingerprint(&toml), "{name}");
+    }
+}
