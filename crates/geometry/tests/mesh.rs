@@ -197,3 +197,59 @@ fn smooth_normals_and_hit_record() {
     let facets = mesh.facets(0).unwrap();
     assert_eq!(facets.faces.len(), mesh.triangle_count());
 }
+
+#[test]
+fn closed_meshes_are_solids_with_spans() {
+    let (v, f) = icosphere(3);
+    let mesh = TriangleMesh::new(v.clone(), f.clone(), None, None).unwrap();
+    assert!(mesh.is_solid());
+    assert_eq!(mesh.orientation(), 1);
+    // The same sphere wound inside out is still a solid, and its spans are the same.
+    let flipped: Vec<[u32; 3]> = f.iter().map(|t| [t[0], t[2], t[1]]).collect();
+    let inverted = TriangleMesh::new(v.clone(), flipped, None, None).unwrap();
+    assert_eq!(inverted.orientation(), -1);
+    let mut rng = Rng::new(8, 8);
+    let mut targets: Vec<Vec3> = v.clone();
+    for t in &f {
+        targets.push((v[t[0] as usize] + v[t[1] as usize]) * 0.5);
+    }
+    for _ in 0..200 {
+        targets.push(Vec3::new(
+            rng.next_f32() - 0.5,
+            rng.next_f32() - 0.5,
+            rng.next_f32() - 0.5,
+        ));
+    }
+    for p in targets {
+        // From a point inside, through vertices, edges and random directions: one
+        // span around t = 0, its ends on the unit sphere (to the mesh's accuracy).
+        let o = Vec3::new(0.05, -0.1, 0.02);
+        let ray = Ray::new(o, p - o);
+        for m in [&mesh, &inverted] {
+            let mut spans = Vec::new();
+            m.spans(&ray, &mut spans);
+            assert_eq!(spans.len(), 1, "towards {p}: {spans:?}");
+            let s = spans[0];
+            assert!(s.enter.t < 0.0 && s.exit.t > 0.0);
+            for b in [s.enter, s.exit] {
+                let q = ray.at(b.t);
+                assert!((q.length() - 1.0).abs() < 0.01, "{q}");
+                // Outward normals.
+                assert!(b.normal.dot(q) > 0.9);
+            }
+            assert!(s.enter.normal.dot(ray.dir) < 0.0 && s.exit.normal.dot(ray.dir) > 0.0);
+        }
+        // From outside: the whole span lies ahead.
+        let ray = Ray::new(p.normalize_or(Vec3::X) * 4.0, -p.normalize_or(Vec3::X));
+        let mut spans = Vec::new();
+        mesh.spans(&ray, &mut spans);
+        assert_eq!(spans.len(), 1, "from {} {:?} hit {:?}", ray.origin, spans, mesh.intersect(&ray, f32::INFINITY).map(|h| h.t));
+        assert!((spans[0].enter.t - 3.0).abs() < 0.02 && (spans[0].exit.t - 5.0).abs() < 0.02);
+    }
+    // Remove one triangle: open, so no solid and no spans.
+    let open = TriangleMesh::new(v, f[1..].to_vec(), None, None).unwrap();
+    assert!(!open.is_solid());
+    let mut spans = Vec::new();
+    open.spans(&Ray::new(Vec3::ZERO, Vec3::X), &mut spans);
+    assert!(spans.is_empty());
+}

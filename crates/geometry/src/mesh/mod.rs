@@ -3,6 +3,7 @@
 //! two-level hierarchy) with the watertight triangle test.
 
 mod packet;
+mod spans;
 
 pub use packet::Triangle4;
 
@@ -53,6 +54,9 @@ pub struct TriangleMesh {
     /// Whether `normals` came from the caller (then geometric normals are turned to
     /// agree with them, as pbrt does) or were computed from the winding.
     normals_given: bool,
+    /// +1 closed and outward-wound, -1 closed and inward-wound, 0 open; worked out
+    /// on first use (it hashes every edge, which ray casting alone does not need).
+    orientation: std::sync::OnceLock<i8>,
     uvs: Option<Vec<Vec2>>,
     /// Leaves index `packets`: a leaf of n triangles owns ceil(n / 4) consecutive
     /// packets.
@@ -128,6 +132,7 @@ impl TriangleMesh {
             }
         }
         let normals_given = normals.is_some();
+        let orientation = std::sync::OnceLock::new();
         let normals = match normals {
             Some(n) => n.into_iter().map(|n| n.normalize_or_zero()).collect(),
             None => area_weighted_normals(&positions, &indices),
@@ -180,6 +185,7 @@ impl TriangleMesh {
             indices,
             normals,
             normals_given,
+            orientation,
             uvs,
             bvh,
             packets,
@@ -233,6 +239,14 @@ impl TriangleMesh {
     fn leaf_packets(&self, leaf: ChildRef) -> &[Triangle4] {
         let start = leaf.index as usize;
         &self.packets[start..start + (leaf.count as usize).div_ceil(4)]
+    }
+
+    /// +1 closed and wound counter-clockwise from outside, -1 closed and wound the
+    /// other way, 0 open.
+    pub fn orientation(&self) -> i8 {
+        *self
+            .orientation
+            .get_or_init(|| spans::closed_orientation(&self.positions, &self.indices))
     }
 
     fn hit_record(&self, tri: u32, h: &TriangleHit) -> Hit {
@@ -312,11 +326,14 @@ impl Shape for TriangleMesh {
         })
     }
 
+    /// True for closed meshes (every edge shared by two consistently wound triangles).
     fn is_solid(&self) -> bool {
-        false
+        self.orientation() != 0
     }
 
-    fn spans(&self, _ray: &Ray, _out: &mut Vec<Span>) {}
+    fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
+        self.solid_spans(ray, out)
+    }
 
     fn facets(&self, _detail: u32) -> Option<Facets> {
         Some(Facets {
