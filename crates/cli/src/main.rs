@@ -31,6 +31,10 @@ enum Command {
     TracePixel(commands::trace_pixel::TracePixelArgs),
     /// List the built-in scenes.
     Scenes(commands::scenes::ScenesArgs),
+    /// Render one frame sort-first, sort-middle or sort-last on N ranks and composite it.
+    Parallel(commands::parallel::ParallelArgs),
+    /// Benchmarks: `irradia bench parallel` (sort-first vs sort-last study, CSV + PNG).
+    Bench(commands::bench::BenchArgs),
 }
 
 fn main() {
@@ -39,6 +43,8 @@ fn main() {
         Command::Render(a) => commands::render::run(a),
         Command::TracePixel(a) => commands::trace_pixel::run(a),
         Command::Scenes(a) => commands::scenes::run(a),
+        Command::Parallel(a) => commands::parallel::run(a),
+        Command::Bench(a) => commands::bench::run(a),
     };
     if let Err(e) = result {
         eprintln!("irradia: {e}");

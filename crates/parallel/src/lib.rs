@@ -8,8 +8,11 @@
 pub mod comm;
 pub mod composite;
 pub mod frame;
+pub mod job;
+pub mod netmodel;
 pub mod report;
 pub mod sort_first;
 pub mod sort_last;
 pub mod sort_middle;
+pub mod study;
 pub mod workload;

@@ -92,14 +92,31 @@ impl Workload {
 
     /// A pipeline looking at the workload from a fixed viewpoint.
     pub fn pipeline(&self, width: u32, height: u32) -> Pipeline {
-        let (eye, target) = match self {
-            Workload::Teapot { .. } => (Vec3::new(4.5, 3.0, 6.0), Vec3::new(0.0, 0.0, 1.2)),
-            _ => (Vec3::new(1.5, 1.1, 1.9), Vec3::ZERO),
-        };
-        let up = if matches!(self, Workload::Teapot { .. }) {
-            Vec3::Z
-        } else {
-            Vec3::Y
+        let (eye, target, up) = match self {
+            Workload::Teapot { .. } => {
+                // frame the teapot's bounds, whatever axis its data calls up
+                let t = tessellate(&teapot_patches(), 2);
+                let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+                for q in &t.positions {
+                    lo = lo.min(*q);
+                    hi = hi.max(*q);
+                }
+                let c = 0.5 * (lo + hi);
+                let r = 0.5 * (hi - lo).length();
+                let ext = hi - lo;
+                let up = if ext.z < ext.x.min(ext.y) * 1.2 && ext.z <= ext.y {
+                    Vec3::Z
+                } else {
+                    Vec3::Y
+                };
+                let side = if up == Vec3::Z {
+                    Vec3::new(0.8, -0.55, 0.35)
+                } else {
+                    Vec3::new(0.8, 0.35, 0.55)
+                };
+                (c + side.normalize() * r * 2.3, c, up)
+            }
+            _ => (Vec3::new(1.5, 1.1, 1.9), Vec3::ZERO, Vec3::Y),
         };
         let mut p = Pipeline::new(width, height);
         p.view = ViewParams::look_at_perspective(
