@@ -23,10 +23,10 @@ fn fails(name: &str, text: &str) -> (SceneError, PathBuf) {
 }
 
 /// The error names `file` and `line` and `field`, and its message contains `needle`.
-fn check(err: &SceneError, path: &PathBuf, line: usize, field: &str, needle: &str) {
+fn check(err: &SceneError, path: &std::path::Path, line: usize, field: &str, needle: &str) {
     let shown = err.to_string();
     assert!(err.is_bad_input(), "{shown}");
-    assert_eq!(err.file.as_deref(), Some(path.as_path()), "{shown}");
+    assert_eq!(err.file.as_deref(), Some(path), "{shown}");
     assert_eq!(err.line, Some(line), "{shown}");
     assert_eq!(err.field, field, "{shown}");
     assert!(

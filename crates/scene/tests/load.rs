@@ -334,14 +334,10 @@ transform = [{ translate = [-0.25, -0.25, -0.25] }]"#,
     let origin = Path::new(env!("CARGO_MANIFEST_DIR")).join("scene.toml");
     let s = load_str(&text, Format::Toml, &origin).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.objects.len(), objects.len());
-    for i in 0..objects.len() {
+    for (i, object) in objects.iter().enumerate() {
         let x = 10.0 * i as f32;
         // The teapot's body is off-centre of its origin less than 1.5; aim at y = 1 on it.
-        let y0 = if objects[i].contains("teapot") {
-            1.0
-        } else {
-            0.0
-        };
+        let y0 = if object.contains("teapot") { 1.0 } else { 0.0 };
         let ray = Ray::new(Vec3::new(x + 0.01, 20.0, 0.013), -Vec3::Y);
         let ray = if y0 > 0.0 {
             Ray::new(Vec3::new(x + 0.01, y0, 20.0), -Vec3::Z)
@@ -351,8 +347,8 @@ transform = [{ translate = [-0.25, -0.25, -0.25] }]"#,
         let h = s
             .accel
             .intersect(&ray, f32::INFINITY)
-            .unwrap_or_else(|| panic!("object {i} ({}) not hit", objects[i]));
-        assert_eq!(h.instance as usize, i, "{}", objects[i]);
+            .unwrap_or_else(|| panic!("object {i} ({}) not hit", object));
+        assert_eq!(h.instance as usize, i, "{}", object);
     }
 }
 
@@ -366,4 +362,64 @@ fn json_copies_of_the_povray_builtins_load_identically() {
         let toml = builtin::load(name).unwrap();
         assert_eq!(fingerprint(&json), fingerprint(&toml), "{name}");
     }
+}
+
+#[test]
+fn every_light_type_and_the_orthographic_camera() {
+    let text = r#"
+[camera]
+type = "orthographic"
+eye = [0, 0, 5]
+look_at = [0, 0, 0]
+height = 4
+
+[[lights]]
+type = "directional"
+direction = [0, -2, 0]
+irradiance = [1, 2, 3]
+
+[[lights]]
+type = "spot"
+position = [0, 5, 0]
+look_at = [0, 0, 0]
+inner_angle = 20
+outer_angle = 30
+intensity = 7
+
+[[lights]]
+type = "sphere"
+center = [1, 4, 1]
+radius = 0.5
+radiance = 3
+samples = 4
+"#;
+    let s = load_str(text, Format::Toml, Path::new("l.toml")).unwrap();
+    assert_eq!(
+        s.camera.projection,
+        Projection::Orthographic { height: 4.0 }
+    );
+    match s.lights[0] {
+        Light::Directional {
+            direction,
+            irradiance,
+        } => {
+            assert_eq!(direction, -Vec3::Y);
+            assert_eq!(irradiance, irradia_core::Rgb::new(1.0, 2.0, 3.0));
+        }
+        ref l => panic!("{l:?}"),
+    }
+    match s.lights[1] {
+        Light::Spot {
+            direction,
+            cos_inner,
+            cos_outer,
+            ..
+        } => {
+            assert_eq!(direction, -Vec3::Y);
+            assert!((cos_inner - 20f32.to_radians().cos()).abs() < 1e-6);
+            assert!((cos_outer - 30f32.to_radians().cos()).abs() < 1e-6);
+        }
+        ref l => panic!("{l:?}"),
+    }
+    assert!(matches!(s.lights[2], Light::Sphere { radius, samples: 4, .. } if radius == 0.5));
 }
