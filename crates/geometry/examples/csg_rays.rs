@@ -27,13 +27,27 @@ fn scene() -> Accel {
         * Affine3A::from_rotation_y(30f32.to_radians())
         * Affine3A::from_scale(Vec3::splat(0.9));
     let b = Csg::intersection(vec![
-        leaf(Quadric::capped_cylinder(Vec3::new(-1.1, 0.0, 0.0), Vec3::new(1.1, 0.0, 0.0), 1.0).unwrap()),
-        leaf(Quadric::capped_cylinder(Vec3::new(0.0, -1.1, 0.0), Vec3::new(0.0, 1.1, 0.0), 1.0).unwrap()),
-        leaf(Quadric::capped_cylinder(Vec3::new(0.0, 0.0, -1.1), Vec3::new(0.0, 0.0, 1.1), 1.0).unwrap()),
+        leaf(
+            Quadric::capped_cylinder(Vec3::new(-1.1, 0.0, 0.0), Vec3::new(1.1, 0.0, 0.0), 1.0)
+                .unwrap(),
+        ),
+        leaf(
+            Quadric::capped_cylinder(Vec3::new(0.0, -1.1, 0.0), Vec3::new(0.0, 1.1, 0.0), 1.0)
+                .unwrap(),
+        ),
+        leaf(
+            Quadric::capped_cylinder(Vec3::new(0.0, 0.0, -1.1), Vec3::new(0.0, 0.0, 1.1), 1.0)
+                .unwrap(),
+        ),
     ])
     .unwrap();
     let b_place = Affine3A::from_translation(Vec3::new(0.0, 1.1, 1.0))
-        * Affine3A::from_quat(Quat::from_euler(EulerRot::YXZ, 35f32.to_radians(), 25f32.to_radians(), 0.0));
+        * Affine3A::from_quat(Quat::from_euler(
+            EulerRot::YXZ,
+            35f32.to_radians(),
+            25f32.to_radians(),
+            0.0,
+        ));
     let mut ops = vec![leaf(Sphere::new(Vec3::ZERO, 0.7))];
     for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
         for s in [-0.75, 0.75] {
@@ -50,8 +64,20 @@ fn scene() -> Accel {
     ])
 }
 
+/// User CPU seconds of this process (Linux `/proc/self/stat`, field 14, at 100 ticks
+/// per second); `None` elsewhere. On a loaded machine CPU time is steadier than wall.
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let after = &stat[stat.rfind(')')? + 2..];
+    let utime: f64 = after.split_whitespace().nth(11)?.parse().ok()?;
+    Some(utime / 100.0)
+}
+
 fn main() {
-    let repeats: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(5);
+    let repeats: usize = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(5);
     let accel = scene();
     let (w, h) = (1280u32, 720u32);
     let eye = Vec3::new(0.0, 3.2, -7.5);
@@ -62,6 +88,7 @@ fn main() {
     let half_h = half_w * h as f32 / w as f32;
     let light = Vec3::new(-6.0, 10.0, -8.0);
     let mut best = f64::INFINITY;
+    let cpu_start = cpu_seconds();
     let (mut hits, mut shadowed) = (0u64, 0u64);
     for _ in 0..repeats {
         let start = Instant::now();
@@ -74,7 +101,11 @@ fn main() {
                 let ray = Ray::new(eye, (forward + right * u + up * v).normalize());
                 if let Some(sh) = accel.intersect(&ray, f32::INFINITY) {
                     hits += 1;
-                    let n = if sh.hit.normal.dot(ray.dir) < 0.0 { sh.hit.normal } else { -sh.hit.normal };
+                    let n = if sh.hit.normal.dot(ray.dir) < 0.0 {
+                        sh.hit.normal
+                    } else {
+                        -sh.hit.normal
+                    };
                     let o = offset_ray_origin(sh.hit.point, n, sh.hit.error);
                     let to_light = light - o;
                     if accel.occluded(&Ray::new(o, to_light), 1.0) {
@@ -86,8 +117,12 @@ fn main() {
         best = best.min(start.elapsed().as_secs_f64());
     }
     let rays = (w * h) as u64 + hits;
+    let cpu = match (cpu_start, cpu_seconds()) {
+        (Some(a), Some(b)) => format!(", {:.3} s of CPU per pass", (b - a) / repeats as f64),
+        _ => String::new(),
+    };
     println!(
-        "csg geometry: {} primary + {} shadow rays ({} shadowed) in {:.3} s best of {repeats} on 1 thread: {:.2} Mrays/s",
+        "csg geometry: {} primary + {} shadow rays ({} shadowed) in {:.3} s best of {repeats} on 1 thread: {:.2} Mrays/s{cpu}",
         w * h,
         hits,
         shadowed,
