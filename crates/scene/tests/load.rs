@@ -316,6 +316,8 @@ v = [0, "pi"]
 resolution = [32, 16]"#,
         r#"type = "union"
 children = [{ type = "sphere", radius = 1 }, { type = "box", min = [-0.5, -2, -0.5], max = [0.5, 0.5, 0.5] }]"#,
+        r#"type = "gyroid_mesh"
+grid = 16"#,
         r#"type = "mesh"
 path = "tests/data/meshes/tetra.obj"
 transform = [{ translate = [-0.25, -0.25, -0.25] }]"#,

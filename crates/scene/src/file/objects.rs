@@ -19,6 +19,7 @@ pub const CSG_KINDS: &[&str] = &["union", "intersection", "difference", "merge"]
 /// Object types besides the primitives and CSG.
 pub const OTHER_KINDS: &[&str] = &[
     "mesh",
+    "gyroid_mesh",
     "implicit",
     "parametric",
     "bezier",
@@ -160,10 +161,32 @@ fn build_shape(kind: &str, t: &Table) -> Result<Option<Arc<dyn Shape>>> {
     if kind == "mesh" {
         return Ok(Some(Arc::new(read_mesh(t)?)));
     }
+    if kind == "gyroid_mesh" {
+        return Ok(Some(Arc::new(gyroid_mesh(t)?)));
+    }
     if let Some(s) = build_primitive(kind, t)? {
         return Ok(Some(s));
     }
     build_surface(kind, t)
+}
+
+/// `type = "gyroid_mesh"`, `grid = n`: the gyroid of PEERS.md's triangles workload,
+/// meshed by marching cubes on an n³ grid over [-1, 1]³ (n = 342 gives 2,254,089
+/// triangles). The grid is limited to 512 so that it cannot exhaust memory.
+fn gyroid_mesh(t: &Table) -> Result<TriangleMesh> {
+    let n = match t.get("grid") {
+        None => 64,
+        Some(g) => {
+            let n = g.u32()?;
+            if !(2..=512).contains(&n) {
+                return Err(g.err(format!("must be between 2 and 512 (got {n})")));
+            }
+            n
+        }
+    };
+    let data = irradia_geometry::generators::gyroid::gyroid_mesh(n);
+    TriangleMesh::new(data.positions, data.indices, None, None)
+        .map_err(|e| t.err(format!("gyroid mesh: {e}")))
 }
 
 /// `type = "mesh"`, `path = "bunny.ply"` (OBJ or PLY, relative to the scene file).
