@@ -425,3 +425,31 @@ samples = 4
     }
     assert!(matches!(s.lights[2], Light::Sphere { radius, samples: 4, .. } if radius == 0.5));
 }
+
+#[test]
+fn image_texture_loads_relative_to_the_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    // A 2x1 image: red on the left, blue on the right (PFM keeps the values exact).
+    let img = irradia_core::Image::from_pixels(
+        2,
+        1,
+        vec![
+            irradia_core::Rgb::new(1.0, 0.0, 0.0),
+            irradia_core::Rgb::new(0.0, 0.0, 1.0),
+        ],
+    );
+    std::fs::create_dir(dir.path().join("tex")).unwrap();
+    irradia_core::io::save(&img, &dir.path().join("tex/two.pfm")).unwrap();
+    let scene = dir.path().join("s.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n[materials.t]\ncolor = { type = \"image\", path = \"tex/two.pfm\" }\n",
+    )
+    .unwrap();
+    let s = load_file(&scene).unwrap_or_else(|e| panic!("{e}"));
+    let tex = &s.materials[0].color;
+    let left = tex.eval(Vec3::ZERO, glam::Vec2::new(0.25, 0.5));
+    let right = tex.eval(Vec3::ZERO, glam::Vec2::new(0.75, 0.5));
+    assert_eq!(left, irradia_core::Rgb::new(1.0, 0.0, 0.0));
+    assert_eq!(right, irradia_core::Rgb::new(0.0, 0.0, 1.0));
+}
