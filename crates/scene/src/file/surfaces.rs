@@ -15,6 +15,9 @@ use std::sync::Arc;
 
 pub const KINDS: &[&str] = &["implicit", "parametric", "bezier", "teapot"];
 
+/// Largest parametric grid (cells): two triangles each, so about 8M triangles at most.
+const MAX_PARAMETRIC_CELLS: u64 = 1 << 22;
+
 pub fn build_surface(kind: &str, t: &Table) -> Result<Option<Arc<dyn Shape>>> {
     Ok(Some(match kind {
         "implicit" => Arc::new(implicit(t)?),
@@ -170,8 +173,10 @@ fn parametric(t: &Table) -> Result<ParametricSurface> {
                 return Err(r.err("expected [cells along u, cells along v]"));
             }
             let (a, b) = (items[0].count()?, items[1].count()?);
-            if a > 4096 || b > 4096 {
-                return Err(r.err(format!("at most 4096 cells each way (got [{a}, {b}])")));
+            if a > 4096 || b > 4096 || a as u64 * b as u64 > MAX_PARAMETRIC_CELLS {
+                return Err(r.err(format!(
+                    "at most 4096 cells each way and {MAX_PARAMETRIC_CELLS} in all (got [{a}, {b}])"
+                )));
             }
             (a, b)
         }

@@ -22,6 +22,9 @@ pub fn read_camera(v: Option<Val>, root: &Table) -> Result<Camera> {
     if forward.length_squared() == 0.0 {
         return Err(look_v.err("look_at must differ from eye"));
     }
+    if !forward.normalize().is_finite() {
+        return Err(look_v.err("eye and look_at are too far apart to represent"));
+    }
     if forward.normalize().cross(up.normalize()).length() < 1e-4 {
         let at = up_v.unwrap_or(look_v);
         return Err(at.err("up must not be parallel to the viewing direction"));
