@@ -20,6 +20,7 @@
 
 pub(crate) mod lights;
 pub(crate) mod media;
+mod query;
 mod shading;
 mod shadow;
 
@@ -29,10 +30,11 @@ use crate::raytree::{NoRecorder, RayKind, Recorder};
 use crate::stats::Stats;
 use glam::Vec3;
 use irradia_core::{offset_ray_origin, Ray, Rgb, Rng};
-use irradia_geometry::Accel;
+use irradia_geometry::SceneHit;
 use irradia_scene::{Scene, ShadingModel};
 use lights::PreparedLight;
 use media::MediaStack;
+use query::Query;
 
 /// The Whitted integrator over one scene, with its lights prepared.
 pub struct Whitted<'s> {
@@ -42,17 +44,20 @@ pub struct Whitted<'s> {
     min_weight: f32,
     background: Rgb,
     ambient_light: Rgb,
+    /// A linear scan over every object when there are only a handful; `None` uses the
+    /// scene's own hierarchy.
+    all: Option<Query>,
     /// Objects split by whether light can pass through them, for shadow rays: an
     /// any-hit query against the opaque ones, then a walk through the clear ones.
     shadow_sets: Option<ShadowSets>,
 }
 
-/// Two acceleration structures over the scene's objects: those no light passes
-/// (any-hit test suffices) and those that filter it. `*_ids` map back to objects.
+/// Two queries over the scene's objects: those no light passes (an any-hit test
+/// suffices) and those that filter it. `*_ids` map tree slots back to objects.
 pub(crate) struct ShadowSets {
-    pub opaque: Accel,
+    pub opaque: Query,
     pub opaque_ids: Vec<u32>,
-    pub clear: Accel,
+    pub clear: Query,
     pub clear_ids: Vec<u32>,
 }
 
@@ -80,9 +85,9 @@ impl ShadowSets {
             }
         }
         Some(Self {
-            opaque: Accel::build(opaque),
+            opaque: Query::new(opaque, opaque_ids.clone()),
             opaque_ids,
-            clear: Accel::build(clear),
+            clear: Query::new(clear, clear_ids.clone()),
             clear_ids,
         })
     }
@@ -107,7 +112,29 @@ impl<'s> Whitted<'s> {
             min_weight: s.min_weight.max(0.0),
             background: s.background,
             ambient_light: s.ambient_light,
+            all: (scene.accel.instances().len() <= query::LINEAR_MAX).then(|| {
+                let n = scene.accel.instances().len() as u32;
+                Query::new(scene.accel.instances().to_vec(), (0..n).collect())
+            }),
             shadow_sets: ShadowSets::build(scene),
+        }
+    }
+
+    /// Nearest hit among all objects.
+    #[inline]
+    pub(crate) fn intersect_all(&self, ray: &Ray, t_max: f32) -> Option<SceneHit> {
+        match &self.all {
+            Some(q) => q.intersect(ray, t_max, None),
+            None => self.scene.accel.intersect(ray, t_max),
+        }
+    }
+
+    /// Whether any object is hit.
+    #[inline]
+    pub(crate) fn occluded_all(&self, ray: &Ray, t_max: f32) -> bool {
+        match &self.all {
+            Some(q) => q.occluded(ray, t_max),
+            None => self.scene.accel.occluded(ray, t_max),
         }
     }
 
@@ -163,7 +190,7 @@ impl<'s> Whitted<'s> {
         cx.rec.begin(kind, depth, ray, weight);
 
         let scene = self.scene;
-        let Some(sh) = scene.accel.intersect(ray, f32::INFINITY) else {
+        let Some(sh) = self.intersect_all(ray, f32::INFINITY) else {
             cx.stats.missed += 1;
             cx.rec.end(self.background);
             return self.background;

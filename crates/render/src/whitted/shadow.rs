@@ -8,7 +8,7 @@ use super::{Ctx, Whitted};
 use crate::raytree::{Blocker, Recorder};
 use glam::Vec3;
 use irradia_core::{offset_ray_origin, Ray, Rgb};
-use irradia_geometry::Accel;
+use irradia_geometry::SceneHit;
 
 /// Most transparent surfaces one shadow ray walks through before giving up (dark).
 const MAX_CROSSINGS: u32 = 64;
@@ -33,24 +33,19 @@ impl Whitted<'_> {
         } else {
             f32::INFINITY
         };
-        let blocker_of = |accel: &Accel, ids: Option<&[u32]>| {
-            accel.intersect(&first, t_max).map(|h| {
-                let object = ids.map_or(h.instance, |ids| ids[h.instance as usize]);
-                Blocker {
-                    object,
-                    name: &scene.objects[object as usize].name,
-                    point: h.hit.point,
-                    normal: h.hit.normal,
-                }
-            })
+        let blocker = |h: SceneHit| Blocker {
+            object: h.instance,
+            name: &scene.objects[h.instance as usize].name,
+            point: h.hit.point,
+            normal: h.hit.normal,
         };
         let Some(sets) = &self.shadow_sets else {
             // Nothing in the scene lets light through: an any-hit query decides.
-            if scene.accel.occluded(&first, t_max) {
+            if self.occluded_all(&first, t_max) {
                 cx.stats.shadow_blocked += 1;
                 if R::RECORDS {
-                    cx.rec
-                        .shadow(&first, depth, blocker_of(&scene.accel, None), Rgb::BLACK);
+                    let b = self.intersect_all(&first, t_max).map(blocker);
+                    cx.rec.shadow(&first, depth, b, Rgb::BLACK);
                 }
                 return Rgb::BLACK;
             }
@@ -59,14 +54,17 @@ impl Whitted<'_> {
         };
         // Most shadow rays reach their light: one any-hit query over everything
         // settles those.
-        if !scene.accel.occluded(&first, t_max) {
+        if !self.occluded_all(&first, t_max) {
             cx.rec.shadow(&first, depth, None, Rgb::WHITE);
             return Rgb::WHITE;
         }
         if sets.opaque.occluded(&first, t_max) {
             cx.stats.shadow_blocked += 1;
             if R::RECORDS {
-                let b = blocker_of(&sets.opaque, Some(&sets.opaque_ids));
+                let b = sets
+                    .opaque
+                    .intersect(&first, t_max, Some(&sets.opaque_ids))
+                    .map(blocker);
                 cx.rec.shadow(&first, depth, b, Rgb::BLACK);
             }
             return Rgb::BLACK;
@@ -79,10 +77,10 @@ impl Whitted<'_> {
         let mut tr = Rgb::WHITE;
         let mut first_blocker = None;
         for _ in 0..MAX_CROSSINGS {
-            let Some(h) = sets.clear.intersect(&ray, limit) else {
+            let Some(h) = sets.clear.intersect(&ray, limit, Some(&sets.clear_ids)) else {
                 break;
             };
-            let id = sets.clear_ids[h.instance as usize];
+            let id = h.instance;
             let object = &scene.objects[id as usize];
             let mat = &scene.materials[object.material_for_leaf(h.hit.leaf) as usize];
             if first_blocker.is_none() {
