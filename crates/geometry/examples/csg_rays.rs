@@ -3,7 +3,7 @@
 //! one shadow ray per hit towards the light. Prints rays per second on one thread;
 //! no shading, so it bounds how much of the render time CSG intersection takes.
 //!
-//! `cargo run --release -p irradia-geometry --example csg_rays [repeats]`
+//! `cargo run --release -p irradia-geometry --example csg_rays [repeats] [width]`
 
 use glam::{Affine3A, EulerRot, Quat, Vec3};
 use irradia_core::{offset_ray_origin, Ray};
@@ -79,7 +79,8 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(5);
     let accel = scene();
-    let (w, h) = (1280u32, 720u32);
+    let w: u32 = std::env::args().nth(2).and_then(|s| s.parse().ok()).unwrap_or(1280);
+    let h = w * 9 / 16;
     let eye = Vec3::new(0.0, 3.2, -7.5);
     let forward = (Vec3::new(0.0, 0.9, 0.0) - eye).normalize();
     let right = Vec3::Y.cross(forward).normalize();

@@ -4,8 +4,9 @@
 
 use glam::{Affine3A, Quat, Vec3};
 use irradia_core::Ray;
-use irradia_geometry::csg::{combine, complement, Csg, CsgOp, CsgOperand};
+use irradia_geometry::csg::{combine, combine_walk, complement, Csg, CsgOp, CsgOperand};
 use irradia_geometry::shapes::{Cuboid, Plane, Polygon, Polyhedron, Quadric, ShapeError, Sphere};
+use irradia_geometry::Boundary;
 use irradia_geometry::{Instance, Shape, Span};
 use proptest::prelude::*;
 use std::sync::Arc;
@@ -81,8 +82,39 @@ fn well_formed(s: &[Span]) -> bool {
     s.iter().all(|x| x.enter.t <= x.exit.t) && s.windows(2).all(|w| w[0].exit.t < w[1].enter.t)
 }
 
+/// A span with ends on a coarse grid (so ties are common) and a distinct normal and
+/// leaf per operand, to see whose boundary wins.
+fn grid_span(leaf: u32) -> impl Strategy<Value = Span> {
+    (0i32..6, 0i32..6).prop_map(move |(a, b)| {
+        let (a, b) = (a.min(b) as f32, a.max(b) as f32);
+        let mut enter = Boundary::new(
+            a,
+            Vec3::new(-1.0, leaf as f32, 0.0).normalize(),
+            glam::Vec2::ZERO,
+        );
+        let mut exit = Boundary::new(
+            b,
+            Vec3::new(1.0, leaf as f32, 0.0).normalize(),
+            glam::Vec2::ZERO,
+        );
+        enter.leaf = leaf;
+        exit.leaf = leaf;
+        Span { enter, exit }
+    })
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 400, ..ProptestConfig::default() })]
+
+    #[test]
+    fn single_span_fast_path_equals_the_general_walk(a in grid_span(0), b in grid_span(1)) {
+        for op in [CsgOp::Union, CsgOp::Intersection, CsgOp::Difference, CsgOp::Merge] {
+            let (mut fast, mut walk) = (Vec::new(), Vec::new());
+            combine(op, &[a], &[b], &mut fast);
+            combine_walk(op, &[a], &[b], &mut walk);
+            prop_assert_eq!(&fast, &walk, "{:?} of {:?} and {:?}", op, a, b);
+        }
+    }
 
     #[test]
     fn union_and_intersection_commute(a in solid(), b in solid(), r in ray()) {

@@ -31,6 +31,17 @@ fn event(spans: &[Span], i: usize) -> &Boundary {
 /// Appends `a op b` to `out`. Both inputs must be sorted, non-overlapping span lists
 /// (as `Shape::spans` produces); so is the output.
 pub fn combine(op: CsgOp, a: &[Span], b: &[Span], out: &mut Vec<Span>) {
+    if let ([x], [y]) = (a, b) {
+        if x.enter.t < x.exit.t && y.enter.t < y.exit.t {
+            return combine_single(op, x, y, out);
+        }
+    }
+    combine_walk(op, a, b, out)
+}
+
+/// The general walk behind `combine` (public so tests can compare the single-span
+/// fast path with it).
+pub fn combine_walk(op: CsgOp, a: &[Span], b: &[Span], out: &mut Vec<Span>) {
     let (na, nb) = (2 * a.len(), 2 * b.len());
     let (mut ia, mut ib) = (0usize, 0usize);
     let (mut in_a, mut in_b, mut inside) = (false, false, false);
@@ -89,6 +100,58 @@ pub fn combine(op: CsgOp, a: &[Span], b: &[Span], out: &mut Vec<Span>) {
             });
         }
         inside = now;
+    }
+}
+
+/// `combine` for one non-degenerate span on each side (the common case: a ray through
+/// two convex solids), with the same tie rule, without the general walk.
+#[inline]
+fn combine_single(op: CsgOp, a: &Span, b: &Span, out: &mut Vec<Span>) {
+    // The earlier of two boundaries; on a tie the left operand's.
+    let first = |x: &Boundary, y: &Boundary| if y.t < x.t { *y } else { *x };
+    let last = |x: &Boundary, y: &Boundary| if y.t > x.t { *y } else { *x };
+    match op {
+        CsgOp::Intersection => {
+            let (enter, exit) = (last(&a.enter, &b.enter), first(&a.exit, &b.exit));
+            if enter.t < exit.t {
+                out.push(Span { enter, exit });
+            }
+        }
+        CsgOp::Union | CsgOp::Merge => {
+            if a.exit.t < b.enter.t {
+                out.extend_from_slice(&[*a, *b]);
+            } else if b.exit.t < a.enter.t {
+                out.extend_from_slice(&[*b, *a]);
+            } else {
+                out.push(Span {
+                    enter: first(&a.enter, &b.enter),
+                    exit: last(&a.exit, &b.exit),
+                });
+            }
+        }
+        CsgOp::Difference => {
+            if b.exit.t <= a.enter.t || b.enter.t >= a.exit.t {
+                out.push(*a);
+                return;
+            }
+            let flip = |x: &Boundary| {
+                let mut x = *x;
+                x.normal = -x.normal;
+                x
+            };
+            if a.enter.t < b.enter.t {
+                out.push(Span {
+                    enter: a.enter,
+                    exit: flip(&b.enter),
+                });
+            }
+            if b.exit.t < a.exit.t {
+                out.push(Span {
+                    enter: flip(&b.exit),
+                    exit: a.exit,
+                });
+            }
+        }
     }
 }
 

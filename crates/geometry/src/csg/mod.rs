@@ -15,6 +15,6 @@ pub mod op;
 pub mod scratch;
 pub mod window;
 
-pub use combine::{combine, complement};
+pub use combine::{combine, combine_walk, complement};
 pub use node::{Csg, CsgOperand};
 pub use op::CsgOp;

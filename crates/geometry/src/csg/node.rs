@@ -172,13 +172,18 @@ impl Csg {
             return;
         }
         c.instance.spans(ray, out);
-        out.retain(|s| s.exit.t >= lo && s.enter.t <= hi);
-        if c.leaf_offset != 0 {
-            for s in out.iter_mut() {
+        // Keep the spans that overlap the window, renumbering leaves, in place.
+        let mut kept = 0;
+        for i in 0..out.len() {
+            let mut s = out[i];
+            if s.exit.t >= lo && s.enter.t <= hi {
                 s.enter.leaf += c.leaf_offset;
                 s.exit.leaf += c.leaf_offset;
+                out[kept] = s;
+                kept += 1;
             }
         }
+        out.truncate(kept);
     }
 
     /// The node's spans that overlap `[lo, hi]` (exact inside the window), in `b.acc`.

@@ -6,10 +6,11 @@ use crate::shape::Span;
 use std::cell::RefCell;
 
 thread_local! {
-    static POOL: RefCell<Vec<Vec<Span>>> = const { RefCell::new(Vec::new()) };
+    static POOL: RefCell<Vec<Buffers>> = const { RefCell::new(Vec::new()) };
 }
 
 /// Three empty buffers: `(result, operand, temporary)`.
+#[derive(Default)]
 pub struct Buffers {
     pub acc: Vec<Span>,
     pub operand: Vec<Span>,
@@ -19,23 +20,11 @@ pub struct Buffers {
 /// Runs `f` with three cleared buffers from this thread's pool.
 #[inline]
 pub fn with_buffers<R>(f: impl FnOnce(&mut Buffers) -> R) -> R {
-    let mut bufs = POOL.with(|p| {
-        let mut p = p.borrow_mut();
-        Buffers {
-            acc: p.pop().unwrap_or_default(),
-            operand: p.pop().unwrap_or_default(),
-            tmp: p.pop().unwrap_or_default(),
-        }
-    });
+    let mut bufs = POOL.with(|p| p.borrow_mut().pop().unwrap_or_default());
     bufs.acc.clear();
     bufs.operand.clear();
     bufs.tmp.clear();
     let r = f(&mut bufs);
-    POOL.with(|p| {
-        let mut p = p.borrow_mut();
-        p.push(bufs.tmp);
-        p.push(bufs.operand);
-        p.push(bufs.acc);
-    });
+    POOL.with(|p| p.borrow_mut().push(bufs));
     r
 }
