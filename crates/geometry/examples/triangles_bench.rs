@@ -162,8 +162,10 @@ fn main() {
             let stats = bvh.stats();
             drop(bvh);
             let t0 = Instant::now();
+            let c_mesh = cpu_seconds();
             let mesh = TriangleMesh::new(positions, indices, None, None).expect("valid mesh");
             let mesh_s = t0.elapsed().as_secs_f64();
+            let mesh_cpu = cpu_seconds() - c_mesh;
             let (po, pd) = (
                 vecs(&read_f32(&dir.join("primary_org.f32"))),
                 vecs(&read_f32(&dir.join("primary_dir.f32"))),
@@ -186,7 +188,7 @@ fn main() {
             write_f32(&dir.join("incoherent_t_irradia.f32"), &it);
             let hits = |t: &[f32]| t.iter().filter(|x| x.is_finite()).count();
             println!(
-                "{{\"renderer\": \"irradia\", \"threads\": {}, \"triangles\": {}, \"bvh_build_s\": {:.4}, \"mesh_build_s\": {:.4}, \"primary_s\": {:.4}, \"primary_mrays\": {:.3}, \"primary_hits\": {}, \"incoherent_s\": {:.4}, \"incoherent_mrays\": {:.3}, \"incoherent_hits\": {}, \"nodes\": {}, \"leaves\": {}, \"max_depth\": {}, \"sah_cost\": {:.2}}}",
+                "{{\"renderer\": \"irradia\", \"threads\": {}, \"triangles\": {}, \"bvh_build_s\": {:.4}, \"mesh_build_s\": {:.4}, \"primary_s\": {:.4}, \"primary_mrays\": {:.3}, \"primary_hits\": {}, \"incoherent_s\": {:.4}, \"incoherent_mrays\": {:.3}, \"incoherent_hits\": {}, \"nodes\": {}, \"leaves\": {}, \"max_depth\": {}, \"sah_cost\": {:.2}, \"cpu_s\": {{\"bvh_build\": {:.3}, \"build\": {:.3}, \"primary\": {:.3}, \"incoherent\": {:.3}}}}}",
                 rayon::current_num_threads(),
                 n_tris,
                 bvh_s,
@@ -200,7 +202,11 @@ fn main() {
                 stats.nodes,
                 stats.leaves,
                 stats.max_depth,
-                stats.sah_cost
+                stats.sah_cost,
+                bvh_cpu,
+                mesh_cpu,
+                c1 - c0,
+                c2 - c1
             );
         }
         _ => {
