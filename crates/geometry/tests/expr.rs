@@ -183,6 +183,36 @@ proptest! {
         }
     }
 
+    /// The directional-derivative enclosure contains the exact directional derivative
+    /// (forward-mode duals) at points of the box.
+    #[test]
+    fn derivative_enclosures_contain_sampled_derivatives(
+        src in arb_expr(),
+        x0 in -4.0f64..4.0, wx in 0.0f64..2.0,
+        y0 in -4.0f64..4.0, wy in 0.0f64..2.0,
+        dx in -2.0f64..2.0, dy in -2.0f64..2.0,
+        samples in proptest::collection::vec((0.0f64..=1.0, 0.0f64..=1.0), 8),
+    ) {
+        let e = Expr::parse(&src, &["x", "y"]).unwrap();
+        let bx = Interval::new(x0, x0 + wx);
+        let by = Interval::new(y0, y0 + wy);
+        let (value, slope) = e.eval_interval_directional(&[bx, by], &[dx, dy]);
+        for (s, t) in samples {
+            let (x, y) = ((x0 + s * wx).min(bx.hi), (y0 + t * wy).min(by.hi));
+            let (v, g) = e.eval_gradient(&[x, y]);
+            if !v.is_finite() {
+                continue;
+            }
+            prop_assert!(value.contains(v), "{} value {} not in {:?}", src, v, value);
+            // The oracle g·dir is itself rounded: allow it a few ulps.
+            let dd = g[0] * dx + g[1] * dy;
+            let slack = 8.0 * f64::EPSILON * (g[0].abs() * dx.abs() + g[1].abs() * dy.abs());
+            if dd.is_finite() {
+                prop_assert!(slope.lo <= dd + slack && dd - slack <= slope.hi, "{} at ({}, {}): slope {} not in {:?}", src, x, y, dd, slope);
+            }
+        }
+    }
+
     /// Forward-mode gradients agree with central differences.
     #[test]
     fn gradients_match_finite_differences(x in -1.5f64..1.5, y in -1.5f64..1.5, z in 0.2f64..2.0) {

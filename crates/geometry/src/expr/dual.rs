@@ -54,6 +54,9 @@ impl Number for Dual {
         self.chain(-self.v, -1.0)
     }
     fn powi(self, n: i32) -> Self {
+        if self.v.is_nan() {
+            return self;
+        }
         if n == 0 {
             return Self::constant(1.0);
         }
@@ -86,6 +89,10 @@ impl Number for Dual {
     }
     fn binary(self, op: Binary, o: Self) -> Self {
         let (a, b) = (self.v, o.v);
+        // NaN in, NaN out, as in the f64 evaluation.
+        if a.is_nan() || b.is_nan() {
+            return Self::constant(f64::NAN);
+        }
         match op {
             Binary::Add => Self::combine(a + b, self, 1.0, o, 1.0),
             Binary::Sub => Self::combine(a - b, self, 1.0, o, -1.0),

@@ -12,7 +12,8 @@
 //! - [`Expr::eval`] in f64; [`Expr::eval_interval`] in interval arithmetic
 //!   ([`Interval`], sound outward-rounded enclosures); [`Expr::eval_gradient`] value and
 //!   gradient with respect to the first three variables by forward-mode dual numbers
-//!   ([`Dual`]).
+//!   ([`Dual`]); [`Expr::eval_interval_directional`] encloses value and directional
+//!   derivative over a box ([`IntervalDual`]), for monotonicity tests.
 //!
 //! Parsing builds an AST ([`Node`]); it is then compiled to a postfix tape that one
 //! generic evaluator runs for every number type ([`Number`]): f64, [`Interval`] and
@@ -23,6 +24,7 @@
 mod ast;
 mod dual;
 mod interval;
+mod interval_dual;
 mod lexer;
 mod number;
 mod parser;
@@ -31,6 +33,7 @@ mod tape;
 pub use ast::{Binary, Func, Node};
 pub use dual::Dual;
 pub use interval::Interval;
+pub use interval_dual::IntervalDual;
 pub use number::Number;
 pub use parser::ExprError;
 
@@ -83,6 +86,23 @@ impl Expr {
     /// a negative interval).
     pub fn eval_interval(&self, vars: &[Interval]) -> Interval {
         self.tape.run(vars)
+    }
+
+    /// Enclosures over the box `vars` of the value and of the directional derivative
+    /// `∇f · dir` (`dir` holds one rate per variable). When the second excludes 0 the
+    /// expression is strictly monotone along `dir` on the box.
+    pub fn eval_interval_directional(
+        &self,
+        vars: &[Interval],
+        dir: &[f64],
+    ) -> (Interval, Interval) {
+        let mut duals = [IntervalDual::constant(f64::NAN); 8];
+        let n = vars.len().min(8);
+        for i in 0..n {
+            duals[i] = IntervalDual::variable(vars[i], dir.get(i).copied().unwrap_or(0.0));
+        }
+        let r = self.tape.run(&duals[..n]);
+        (r.v, r.d)
     }
 
     /// Value and gradient with respect to the first (up to) three variables (at most

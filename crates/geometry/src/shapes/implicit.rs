@@ -22,6 +22,9 @@
 //!   enclosure of `f` over the piece's bounding box excludes 0. Since the enclosure is
 //!   sound, no piece holding a root is ever dropped, however thin the feature; pieces that
 //!   reach the tolerance length and show a sign change are refined by safeguarded Newton.
+//!   Subdivision stops early on a piece where the enclosure of the derivative along the
+//!   ray, `∇f · d` (interval dual numbers), excludes 0: `f` is monotone there, so it has
+//!   a root exactly when its ends differ in sign (Mitchell's monotonicity test).
 //! - Lipschitz method (Hart, "Sphere tracing", The Visual Computer 1996): steps of
 //!   `|f| / L` (at least the tolerance) cannot jump over a surface when `L` is a true
 //!   bound; each step compares `|Δf|` with `L |Δp|` and records a violation.
@@ -237,8 +240,31 @@ impl ImplicitSurface {
                 self.abandoned.fetch_add(1, Ordering::Relaxed);
                 return;
             }
-            let range = self.enclosure(o, d, a, b);
+            let (range, slope) = self.enclosure(o, d, a, b);
             if range.is_empty() || !range.contains(0.0) {
+                continue;
+            }
+            if slope.lo > 0.0 || slope.hi < 0.0 {
+                // Strictly monotone along the ray on this piece: one root at most, there
+                // exactly when the ends differ in sign.
+                let (fa, fb) = (self.f(o + d * a), self.f(o + d * b));
+                if fa == 0.0 {
+                    if out.last() != Some(&a) {
+                        out.push(a);
+                    }
+                } else if fb == 0.0 || (fa < 0.0) != (fb < 0.0) {
+                    let t = if fb == 0.0 {
+                        b
+                    } else {
+                        self.refine(o, d, a, b)
+                    };
+                    out.push(t);
+                } else {
+                    continue;
+                }
+                if first_only {
+                    return;
+                }
                 continue;
             }
             if b - a <= min_dt {
@@ -268,8 +294,9 @@ impl ImplicitSurface {
         }
     }
 
-    /// A sound enclosure of `f` over the points `o + t d`, `t` in `[a, b]`.
-    fn enclosure(&self, o: DVec3, d: DVec3, a: f64, b: f64) -> Interval {
+    /// Sound enclosures of `f` and of its derivative along the ray, `∇f · d`, over the
+    /// points `o + t d`, `t` in `[a, b]`.
+    fn enclosure(&self, o: DVec3, d: DVec3, a: f64, b: f64) -> (Interval, Interval) {
         let (pa, pb) = (o + d * a, o + d * b);
         let iv = |x: f64, y: f64| {
             let (lo, hi) = (x.min(y), x.max(y));
@@ -277,8 +304,10 @@ impl ImplicitSurface {
             let slack = 4.0 * f64::EPSILON * (lo.abs().max(hi.abs())) + 1e-300;
             Interval::new(lo - slack, hi + slack)
         };
-        self.expr
-            .eval_interval(&[iv(pa.x, pb.x), iv(pa.y, pb.y), iv(pa.z, pb.z)])
+        self.expr.eval_interval_directional(
+            &[iv(pa.x, pb.x), iv(pa.y, pb.y), iv(pa.z, pb.z)],
+            &[d.x, d.y, d.z],
+        )
     }
 
     #[allow(clippy::too_many_arguments)]
