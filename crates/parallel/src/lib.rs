@@ -15,4 +15,5 @@ pub mod sort_first;
 pub mod sort_last;
 pub mod sort_middle;
 pub mod study;
+pub mod wall;
 pub mod workload;

@@ -1,0 +1,147 @@
+//! Tiled display walls (the lecture's "Power Walls": colour matching, vignetting,
+//! alignment, overlap areas, synching, dark field): one rank per display renders its
+//! own off-axis frustum of the wall's view, blends its edges ([`blend`]), corrects its
+//! colour response ([`color`]), waits at a frame barrier, and sends its frame to rank 0,
+//! which writes every display's image and a simulated photograph ([`photo`]).
+
+pub mod blend;
+pub mod color;
+pub mod config;
+pub mod photo;
+
+pub use config::{Projector, WallConfig};
+
+use crate::comm::{Comm, CommError};
+use crate::workload::Workload;
+use color::Correction;
+use glam::{Mat4, Vec3, Vec4};
+use irradia_raster::{ColorBuffer, ColorFormat, Framebuffer, Pipeline};
+
+/// What the wall shows.
+#[derive(Clone, Debug)]
+pub enum WallSource {
+    /// One linear colour everywhere (calibration patterns).
+    Uniform(Vec3),
+    /// A rendered workload seen through the whole wall as one screen.
+    Workload(Workload),
+}
+
+/// The pipeline of display `i`: the wall's view with the projection narrowed to the
+/// display's rectangle of the wall (an off-axis frustum).
+pub fn display_pipeline(wall: &Pipeline, c: &WallConfig, i: usize) -> Pipeline {
+    let (ww, wh) = c.wall_size();
+    let (ox, oy) = c.origin(i);
+    let (l, r) = (
+        2.0 * ox as f32 / ww as f32 - 1.0,
+        2.0 * (ox + c.width) as f32 / ww as f32 - 1.0,
+    );
+    let (t, b) = (
+        1.0 - 2.0 * oy as f32 / wh as f32,
+        1.0 - 2.0 * (oy + c.height) as f32 / wh as f32,
+    );
+    let s = Mat4::from_cols(
+        Vec4::new(2.0 / (r - l), 0.0, 0.0, 0.0),
+        Vec4::new(0.0, 2.0 / (t - b), 0.0, 0.0),
+        Vec4::new(0.0, 0.0, 1.0, 0.0),
+        Vec4::new(-(r + l) / (r - l), -(t + b) / (t - b), 0.0, 1.0),
+    );
+    let mut p = wall.clone();
+    p.width = c.width;
+    p.height = c.height;
+    p.view.proj = s * wall.view.proj;
+    p
+}
+
+/// The linear colour display `i` should contribute at each of its pixels.
+pub fn render_display(c: &WallConfig, src: &WallSource, i: usize) -> Vec<Vec3> {
+    match src {
+        WallSource::Uniform(v) => vec![*v; (c.width * c.height) as usize],
+        WallSource::Workload(w) => {
+            let (ww, wh) = c.wall_size();
+            let p = display_pipeline(&w.pipeline(ww, wh), c, i);
+            let mut fb =
+                Framebuffer::new(c.width, c.height, ColorFormat::Rgba32F).expect("checked size");
+            p.render_triangles(&w.triangles(), &mut fb)
+                .expect("framebuffer matches");
+            match fb.color {
+                ColorBuffer::Rgba32F(px) => px
+                    .iter()
+                    .map(|q| Vec3::new(q[0], q[1], q[2]).clamp(Vec3::ZERO, Vec3::ONE))
+                    .collect(),
+                _ => unreachable!("asked for RGBA32F"),
+            }
+        }
+    }
+}
+
+/// What rank 0 gets back.
+pub struct WallFrame {
+    /// Each display's drive values in [0, 1], row-major.
+    pub frames: Vec<Vec<Vec3>>,
+    /// The simulated photograph over the whole wall, in linear colour.
+    pub photo: Vec<Vec3>,
+    pub correction: Correction,
+}
+
+/// One wall frame on `comm` (one rank per display). `corrected = false` drives every
+/// projector naively (no blending, no matching) to show what the correction fixes.
+pub fn frame<C: Comm>(
+    comm: &C,
+    c: &WallConfig,
+    src: &WallSource,
+    corrected: bool,
+) -> Result<Option<WallFrame>, CommError> {
+    assert_eq!(comm.size(), c.displays(), "one rank per display");
+    let i = comm.rank();
+    comm.log().begin_stage("render");
+    let want = render_display(c, src, i);
+    let weights: Vec<Vec<f32>> = (0..c.displays()).map(|j| blend::weights(c, j)).collect();
+    let corr = Correction::plan(c, &weights);
+    let drive: Vec<Vec3> = if corrected {
+        (0..c.height)
+            .flat_map(|y| (0..c.width).map(move |x| (x, y)))
+            .map(|(x, y)| {
+                corr.drive(
+                    c,
+                    i,
+                    x,
+                    y,
+                    weights[i][(y * c.width + x) as usize],
+                    want[(y * c.width + x) as usize],
+                )
+            })
+            .collect()
+    } else {
+        want.iter()
+            .map(|v| v.clamp(Vec3::ZERO, Vec3::ONE).powf(1.0 / 2.2))
+            .collect()
+    };
+    // Frame barrier: no display swaps before every display has its frame.
+    comm.log().begin_stage("swap-barrier");
+    comm.barrier()?;
+    comm.log().begin_stage("gather");
+    let bytes: Vec<u8> =
+        bytemuck::cast_slice(&drive.iter().map(|v| v.to_array()).collect::<Vec<_>>()).to_vec();
+    let all = comm.gather(0, &bytes)?;
+    comm.log().end_stage();
+    if i != 0 {
+        return Ok(None);
+    }
+    let mut frames = Vec::new();
+    for (r, b) in all.iter().enumerate() {
+        if b.len() != (c.width * c.height) as usize * 12 {
+            return Err(CommError::Malformed {
+                rank: r,
+                message: "frame of the wrong size".into(),
+            });
+        }
+        let f: Vec<[f32; 3]> = bytemuck::pod_collect_to_vec(b);
+        frames.push(f.into_iter().map(Vec3::from).collect());
+    }
+    let photo = photo::photograph(c, &corr, &frames);
+    Ok(Some(WallFrame {
+        frames,
+        photo,
+        correction: corr,
+    }))
+}
