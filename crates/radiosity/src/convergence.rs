@@ -33,7 +33,12 @@ pub fn write_chart(path: &Path, histories: &[History], title: &str) -> Result<()
     {
         let root = BitMapBackend::new(&tmp, (900, 560)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(e.to_string()))?;
-        let xmax = histories.iter().map(|h| h.residuals.len()).max().unwrap_or(1).max(2);
+        let xmax = histories
+            .iter()
+            .map(|h| h.residuals.len())
+            .max()
+            .unwrap_or(1)
+            .max(2);
         let pos = |r: f64| r.max(1e-16);
         let ymin = histories
             .iter()
@@ -61,17 +66,30 @@ pub fn write_chart(path: &Path, histories: &[History], title: &str) -> Result<()
             .y_desc("relative residual")
             .draw()
             .map_err(|e| fail(e.to_string()))?;
-        let colours = [RED, BLUE, GREEN, MAGENTA, CYAN, BLACK, RGBColor(200, 120, 0)];
+        let colours = [
+            RED,
+            BLUE,
+            GREEN,
+            MAGENTA,
+            CYAN,
+            BLACK,
+            RGBColor(200, 120, 0),
+        ];
         for (k, h) in histories.iter().enumerate() {
             let c = colours[k % colours.len()];
             chart
                 .draw_series(LineSeries::new(
-                    h.residuals.iter().enumerate().map(|(i, r)| (i + 1, pos(*r))),
+                    h.residuals
+                        .iter()
+                        .enumerate()
+                        .map(|(i, r)| (i + 1, pos(*r))),
                     c.stroke_width(2),
                 ))
                 .map_err(|e| fail(e.to_string()))?
                 .label(h.name)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                });
         }
         chart
             .configure_series_labels()

@@ -46,7 +46,12 @@ impl View {
     pub fn matrix(&self) -> DMat4 {
         let view = DMat4::look_at_rh(self.eye, self.target, self.up);
         let aspect = self.width as f64 / self.height as f64;
-        let proj = DMat4::perspective_rh(self.fov_y.to_radians(), aspect, 1e-3 * self.eye.distance(self.target).max(1.0), 1e7);
+        let proj = DMat4::perspective_rh(
+            self.fov_y.to_radians(),
+            aspect,
+            1e-3 * self.eye.distance(self.target).max(1.0),
+            1e7,
+        );
         proj * view
     }
 }
@@ -60,12 +65,17 @@ pub fn display_mesh(elements: &[Element], b: &[[f64; 3]], scale: f64) -> Display
 /// interpolation of vertex radiance).
 pub fn render_gouraud(mesh: &DisplayMesh, view: &View) -> Result<Image> {
     let (w, h) = (view.width as usize, view.height as usize);
-    let mut img = Image::new(view.width, view.height).map_err(|e| RadiosityError::Input(format!("image size: {e}")))?;
+    let mut img = Image::new(view.width, view.height)
+        .map_err(|e| RadiosityError::Input(format!("image size: {e}")))?;
     let mut depth = vec![f64::INFINITY; w * h];
     let m = view.matrix();
     // Clip-space vertices.
     let clip: Vec<DVec4> = mesh.positions.iter().map(|p| m * p.extend(1.0)).collect();
-    let colour: Vec<[f64; 3]> = mesh.radiosity.iter().map(|b| [b[0] / PI, b[1] / PI, b[2] / PI]).collect();
+    let colour: Vec<[f64; 3]> = mesh
+        .radiosity
+        .iter()
+        .map(|b| [b[0] / PI, b[1] / PI, b[2] / PI])
+        .collect();
     let mut poly: Vec<(DVec4, [f64; 3])> = Vec::with_capacity(8);
     let mut tmp: Vec<(DVec4, [f64; 3])> = Vec::with_capacity(8);
     for t in &mesh.triangles {
@@ -101,7 +111,15 @@ pub fn render_gouraud(mesh: &DisplayMesh, view: &View) -> Result<Image> {
             })
             .collect();
         for k in 1..scr.len() - 1 {
-            raster_triangle(&scr[0], &scr[k], &scr[k + 1], w, h, &mut depth, img.pixels_mut());
+            raster_triangle(
+                &scr[0],
+                &scr[k],
+                &scr[k + 1],
+                w,
+                h,
+                &mut depth,
+                img.pixels_mut(),
+            );
         }
     }
     Ok(img)
@@ -118,11 +136,17 @@ fn raster_triangle(a: &SV, b: &SV, c: &SV, w: usize, h: usize, depth: &mut [f64]
     let ymin = a.0[1].min(b.0[1]).min(c.0[1]).floor().max(0.0) as usize;
     let xmax = a.0[0].max(b.0[0]).max(c.0[0]).ceil().min(w as f64).max(0.0) as usize;
     let ymax = a.0[1].max(b.0[1]).max(c.0[1]).ceil().min(h as f64).max(0.0) as usize;
-    let e = |p: &SV, q: &SV, x: f64, y: f64| (q.0[0] - p.0[0]) * (y - p.0[1]) - (q.0[1] - p.0[1]) * (x - p.0[0]);
+    let e = |p: &SV, q: &SV, x: f64, y: f64| {
+        (q.0[0] - p.0[0]) * (y - p.0[1]) - (q.0[1] - p.0[1]) * (x - p.0[0])
+    };
     for y in ymin..ymax {
         for x in xmin..xmax {
             let (fx, fy) = (x as f64 + 0.5, y as f64 + 0.5);
-            let (w0, w1, w2) = (e(b, c, fx, fy) / area, e(c, a, fx, fy) / area, e(a, b, fx, fy) / area);
+            let (w0, w1, w2) = (
+                e(b, c, fx, fy) / area,
+                e(c, a, fx, fy) / area,
+                e(a, b, fx, fy) / area,
+            );
             if w0 < 0.0 || w1 < 0.0 || w2 < 0.0 {
                 continue;
             }
@@ -133,7 +157,8 @@ fn raster_triangle(a: &SV, b: &SV, c: &SV, w: usize, h: usize, depth: &mut [f64]
             }
             depth[k] = z;
             let iw = w0 * a.0[3] + w1 * b.0[3] + w2 * c.0[3];
-            let col: [f64; 3] = std::array::from_fn(|ch| (w0 * a.1[ch] + w1 * b.1[ch] + w2 * c.1[ch]) / iw);
+            let col: [f64; 3] =
+                std::array::from_fn(|ch| (w0 * a.1[ch] + w1 * b.1[ch] + w2 * c.1[ch]) / iw);
             px[k] = Rgb::new(col[0] as f32, col[1] as f32, col[2] as f32);
         }
     }
@@ -143,7 +168,8 @@ fn raster_triangle(a: &SV, b: &SV, c: &SV, w: usize, h: usize, depth: &mut [f64]
 /// colour (8-bit sRGB of the radiance `b/π`, clamped) and the radiosity itself as
 /// floats; faces as triangles. Written atomically.
 pub fn write_ply(mesh: &DisplayMesh, path: &Path) -> Result<()> {
-    let mut out: Vec<u8> = Vec::with_capacity(mesh.positions.len() * 40 + mesh.triangles.len() * 13 + 512);
+    let mut out: Vec<u8> =
+        Vec::with_capacity(mesh.positions.len() * 40 + mesh.triangles.len() * 13 + 512);
     let header = format!(
         "ply\nformat binary_little_endian 1.0\ncomment irradia radiosity solution; radiosity_* in the scene's units, colours are sRGB of radiosity/pi\n\
          element vertex {}\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\n\
@@ -154,7 +180,14 @@ pub fn write_ply(mesh: &DisplayMesh, path: &Path) -> Result<()> {
     );
     out.extend_from_slice(header.as_bytes());
     for (i, p) in mesh.positions.iter().enumerate() {
-        for v in [p.x, p.y, p.z, mesh.normals[i].x, mesh.normals[i].y, mesh.normals[i].z] {
+        for v in [
+            p.x,
+            p.y,
+            p.z,
+            mesh.normals[i].x,
+            mesh.normals[i].y,
+            mesh.normals[i].z,
+        ] {
             out.extend_from_slice(&(v as f32).to_le_bytes());
         }
         let b = mesh.radiosity[i];

@@ -13,10 +13,16 @@ pub struct Poly {
 
 impl Poly {
     pub fn tri(a: DVec3, b: DVec3, c: DVec3) -> Self {
-        Self { v: [a, b, c, c], n: 3 }
+        Self {
+            v: [a, b, c, c],
+            n: 3,
+        }
     }
     pub fn quad(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Self {
-        Self { v: [a, b, c, d], n: 4 }
+        Self {
+            v: [a, b, c, d],
+            n: 4,
+        }
     }
     pub fn from_slice(p: &[DVec3]) -> Option<Self> {
         match p.len() {
@@ -73,7 +79,9 @@ impl Poly {
         if self.n == 3 {
             return 0.0;
         }
-        let n = (self.v[1] - self.v[0]).cross(self.v[2] - self.v[0]).normalize_or_zero();
+        let n = (self.v[1] - self.v[0])
+            .cross(self.v[2] - self.v[0])
+            .normalize_or_zero();
         (self.v[3] - self.v[0]).dot(n).abs()
     }
     /// A point uniformly distributed over the area for `(u, w)` uniform in [0,1)^2.
@@ -87,7 +95,13 @@ impl Poly {
         if u < split {
             sample_tri(self.v[0], self.v[1], self.v[2], u / split, w)
         } else {
-            sample_tri(self.v[0], self.v[2], self.v[3], (u - split) / (1.0 - split), w)
+            sample_tri(
+                self.v[0],
+                self.v[2],
+                self.v[3],
+                (u - split) / (1.0 - split),
+                w,
+            )
         }
     }
     /// Splits into four children: quadrilaterals at edge midpoints and the centre,
@@ -190,7 +204,11 @@ pub fn gauss_legendre01(k: usize) -> (Vec<f64>, Vec<f64>) {
 /// Ray-polygon intersection (Möller-Trumbore on the fan triangles), in f64.
 /// Returns `t` with `t_min < t < t_max`.
 pub fn intersect_poly(p: &Poly, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
-    let tris: &[(usize, usize, usize)] = if p.n == 3 { &[(0, 1, 2)] } else { &[(0, 1, 2), (0, 2, 3)] };
+    let tris: &[(usize, usize, usize)] = if p.n == 3 {
+        &[(0, 1, 2)]
+    } else {
+        &[(0, 1, 2), (0, 2, 3)]
+    };
     for &(a, b, c) in tris {
         let (v0, v1, v2) = (p.v[a], p.v[b], p.v[c]);
         let e1 = v1 - v0;
@@ -235,14 +253,24 @@ mod tests {
         let t = Poly::tri(DVec3::ZERO, DVec3::X * 2.0, DVec3::Y * 3.0);
         let s: f64 = t.gauss_points(4).iter().map(|p| p.1).sum();
         assert!((s - 3.0).abs() < 1e-12);
-        let q = Poly::quad(DVec3::ZERO, DVec3::X * 2.0, DVec3::new(3.0, 1.0, 0.0), DVec3::Y);
+        let q = Poly::quad(
+            DVec3::ZERO,
+            DVec3::X * 2.0,
+            DVec3::new(3.0, 1.0, 0.0),
+            DVec3::Y,
+        );
         let s: f64 = q.gauss_points(4).iter().map(|p| p.1).sum();
         assert!((s - q.area()).abs() < 1e-12);
     }
 
     #[test]
     fn split_keeps_area() {
-        let q = Poly::quad(DVec3::ZERO, DVec3::X * 2.0, DVec3::new(3.0, 1.0, 0.0), DVec3::Y);
+        let q = Poly::quad(
+            DVec3::ZERO,
+            DVec3::X * 2.0,
+            DVec3::new(3.0, 1.0, 0.0),
+            DVec3::Y,
+        );
         let s: f64 = q.split4().iter().map(|c| c.area()).sum();
         assert!((s - q.area()).abs() < 1e-12);
         let t = Poly::tri(DVec3::ZERO, DVec3::X * 2.0, DVec3::Y * 3.0);

@@ -60,15 +60,26 @@ pub struct InstantResult {
     pub clamped_energy: f64,
 }
 
+/// Halton dimensions for the first 24 dimensions; beyond them (deep bounces) a PCG
+/// stream per walk. Reusing a prime would repeat earlier decisions of the same walk
+/// (a walk that survived once would survive for ever).
 fn halton(i: u64, dim: usize) -> f64 {
-    const PRIMES: [u64; 24] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71, 73, 79, 83, 89];
-    radical_inverse(i, PRIMES[dim % PRIMES.len()])
+    const PRIMES: [u64; 24] = [
+        2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71, 73, 79, 83, 89,
+    ];
+    if dim < PRIMES.len() {
+        radical_inverse(i, PRIMES[dim])
+    } else {
+        irradia_core::Rng::new(irradia_core::sampling::hash64(i), dim as u64).next_f64()
+    }
 }
 
 /// Traces the VPLs of `opts.paths` quasi-random walks.
 pub fn trace_vpls(mesh: &Mesh, opts: &InstantOptions) -> Vec<Vpl> {
     let tracer = ElementTracer::new(mesh);
-    let emitters: Vec<usize> = (0..mesh.len()).filter(|&i| mesh.emission(i).iter().any(|&e| e > 0.0)).collect();
+    let emitters: Vec<usize> = (0..mesh.len())
+        .filter(|&i| mesh.emission(i).iter().any(|&e| e > 0.0))
+        .collect();
     let powers: Vec<f64> = emitters
         .iter()
         .map(|&i| mesh.elements[i].area * mesh.emission(i).iter().sum::<f64>() / 3.0)
@@ -99,16 +110,29 @@ pub fn trace_vpls(mesh: &Mesh, opts: &InstantOptions) -> Vec<Vpl> {
         // Φ = E A / (N · pick probability)
         let mut power: [f64; 3] = std::array::from_fn(|c| e[c] * el.area / (n as f64 * pick));
         let (mut pos, mut normal) = (x, el.normal);
-        vpls.push(Vpl { position: pos, normal, power });
+        vpls.push(Vpl {
+            position: pos,
+            normal,
+            power,
+        });
         for bounce in 0..opts.max_bounces {
             let d = 3 + 3 * bounce;
             let (u1, u2) = (halton(i, d), halton(i, d + 1));
             let r = u1.sqrt();
             let phi = 2.0 * PI * u2;
-            let s = if normal.x.abs() > 0.9 { DVec3::Y } else { DVec3::X }.cross(normal).normalize();
+            let s = if normal.x.abs() > 0.9 {
+                DVec3::Y
+            } else {
+                DVec3::X
+            }
+            .cross(normal)
+            .normalize();
             let t = normal.cross(s);
-            let dir = s * (r * phi.cos()) + t * (r * phi.sin()) + normal * (1.0 - u1).max(0.0).sqrt();
-            let Some((j, hit)) = tracer.nearest_hit(pos, normal, dir) else { break };
+            let dir =
+                s * (r * phi.cos()) + t * (r * phi.sin()) + normal * (1.0 - u1).max(0.0).sqrt();
+            let Some((j, hit)) = tracer.nearest_hit(pos, normal, dir) else {
+                break;
+            };
             let ej = &mesh.elements[j];
             if ej.normal.dot(dir) >= 0.0 {
                 break; // hit a back face: the walk left through an open side
@@ -121,7 +145,11 @@ pub fn trace_vpls(mesh: &Mesh, opts: &InstantOptions) -> Vec<Vpl> {
             power = std::array::from_fn(|c| power[c] * rho[c] / p_continue);
             pos = hit;
             normal = ej.normal;
-            vpls.push(Vpl { position: pos, normal, power });
+            vpls.push(Vpl {
+                position: pos,
+                normal,
+                power,
+            });
         }
     }
     vpls
@@ -172,7 +200,13 @@ pub fn solve(mesh: &Mesh, opts: &InstantOptions) -> InstantResult {
                 }
             }
             let em = mesh.emission(i);
-            (std::array::from_fn(|c| em[c] + rho[c] * irr[c]), clamped, count, lost, got)
+            (
+                std::array::from_fn(|c| em[c] + rho[c] * irr[c]),
+                clamped,
+                count,
+                lost,
+                got,
+            )
         })
         .collect();
     let clamped: usize = per.iter().map(|p| p.1).sum();
@@ -182,7 +216,11 @@ pub fn solve(mesh: &Mesh, opts: &InstantOptions) -> InstantResult {
     InstantResult {
         b: per.into_iter().map(|p| p.0).collect(),
         vpls,
-        clamped_fraction: if count > 0 { clamped as f64 / count as f64 } else { 0.0 },
+        clamped_fraction: if count > 0 {
+            clamped as f64 / count as f64
+        } else {
+            0.0
+        },
         clamped_energy: if got > 0.0 { lost / got } else { 0.0 },
     }
 }

@@ -77,7 +77,11 @@ impl Report {
         self.solution.display.as_deref().unwrap_or(&self.solution.b)
     }
     pub fn display_mesh(&self) -> DisplayMesh {
-        crate::display::display_mesh(&self.mesh.elements, self.display_radiosity(), self.mesh.scale())
+        crate::display::display_mesh(
+            &self.mesh.elements,
+            self.display_radiosity(),
+            self.mesh.scale(),
+        )
     }
     /// Area-weighted mean radiosity of each input polygon (by `PatchSpec` index).
     pub fn surface_means(&self, specs: usize) -> Vec<[f64; 3]> {
@@ -90,7 +94,10 @@ impl Report {
             }
             area[s] += e.area;
         }
-        sum.iter().zip(&area).map(|(s, a)| std::array::from_fn(|c| s[c] / a.max(1e-300))).collect()
+        sum.iter()
+            .zip(&area)
+            .map(|(s, a)| std::array::from_fn(|c| s[c] / a.max(1e-300)))
+            .collect()
     }
 }
 
@@ -112,7 +119,16 @@ pub fn run(specs: &[PatchSpec], cfg: &Config, progress: &dyn Progress) -> Result
         let t = Instant::now();
         progress.phase("hierarchical radiosity (links, form factors, solve)", 0);
         let r = hierarchical::solve(&mesh, h, None)?;
-        timings.push(("hierarchical: links + form factors + solve".to_string(), t.elapsed()));
+        let total = t.elapsed();
+        timings.push((
+            "hierarchical: links (oracle, form factors, shadow rays)".to_string(),
+            r.link_time,
+        ));
+        timings.push(("hierarchical: gather + push-pull".to_string(), r.solve_time));
+        timings.push((
+            "hierarchical: tree and leaves".to_string(),
+            total.saturating_sub(r.link_time + r.solve_time),
+        ));
         notes.extend(r.solution.notes.iter().cloned());
         let hist = r.solution.history.clone();
         return Ok(Report {
@@ -130,7 +146,10 @@ pub fn run(specs: &[PatchSpec], cfg: &Config, progress: &dyn Progress) -> Result
     loop {
         let t = Instant::now();
         let n = mesh.len();
-        progress.phase(&format!("form factors ({}, {} elements)", method.name(), n), n as u64);
+        progress.phase(
+            &format!("form factors ({}, {} elements)", method.name(), n),
+            n as u64,
+        );
         let cb = |d: usize| progress.set(d as u64);
         let ff = method.compute(&mesh, Some(&cb))?;
         timings.push((format!("form factors ({})", method.name()), t.elapsed()));
@@ -146,7 +165,10 @@ pub fn run(specs: &[PatchSpec], cfg: &Config, progress: &dyn Progress) -> Result
         let mut histories = vec![(cfg.solver.name().to_string(), solution.history.clone())];
         if cfg.compare_solvers {
             for k in SolverKind::ALL {
-                if k == cfg.solver || k == SolverKind::Hierarchical || (k == SolverKind::Direct && n > 3000) {
+                if k == cfg.solver
+                    || k == SolverKind::Hierarchical
+                    || (k == SolverKind::Direct && n > 3000)
+                {
                     continue;
                 }
                 let t = Instant::now();
@@ -157,11 +179,16 @@ pub fn run(specs: &[PatchSpec], cfg: &Config, progress: &dyn Progress) -> Result
         }
         if round < cfg.adaptive_rounds {
             let t = Instant::now();
-            let min_area = cfg.mesh.max_element_area.unwrap_or(f64::INFINITY) / 64.0;
+            // Elements may shrink to 1/64 of the requested size (three splits).
+            let min_area = cfg.mesh.max_element_area.unwrap_or(mesh.total_area()) / 64.0;
             let (refined, split) =
-                crate::mesh::adaptive::refine(&mesh, &solution.b, cfg.adaptive_tolerance, min_area.min(mesh.total_area() * 1e-6).max(min_area.min(1e300)));
+                crate::mesh::adaptive::refine(&mesh, &solution.b, cfg.adaptive_tolerance, min_area);
             timings.push(("adaptive subdivision".to_string(), t.elapsed()));
-            notes.push(format!("adaptive round {}: split {split} of {} elements", round + 1, mesh.len()));
+            notes.push(format!(
+                "adaptive round {}: split {split} of {} elements",
+                round + 1,
+                mesh.len()
+            ));
             round += 1;
             if split > 0 && refined.len() <= cfg.mesh.max_elements {
                 mesh = refined;

@@ -19,8 +19,17 @@ use std::f64::consts::PI;
 pub fn patches_from_scene(scene: &Scene, detail: u32) -> Result<(Vec<PatchSpec>, Vec<String>)> {
     let mut out = Vec::new();
     let mut warnings = Vec::new();
-    let src = scene.source.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| "scene".into());
-    for (oi, (obj, inst)) in scene.objects.iter().zip(scene.accel.instances()).enumerate() {
+    let src = scene
+        .source
+        .as_ref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_else(|| "scene".into());
+    for (oi, (obj, inst)) in scene
+        .objects
+        .iter()
+        .zip(scene.accel.instances())
+        .enumerate()
+    {
         let Some(f) = inst.shape.facets(detail) else {
             warnings.push(format!(
                 "{src}: object {oi} ('{}', a {}) cannot be cut into polygons (unbounded?); radiosity ignores it",
@@ -30,7 +39,10 @@ pub fn patches_from_scene(scene: &Scene, detail: u32) -> Result<(Vec<PatchSpec>,
             continue;
         };
         let m = scene.materials.get(obj.material as usize).ok_or_else(|| {
-            RadiosityError::Input(format!("{src}: object {oi} ('{}') has no material {}", obj.name, obj.material))
+            RadiosityError::Input(format!(
+                "{src}: object {oi} ('{}') has no material {}",
+                obj.name, obj.material
+            ))
         })?;
         let colour = match &m.color {
             Texture::Solid(c) => *c,
@@ -41,7 +53,11 @@ pub fn patches_from_scene(scene: &Scene, detail: u32) -> Result<(Vec<PatchSpec>,
             (colour.g * m.diffuse) as f64,
             (colour.b * m.diffuse) as f64,
         ];
-        let e = [m.emission.r as f64 * PI, m.emission.g as f64 * PI, m.emission.b as f64 * PI];
+        let e = [
+            m.emission.r as f64 * PI,
+            m.emission.g as f64 * PI,
+            m.emission.b as f64 * PI,
+        ];
         let to_world = inst.to_world();
         for (fi, face) in f.faces.iter().enumerate() {
             let corners: Vec<DVec3> = face

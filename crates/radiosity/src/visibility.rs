@@ -64,13 +64,18 @@ impl Shape for PolygonShape {
         Aabb::from_points(self.v[..self.n as usize].iter().copied())
     }
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let t = self
-            .tri_hit(0, 1, 2, ray, t_max)
-            .or_else(|| if self.n == 4 { self.tri_hit(0, 2, 3, ray, t_max) } else { None })?;
+        let t = self.tri_hit(0, 1, 2, ray, t_max).or_else(|| {
+            if self.n == 4 {
+                self.tri_hit(0, 2, 3, ray, t_max)
+            } else {
+                None
+            }
+        })?;
         Some(Hit::new(t, ray.at(t), self.normal, Vec2::ZERO))
     }
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.tri_hit(0, 1, 2, ray, t_max).is_some() || (self.n == 4 && self.tri_hit(0, 2, 3, ray, t_max).is_some())
+        self.tri_hit(0, 1, 2, ray, t_max).is_some()
+            || (self.n == 4 && self.tri_hit(0, 2, 3, ray, t_max).is_some())
     }
     fn is_solid(&self) -> bool {
         false

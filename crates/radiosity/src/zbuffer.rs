@@ -47,7 +47,11 @@ impl ItemBuffer {
         if area == 0.0 || !area.is_finite() {
             return;
         }
-        let (b, c, area) = if area < 0.0 { (c, b, -area) } else { (b, c, area) };
+        let (b, c, area) = if area < 0.0 {
+            (c, b, -area)
+        } else {
+            (b, c, area)
+        };
         let xmin = a[0].min(b[0]).min(c[0]).floor().max(0.0) as usize;
         let ymin = a[1].min(b[1]).min(c[1]).floor().max(0.0) as usize;
         let xmax = (a[0].max(b[0]).max(c[0]).ceil().min(self.width as f64)) as usize;
@@ -56,7 +60,15 @@ impl ItemBuffer {
             return;
         }
         let inv_area = 1.0 / area;
-        let edge = |p: [f64; 3], q: [f64; 3], x: f64, y: f64| (q[0] - p[0]) * (y - p[1]) - (q[1] - p[1]) * (x - p[0]);
+        // Evaluated in a canonical vertex order so that the two triangles sharing an
+        // edge get exactly opposite values: a pixel centre on the edge goes to one of them.
+        let edge = |p: [f64; 3], q: [f64; 3], x: f64, y: f64| {
+            if (p[0], p[1]) > (q[0], q[1]) {
+                -((p[0] - q[0]) * (y - q[1]) - (p[1] - q[1]) * (x - q[0]))
+            } else {
+                (q[0] - p[0]) * (y - p[1]) - (q[1] - p[1]) * (x - p[0])
+            }
+        };
         for y in ymin..ymax {
             let py = y as f64 + 0.5;
             for x in xmin..xmax {

@@ -105,9 +105,18 @@ fn closed(name: &str, params: &[(&str, f64)]) -> f64 {
 
 fn check(name: &str, params: &[(&str, f64)], numeric: f64) {
     let c = closed(name, params);
-    println!("{name}: closed form {c:.10}, numerical {numeric:.10}, difference {:.2e}", (c - numeric).abs());
-    assert!((c - numeric).abs() < 1e-5, "{name}: closed form {c} but the integral is {numeric}");
-    assert!(numeric > 1e-4, "{name}: pick parameters with a form factor that can be told apart from 0");
+    println!(
+        "{name}: closed form {c:.10}, numerical {numeric:.10}, difference {:.2e}",
+        (c - numeric).abs()
+    );
+    assert!(
+        (c - numeric).abs() < 1e-5,
+        "{name}: closed form {c} but the integral is {numeric}"
+    );
+    assert!(
+        numeric > 1e-4,
+        "{name}: pick parameters with a form factor that can be told apart from 0"
+    );
 }
 
 #[test]
@@ -118,25 +127,47 @@ fn strip_to_strip() {
     let n2 = -dir;
     let width2 = r * dphi;
     let f = integrate(
-        &|z1| integrate(&|z2| kernel(DVec3::new(0.0, 0.0, z1), n1, dir * r + DVec3::Z * z2, n2), 0.0, b, TOL),
+        &|z1| {
+            integrate(
+                &|z2| kernel(DVec3::new(0.0, 0.0, z1), n1, dir * r + DVec3::Z * z2, n2),
+                0.0,
+                b,
+                TOL,
+            )
+        },
         0.0,
         b,
         TOL,
     ) * width2
         / b;
-    check("strip-to-strip", &[("b", b), ("r", r), ("phi", phi), ("dphi", dphi)], f);
+    check(
+        "strip-to-strip",
+        &[("b", b), ("r", r), ("phi", phi), ("dphi", dphi)],
+        f,
+    );
 }
 
 #[test]
 fn element_parallel_rectangle() {
     let (a, b, c) = (1.2, 0.7, 0.9);
     let f = integrate(
-        &|x| integrate(&|y| kernel(DVec3::ZERO, DVec3::Z, DVec3::new(x, y, c), -DVec3::Z), 0.0, b, TOL),
+        &|x| {
+            integrate(
+                &|y| kernel(DVec3::ZERO, DVec3::Z, DVec3::new(x, y, c), -DVec3::Z),
+                0.0,
+                b,
+                TOL,
+            )
+        },
         0.0,
         a,
         TOL,
     );
-    check("element-parallel-rectangle", &[("a", a), ("b", b), ("c", c)], f);
+    check(
+        "element-parallel-rectangle",
+        &[("a", a), ("b", b), ("c", c)],
+        f,
+    );
 }
 
 #[test]
@@ -145,7 +176,21 @@ fn strip_parallel_rectangle() {
     let f = integrate(
         &|y0| {
             integrate(
-                &|x| integrate(&|y| kernel(DVec3::new(0.0, y0, 0.0), DVec3::Z, DVec3::new(x, y, c), -DVec3::Z), 0.0, b, 1e-9),
+                &|x| {
+                    integrate(
+                        &|y| {
+                            kernel(
+                                DVec3::new(0.0, y0, 0.0),
+                                DVec3::Z,
+                                DVec3::new(x, y, c),
+                                -DVec3::Z,
+                            )
+                        },
+                        0.0,
+                        b,
+                        1e-9,
+                    )
+                },
                 0.0,
                 a,
                 1e-9,
@@ -155,46 +200,82 @@ fn strip_parallel_rectangle() {
         b,
         1e-9,
     ) / b;
-    check("strip-parallel-rectangle", &[("a", a), ("b", b), ("c", c)], f);
+    check(
+        "strip-parallel-rectangle",
+        &[("a", a), ("b", b), ("c", c)],
+        f,
+    );
 }
 
 #[test]
 fn element_perpendicular_rectangle() {
     let (a, b, c) = (0.7, 1.3, 0.9);
     let f = integrate(
-        &|x| integrate(&|z| kernel(DVec3::ZERO, DVec3::Z, DVec3::new(x, c, z), -DVec3::Y), 0.0, a, TOL),
+        &|x| {
+            integrate(
+                &|z| kernel(DVec3::ZERO, DVec3::Z, DVec3::new(x, c, z), -DVec3::Y),
+                0.0,
+                a,
+                TOL,
+            )
+        },
         0.0,
         b,
         TOL,
     );
-    check("element-perpendicular-rectangle", &[("a", a), ("b", b), ("c", c)], f);
+    check(
+        "element-perpendicular-rectangle",
+        &[("a", a), ("b", b), ("c", c)],
+        f,
+    );
 }
 
 #[test]
 fn perpendicular_rectangles() {
-    let (h, l, w) = (0.8, 1.0, 0.6);
-    // ∫_0^l ∫_0^l g(y2 − y1) dy1 dy2 = 2 ∫_0^l (l − u) g(u) du (g is even).
-    let f = integrate(
-        &|x1| {
-            integrate(
-                &|z2| {
-                    2.0 * integrate(
-                        &|u| (l - u) * kernel(DVec3::new(x1, 0.0, 0.0), DVec3::Z, DVec3::new(0.0, u, z2), DVec3::X),
-                        0.0,
-                        l,
-                        1e-9,
+    let (h, l, w): (f64, f64, f64) = (0.8, 1.0, 0.6);
+    // ∫_0^l ∫_0^l g(y2 − y1) dy1 dy2 = 2 ∫_0^l (l − u) g(u) du (g is even), and the
+    // (x1, z2) quarter plane in polar coordinates (x1 = ρ cos α, z2 = ρ sin α), which
+    // takes the 1/ρ singularity at the common edge into the Jacobian. The polar domain
+    // of the rectangle [0,w] x [0,h] splits at the diagonal angle.
+    let g = |x1: f64, z2: f64| {
+        2.0 * integrate(
+            &|u| {
+                (l - u)
+                    * kernel(
+                        DVec3::new(x1, 0.0, 0.0),
+                        DVec3::Z,
+                        DVec3::new(0.0, u, z2),
+                        DVec3::X,
                     )
-                },
-                0.0,
-                h,
-                1e-9,
-            )
-        },
-        0.0,
-        w,
-        1e-9,
-    ) / (w * l);
-    check("perpendicular-rectangles", &[("h", h), ("l", l), ("w", w)], f);
+            },
+            0.0,
+            l,
+            1e-10,
+        )
+    };
+    let diag = h.atan2(w);
+    let part = |a0: f64, a1: f64, rmax: &dyn Fn(f64) -> f64| {
+        integrate(
+            &|a| {
+                integrate(
+                    &|rho| rho * g(rho * a.cos(), rho * a.sin()),
+                    0.0,
+                    rmax(a),
+                    1e-9,
+                )
+            },
+            a0,
+            a1,
+            1e-8,
+        )
+    };
+    let f = (part(0.0, diag, &|a: f64| w / a.cos()) + part(diag, PI / 2.0, &|a: f64| h / a.sin()))
+        / (w * l);
+    check(
+        "perpendicular-rectangles",
+        &[("h", h), ("l", l), ("w", w)],
+        f,
+    );
 }
 
 #[test]
@@ -222,14 +303,33 @@ fn three_plane_enclosure() {
         a1,
         TOL,
     ) / a1;
-    check("three-plane-enclosure", &[("a1", a1), ("a2", a2), ("a3", a3)], f);
+    check(
+        "three-plane-enclosure",
+        &[("a1", a1), ("a2", a2), ("a3", a3)],
+        f,
+    );
 }
 
-fn disk_integral(centre: DVec3, u: DVec3, v: DVec3, normal: DVec3, r: f64, from: DVec3, from_n: DVec3) -> f64 {
+fn disk_integral(
+    centre: DVec3,
+    u: DVec3,
+    v: DVec3,
+    normal: DVec3,
+    r: f64,
+    from: DVec3,
+    from_n: DVec3,
+) -> f64 {
     integrate(
         &|rho| {
             integrate(
-                &|t| rho * kernel(from, from_n, centre + u * (rho * t.cos()) + v * (rho * t.sin()), normal),
+                &|t| {
+                    rho * kernel(
+                        from,
+                        from_n,
+                        centre + u * (rho * t.cos()) + v * (rho * t.sin()),
+                        normal,
+                    )
+                },
                 0.0,
                 2.0 * PI,
                 TOL,
@@ -244,22 +344,50 @@ fn disk_integral(centre: DVec3, u: DVec3, v: DVec3, normal: DVec3, r: f64, from:
 #[test]
 fn element_coaxial_disk() {
     let (h, r) = (0.8, 0.5);
-    let f = disk_integral(DVec3::new(0.0, 0.0, h), DVec3::X, DVec3::Y, -DVec3::Z, r, DVec3::ZERO, DVec3::Z);
+    let f = disk_integral(
+        DVec3::new(0.0, 0.0, h),
+        DVec3::X,
+        DVec3::Y,
+        -DVec3::Z,
+        r,
+        DVec3::ZERO,
+        DVec3::Z,
+    );
     check("element-coaxial-disk", &[("h", h), ("r", r)], f);
 }
 
 #[test]
 fn element_offset_disk() {
     let (h, r, a) = (0.7, 0.4, 0.9);
-    let f = disk_integral(DVec3::new(a, 0.0, h), DVec3::X, DVec3::Y, -DVec3::Z, r, DVec3::ZERO, DVec3::Z);
+    let f = disk_integral(
+        DVec3::new(a, 0.0, h),
+        DVec3::X,
+        DVec3::Y,
+        -DVec3::Z,
+        r,
+        DVec3::ZERO,
+        DVec3::Z,
+    );
     check("element-offset-disk", &[("h", h), ("r", r), ("a", a)], f);
 }
 
 #[test]
 fn element_perpendicular_disk() {
     let (h, r, l) = (0.8, 0.5, 1.1);
-    let f = disk_integral(DVec3::new(h, 0.0, l), DVec3::Y, DVec3::Z, -DVec3::X, r, DVec3::ZERO, DVec3::Z);
-    check("element-perpendicular-disk", &[("h", h), ("r", r), ("l", l)], f);
+    let f = disk_integral(
+        DVec3::new(h, 0.0, l),
+        DVec3::Y,
+        DVec3::Z,
+        -DVec3::X,
+        r,
+        DVec3::ZERO,
+        DVec3::Z,
+    );
+    check(
+        "element-perpendicular-disk",
+        &[("h", h), ("r", r), ("l", l)],
+        f,
+    );
 }
 
 #[test]
@@ -268,7 +396,16 @@ fn element_elliptical_plate() {
     let f = integrate(
         &|rho| {
             integrate(
-                &|t| a * b * rho * kernel(DVec3::ZERO, DVec3::Z, DVec3::new(a * rho * t.cos(), b * rho * t.sin(), h), -DVec3::Z),
+                &|t| {
+                    a * b
+                        * rho
+                        * kernel(
+                            DVec3::ZERO,
+                            DVec3::Z,
+                            DVec3::new(a * rho * t.cos(), b * rho * t.sin(), h),
+                            -DVec3::Z,
+                        )
+                },
                 0.0,
                 2.0 * PI,
                 TOL,
@@ -278,7 +415,11 @@ fn element_elliptical_plate() {
         1.0,
         TOL,
     );
-    check("element-elliptical-plate", &[("a", a), ("b", b), ("h", h)], f);
+    check(
+        "element-elliptical-plate",
+        &[("a", a), ("b", b), ("h", h)],
+        f,
+    );
 }
 
 #[test]
@@ -293,7 +434,12 @@ fn strip_cylinder() {
     // kernel2 wants the receiver's normal pointing back at the sender: the outward one.
     let g = |psi: f64| {
         let n = [psi.cos(), psi.sin()];
-        r * kernel2([0.0, 0.0], [0.0, 1.0], [c[0] + r * n[0], c[1] + r * n[1]], n)
+        r * kernel2(
+            [0.0, 0.0],
+            [0.0, 1.0],
+            [c[0] + r * n[0], c[1] + r * n[1]],
+            n,
+        )
     };
     // The visible arc faces the strip: its outward normal points towards the origin.
     let f = integrate(&g, toward - half, toward + half, TOL);
@@ -307,7 +453,15 @@ fn coaxial_disks() {
         &|rho1| {
             2.0 * PI
                 * rho1
-                * disk_integral(DVec3::new(0.0, 0.0, h), DVec3::X, DVec3::Y, -DVec3::Z, r2, DVec3::new(rho1, 0.0, 0.0), DVec3::Z)
+                * disk_integral(
+                    DVec3::new(0.0, 0.0, h),
+                    DVec3::X,
+                    DVec3::Y,
+                    -DVec3::Z,
+                    r2,
+                    DVec3::new(rho1, 0.0, 0.0),
+                    DVec3::Z,
+                )
         },
         0.0,
         r1,
@@ -328,7 +482,9 @@ fn cylinder_element_plane() {
         &|alpha| {
             integrate(
                 &|beta| {
-                    let d = u * (alpha.sin() * beta.cos()) + v * (alpha.sin() * beta.sin()) + m * alpha.cos();
+                    let d = u * (alpha.sin() * beta.cos())
+                        + v * (alpha.sin() * beta.sin())
+                        + m * alpha.cos();
                     d.dot(n).max(0.0) * alpha.sin() / PI
                 },
                 0.0,
@@ -354,10 +510,17 @@ fn catalogue_covers_the_lecture() {
 #[test]
 fn bad_parameters_are_reported() {
     let c = analytic::find("coaxial-disks").unwrap();
-    let e = c.eval_named(&[("r1".into(), 1.0), ("h".into(), 1.0)]).unwrap_err();
+    let e = c
+        .eval_named(&[("r1".into(), 1.0), ("h".into(), 1.0)])
+        .unwrap_err();
     assert!(e.contains("--r2"), "{e}");
-    let e = c.eval_named(&[("r1".into(), -1.0), ("r2".into(), 1.0), ("h".into(), 1.0)]).unwrap_err();
+    let e = c
+        .eval_named(&[("r1".into(), -1.0), ("r2".into(), 1.0), ("h".into(), 1.0)])
+        .unwrap_err();
     assert!(e.contains("positive"), "{e}");
-    let e = analytic::find("three-plane-enclosure").unwrap().eval_named(&[("a1".into(), 1.0), ("a2".into(), 1.0), ("a3".into(), 3.0)]).unwrap_err();
+    let e = analytic::find("three-plane-enclosure")
+        .unwrap()
+        .eval_named(&[("a1".into(), 1.0), ("a2".into(), 1.0), ("a3".into(), 3.0)])
+        .unwrap_err();
     assert!(e.contains("triangle"), "{e}");
 }

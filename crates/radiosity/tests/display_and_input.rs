@@ -19,22 +19,43 @@ fn reflectance_at_or_above_one_is_an_error() {
     let e = Mesh::build(&s, MeshOptions::default()).unwrap_err();
     assert!(e.is_input());
     let m = e.to_string();
-    assert!(m.contains("left") && m.contains("green reflectance 1") && m.contains("below 1"), "{m}");
+    assert!(
+        m.contains("left") && m.contains("green reflectance 1") && m.contains("below 1"),
+        "{m}"
+    );
 }
 
 #[test]
 fn zero_area_patch_is_an_error() {
     let mut s = scenes::closed_box(1.0, [0.5; 3], [1.0; 3]);
-    s.push(spec("sliver", &[DVec3::ZERO, DVec3::X, DVec3::X * 2.0], [0.5; 3], [0.0; 3]));
-    let m = Mesh::build(&s, MeshOptions::default()).unwrap_err().to_string();
+    s.push(spec(
+        "sliver",
+        &[DVec3::ZERO, DVec3::X, DVec3::X * 2.0],
+        [0.5; 3],
+        [0.0; 3],
+    ));
+    let m = Mesh::build(&s, MeshOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(m.contains("sliver") && m.contains("zero area"), "{m}");
 }
 
 #[test]
 fn too_many_elements_is_an_error_before_allocating() {
     let s = scenes::cornell_measured();
-    let m = Mesh::build(&s, MeshOptions { max_element_area: Some(1e-6), max_elements: 1_000_000 }).unwrap_err().to_string();
-    assert!(m.contains("--max-element-area") && m.contains("limit"), "{m}");
+    let m = Mesh::build(
+        &s,
+        MeshOptions {
+            max_element_area: Some(1e-6),
+            max_elements: 1_000_000,
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        m.contains("--max-element-area") && m.contains("limit"),
+        "{m}"
+    );
     let m = FormFactors::zeros(2_000_000).unwrap_err().to_string();
     assert!(m.contains("hierarchical"), "{m}");
 }
@@ -43,41 +64,95 @@ fn too_many_elements_is_an_error_before_allocating() {
 fn open_enclosure_warns_where_closure_is_assumed() {
     let s = scenes::cornell_empty();
     let cfg = Config {
-        mesh: MeshOptions { max_element_area: Some(200.0 * 200.0), ..Default::default() },
+        mesh: MeshOptions {
+            max_element_area: Some(200.0 * 200.0),
+            ..Default::default()
+        },
         method: Method::Hemicube,
-        params: Params { hemicube_resolution: 32, ..Default::default() },
+        params: Params {
+            hemicube_resolution: 32,
+            ..Default::default()
+        },
         solver: SolverKind::Southwell,
         ..Default::default()
     };
     let r = pipeline::run(&s, &cfg, &NoProgress).unwrap();
-    assert!(r.notes.iter().any(|n| n.contains("not closed")), "{:?}", r.notes);
+    assert!(
+        r.notes.iter().any(|n| n.contains("not closed")),
+        "{:?}",
+        r.notes
+    );
     assert!(r.diagnostics.unwrap().row_sum_mean < 0.99);
 }
 
 #[test]
 fn no_emitter_is_an_error() {
     let s = scenes::closed_box(1.0, [0.5; 3], [0.0; 3]);
-    let m = Mesh::build(&s, MeshOptions::default()).unwrap_err().to_string();
+    let m = Mesh::build(&s, MeshOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(m.contains("emits"), "{m}");
 }
 
 #[test]
 fn adaptive_mesh_displays_without_t_vertices() {
     let mesh = common::box_with_block(1.0 / 9.0);
-    let ff = formfactor::method(Method::Hemicube, Params { hemicube_resolution: 32, ..Default::default() }).compute(&mesh, None).unwrap();
-    let sol = SolverKind::GaussSeidel.matrix_solver().unwrap().solve(&System::new(&mesh, &ff), &SolveOptions::default()).unwrap();
+    let ff = formfactor::method(
+        Method::Hemicube,
+        Params {
+            hemicube_resolution: 32,
+            ..Default::default()
+        },
+    )
+    .compute(&mesh, None)
+    .unwrap();
+    let sol = SolverKind::GaussSeidel
+        .matrix_solver()
+        .unwrap()
+        .solve(&System::new(&mesh, &ff), &SolveOptions::default())
+        .unwrap();
     let (fine, split) = adaptive::refine(&mesh, &sol.b, 0.02, 0.0);
-    assert!(split > 0 && split < mesh.len(), "split {split} of {}", mesh.len());
+    assert!(
+        split > 0 && split < mesh.len(),
+        "split {split} of {}",
+        mesh.len()
+    );
     let b: Vec<[f64; 3]> = vec![[1.0; 3]; fine.len()];
     let d = irradia_radiosity::display::display_mesh(&fine.elements, &b, fine.scale());
+    if d.t_vertices() != 0 {
+        for t in &d.triangles {
+            for k in 0..3 {
+                let (a, b) = (
+                    d.positions[t[k] as usize],
+                    d.positions[t[(k + 1) % 3] as usize],
+                );
+                let m = 0.5 * (a + b);
+                if let Some(v) = d.positions.iter().position(|p| {
+                    (*p - m).length() < 1e-9
+                        && d.patch[t[k] as usize]
+                            == d.patch[d.positions.iter().position(|q| *q == *p).unwrap()]
+                }) {
+                    println!("edge {a} {b} has vertex {v} at its midpoint {m}");
+                }
+            }
+        }
+    }
     assert_eq!(d.t_vertices(), 0, "T-vertices left in the display mesh");
     // The triangles cover exactly the elements' area.
     let tri_area: f64 = d
         .triangles
         .iter()
-        .map(|t| 0.5 * (d.positions[t[1] as usize] - d.positions[t[0] as usize]).cross(d.positions[t[2] as usize] - d.positions[t[0] as usize]).length())
+        .map(|t| {
+            0.5 * (d.positions[t[1] as usize] - d.positions[t[0] as usize])
+                .cross(d.positions[t[2] as usize] - d.positions[t[0] as usize])
+                .length()
+        })
         .sum();
-    assert!((tri_area - fine.total_area()).abs() < 1e-9 * fine.total_area(), "{tri_area} vs {}", fine.total_area());
+    assert!(
+        (tri_area - fine.total_area()).abs() < 1e-9 * fine.total_area(),
+        "{tri_area} vs {}",
+        fine.total_area()
+    );
 }
 
 #[test]
@@ -107,7 +182,11 @@ fn furnace_image_and_ply() {
     let text = String::from_utf8_lossy(&bytes[..300]);
     assert!(text.starts_with("ply\nformat binary_little_endian 1.0"));
     assert!(text.contains(&format!("element vertex {}", d.positions.len())));
-    let header_end = bytes.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+    let header_end = bytes
+        .windows(11)
+        .position(|w| w == b"end_header\n")
+        .unwrap()
+        + 11;
     let expect = d.positions.len() * (6 * 4 + 3 + 3 * 4) + d.triangles.len() * 13;
     assert_eq!(bytes.len() - header_end, expect);
 }
@@ -115,20 +194,65 @@ fn furnace_image_and_ply() {
 #[test]
 fn instant_radiosity_matches_the_solution_and_measures_its_clamp() {
     let mesh = common::box_with_block(1.0 / 16.0);
-    let ff = formfactor::method(Method::Analytic, Params { visibility_samples: 16, ..Default::default() }).compute(&mesh, None).unwrap();
-    let direct = SolverKind::Direct.matrix_solver().unwrap().solve(&System::new(&mesh, &ff), &SolveOptions::default()).unwrap();
+    let ff = formfactor::method(
+        Method::Analytic,
+        Params {
+            visibility_samples: 16,
+            ..Default::default()
+        },
+    )
+    .compute(&mesh, None)
+    .unwrap();
+    let direct = SolverKind::Direct
+        .matrix_solver()
+        .unwrap()
+        .solve(&System::new(&mesh, &ff), &SolveOptions::default())
+        .unwrap();
     let total: f64 = mesh.total_area();
-    let mean = |b: &[[f64; 3]]| -> f64 { mesh.elements.iter().zip(b).map(|(e, c)| e.area * c[0]).sum::<f64>() / total };
-    let unclamped = instant::solve(&mesh, &InstantOptions { paths: 4096, clamp: None, max_bounces: 32 });
-    let clamped = instant::solve(&mesh, &InstantOptions { paths: 4096, clamp: Some(0.5), max_bounces: 32 });
+    let mean = |b: &[[f64; 3]]| -> f64 {
+        mesh.elements
+            .iter()
+            .zip(b)
+            .map(|(e, c)| e.area * c[0])
+            .sum::<f64>()
+            / total
+    };
+    let unclamped = instant::solve(
+        &mesh,
+        &InstantOptions {
+            paths: 4096,
+            clamp: None,
+            max_bounces: 32,
+        },
+    );
+    let clamped = instant::solve(
+        &mesh,
+        &InstantOptions {
+            paths: 4096,
+            clamp: Some(0.5),
+            max_bounces: 32,
+        },
+    );
     let (md, mu, mc) = (mean(&direct.b), mean(&unclamped.b), mean(&clamped.b));
+    let vpl_power: f64 = unclamped.vpls.iter().map(|v| v.power[0]).sum();
+    let irr_area: f64 = mesh
+        .elements
+        .iter()
+        .zip(&unclamped.b)
+        .enumerate()
+        .map(|(i, (e, b))| e.area * (b[0] - mesh.emission(i)[0]))
+        .sum();
+    println!("VPL power (red) {vpl_power:.4}; reflected power from instant b {irr_area:.4}");
     println!(
         "mean radiosity: direct {md:.4}, instant {mu:.4} ({} VPLs), clamped {mc:.4} (clamped {:.2}% of contributions, {:.2}% of the energy)",
         unclamped.vpls.len(),
         100.0 * clamped.clamped_fraction,
         100.0 * clamped.clamped_energy
     );
-    assert!((mu - md).abs() / md < 0.05, "instant radiosity mean {mu} vs {md}");
+    assert!(
+        (mu - md).abs() / md < 0.05,
+        "instant radiosity mean {mu} vs {md}"
+    );
     assert_eq!(unclamped.clamped_energy, 0.0);
     assert!(clamped.clamped_energy > 0.0 && clamped.clamped_energy < 0.5);
     assert!(mc < mu, "clamping removes energy");

@@ -63,15 +63,30 @@ pub fn faces(x: DVec3, cq: DVec3, nq: DVec3) -> bool {
 }
 
 /// Fraction of `k` x `k` Gauss points of `q` that `x` sees (1 when `k == 0`).
-pub fn visible_fraction(vis: Option<&Visibility>, x: DVec3, nx: DVec3, q: &Poly, nq: DVec3, k: usize) -> f64 {
+pub fn visible_fraction(
+    vis: Option<&Visibility>,
+    x: DVec3,
+    nx: DVec3,
+    q: &Poly,
+    nq: DVec3,
+    k: usize,
+) -> f64 {
     let Some(vis) = vis else { return 1.0 };
     if k == 0 {
         return 1.0;
     }
     let side = (k as f64).sqrt().ceil().max(1.0) as usize;
     let pts = q.gauss_points(side);
-    let seen = pts.iter().filter(|(p, _)| vis.visible(x, nx, *p, nq)).count();
-    seen as f64 / pts.len() as f64
+    // Points of q behind x's plane are cut off by the contour formula already.
+    let facing: Vec<_> = pts.iter().filter(|(p, _)| nx.dot(*p - x) > 0.0).collect();
+    if facing.is_empty() {
+        return 1.0;
+    }
+    let seen = facing
+        .iter()
+        .filter(|(p, _)| vis.visible(x, nx, *p, nq))
+        .count();
+    seen as f64 / facing.len() as f64
 }
 
 /// The contour formula at element centroids.
@@ -83,18 +98,32 @@ impl FormFactorMethod for Contour {
     fn name(&self) -> &'static str {
         "contour"
     }
-    fn compute(&self, mesh: &Mesh, progress: Option<&(dyn Fn(usize) + Sync)>) -> Result<FormFactors> {
+    fn compute(
+        &self,
+        mesh: &Mesh,
+        progress: Option<&(dyn Fn(usize) + Sync)>,
+    ) -> Result<FormFactors> {
         let vis = (self.visibility_samples > 0).then(|| Visibility::new(mesh));
         let els = &mesh.elements;
         FormFactors::compute_rows(els.len(), progress, |i, row| {
             let ei = &els[i];
             for (j, ej) in els.iter().enumerate() {
-                if i == j || !faces(ei.centroid, ej.centroid, ej.normal) || !faces(ej.centroid, ei.centroid, ei.normal) {
+                if i == j
+                    || !faces(ei.centroid, ej.centroid, ej.normal)
+                    || !faces(ej.centroid, ei.centroid, ei.normal)
+                {
                     continue;
                 }
                 let f = point_to_polygon(ei.centroid, ei.normal, ej.poly.verts());
                 if f > 0.0 {
-                    row[j] = f * visible_fraction(vis.as_ref(), ei.centroid, ei.normal, &ej.poly, ej.normal, self.visibility_samples);
+                    row[j] = f * visible_fraction(
+                        vis.as_ref(),
+                        ei.centroid,
+                        ei.normal,
+                        &ej.poly,
+                        ej.normal,
+                        self.visibility_samples,
+                    );
                 }
             }
         })

@@ -8,7 +8,8 @@
 //!
 //! to the element it shows. The table is normalised to sum to 1, so rows of a closed
 //! enclosure sum to 1 exactly. Occlusion is the z-buffer's. Elements seen from behind
-//! are not drawn (closed solids hide their back faces).
+//! are drawn as occluders that pass no light (the floor under a block with no bottom
+//! sees the block's inside and receives nothing).
 
 use super::{FormFactorMethod, FormFactors};
 use crate::error::{RadiosityError, Result};
@@ -16,6 +17,9 @@ use crate::mesh::Mesh;
 use crate::zbuffer::{ItemBuffer, NO_ITEM};
 use glam::DVec3;
 use std::f64::consts::PI;
+
+/// Item id of back faces: they occlude but contribute nothing.
+const BACK_FACE: u32 = u32::MAX - 1;
 
 pub struct Hemicube {
     /// Pixels across the top face (sides are `resolution x resolution/2`).
@@ -48,7 +52,11 @@ impl Hemicube {
         let total: f64 = top.iter().sum::<f64>() + 4.0 * side.iter().sum::<f64>();
         top.iter_mut().for_each(|v| *v /= total);
         side.iter_mut().for_each(|v| *v /= total);
-        Self { resolution: r, top, side }
+        Self {
+            resolution: r,
+            top,
+            side,
+        }
     }
 
     /// The delta form factors summed before normalisation differ from 1 by the
@@ -58,10 +66,19 @@ impl Hemicube {
     }
 
     /// One row of the matrix: form factors from element `i` to all others.
-    pub fn row(&self, mesh: &Mesh, i: usize, row: &mut [f64], buf: &mut ItemBuffer, buf_side: &mut ItemBuffer) {
+    pub fn row(
+        &self,
+        mesh: &Mesh,
+        i: usize,
+        row: &mut [f64],
+        buf: &mut ItemBuffer,
+        buf_side: &mut ItemBuffer,
+    ) {
         let e = &mesh.elements[i];
         let n = e.normal;
-        let s = if n.x.abs() > 0.9 { DVec3::Y } else { DVec3::X }.cross(n).normalize();
+        let s = if n.x.abs() > 0.9 { DVec3::Y } else { DVec3::X }
+            .cross(n)
+            .normalize();
         let t = n.cross(s);
         let c = e.centroid;
         let near = 1e-9 * mesh.scale();
@@ -77,13 +94,21 @@ impl Hemicube {
         let mut cam: Vec<DVec3> = Vec::with_capacity(8);
         let mut clipped: Vec<DVec3> = Vec::with_capacity(8);
         let mut screen: Vec<[f64; 3]> = Vec::with_capacity(8);
+        let mut scratch: Vec<DVec3> = Vec::with_capacity(12);
         for (fi, &(right, up, fwd, is_top)) in faces.iter().enumerate() {
             let b = if is_top { &mut *buf } else { &mut *buf_side };
             b.clear();
             for (j, ej) in mesh.elements.iter().enumerate() {
-                if j == i || ej.normal.dot(c - ej.centroid) <= 0.0 {
+                if j == i {
                     continue;
                 }
+                // An element seen from behind (the inside of a block without a bottom,
+                // a one-sided wall) still hides what lies beyond it but passes no light.
+                let item = if ej.normal.dot(c - ej.centroid) > 0.0 {
+                    j as u32
+                } else {
+                    BACK_FACE
+                };
                 cam.clear();
                 cam.extend(ej.poly.verts().iter().map(|v| {
                     let d = *v - c;
@@ -92,31 +117,66 @@ impl Hemicube {
                 if cam.iter().all(|p| p.z < near) {
                     continue;
                 }
+                // Clip to the face's frustum: |x| <= z and -z <= y <= z on the top face,
+                // 0 <= y <= z on a side face (its lower half lies below the horizon).
+                // The planes pass through the eye, so the projected polygon stays inside
+                // [-1, 1]² and shared edges of neighbours project consistently.
                 clipped.clear();
-                for k in 0..cam.len() {
-                    let (a, bb) = (cam[k], cam[(k + 1) % cam.len()]);
-                    if a.z >= near {
-                        clipped.push(a);
+                clipped.extend_from_slice(&cam);
+                let planes: [DVec3; 4] = [
+                    DVec3::new(-1.0, 0.0, 1.0),
+                    DVec3::new(1.0, 0.0, 1.0),
+                    DVec3::new(0.0, -1.0, 1.0),
+                    if is_top {
+                        DVec3::new(0.0, 1.0, 1.0)
+                    } else {
+                        DVec3::new(0.0, 1.0, 0.0)
+                    },
+                ];
+                for pl in planes {
+                    clip_plane(&clipped, pl, &mut scratch);
+                    std::mem::swap(&mut clipped, &mut scratch);
+                    if clipped.len() < 3 {
+                        break;
                     }
-                    if (a.z >= near) != (bb.z >= near) {
-                        let tt = (near - a.z) / (bb.z - a.z);
-                        clipped.push(a + (bb - a) * tt);
-                    }
+                }
+                clipped.retain(|p| p.z >= near);
+                if clipped.len() < 3 {
+                    continue;
                 }
                 screen.clear();
                 for p in &clipped {
                     let (u, v) = (p.x / p.z, p.y / p.z);
-                    let py = if is_top { (v + 1.0) * 0.5 * r } else { v * 0.5 * r };
+                    let py = if is_top {
+                        (v + 1.0) * 0.5 * r
+                    } else {
+                        v * 0.5 * r
+                    };
                     screen.push([(u + 1.0) * 0.5 * r, py, 1.0 / p.z]);
                 }
-                b.draw(&screen, j as u32);
+                b.draw(&screen, item);
             }
             let table = if fi == 0 { &self.top } else { &self.side };
             for (k, &it) in b.item.iter().enumerate() {
-                if it != NO_ITEM {
+                if it != NO_ITEM && it != BACK_FACE {
                     row[it as usize] += table[k];
                 }
             }
+        }
+    }
+}
+
+/// Sutherland-Hodgman clip of a loop to `plane · p >= 0`.
+fn clip_plane(poly: &[DVec3], plane: DVec3, out: &mut Vec<DVec3>) {
+    out.clear();
+    for k in 0..poly.len() {
+        let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+        let (da, db) = (plane.dot(a), plane.dot(b));
+        if da >= 0.0 {
+            out.push(a);
+        }
+        if (da >= 0.0) != (db >= 0.0) {
+            out.push(a + (b - a) * (da / (da - db)));
         }
     }
 }
@@ -125,7 +185,11 @@ impl FormFactorMethod for Hemicube {
     fn name(&self) -> &'static str {
         "hemicube"
     }
-    fn compute(&self, mesh: &Mesh, progress: Option<&(dyn Fn(usize) + Sync)>) -> Result<FormFactors> {
+    fn compute(
+        &self,
+        mesh: &Mesh,
+        progress: Option<&(dyn Fn(usize) + Sync)>,
+    ) -> Result<FormFactors> {
         if self.resolution > 8192 {
             return Err(RadiosityError::Input(format!(
                 "--hemicube-resolution {} is too large (at most 8192)",

@@ -34,22 +34,36 @@ impl FormFactorMethod for Hemisphere {
     fn name(&self) -> &'static str {
         "hemisphere"
     }
-    fn compute(&self, mesh: &Mesh, progress: Option<&(dyn Fn(usize) + Sync)>) -> Result<FormFactors> {
+    fn compute(
+        &self,
+        mesh: &Mesh,
+        progress: Option<&(dyn Fn(usize) + Sync)>,
+    ) -> Result<FormFactors> {
         let tracer = ElementTracer::new(mesh);
         let k = self.resolution.max(1);
         let w = 1.0 / (k * k) as f64;
         FormFactors::compute_rows(mesh.len(), progress, |i, row| {
             let e = &mesh.elements[i];
             let n = e.normal;
-            let s = if n.x.abs() > 0.9 { DVec3::Y } else { DVec3::X }.cross(n).normalize();
+            let s = if n.x.abs() > 0.9 { DVec3::Y } else { DVec3::X }
+                .cross(n)
+                .normalize();
             let t = n.cross(s);
             for a in 0..k {
                 for b in 0..k {
-                    let (x, y) = concentric_disk((a as f64 + 0.5) / k as f64, (b as f64 + 0.5) / k as f64);
+                    let (x, y) =
+                        concentric_disk((a as f64 + 0.5) / k as f64, (b as f64 + 0.5) / k as f64);
                     let z = (1.0 - x * x - y * y).max(0.0).sqrt();
                     let dir = s * x + t * y + n * z;
-                    if let Some(j) = tracer.nearest(e.centroid, n, dir) {
-                        if j != i {
+                    // A ray that slips through the crack between two polygons (f32
+                    // edges are not watertight across instances) is tried again with a
+                    // direction nudged by 1e-6.
+                    let hit = tracer
+                        .nearest(e.centroid, n, dir)
+                        .or_else(|| tracer.nearest(e.centroid, n, dir + (s + t * 0.7) * 1e-6));
+                    if let Some(j) = hit {
+                        // Back faces block the ray but pass no light.
+                        if j != i && mesh.elements[j].normal.dot(dir) < 0.0 {
                             row[j] += w;
                         }
                     }

@@ -128,7 +128,8 @@ impl FormFactors {
         Diagnostics {
             row_sum_min: sums.iter().copied().fold(f64::INFINITY, f64::min),
             row_sum_max: sums.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-            row_sum_mean: sums.iter().zip(&area).map(|(s, a)| s * a).sum::<f64>() / total.max(1e-300),
+            row_sum_mean: sums.iter().zip(&area).map(|(s, a)| s * a).sum::<f64>()
+                / total.max(1e-300),
             reciprocity_relative: if den > 0.0 { num / den } else { 0.0 },
             reciprocity_max: mx,
         }
@@ -207,7 +208,11 @@ impl Default for Params {
 pub trait FormFactorMethod: Sync {
     fn name(&self) -> &'static str;
     /// The full matrix for the mesh's elements, with occlusion where the method has it.
-    fn compute(&self, mesh: &Mesh, progress: Option<&(dyn Fn(usize) + Sync)>) -> Result<FormFactors>;
+    fn compute(
+        &self,
+        mesh: &Mesh,
+        progress: Option<&(dyn Fn(usize) + Sync)>,
+    ) -> Result<FormFactors>;
 }
 
 /// The method object for a method name and parameters.
@@ -224,7 +229,10 @@ pub fn method(m: Method, p: Params) -> Box<dyn FormFactorMethod> {
             resolution: p.hemisphere_resolution,
         }),
         Method::Hemicube => Box::new(hemicube::Hemicube::new(p.hemicube_resolution)),
-        Method::RayCast => Box::new(raycast::RayCast { rays: p.rays, seed: p.seed }),
+        Method::RayCast => Box::new(raycast::RayCast {
+            rays: p.rays,
+            seed: p.seed,
+        }),
         Method::MonteCarlo => Box::new(montecarlo::MonteCarlo {
             samples: p.samples,
             seed: p.seed,

@@ -28,7 +28,11 @@ impl FormFactorMethod for MonteCarlo {
     fn name(&self) -> &'static str {
         "montecarlo"
     }
-    fn compute(&self, mesh: &Mesh, progress: Option<&(dyn Fn(usize) + Sync)>) -> Result<FormFactors> {
+    fn compute(
+        &self,
+        mesh: &Mesh,
+        progress: Option<&(dyn Fn(usize) + Sync)>,
+    ) -> Result<FormFactors> {
         let vis = Visibility::new(mesh);
         let els = &mesh.elements;
         let n = els.len();
@@ -42,7 +46,10 @@ impl FormFactorMethod for MonteCarlo {
                 let disk = (ei.area * ej.area).sqrt() / k as f64;
                 for s in 0..k {
                     let (cx, cy) = (s % side, (s / side) % side);
-                    let x = ei.poly.sample((cx as f64 + rng.next_f64()) / side as f64, (cy as f64 + rng.next_f64()) / side as f64);
+                    let x = ei.poly.sample(
+                        (cx as f64 + rng.next_f64()) / side as f64,
+                        (cy as f64 + rng.next_f64()) / side as f64,
+                    );
                     let y = ej.poly.sample(rng.next_f64(), rng.next_f64());
                     let d = y - x;
                     let r2 = d.length_squared();

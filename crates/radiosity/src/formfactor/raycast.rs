@@ -15,6 +15,8 @@
 
 use super::{FormFactorMethod, FormFactors};
 use crate::error::Result;
+use crate::formfactor::contour::{faces, point_to_polygon};
+use crate::mesh::subdivide::subdivide;
 use crate::mesh::Mesh;
 use crate::visibility::Visibility;
 use irradia_core::sampling::hash64;
@@ -29,7 +31,11 @@ impl FormFactorMethod for RayCast {
     fn name(&self) -> &'static str {
         "raycast"
     }
-    fn compute(&self, mesh: &Mesh, progress: Option<&(dyn Fn(usize) + Sync)>) -> Result<FormFactors> {
+    fn compute(
+        &self,
+        mesh: &Mesh,
+        progress: Option<&(dyn Fn(usize) + Sync)>,
+    ) -> Result<FormFactors> {
         let vis = Visibility::new(mesh);
         let els = &mesh.elements;
         let n = els.len();
@@ -37,33 +43,31 @@ impl FormFactorMethod for RayCast {
         let side = (k as f64).sqrt().ceil() as usize;
         FormFactors::compute_rows(n, progress, |i, row| {
             let ei = &els[i];
-            let verts: Vec<_> = ei.poly.verts().iter().map(|v| *v + (ei.centroid - *v) * 1e-4).collect();
+            let verts: Vec<_> = ei
+                .poly
+                .verts()
+                .iter()
+                .map(|v| *v + (ei.centroid - *v) * 1e-4)
+                .collect();
             for (j, ej) in els.iter().enumerate() {
-                if j == i {
+                if j == i || !verts.iter().any(|v| faces(*v, ej.centroid, ej.normal)) {
                     continue;
                 }
                 let mut rng = Rng::new(hash64(self.seed ^ ((i as u64) << 32 | j as u64)), 7);
-                let dk = ej.area / k as f64;
+                let cells = subdivide(&ej.poly, (side, side));
                 let mut total = 0.0;
                 for v in &verts {
-                    for s in 0..k {
-                        let (cx, cy) = (s % side, (s / side) % side);
-                        let u = (cx as f64 + rng.next_f64()) / side as f64;
-                        let w = (cy as f64 + rng.next_f64()) / side as f64;
-                        let y = ej.poly.sample(u, w);
-                        let d = y - *v;
-                        let r2 = d.length_squared();
-                        if r2 == 0.0 {
+                    if !faces(*v, ej.centroid, ej.normal) {
+                        continue;
+                    }
+                    for cell in &cells {
+                        let df = point_to_polygon(*v, ei.normal, cell.verts());
+                        if df <= 0.0 {
                             continue;
                         }
-                        let r = r2.sqrt();
-                        let cv = ei.normal.dot(d) / r;
-                        let cy2 = -ej.normal.dot(d) / r;
-                        if cv <= 0.0 || cy2 <= 0.0 {
-                            continue;
-                        }
+                        let y = cell.sample(rng.next_f64(), rng.next_f64());
                         if vis.visible(*v, ei.normal, y, ej.normal) {
-                            total += dk * cv * cy2 / (std::f64::consts::PI * r2 + dk);
+                            total += df;
                         }
                     }
                 }

@@ -11,7 +11,11 @@ use crate::mesh::{weld, Element, Mesh};
 pub fn refine(mesh: &Mesh, b: &[[f64; 3]], tolerance: f64, min_area: f64) -> (Mesh, usize) {
     let scale = mesh.scale();
     let display = weld::weld(&mesh.elements, b, scale);
-    let bmax = b.iter().flat_map(|c| c.iter().copied()).fold(0.0f64, f64::max).max(1e-300);
+    let bmax = b
+        .iter()
+        .flat_map(|c| c.iter().copied())
+        .fold(0.0f64, f64::max)
+        .max(1e-300);
     // Re-derive each element's corner ids by the same welding keys.
     let quantum = (scale * 1e-8).max(1e-300);
     let mut ids = std::collections::HashMap::with_capacity(display.positions.len());

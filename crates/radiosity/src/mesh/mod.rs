@@ -78,7 +78,10 @@ impl Mesh {
                 "--max-element-area must be positive (got {max_area})"
             )));
         }
-        let sizes: Vec<(usize, usize)> = patches.iter().map(|p| subdivide::grid_size(&p.poly, max_area)).collect();
+        let sizes: Vec<(usize, usize)> = patches
+            .iter()
+            .map(|p| subdivide::grid_size(&p.poly, max_area))
+            .collect();
         let count: usize = patches
             .iter()
             .zip(&sizes)

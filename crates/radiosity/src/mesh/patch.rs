@@ -52,7 +52,9 @@ pub fn validate(specs: &[PatchSpec]) -> Result<Vec<Patch>> {
         let what = |m: String| RadiosityError::Input(format!("patch {} ('{}'): {}", si, s.name, m));
         for (c, &r) in ["red", "green", "blue"].iter().zip(&s.reflectance) {
             if !r.is_finite() || r < 0.0 {
-                return Err(what(format!("{c} reflectance {r} is not a number in [0, 1)")));
+                return Err(what(format!(
+                    "{c} reflectance {r} is not a number in [0, 1)"
+                )));
             }
             if r >= 1.0 {
                 return Err(what(format!(
@@ -64,11 +66,16 @@ pub fn validate(specs: &[PatchSpec]) -> Result<Vec<Patch>> {
         }
         for (c, &e) in ["red", "green", "blue"].iter().zip(&s.emission) {
             if !e.is_finite() || e < 0.0 {
-                return Err(what(format!("{c} emission {e} must be finite and not negative")));
+                return Err(what(format!(
+                    "{c} emission {e} must be finite and not negative"
+                )));
             }
         }
         if s.corners.len() < 3 {
-            return Err(what(format!("has {} corners; a patch needs at least 3", s.corners.len())));
+            return Err(what(format!(
+                "has {} corners; a patch needs at least 3",
+                s.corners.len()
+            )));
         }
         if s.corners.iter().any(|c| !c.is_finite()) {
             return Err(what("a corner is not a finite number".into()));
@@ -116,7 +123,8 @@ pub fn validate(specs: &[PatchSpec]) -> Result<Vec<Patch>> {
     }
     if !out.iter().any(|p| p.is_emitter()) {
         return Err(RadiosityError::Input(
-            "no patch emits light, so every radiosity is 0; give at least one patch an emission".into(),
+            "no patch emits light, so every radiosity is 0; give at least one patch an emission"
+                .into(),
         ));
     }
     Ok(out)

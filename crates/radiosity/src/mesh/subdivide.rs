@@ -43,7 +43,10 @@ fn largest_cell(p: &Poly, k: usize, m: usize) -> f64 {
 }
 
 fn bilinear(p: &Poly, s: f64, t: f64) -> DVec3 {
-    p.v[0] * (1.0 - s) * (1.0 - t) + p.v[1] * s * (1.0 - t) + p.v[2] * s * t + p.v[3] * (1.0 - s) * t
+    p.v[0] * (1.0 - s) * (1.0 - t)
+        + p.v[1] * s * (1.0 - t)
+        + p.v[2] * s * t
+        + p.v[3] * (1.0 - s) * t
 }
 
 fn cell(p: &Poly, k: usize, m: usize, i: usize, j: usize) -> Poly {
@@ -63,7 +66,9 @@ pub fn subdivide(p: &Poly, (k, m): (usize, usize)) -> Vec<Poly> {
     if p.n == 3 {
         let n = k;
         let (a, b, c) = (p.v[0], p.v[1], p.v[2]);
-        let at = |i: usize, j: usize| a + (b - a) * (i as f64 / n as f64) + (c - a) * (j as f64 / n as f64);
+        let at = |i: usize, j: usize| {
+            a + (b - a) * (i as f64 / n as f64) + (c - a) * (j as f64 / n as f64)
+        };
         for j in 0..n {
             for i in 0..n - j {
                 out.push(Poly::tri(at(i, j), at(i + 1, j), at(i, j + 1)));

@@ -80,12 +80,21 @@ pub fn weld(elements: &[Element], b: &[[f64; 3]], scale: f64) -> DisplayMesh {
         outline.clear();
         for k in 0..n {
             outline.push(c[k]);
-            insert_midpoints(&w, e.patch, e.poly.v[k], e.poly.v[(k + 1) % n], 0, &mut outline);
+            insert_midpoints(
+                &w,
+                e.patch,
+                e.poly.v[k],
+                e.poly.v[(k + 1) % n],
+                0,
+                &mut outline,
+            );
         }
         let pos = &m.positions;
         for i in 1..outline.len() - 1 {
             let (a, b2, c2) = (outline[0], outline[i], outline[i + 1]);
-            let area = (pos[b2 as usize] - pos[a as usize]).cross(pos[c2 as usize] - pos[a as usize]).length();
+            let area = (pos[b2 as usize] - pos[a as usize])
+                .cross(pos[c2 as usize] - pos[a as usize])
+                .length();
             if area > 1e-12 * e.area {
                 m.triangles.push([a, b2, c2]);
             }
@@ -118,7 +127,14 @@ impl DisplayMesh {
             .fold(0.0f64, |s, p| s.max(p.abs().max_element()))
             .max(1e-300);
         let q = scale * 1e-8;
-        let key = |patch: u32, p: DVec3| (patch, (p.x / q).round() as i64, (p.y / q).round() as i64, (p.z / q).round() as i64);
+        let key = |patch: u32, p: DVec3| {
+            (
+                patch,
+                (p.x / q).round() as i64,
+                (p.y / q).round() as i64,
+                (p.z / q).round() as i64,
+            )
+        };
         for (i, p) in self.positions.iter().enumerate() {
             map.insert(key(self.patch[i], *p), ());
         }

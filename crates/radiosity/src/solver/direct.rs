@@ -2,7 +2,7 @@
 //! (lecture, "Matrix Form": the formal solution `b = [I − RF]^{-1} e`), once per channel.
 //! O(n³): the reference for small meshes.
 
-use super::{SolveOptions, Solution, Solver, System};
+use super::{Solution, SolveOptions, Solver, System};
 use crate::error::{RadiosityError, Result};
 
 pub struct Direct;
@@ -32,8 +32,13 @@ impl Solver for Direct {
                 }
                 a[i * n + i] += 1.0;
             }
-            let x = lu_solve(&mut a, n, (0..n).map(|i| sys.emission[i][c]).collect())
-                .ok_or_else(|| RadiosityError::Input("I − RF is singular: a reflectance is 1 in a closed room".into()))?;
+            let x = lu_solve(&mut a, n, (0..n).map(|i| sys.emission[i][c]).collect()).ok_or_else(
+                || {
+                    RadiosityError::Input(
+                        "I − RF is singular: a reflectance is 1 in a closed room".into(),
+                    )
+                },
+            )?;
             for i in 0..n {
                 b[i][c] = x[i];
             }

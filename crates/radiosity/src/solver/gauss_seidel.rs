@@ -2,7 +2,7 @@
 //! updates `b_i = e_i + ρ_i Σ_j F_ij b_j` in place, using the new values of earlier
 //! elements. Converges for `ρ_i Σ_j F_ij < 1` and usually about twice as fast as Jacobi.
 
-use super::{check_convergence, SolveOptions, Solution, Solver, System};
+use super::{check_convergence, Solution, SolveOptions, Solver, System};
 use crate::error::Result;
 
 pub struct GaussSeidel;

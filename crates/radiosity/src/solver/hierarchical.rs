@@ -87,6 +87,10 @@ pub struct HierarchicalResult {
     pub solution: Solution,
     pub links: usize,
     pub nodes: usize,
+    /// Time spent building links (refinement oracle, form factors, shadow rays).
+    pub link_time: std::time::Duration,
+    /// Time spent in gathers and push-pull passes.
+    pub solve_time: std::time::Duration,
 }
 
 struct Hierarchy<'a> {
@@ -150,7 +154,12 @@ impl<'a> Hierarchy<'a> {
     }
 
     fn faces(p: &Node, q: &Node) -> bool {
-        let front = |a: &Node, b: &Node| b.poly.verts().iter().any(|v| a.normal.dot(*v - a.centroid) > 1e-12 * a.area.sqrt());
+        let front = |a: &Node, b: &Node| {
+            b.poly
+                .verts()
+                .iter()
+                .any(|v| a.normal.dot(*v - a.centroid) > 1e-12 * a.area.sqrt())
+        };
         front(p, q) && front(q, p)
     }
 
@@ -164,7 +173,10 @@ impl<'a> Hierarchy<'a> {
         };
         let mut f = 0.0;
         for (x, w) in &pts {
-            f += w * point_to_polygon(*x, p.normal, q.poly.verts());
+            // Points behind q see only its back: nothing.
+            if q.normal.dot(*x - q.centroid) > 0.0 {
+                f += w * point_to_polygon(*x, p.normal, q.poly.verts());
+            }
         }
         f /= p.area;
         if f <= 0.0 {
@@ -174,16 +186,28 @@ impl<'a> Hierarchy<'a> {
             let k = self.opts.visibility_rays;
             let side = (k as f64).sqrt().ceil() as usize;
             let mut rng = Rng::new(hash64(self.opts.seed ^ ((pi as u64) << 32 | qi as u64)), 3);
-            let mut seen = 0;
+            // Only pairs that face each other count: the part of q behind p's plane is
+            // already cut off by the contour formula (counting it as hidden would
+            // remove it twice).
+            let (mut seen, mut facing) = (0, 0);
             for s in 0..k {
                 let (cx, cy) = ((s % side) as f64, ((s / side) % side) as f64);
-                let a = p.poly.sample((cx + rng.next_f64()) / side as f64, (cy + rng.next_f64()) / side as f64);
+                let a = p.poly.sample(
+                    (cx + rng.next_f64()) / side as f64,
+                    (cy + rng.next_f64()) / side as f64,
+                );
                 let b = q.poly.sample(rng.next_f64(), rng.next_f64());
+                if p.normal.dot(b - a) <= 0.0 || q.normal.dot(a - b) <= 0.0 {
+                    continue;
+                }
+                facing += 1;
                 if vis.visible(a, p.normal, b, q.normal) {
                     seen += 1;
                 }
             }
-            f *= seen as f64 / k as f64;
+            if facing > 0 {
+                f *= seen as f64 / facing as f64;
+            }
         }
         f
     }
@@ -245,7 +269,11 @@ fn split_to(nodes: &mut Vec<Node>, i: usize, depth: u32) {
 
 /// Solves the mesh's patches hierarchically. `mesh` supplies the patches (its elements
 /// are ignored); the result's mesh has the leaves as elements.
-pub fn solve(mesh: &Mesh, opts: HierarchicalOptions, progress: Option<&(dyn Fn(&str) + Sync)>) -> Result<HierarchicalResult> {
+pub fn solve(
+    mesh: &Mesh,
+    opts: HierarchicalOptions,
+    progress: Option<&(dyn Fn(&str) + Sync)>,
+) -> Result<HierarchicalResult> {
     let h = Hierarchy::build(mesh, opts)?;
     let nn = h.nodes.len();
     let np = h.patches.len();
@@ -258,19 +286,31 @@ pub fn solve(mesh: &Mesh, opts: HierarchicalOptions, progress: Option<&(dyn Fn(&
     let eps = opts.bf_epsilon * emax;
     let lum = |c: [f64; 3]| (c[0] + c[1] + c[2]) / 3.0;
     // Radiosity per node (area average over its leaves).
-    let mut b: Vec<[f64; 3]> = h.nodes.iter().map(|n| h.patches[n.patch as usize].emission).collect();
+    let mut b: Vec<[f64; 3]> = h
+        .nodes
+        .iter()
+        .map(|n| h.patches[n.patch as usize].emission)
+        .collect();
     let mut links: Vec<Link> = Vec::new();
     let mut history = Vec::new();
     let mut notes = Vec::new();
     let mut residual = f64::INFINITY;
+    let mut link_time = std::time::Duration::ZERO;
+    let mut solve_time = std::time::Duration::ZERO;
     for round in 0..opts.rounds.max(1) {
+        let t_link = std::time::Instant::now();
         if let Some(p) = progress {
-            p(&format!("hierarchical: refining links (round {})", round + 1));
+            p(&format!(
+                "hierarchical: refining links (round {})",
+                round + 1
+            ));
         }
         let bq = |q: u32| lum(b[q as usize]);
         // Refine from the patch pairs each round (re-linking from the top with the new
         // radiosities is the BF refinement of HSA 1991 section 4).
-        let pairs: Vec<(u32, u32)> = (0..np as u32).flat_map(|p| (0..np as u32).filter(move |&q| q != p).map(move |q| (p, q))).collect();
+        let pairs: Vec<(u32, u32)> = (0..np as u32)
+            .flat_map(|p| (0..np as u32).filter(move |&q| q != p).map(move |q| (p, q)))
+            .collect();
         links = pairs
             .par_iter()
             .flat_map_iter(|&(p, q)| {
@@ -280,6 +320,8 @@ pub fn solve(mesh: &Mesh, opts: HierarchicalOptions, progress: Option<&(dyn Fn(&
             })
             .collect();
         links.sort_unstable_by_key(|l| l.recv);
+        link_time += t_link.elapsed();
+        let t_solve = std::time::Instant::now();
         if let Some(p) = progress {
             p(&format!("hierarchical: solving with {} links", links.len()));
         }
@@ -322,8 +364,14 @@ pub fn solve(mesh: &Mesh, opts: HierarchicalOptions, progress: Option<&(dyn Fn(&
                 break;
             }
         }
+        solve_time += t_solve.elapsed();
     }
-    notes.push(format!("hierarchical: {} nodes, {} links, ε_BF = {:.1e} of the largest emission", nn, links.len(), opts.bf_epsilon));
+    notes.push(format!(
+        "hierarchical: {} nodes, {} links, ε_BF = {:.1e} of the largest emission",
+        nn,
+        links.len(),
+        opts.bf_epsilon
+    ));
     let mut elements = Vec::new();
     let mut bl = Vec::new();
     for (i, n) in h.nodes.iter().enumerate() {
@@ -343,11 +391,20 @@ pub fn solve(mesh: &Mesh, opts: HierarchicalOptions, progress: Option<&(dyn Fn(&
         },
         links: links.len(),
         nodes: nn,
+        link_time,
+        solve_time,
     })
 }
 
 /// Leaves: `E + Σ gathers down the path`; inner nodes: area average of children.
-fn push_pull(nodes: &[Node], patches: &[Patch], i: usize, down: [f64; 3], g: &[[f64; 3]], out: &mut [[f64; 3]]) -> [f64; 3] {
+fn push_pull(
+    nodes: &[Node],
+    patches: &[Patch],
+    i: usize,
+    down: [f64; 3],
+    g: &[[f64; 3]],
+    out: &mut [[f64; 3]],
+) -> [f64; 3] {
     let n = &nodes[i];
     let acc = [down[0] + g[i][0], down[1] + g[i][1], down[2] + g[i][2]];
     let r = if n.child == 0 {

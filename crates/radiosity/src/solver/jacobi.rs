@@ -1,7 +1,7 @@
 //! Jacobi iteration (lecture, "Jacobi's method"): `b^{k+1} = e + RF b^k`, starting from
 //! `b^0 = e`. Its residual is the change `b^{k+1} − b^k`, so it costs nothing extra.
 
-use super::{check_convergence, SolveOptions, Solution, Solver, System};
+use super::{check_convergence, Solution, SolveOptions, Solver, System};
 use crate::error::Result;
 
 pub struct Jacobi;

@@ -46,7 +46,11 @@ impl<'a> System<'a> {
     }
     /// Largest emission over elements and channels (the residual's scale).
     pub fn emission_scale(&self) -> f64 {
-        self.emission.iter().flat_map(|e| e.iter().copied()).fold(0.0, f64::max).max(1e-300)
+        self.emission
+            .iter()
+            .flat_map(|e| e.iter().copied())
+            .fold(0.0, f64::max)
+            .max(1e-300)
     }
     /// `(RF b)_i` for all i and channels.
     pub fn gather(&self, b: &[[f64; 3]]) -> Vec<[f64; 3]> {
@@ -61,7 +65,11 @@ impl<'a> System<'a> {
                     s[1] += f * bj[1];
                     s[2] += f * bj[2];
                 }
-                [self.rho[i][0] * s[0], self.rho[i][1] * s[1], self.rho[i][2] * s[2]]
+                [
+                    self.rho[i][0] * s[0],
+                    self.rho[i][1] * s[1],
+                    self.rho[i][2] * s[2],
+                ]
             })
             .collect()
     }

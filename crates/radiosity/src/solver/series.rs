@@ -5,7 +5,7 @@
 //! K-th sum to at most `‖(RF)^{K+1} e‖_∞ / (1 − q)`. The residual of the partial sum
 //! `S_K` is exactly the next term `(RF)^{K+1} e`.
 
-use super::{check_convergence, SolveOptions, Solution, Solver, System};
+use super::{check_convergence, Solution, SolveOptions, Solver, System};
 use crate::error::Result;
 
 pub struct Series;
@@ -25,7 +25,10 @@ impl Solver for Series {
         let mut terms = 1;
         for _ in 0..opts.max_iterations {
             term = sys.gather(&term);
-            next_norm = term.iter().flat_map(|t| t.iter().map(|v| v.abs())).fold(0.0, f64::max);
+            next_norm = term
+                .iter()
+                .flat_map(|t| t.iter().map(|v| v.abs()))
+                .fold(0.0, f64::max);
             history.push(next_norm / scale);
             if next_norm / scale < opts.tolerance {
                 break;

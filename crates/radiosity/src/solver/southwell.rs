@@ -9,7 +9,7 @@
 //! each element shows `b_i + ρ_i ambient`. It assumes a closed room (form-factor rows
 //! summing to 1); a warning is added to the notes when they do not.
 
-use super::{check_convergence, SolveOptions, Solution, Solver, System};
+use super::{check_convergence, Solution, SolveOptions, Solver, System};
 use crate::error::Result;
 
 pub struct Southwell;
@@ -49,7 +49,11 @@ impl Solver for Southwell {
                     unshot[j][c] += d;
                 }
             }
-            residual = unshot.iter().flat_map(|u| u.iter().copied()).fold(0.0, f64::max) / scale;
+            residual = unshot
+                .iter()
+                .flat_map(|u| u.iter().copied())
+                .fold(0.0, f64::max)
+                / scale;
             history.push(residual);
             if residual < opts.tolerance {
                 break;
@@ -76,7 +80,10 @@ impl Solver for Southwell {
             ambient[1],
             ambient[2]
         )];
-        let mean_row: f64 = (0..n).map(|i| sys.ff.row(i).iter().sum::<f64>() * sys.area[i]).sum::<f64>() / total_area;
+        let mean_row: f64 = (0..n)
+            .map(|i| sys.ff.row(i).iter().sum::<f64>() * sys.area[i])
+            .sum::<f64>()
+            / total_area;
         if mean_row < 0.99 {
             notes.push(format!(
                 "warning: the enclosure is not closed (form-factor rows sum to {mean_row:.3} on average); the \

@@ -7,7 +7,8 @@ use std::f64::consts::PI;
 /// `F = Y / (X² + Y²)`, `X = x/r`, `Y = y/r`.
 pub const STRIP_CYLINDER: Case = Case {
     name: "strip-cylinder",
-    geometry: "strip along z in the plane y = 0 (normal +y); cylinder of radius r with its axis along z \
+    geometry:
+        "strip along z in the plane y = 0 (normal +y); cylinder of radius r with its axis along z \
                through (x, y); y > r keeps the cylinder above the strip's plane",
     params: &[
         ("x", "offset of the axis along the strip's plane"),
@@ -17,7 +18,9 @@ pub const STRIP_CYLINDER: Case = Case {
     eval: |p| {
         let (x, y, r) = (p[0], positive("y", p[1])?, positive("r", p[2])?);
         if y < r {
-            return Err(format!("--y {y} must be at least --r {r}: the cylinder must not cross the strip's plane"));
+            return Err(format!(
+                "--y {y} must be at least --r {r}: the cylinder must not cross the strip's plane"
+            ));
         }
         let (xx, yy) = (x / r, y / r);
         Ok(yy / (xx * xx + yy * yy))

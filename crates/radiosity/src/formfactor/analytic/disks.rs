@@ -5,7 +5,8 @@ use super::{positive, Case};
 /// Plane element to a coaxial parallel disk: `F = r² / (h² + r²)`.
 pub const ELEMENT_COAXIAL_DISK: Case = Case {
     name: "element-coaxial-disk",
-    geometry: "element at the origin, normal +z; disk of radius r centred at (0,0,h) in the plane z = h",
+    geometry:
+        "element at the origin, normal +z; disk of radius r centred at (0,0,h) in the plane z = h",
     params: &[("h", "distance to the disk"), ("r", "radius of the disk")],
     eval: |p| {
         let (h, r) = (positive("h", p[0])?, positive("r", p[1])?);
@@ -17,14 +18,19 @@ pub const ELEMENT_COAXIAL_DISK: Case = Case {
 /// `F = ½ (1 − (1 + H² − R²) / √(Z² − 4R²))`, `H = h/a`, `R = r/a`, `Z = 1 + H² + R²`.
 pub const ELEMENT_OFFSET_DISK: Case = Case {
     name: "element-offset-disk",
-    geometry: "element at the origin, normal +z; disk of radius r centred at (a,0,h) in the plane z = h",
+    geometry:
+        "element at the origin, normal +z; disk of radius r centred at (a,0,h) in the plane z = h",
     params: &[
         ("h", "distance between the planes"),
         ("r", "radius of the disk"),
         ("a", "offset of the disk's axis from the element"),
     ],
     eval: |p| {
-        let (h, r, a) = (positive("h", p[0])?, positive("r", p[1])?, positive("a", p[2])?);
+        let (h, r, a) = (
+            positive("h", p[0])?,
+            positive("r", p[1])?,
+            positive("a", p[2])?,
+        );
         let (hh, rr) = (h / a, r / a);
         let z = 1.0 + hh * hh + rr * rr;
         Ok(0.5 * (1.0 - (1.0 + hh * hh - rr * rr) / (z * z - 4.0 * rr * rr).sqrt()))

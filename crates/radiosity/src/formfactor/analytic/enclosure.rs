@@ -13,7 +13,11 @@ pub const THREE_PLANE_ENCLOSURE: Case = Case {
         ("a3", "width of plane 3"),
     ],
     eval: |p| {
-        let (a1, a2, a3) = (positive("a1", p[0])?, positive("a2", p[1])?, positive("a3", p[2])?);
+        let (a1, a2, a3) = (
+            positive("a1", p[0])?,
+            positive("a2", p[1])?,
+            positive("a3", p[2])?,
+        );
         let m = a1.max(a2).max(a3);
         if 2.0 * m >= a1 + a2 + a3 {
             return Err(format!(

@@ -59,8 +59,13 @@ impl Case {
         }
         for (n, _) in given {
             if !self.params.iter().any(|(p, _)| p == n) {
-                let names: Vec<String> = self.params.iter().map(|(p, _)| format!("--{p}")).collect();
-                return Err(format!("case '{}' has no parameter --{n}; it takes {}", self.name, names.join(" ")));
+                let names: Vec<String> =
+                    self.params.iter().map(|(p, _)| format!("--{p}")).collect();
+                return Err(format!(
+                    "case '{}' has no parameter --{n}; it takes {}",
+                    self.name,
+                    names.join(" ")
+                ));
             }
         }
         (self.eval)(&vals)

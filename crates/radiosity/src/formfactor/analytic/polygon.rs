@@ -23,7 +23,11 @@ impl FormFactorMethod for AnalyticPolygon {
     fn name(&self) -> &'static str {
         "analytic"
     }
-    fn compute(&self, mesh: &Mesh, progress: Option<&(dyn Fn(usize) + Sync)>) -> Result<FormFactors> {
+    fn compute(
+        &self,
+        mesh: &Mesh,
+        progress: Option<&(dyn Fn(usize) + Sync)>,
+    ) -> Result<FormFactors> {
         let vis = (self.visibility_samples > 0).then(|| Visibility::new(mesh));
         let els = &mesh.elements;
         let k = self.gauss_points.max(1);
@@ -31,7 +35,10 @@ impl FormFactorMethod for AnalyticPolygon {
             let ei = &els[i];
             let pts = ei.poly.gauss_points(k);
             for (j, ej) in els.iter().enumerate() {
-                if i == j || ej.normal.dot(ei.normal) > 1.0 - 1e-12 && (ej.centroid - ei.centroid).dot(ei.normal).abs() < 1e-12 * mesh.scale() {
+                if i == j
+                    || ej.normal.dot(ei.normal) > 1.0 - 1e-12
+                        && (ej.centroid - ei.centroid).dot(ei.normal).abs() < 1e-12 * mesh.scale()
+                {
                     continue; // coplanar: sees nothing of each other
                 }
                 let mut s = 0.0;
@@ -41,7 +48,16 @@ impl FormFactorMethod for AnalyticPolygon {
                     }
                     let f = point_to_polygon(*x, ei.normal, ej.poly.verts());
                     if f > 0.0 {
-                        s += w * f * visible_fraction(vis.as_ref(), *x, ei.normal, &ej.poly, ej.normal, self.visibility_samples);
+                        s += w
+                            * f
+                            * visible_fraction(
+                                vis.as_ref(),
+                                *x,
+                                ei.normal,
+                                &ej.poly,
+                                ej.normal,
+                                self.visibility_samples,
+                            );
                     }
                 }
                 row[j] = s / ei.area;

@@ -9,9 +9,17 @@ use std::f64::consts::PI;
 pub const ELEMENT_PARALLEL_RECTANGLE: Case = Case {
     name: "element-parallel-rectangle",
     geometry: "element at the origin, normal +z; rectangle x in [0,a], y in [0,b] at z = c",
-    params: &[("a", "first side"), ("b", "second side"), ("c", "distance between the planes")],
+    params: &[
+        ("a", "first side"),
+        ("b", "second side"),
+        ("c", "distance between the planes"),
+    ],
     eval: |p| {
-        let (a, b, c) = (positive("a", p[0])?, positive("b", p[1])?, positive("c", p[2])?);
+        let (a, b, c) = (
+            positive("a", p[0])?,
+            positive("b", p[1])?,
+            positive("c", p[2])?,
+        );
         let (x, y) = (a / c, b / c);
         let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
         Ok((x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * PI))
@@ -22,14 +30,22 @@ pub const ELEMENT_PARALLEL_RECTANGLE: Case = Case {
 /// `F = 1/(2π) [atan(1/Y) − Y/√(X²+Y²) atan(1/√(X²+Y²))]`, `X = a/b`, `Y = c/b`.
 pub const ELEMENT_PERPENDICULAR_RECTANGLE: Case = Case {
     name: "element-perpendicular-rectangle",
-    geometry: "element at the origin, normal +z; rectangle in the plane y = c, x in [0,b], z in [0,a]",
+    geometry:
+        "element at the origin, normal +z; rectangle in the plane y = c, x in [0,b], z in [0,a]",
     params: &[
         ("a", "height of the rectangle along the element's normal"),
-        ("b", "width of the rectangle, from the foot of the element's perpendicular"),
+        (
+            "b",
+            "width of the rectangle, from the foot of the element's perpendicular",
+        ),
         ("c", "distance from the element to the rectangle's plane"),
     ],
     eval: |p| {
-        let (a, b, c) = (positive("a", p[0])?, positive("b", p[1])?, positive("c", p[2])?);
+        let (a, b, c) = (
+            positive("a", p[0])?,
+            positive("b", p[1])?,
+            positive("c", p[2])?,
+        );
         let (x, y) = (a / b, c / b);
         let s = (x * x + y * y).sqrt();
         Ok(((1.0 / y).atan() - y / s * (1.0 / s).atan()) / (2.0 * PI))
@@ -40,7 +56,8 @@ pub const ELEMENT_PERPENDICULAR_RECTANGLE: Case = Case {
 /// the lecture's `F_{1-2}` with `H = h/l`, `W = w/l`.
 pub const PERPENDICULAR_RECTANGLES: Case = Case {
     name: "perpendicular-rectangles",
-    geometry: "rectangle 1: x in [0,w], y in [0,l], z = 0 (normal +z); rectangle 2: x = 0, y in [0,l], \
+    geometry:
+        "rectangle 1: x in [0,w], y in [0,l], z = 0 (normal +z); rectangle 2: x = 0, y in [0,l], \
                z in [0,h] (normal +x); common edge along y",
     params: &[
         ("h", "height of rectangle 2 (the receiver)"),
@@ -48,7 +65,11 @@ pub const PERPENDICULAR_RECTANGLES: Case = Case {
         ("w", "width of rectangle 1 (the sender)"),
     ],
     eval: |p| {
-        let (h, l, w) = (positive("h", p[0])?, positive("l", p[1])?, positive("w", p[2])?);
+        let (h, l, w) = (
+            positive("h", p[0])?,
+            positive("l", p[1])?,
+            positive("w", p[2])?,
+        );
         Ok(perpendicular_rectangles(h / l, w / l))
     },
 };
