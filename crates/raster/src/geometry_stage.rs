@@ -7,7 +7,7 @@ use crate::binning::{band_count, push_to_bands};
 use crate::clip::{ClipPlanes, ClipVertex};
 use crate::lighting::{EyeLights, Shading};
 use crate::mesh::{Mesh, Triangle};
-use crate::rasterizer::{covered_bounds, CullMode};
+use crate::rasterizer::{covered_bounds_of, CullMode};
 use crate::screen::{varying, Rect, ScreenTriangle, ScreenVertex, VARYINGS};
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
@@ -29,6 +29,8 @@ pub(crate) struct GeometryStage<'a> {
     /// Bin triangles into bands while emitting them (for the fused render path).
     bin: bool,
     bands: usize,
+    /// Buffers of earlier frames to reuse.
+    pool: Option<&'a BatchPool>,
 }
 
 impl<'a> GeometryStage<'a> {
@@ -55,7 +57,14 @@ impl<'a> GeometryStage<'a> {
             screen: Rect::full(width, height),
             bin,
             bands: band_count(height),
+            pool: None,
         }
+    }
+
+    /// Takes output buffers from `pool` instead of allocating them.
+    pub fn with_pool(mut self, pool: &'a BatchPool) -> Self {
+        self.pool = Some(pool);
+        self
     }
 
     /// Transforms and lights one vertex.
@@ -115,12 +124,16 @@ impl<'a> GeometryStage<'a> {
     }
 
     #[inline(always)]
-    fn emit(&self, t: ScreenTriangle, out: &mut Batch) {
-        if let Some((_, _, y0, y1)) = covered_bounds(&t, self.cull, &self.screen) {
+    fn emit(&self, a: &ScreenVertex, b: &ScreenVertex, c: &ScreenVertex, id: u32, out: &mut Batch) {
+        // Cull before building the triangle: most rejected ones are never copied.
+        if let Some((_, _, y0, y1)) = covered_bounds_of(a, b, c, self.cull, &self.screen) {
             if self.bin {
                 push_to_bands(&mut out.bins, out.tris.len() as u32, y0, y1);
             }
-            out.tris.push(t);
+            out.tris.push(ScreenTriangle {
+                v: [*a, *b, *c],
+                id,
+            });
         }
     }
 
@@ -134,13 +147,7 @@ impl<'a> GeometryStage<'a> {
         }
         let any = codes[0] | codes[1] | codes[2];
         if any == 0 {
-            self.emit(
-                ScreenTriangle {
-                    v: [t[0].screen, t[1].screen, t[2].screen],
-                    id,
-                },
-                out,
-            );
+            self.emit(&t[0].screen, &t[1].screen, &t[2].screen, id, out);
             return;
         }
         let c = t.map(|p| ClipVertex {
@@ -154,19 +161,29 @@ impl<'a> GeometryStage<'a> {
                 self.project(&poly.v[i]),
                 self.project(&poly.v[i + 1]),
             ];
-            self.emit(ScreenTriangle { v, id }, out);
+            self.emit(&v[0], &v[1], &v[2], id, out);
         }
     }
 
     fn new_batch(&self, capacity: usize) -> Batch {
-        Batch {
-            tris: Vec::with_capacity(capacity),
-            bins: if self.bin {
-                vec![Vec::new(); self.bands]
-            } else {
-                Vec::new()
-            },
+        let mut b = self
+            .pool
+            .and_then(|p| p.0.lock().ok().and_then(|mut v| v.pop()))
+            .unwrap_or(Batch {
+                tris: Vec::new(),
+                bins: Vec::new(),
+            });
+        b.tris.clear();
+        b.tris.reserve(capacity);
+        let bands = if self.bin { self.bands } else { 0 };
+        b.bins.resize_with(bands, Vec::new);
+        b.bins.truncate(bands);
+        for bin in &mut b.bins {
+            bin.clear();
+            // About one band in `bands` of the triangles, plus straddlers.
+            bin.reserve(capacity / bands.max(1) * 2 + 16);
         }
+        b
     }
 
     /// Independent triangles, in batches that keep the input order.
@@ -230,12 +247,21 @@ impl<'a> GeometryStage<'a> {
                 })
                 .collect();
         }
-        let verts: Vec<Prepared> = (0..mesh.positions.len())
-            .into_par_iter()
-            .with_min_len(4096)
-            .map(|i| self.prepare(self.vertex(mesh.positions[i], mesh.normals[i], color(i), uv(i))))
-            .collect();
-        mesh.indices
+        let mut verts: Vec<Prepared> = self
+            .pool
+            .and_then(|p| p.1.lock().ok().map(|mut v| std::mem::take(&mut *v)))
+            .unwrap_or_default();
+        verts.clear();
+        verts.par_extend(
+            (0..mesh.positions.len())
+                .into_par_iter()
+                .with_min_len(4096)
+                .map(|i| {
+                    self.prepare(self.vertex(mesh.positions[i], mesh.normals[i], color(i), uv(i)))
+                }),
+        );
+        let batches = mesh
+            .indices
             .par_chunks(BATCH)
             .enumerate()
             .map(|(c, chunk)| {
@@ -246,7 +272,13 @@ impl<'a> GeometryStage<'a> {
                 }
                 out
             })
-            .collect()
+            .collect();
+        if let Some(pool) = self.pool {
+            if let Ok(mut v) = pool.1.lock() {
+                *v = verts;
+            }
+        }
+        batches
     }
 }
 
@@ -264,4 +296,27 @@ struct Prepared {
 pub(crate) struct Batch {
     pub tris: Vec<ScreenTriangle>,
     pub bins: Vec<Vec<u32>>,
+}
+
+/// Batches kept between frames so that their memory is reused (fresh allocations of
+/// hundreds of megabytes per frame cost page faults).
+#[derive(Default)]
+pub(crate) struct BatchPool(
+    pub std::sync::Mutex<Vec<Batch>>,
+    std::sync::Mutex<Vec<Prepared>>,
+);
+
+impl BatchPool {
+    /// Returns batches for reuse.
+    pub fn give(&self, batches: Vec<Batch>) {
+        if let Ok(mut v) = self.0.lock() {
+            v.extend(batches);
+        }
+    }
+}
+
+impl std::fmt::Debug for BatchPool {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("BatchPool")
+    }
 }

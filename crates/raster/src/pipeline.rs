@@ -5,12 +5,13 @@
 use crate::binning::{rasterize_batches, rasterize_binned, FragmentState};
 use crate::fragment::DepthFunc;
 use crate::framebuffer::Framebuffer;
-use crate::geometry_stage::{Batch, GeometryStage};
+use crate::geometry_stage::{Batch, BatchPool, GeometryStage};
 use crate::lighting::{EyeLights, Lights, Material, Shading};
 use crate::mesh::{Mesh, MeshError, Triangle};
 use crate::rasterizer::CullMode;
 use crate::screen::{Rect, ScreenTriangle};
 use crate::view::ViewParams;
+use std::sync::Arc;
 use thiserror::Error;
 
 #[derive(Debug, Error, PartialEq)]
@@ -41,6 +42,8 @@ pub struct Pipeline {
     pub shading: Shading,
     pub cull: CullMode,
     pub depth_func: DepthFunc,
+    /// Buffers reused from frame to frame (shared by clones).
+    scratch: Arc<BatchPool>,
 }
 
 impl Pipeline {
@@ -63,6 +66,7 @@ impl Pipeline {
             shading: Shading::Gouraud,
             cull: CullMode::None,
             depth_func: DepthFunc::Less,
+            scratch: Arc::default(),
         }
     }
 
@@ -130,8 +134,12 @@ impl Pipeline {
         self.check(fb)?;
         mesh.validate()?;
         let lights = self.eye_lights();
-        let batches = self.stage(&lights, true).mesh(mesh);
+        let batches = self
+            .stage(&lights, true)
+            .with_pool(&self.scratch)
+            .mesh(mesh);
         self.draw_batches(&lights, &batches, fb);
+        self.scratch.give(batches);
         Ok(())
     }
 
@@ -143,8 +151,12 @@ impl Pipeline {
     ) -> Result<(), RasterError> {
         self.check(fb)?;
         let lights = self.eye_lights();
-        let batches = self.stage(&lights, true).triangles(tris);
+        let batches = self
+            .stage(&lights, true)
+            .with_pool(&self.scratch)
+            .triangles(tris);
         self.draw_batches(&lights, &batches, fb);
+        self.scratch.give(batches);
         Ok(())
     }
 

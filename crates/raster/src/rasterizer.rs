@@ -81,7 +81,23 @@ pub fn covered_bounds(
     cull: CullMode,
     screen: &Rect,
 ) -> Option<(i64, i64, i64, i64)> {
-    let p = snapped(t);
+    covered_bounds_of(&t.v[0], &t.v[1], &t.v[2], cull, screen)
+}
+
+/// [`covered_bounds`] of the triangle with these vertices.
+#[inline(always)]
+pub fn covered_bounds_of(
+    a: &ScreenVertex,
+    b: &ScreenVertex,
+    c: &ScreenVertex,
+    cull: CullMode,
+    screen: &Rect,
+) -> Option<(i64, i64, i64, i64)> {
+    let p = [
+        (snap(a.x), snap(a.y)),
+        (snap(b.x), snap(b.y)),
+        (snap(c.x), snap(c.y)),
+    ];
     let a = area2(&p);
     let keep = match cull {
         CullMode::None => a != 0,
@@ -97,19 +113,31 @@ pub fn covered_bounds(
     if x0 > x1 || y0 > y1 {
         return None;
     }
-    if x0 == x1 && y0 == y1 {
-        // A bounding box of one pixel centre (most sub-pixel triangles): test it.
-        let mut covered = false;
-        for_each_fragment(
-            t,
-            &Rect::new(x0 as u32, y0 as u32, x0 as u32 + 1, y0 as u32 + 1),
-            |_, _, _| covered = true,
-        );
-        if !covered {
-            return None;
-        }
+    if x0 == x1 && y0 == y1 && !covers_centre(&p, a, x0, y0) {
+        // A bounding box of one pixel centre (most sub-pixel triangles) that misses it.
+        return None;
     }
     Some((x0, x1, y0, y1))
+}
+
+/// Whether the centre of pixel (x, y) is covered (with the fill rule) by the snapped
+/// triangle `p` of twice-area `area` (non-zero): the same test as [`Setup::scan`].
+#[inline]
+fn covers_centre(p: &[(i64, i64); 3], area: i64, x: i64, y: i64) -> bool {
+    let q = if area < 0 { [p[0], p[2], p[1]] } else { *p };
+    let (px, py) = (x * ONE + HALF, y * ONE + HALF);
+    (0..3).all(|k| {
+        let (ax, ay) = q[(k + 1) % 3];
+        let (bx, by) = q[(k + 2) % 3];
+        let (dx, dy) = (bx - ax, by - ay);
+        let e = dx * (py - ay) - dy * (px - ax);
+        let top_left = dy < 0 || (dy == 0 && dx > 0);
+        if top_left {
+            e >= 0
+        } else {
+            e > 0
+        }
+    })
 }
 
 /// Inclusive pixel rows `(y0, y1)` that the triangle may cover.

@@ -168,3 +168,30 @@ fn shared_edge_through_pixel_centres_is_drawn_once() {
         }
     }
 }
+
+#[test]
+fn the_geometry_stage_cull_keeps_exactly_the_triangles_that_cover_a_pixel() {
+    use irradia_raster::rasterizer::may_cover;
+    use irradia_raster::CullMode;
+    let mut rng = Rng::new(9, 2);
+    let screen = Rect::full(16, 16);
+    for _ in 0..20_000 {
+        // Sub-pixel and pixel-sized triangles around pixel centres.
+        let c = (4.0 + rng.next_f32() * 8.0, 4.0 + rng.next_f32() * 8.0);
+        let s = 0.2 + rng.next_f32() * 1.5;
+        let mut p = || {
+            (
+                c.0 + (rng.next_f32() - 0.5) * s,
+                c.1 + (rng.next_f32() - 0.5) * s,
+            )
+        };
+        let t = tri(p(), p(), p(), false);
+        let mut n = 0;
+        for_each_fragment(&t, &screen, |_, _, _| n += 1);
+        if may_cover(&t, CullMode::None, &screen) {
+            // Larger boxes are kept without an exact test; one-pixel boxes are exact.
+            continue;
+        }
+        assert_eq!(n, 0, "{t:?} was culled but covers {n} pixels");
+    }
+}
