@@ -35,6 +35,8 @@ enum Command {
     Parallel(commands::parallel::ParallelArgs),
     /// Benchmarks: `irradia bench parallel` (sort-first vs sort-last study, CSV + PNG).
     Bench(commands::bench::BenchArgs),
+    /// Render for a tiled wall of projectors or panels: per-display images and a simulated photograph.
+    Wall(commands::wall::WallArgs),
 }
 
 fn main() {
@@ -45,6 +47,7 @@ fn main() {
         Command::Scenes(a) => commands::scenes::run(a),
         Command::Parallel(a) => commands::parallel::run(a),
         Command::Bench(a) => commands::bench::run(a),
+        Command::Wall(a) => commands::wall::run(a),
     };
     if let Err(e) = result {
         eprintln!("irradia: {e}");

@@ -5,3 +5,4 @@ pub mod parallel;
 pub mod render;
 pub mod scenes;
 pub mod trace_pixel;
+pub mod wall;
