@@ -242,7 +242,8 @@ fn closed_volume(name: &str, f: &Facets, centre: Vec3) -> f64 {
 fn facets_are_closed_outward_and_enclose_the_right_volume() {
     use std::f64::consts::PI;
     let c = Vec3::new(0.5, -0.25, 1.0);
-    let cases: Vec<(&str, Box<dyn Shape>, Vec3, f64, f64)> = vec![
+    type Case = (&'static str, Box<dyn Shape>, Vec3, f64, f64);
+    let cases: Vec<Case> = vec![
         (
             "box",
             Box::new(Cuboid::new(Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0)).unwrap()),

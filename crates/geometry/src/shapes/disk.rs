@@ -1,6 +1,9 @@
 //! A flat disk (POV-Ray's `disc`), optionally with a concentric hole: intersect the
 //! plane, then compare the squared distance from the centre with the radii.
 
+// `!(x > 0.0)` is deliberate: it is also true for NaN, which must be refused too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::shape::{Facets, Hit, Shape, Span};
 use crate::shapes::plane::{plane_crossing, plane_point_error};
 use crate::shapes::shape_error::{finite, positive, ShapeError};

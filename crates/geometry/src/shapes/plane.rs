@@ -3,6 +3,9 @@
 //! `t = (d - n·o) / (n·dir)`, computed in f64 with the hit point projected back onto
 //! the plane.
 
+// `!(x > 0.0)` is deliberate: it is also true for NaN, which must be refused too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::shape::{Boundary, Hit, Shape, Span};
 use crate::shapes::shape_error::{finite, ShapeError};
 use glam::{DVec3, Vec2, Vec3};

@@ -5,6 +5,9 @@
 //! is inside. Self-intersecting outlines (a pentagram) follow the same rule, so a
 //! pentagram's centre is outside.
 
+// `!(x > 0.0)` is deliberate: it is also true for NaN, which must be refused too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::shape::{Facets, Hit, Shape, Span};
 use crate::shapes::plane::{plane_crossing, plane_point_error};
 use crate::shapes::shape_error::ShapeError;

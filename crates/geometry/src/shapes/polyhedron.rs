@@ -7,6 +7,9 @@
 //! Construction checks that the half-spaces bound a finite, non-flat solid, and finds
 //! its vertices and faces (for bounds and facets) by intersecting planes three at a time.
 
+// `!(x > 0.0)` is deliberate: it is also true for NaN, which must be refused too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::shape::{Boundary, Facets, Hit, Shape, Span};
 use crate::shapes::plane::plane_point_error;
 use crate::shapes::quadric::clip::{clip_interval, HalfSpace, NO_PLANE};

@@ -10,6 +10,9 @@
 //! surface: `γ = Q(o)` is then a large number whose rounding error would otherwise set
 //! the root's error, while `Q(p)` near the surface is small.
 
+// `!(x > 0.0)` is deliberate: it is also true for NaN, which must be refused too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use glam::{DAffine3, DMat3, DVec3};
 
 /// `pᵀA p + bᵀp + c` with `A` symmetric. The solid is the set `Q ≤ 0`; the gradient

@@ -232,7 +232,10 @@ impl Quadric {
                 .iter()
                 .flat_map(|&(a, b)| [a, b])
                 .filter(|t| t.is_finite())
-                .filter(|&t| c.map_or(true, |c| t >= c.t_in && t <= c.t_out))
+                .filter(|&t| match c {
+                    Some(c) => t >= c.t_in && t <= c.t_out,
+                    None => true,
+                })
                 .map(|t| End { t, side: SURFACE })
                 .find(|e| ok(e))
         }

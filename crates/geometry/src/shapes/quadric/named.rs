@@ -2,6 +2,9 @@
 //! in a canonical frame (axis of symmetry along `y`), clipping, and the capped cylinder
 //! and cone between two points (POV-Ray's `cylinder` and `cone`).
 
+// `!(x > 0.0)` is deliberate: it is also true for NaN, which must be refused too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use super::{HalfSpace, Quadric, QuadricForm, QuadricKind};
 use crate::shapes::shape_error::{finite, positive, ShapeError};
 use glam::{DAffine3, DMat3, DVec3, Vec3};
@@ -180,7 +183,7 @@ impl Quadric {
     pub fn transformed(&self, to_world: &Affine3A) -> Result<Self, ShapeError> {
         let m = to_daffine(to_world);
         let det = m.matrix3.determinant();
-        if !(det.is_finite() && det != 0.0) || !m.translation.is_finite() {
+        if !(det.is_finite() && det != 0.0 && m.translation.is_finite()) {
             return Err(ShapeError::OutOfRange {
                 what: "quadric transform",
                 why: "the matrix must be finite and invertible",
