@@ -31,6 +31,10 @@ enum Command {
     TracePixel(commands::trace_pixel::TracePixelArgs),
     /// List the built-in scenes.
     Scenes(commands::scenes::ScenesArgs),
+    /// Solve a scene (default: the measured Cornell box) by radiosity; image, PLY, residuals.
+    Radiosity(commands::radiosity::RadiosityArgs),
+    /// Evaluate a closed-form form factor of the lecture's catalogue (`irradia formfactor list`).
+    Formfactor(commands::formfactor::FormFactorArgs),
     /// Render one frame sort-first, sort-middle or sort-last on N ranks and composite it.
     Parallel(commands::parallel::ParallelArgs),
     /// Benchmarks: `irradia bench parallel` (sort-first vs sort-last study, CSV + PNG).
@@ -45,6 +49,8 @@ fn main() {
         Command::Render(a) => commands::render::run(a),
         Command::TracePixel(a) => commands::trace_pixel::run(a),
         Command::Scenes(a) => commands::scenes::run(a),
+        Command::Radiosity(a) => commands::radiosity::run(a),
+        Command::Formfactor(a) => commands::formfactor::run(a),
         Command::Parallel(a) => commands::parallel::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::Wall(a) => commands::wall::run(a),

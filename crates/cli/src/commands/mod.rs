@@ -1,7 +1,9 @@
 //! One module per subcommand.
 
 pub mod bench;
+pub mod formfactor;
 pub mod parallel;
+pub mod radiosity;
 pub mod render;
 pub mod scenes;
 pub mod trace_pixel;
