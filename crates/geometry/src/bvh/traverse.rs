@@ -61,8 +61,26 @@ impl Bvh {
     /// Like [`Bvh::closest_hit`], but the closure gets a whole leaf (`index` and
     /// `count`; see [`Bvh::map_leaves`]) and returns the nearest `t < t_max` in it.
     #[inline]
-    pub fn closest_hit_leaves<F>(&self, ray: &Ray, t_max: f32, mut hit: F) -> Option<f32>
+    pub fn closest_hit_leaves<F>(&self, ray: &Ray, t_max: f32, hit: F) -> Option<f32>
     where
+        F: FnMut(ChildRef, f32) -> Option<f32>,
+    {
+        self.closest_hit_leaves_prefetch(ray, t_max, |_| {}, hit)
+    }
+
+    /// Like [`Bvh::closest_hit_leaves`]; `prefetch(leaf)` is called as soon as a leaf's
+    /// box is entered, so the caller can start loading the leaf's data before it is
+    /// needed.
+    #[inline]
+    pub fn closest_hit_leaves_prefetch<P, F>(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        prefetch: P,
+        mut hit: F,
+    ) -> Option<f32>
+    where
+        P: Fn(ChildRef),
         F: FnMut(ChildRef, f32) -> Option<f32>,
     {
         let nray = NodeRay::new(ray.origin, ray.dir);
@@ -96,7 +114,12 @@ impl Bvh {
                     while mask != 0 {
                         let i = mask.trailing_zeros() as usize;
                         mask &= mask - 1;
-                        self.prefetch(node.child_ref(i));
+                        let c = node.child_ref(i);
+                        if c.is_leaf() {
+                            prefetch(c);
+                        } else {
+                            self.prefetch(c);
+                        }
                         let e = Entry {
                             node: node.child_ref(i),
                             t_near: t_near[i],

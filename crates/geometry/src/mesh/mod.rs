@@ -220,18 +220,34 @@ impl TriangleMesh {
     pub fn intersect_triangle(&self, ray: &Ray, t_max: f32) -> Option<(u32, TriangleHit)> {
         let tray = TriangleRay::new(ray);
         let mut best: Option<(u32, TriangleHit)> = None;
-        self.bvh.closest_hit_leaves(ray, t_max, |leaf, mut t_max| {
-            let mut found = None;
-            for (k, packet) in self.leaf_packets(leaf).iter().enumerate() {
-                let lanes = (leaf.count as usize - 4 * k).min(4);
-                if let Some((lane, h)) = packet.intersect(&tray, lanes, t_max) {
-                    t_max = h.t;
-                    found = Some(h.t);
-                    best = Some((self.packet_triangles[leaf.index as usize + k][lane], h));
+        let prefetch = |leaf: ChildRef| {
+            #[cfg(target_arch = "x86_64")]
+            if let Some(p) = self.packets.get(leaf.index as usize) {
+                use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+                let p = p as *const Triangle4 as *const i8;
+                // SAFETY: a prefetch is only a hint; the three lines hold the packet.
+                unsafe {
+                    _mm_prefetch(p, _MM_HINT_T0);
+                    _mm_prefetch(p.add(64), _MM_HINT_T0);
+                    _mm_prefetch(p.add(128), _MM_HINT_T0);
                 }
             }
-            found
-        })?;
+            #[cfg(not(target_arch = "x86_64"))]
+            let _ = leaf;
+        };
+        self.bvh
+            .closest_hit_leaves_prefetch(ray, t_max, prefetch, |leaf, mut t_max| {
+                let mut found = None;
+                for (k, packet) in self.leaf_packets(leaf).iter().enumerate() {
+                    let lanes = (leaf.count as usize - 4 * k).min(4);
+                    if let Some((lane, h)) = packet.intersect(&tray, lanes, t_max) {
+                        t_max = h.t;
+                        found = Some(h.t);
+                        best = Some((self.packet_triangles[leaf.index as usize + k][lane], h));
+                    }
+                }
+                found
+            })?;
         best
     }
 
