@@ -232,7 +232,12 @@ impl RayNode {
         );
         match (&self.hit, self.kind) {
             (Some(h), RayKind::Shadow) => {
-                let _ = writeln!(s, "{pad}  blocked first by #{} '{}'", h.object, h.name);
+                let verb = if self.local.iter().all(|&v| v == 0.0) {
+                    "blocked by"
+                } else {
+                    "filtered by (first crossed)"
+                };
+                let _ = writeln!(s, "{pad}  {verb} #{} '{}'", h.object, h.name);
             }
             (Some(h), _) => {
                 let _ = writeln!(
@@ -283,7 +288,13 @@ impl RayNode {
         *next += 1;
         let what = match (&self.hit, self.cut) {
             (_, Some(why)) => format!("cut by {why}"),
-            (Some(h), _) if self.kind == RayKind::Shadow => format!("blocked by {}", esc(&h.name)),
+            (Some(h), _) if self.kind == RayKind::Shadow => {
+                if self.local.iter().all(|&v| v == 0.0) {
+                    format!("blocked by {}", esc(&h.name))
+                } else {
+                    format!("filtered by {}", esc(&h.name))
+                }
+            }
             (Some(h), _) => format!("hit {} at {}", esc(&h.name), v3(h.point)),
             (None, _) if self.kind == RayKind::Shadow => "reaches light".into(),
             (None, _) => "background".into(),
