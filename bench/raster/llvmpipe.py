@@ -5,8 +5,8 @@ moderngl, drawing the workload file written by `raster_bench write`.
     LP_NUM_THREADS=2 python3 llvmpipe.py FILE FRAMES [PNG]
 
 Same triangles, view, light and per-vertex (Gouraud, two-sided) lighting as Irradia.
-The vertex and index buffers are uploaded once; one frame is
-`fbo.clear(); vao.render(); fbo.read()` (read back the 1280x720 RGBA8 image, which
+The vertex and index buffers are uploaded once; after one untimed warm-up frame,
+a timed frame is `fbo.clear(); vao.render(); fbo.read(); ctx.finish()` (read back the 1280x720 RGBA8 image, which
 waits for llvmpipe to finish the frame). Prints one JSON line.
 """
 import json
@@ -112,13 +112,14 @@ def main():
     ctx.enable(moderngl.DEPTH_TEST)
     times = []
     data = None
-    for _ in range(frames):
+    for frame in range(frames + 1):  # one untimed warm-up frame (shader JIT, first touch)
         t0 = time.perf_counter()
         fbo.clear(0.0, 0.0, 0.0, 1.0, depth=1.0)
         vao.render(moderngl.TRIANGLES)
         data = fbo.read(components=4)
         ctx.finish()
-        times.append(time.perf_counter() - t0)
+        if frame > 0:
+            times.append(time.perf_counter() - t0)
     if png:
         from PIL import Image
 

@@ -2,7 +2,8 @@
 //!
 //! ```text
 //! raster_bench write random|gyroid FILE      write the workload (mesh + view + light)
-//! raster_bench time FILE FRAMES THREADS [PNG] render FRAMES frames, print the times
+//! raster_bench time FILE FRAMES THREADS [PNG] render 1 + FRAMES frames, print the
+//!                                             times of the last FRAMES (clear + render_mesh)
 //! ```
 //! The file is read by bench/raster/llvmpipe.py as well, so both renderers draw the
 //! same triangles from the same view. Layout (little-endian): b"IRRT", u32 width,
@@ -204,7 +205,8 @@ fn time(path: &str, frames: usize, threads: usize, png: Option<&str>) {
     let mut fb = Framebuffer::new(w.width, w.height, ColorFormat::Rgba8).expect("framebuffer");
     let mut times = Vec::new();
     pool.install(|| {
-        for _ in 0..frames {
+        // One untimed warm-up frame (first-touch page faults), then `frames` timed.
+        for frame in 0..=frames {
             let t0 = Instant::now();
             fb.clear([0.0, 0.0, 0.0, 1.0]);
             if std::env::var_os("RASTER_BENCH_SPLIT").is_some() {
@@ -219,7 +221,9 @@ fn time(path: &str, frames: usize, threads: usize, png: Option<&str>) {
             } else {
                 p.render_mesh(&w.mesh, &mut fb).expect("render");
             }
-            times.push(t0.elapsed().as_secs_f64());
+            if frame > 0 {
+                times.push(t0.elapsed().as_secs_f64());
+            }
         }
     });
     if let Some(png) = png {

@@ -157,6 +157,26 @@ impl Mesh {
         }
     }
 
+    /// A generator's output (random triangles, marching cubes, ...) with area-weighted
+    /// vertex normals.
+    pub fn from_mesh_data(m: irradia_geometry::generators::MeshData) -> Self {
+        let mut mesh = Self::new(m.positions, m.indices);
+        mesh.compute_vertex_normals();
+        mesh
+    }
+
+    /// The triangles, vertex normals and texture coordinates of a geometry
+    /// [`TriangleMesh`](irradia_geometry::TriangleMesh) (e.g. the tessellated teapot).
+    pub fn from_triangle_mesh(m: &irradia_geometry::TriangleMesh) -> Self {
+        Self {
+            positions: m.positions().to_vec(),
+            normals: m.normals().to_vec(),
+            uvs: m.uvs().map(|u| u.to_vec()).unwrap_or_default(),
+            indices: m.indices().to_vec(),
+            ..Self::default()
+        }
+    }
+
     /// The id of triangle `t`.
     #[inline]
     pub fn id(&self, t: usize) -> u32 {
