@@ -125,6 +125,10 @@ pub fn chart(rows: &[StudyRow], path: &Path) -> Result<(), String> {
             .build_cartesian_2d((xmin..xmax).log_scale(), (ymin..ymax).log_scale())
             .map_err(|e| e.to_string())?;
         ch.configure_mesh()
+            .x_labels(6)
+            .y_labels(6)
+            .x_label_formatter(&|x| format!("{x:.0}"))
+            .y_label_formatter(&|y| format!("{y:.3}"))
             .x_desc("triangles")
             .y_desc("frame time (s)")
             .draw()
