@@ -15,5 +15,6 @@ pub mod sort_first;
 pub mod sort_last;
 pub mod sort_middle;
 pub mod study;
+pub mod submission;
 pub mod wall;
 pub mod workload;
