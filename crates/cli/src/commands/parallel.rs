@@ -189,7 +189,7 @@ fn mpi_frame(
 ) -> Result<Frame, CliError> {
     let comm = irradia_parallel::comm::MpiComm::init(timeout)
         .ok_or_else(|| CliError::Failure("MPI was already initialised".into()))?;
-    one_frame(&comm, mode, p, tris, strategy).map_err(|e| comm.fail(&e))
+    one_frame(&comm, mode, p, tris, strategy).map_err(|e| -> CliError { comm.fail(&e) })
 }
 
 #[cfg(not(feature = "mpi"))]
