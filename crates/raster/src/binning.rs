@@ -16,7 +16,7 @@ use crate::screen::{Rect, ScreenTriangle};
 use rayon::prelude::*;
 
 /// Rows per band (tile height).
-pub const BAND_ROWS: u32 = 16;
+pub const BAND_ROWS: u32 = 32;
 /// Triangles binned by one task.
 pub(crate) const BATCH: usize = 8192;
 
