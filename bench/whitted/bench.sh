@@ -23,5 +23,6 @@ cd "$root"
 cargo build --release -q -p irradia
 bin="${CARGO_TARGET_DIR:-$root/target}/release/irradia"
 echo "machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo); $(date -u +%Y-%m-%dT%H:%MZ)"
-echo "povray: $(povray --version 2>&1 | head -1)"
+echo "povray: $(povray --version 2>&1 | grep -m1 -o 'POV-Ray [0-9.]*' || echo unknown)"
+echo "load: $(cat /proc/loadavg)"
 python3 "$here/compare.py" "$bin" "$scene" "$pov" --runs "$runs"

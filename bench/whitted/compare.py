@@ -39,7 +39,9 @@ def one_run(command, tmp):
         stderr=subprocess.DEVNULL,
     )
     with open(out) as f:
-        return json.load(f)["results"][0]["times"][0]
+        r = json.load(f)["results"][0]
+    # Wall time, and CPU time (user + system) which machine load distorts far less.
+    return r["times"][0], r["user"] + r["system"]
 
 
 def main():
@@ -57,6 +59,7 @@ def main():
     irr_png = os.path.join(tmp, "irradia.png")
     pov_png = os.path.join(tmp, "povray.png")
     rows = []
+    cpu_rows = []
     load_before = os.getloadavg()
     for t in [int(x) for x in args.threads.split(",")]:
         cmds = {
@@ -66,11 +69,16 @@ def main():
             f"--width {args.width} --height {args.height} --quiet -o {irr_png}",
         }
         times = {k: [] for k in cmds}
+        cpu = {k: [] for k in cmds}
         for _ in range(args.runs):
             for name, cmd in cmds.items():
-                times[name].append(one_run(cmd, tmp))
+                wall, c = one_run(cmd, tmp)
+                times[name].append(wall)
+                cpu[name].append(c)
         med = {k: statistics.median(v) for k, v in times.items()}
+        cmed = {k: statistics.median(v) for k, v in cpu.items()}
         rows.append((t, med["povray"], med["irradia"], med["irradia"] / med["povray"], times))
+        cpu_rows.append((t, cmed["povray"], cmed["irradia"], cmed["irradia"] / cmed["povray"]))
     load_after = os.getloadavg()
     quality = psnr(irr_png, pov_png)
 
@@ -80,6 +88,11 @@ def main():
     print("| threads | POV-Ray median (s) | Irradia median (s) | Irradia / POV-Ray |")
     print("|---|---|---|---|")
     for t, p, i, r, _ in rows:
+        print(f"| {t} | {p:.3f} | {i:.3f} | {r:.3f} |")
+    print()
+    print("| threads | POV-Ray CPU median (s) | Irradia CPU median (s) | Irradia / POV-Ray (CPU) |")
+    print("|---|---|---|---|")
+    for t, p, i, r in cpu_rows:
         print(f"| {t} | {p:.3f} | {i:.3f} | {r:.3f} |")
     print()
     print(f"PSNR Irradia vs POV-Ray: {quality:.2f} dB")
