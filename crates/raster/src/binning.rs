@@ -54,8 +54,12 @@ pub(crate) fn band_count(height: u32) -> usize {
 /// Appends triangle `i` to the bins of the bands that rows `y0..=y1` touch.
 #[inline(always)]
 pub(crate) fn push_to_bands(bins: &mut [Vec<u32>], i: u32, y0: i64, y1: i64) {
-    for b in (y0 as usize / BAND_ROWS as usize)..=(y1 as usize / BAND_ROWS as usize) {
-        bins[b].push(i);
+    let (first, last) = (
+        y0 as usize / BAND_ROWS as usize,
+        y1 as usize / BAND_ROWS as usize,
+    );
+    for bin in &mut bins[first..=last] {
+        bin.push(i);
     }
 }
 

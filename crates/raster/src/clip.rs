@@ -129,10 +129,7 @@ fn push(p: &mut ClipPolygon, v: ClipVertex) {
 
 #[inline]
 fn lerp(a: &ClipVertex, b: &ClipVertex, t: f32) -> ClipVertex {
-    let mut var = [0.0; VARYINGS];
-    for i in 0..VARYINGS {
-        var[i] = a.var[i] + t * (b.var[i] - a.var[i]);
-    }
+    let var: [f32; VARYINGS] = std::array::from_fn(|i| a.var[i] + t * (b.var[i] - a.var[i]));
     ClipVertex {
         pos: a.pos + t * (b.pos - a.pos),
         var,

@@ -34,6 +34,7 @@ pub(crate) struct GeometryStage<'a> {
 }
 
 impl<'a> GeometryStage<'a> {
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         view: Mat4,
         proj: Mat4,

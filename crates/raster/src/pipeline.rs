@@ -50,13 +50,15 @@ impl Pipeline {
     /// Defaults: [`ViewParams::default`] with the screen's aspect ratio, the default
     /// lights and material, Gouraud shading, no culling, depth test `Less`.
     pub fn new(width: u32, height: u32) -> Self {
-        let mut view = ViewParams::default();
-        view.proj = glam::Mat4::perspective_rh(
-            45f32.to_radians(),
-            width as f32 / height.max(1) as f32,
-            0.1,
-            100.0,
-        );
+        let view = ViewParams {
+            proj: glam::Mat4::perspective_rh(
+                45f32.to_radians(),
+                width as f32 / height.max(1) as f32,
+                0.1,
+                100.0,
+            ),
+            ..ViewParams::default()
+        };
         Self {
             width,
             height,

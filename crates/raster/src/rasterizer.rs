@@ -277,10 +277,8 @@ impl<'a> Setup<'a> {
         let px = x0 * ONE + HALF;
         let step_x = [self.a[0] * ONE, self.a[1] * ONE, self.a[2] * ONE];
         let step_y = [self.b[0] * ONE, self.b[1] * ONE, self.b[2] * ONE];
-        let mut row = [0i64; 3];
-        for k in 0..3 {
-            row[k] = self.a[k] * px + self.b[k] * (y0 * ONE + HALF) + self.c[k];
-        }
+        let mut row: [i64; 3] =
+            std::array::from_fn(|k| self.a[k] * px + self.b[k] * (y0 * ONE + HALF) + self.c[k]);
         let wide = x1 - x0 >= 16;
         for y in y0..=y1 {
             let mut e = row;

@@ -136,8 +136,10 @@ mod tests {
 
     #[test]
     fn bytes_round_trip() {
-        let mut t = ScreenTriangle::default();
-        t.id = 77;
+        let mut t = ScreenTriangle {
+            id: 77,
+            ..Default::default()
+        };
         t.v[1].x = 3.5;
         t.v[2].var[7] = -1.25;
         let mut b = Vec::new();
