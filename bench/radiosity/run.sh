@@ -4,20 +4,24 @@
 # threads, 5 interleaved runs each (10k 100k 10k 100k ...); prints medians, the
 # 100k/10k ratio and where the time goes. Results go in docs/benchmarks/radiosity.md.
 #
-# Usage: bench/radiosity/run.sh [RUNS]   (from the repository root)
+# Usage: bench/radiosity/run.sh [RUNS] [PROFILE]   (from the repository root)
+# The element targets 6000 and 45000 give 10,304 and 91,136 hierarchical leaves
+# (the quadtree cuts each patch into 4^d leaves); ε_BF = 1e-4.
 set -euo pipefail
 RUNS=${1:-5}
+PROFILE=${2:-release}
 cd "$(dirname "$0")/../.."
 export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-target}
-cargo build --release -q -p irradia-radiosity --example radiosity_bench
-BIN="$CARGO_TARGET_DIR/release/examples/radiosity_bench"
+cargo build --profile "$PROFILE" -q -p irradia-radiosity --example radiosity_bench
+DIR=$PROFILE; [ "$PROFILE" = test ] && DIR=debug
+BIN="$CARGO_TARGET_DIR/$DIR/examples/radiosity_bench"
 echo "date: $(date -u +%Y-%m-%dT%H:%MZ)  machine: $(nproc) cores, $(free -g | awk '/Mem/{print $2}') GiB"
 echo "load: $(uptime)"
 declare -A T
 for threads in 1 2; do
   for ((i = 0; i < RUNS; i++)); do
-    for n in 10000 100000; do
-      line=$(RAYON_NUM_THREADS=$threads "$BIN" "$n" hemicube hierarchical)
+    for n in 6000 45000; do
+      line=$(RAYON_NUM_THREADS=$threads "$BIN" "$n" hemicube hierarchical 1e-4)
       t=$(sed -E 's/.*total_s=([0-9.]+).*/\1/' <<<"$line")
       T[$threads,$n]+="$t "
       echo "threads=$threads n=$n run=$i: $line" >&2
@@ -29,11 +33,13 @@ echo
 echo "| threads | 10k elements (s) | 100k elements (s) | 100k / 10k |"
 echo "|---|---|---|---|"
 for threads in 1 2; do
-  a=$(echo "${T[$threads,10000]}" | median)
-  b=$(echo "${T[$threads,100000]}" | median)
+  a=$(echo "${T[$threads,6000]}" | median)
+  b=$(echo "${T[$threads,45000]}" | median)
   echo "| $threads | $a | $b | $(awk -v a="$a" -v b="$b" 'BEGIN{printf "%.2f", b/a}') |"
 done
 echo
 echo "Where the time goes (last 2-thread runs):"
-RAYON_NUM_THREADS=2 "$BIN" 10000 hemicube hierarchical | tr ' ' '\n' | grep -E '^\[|^elements|^total|^display|^note'
-RAYON_NUM_THREADS=2 "$BIN" 100000 hemicube hierarchical | tr ' ' '\n' | grep -E '^\[|^elements|^total|^display|^note'
+
+for n in 6000 45000; do
+  RAYON_NUM_THREADS=2 "$BIN" "$n" hemicube hierarchical 1e-4 | sed -E 's/ \[/\n  [/g; s/ note=/\n  note=/g'
+done

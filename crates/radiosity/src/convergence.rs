@@ -64,6 +64,7 @@ pub fn write_chart(path: &Path, histories: &[History], title: &str) -> Result<()
             .configure_mesh()
             .x_desc("iteration (sweep, term, shot or gather)")
             .y_desc("relative residual")
+            .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()
             .map_err(|e| fail(e.to_string()))?;
         let colours = [

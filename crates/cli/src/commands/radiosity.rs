@@ -107,7 +107,7 @@ pub struct RadiosityArgs {
     #[arg(long, value_name = "N", default_value_t = 10_000)]
     pub max_iterations: usize,
     /// Hierarchical: refine links while B·F exceeds this times the largest emission.
-    #[arg(long, value_name = "E", default_value_t = 1e-3)]
+    #[arg(long, value_name = "E", default_value_t = 1e-4)]
     pub bf_epsilon: f64,
     /// Hierarchical: shadow rays per link.
     #[arg(long, value_name = "N", default_value_t = 4)]

@@ -51,7 +51,7 @@ impl Default for HierarchicalOptions {
     fn default() -> Self {
         Self {
             max_element_area: f64::INFINITY,
-            bf_epsilon: 1e-3,
+            bf_epsilon: 1e-4,
             visibility_rays: 4,
             gauss_points: 1,
             rounds: 3,
