@@ -2,7 +2,7 @@
 //! its settings from the command line: shared by the subcommands that render.
 
 use crate::error::CliError;
-use clap::Args;
+use clap::{Args, ValueEnum};
 use irradia_scene::Scene;
 use std::path::PathBuf;
 
@@ -21,9 +21,22 @@ pub struct SceneArgs {
     /// Samples per pixel (overrides the scene's; stratified).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=65536))]
     pub spp: Option<u32>,
+    /// Integrator (overrides the scene's `render.integrator`): the recursive Whitted
+    /// ray tracer, or the path tracer that solves the rendering equation.
+    #[arg(long, value_name = "NAME")]
+    pub integrator: Option<IntegratorArg>,
     /// Maximum ray depth, camera rays being depth 1 (overrides the scene's).
     #[arg(long, value_name = "D", value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub max_depth: Option<u32>,
+}
+
+/// The integrators `--integrator` accepts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum IntegratorArg {
+    /// The recursive ray tracer of the lecture (Phong shading, shadow rays, mirrors, glass).
+    Whitted,
+    /// The Monte Carlo path tracer (next-event estimation, MIS, Russian roulette).
+    Path,
 }
 
 /// Loads the scene named by `file` or `args.builtin` (the built-in `default` when
@@ -56,6 +69,12 @@ pub fn load_scene(file: Option<&PathBuf>, args: &SceneArgs) -> Result<Scene, Cli
     }
     if let Some(n) = args.spp {
         s.spp = n;
+    }
+    if let Some(i) = args.integrator {
+        s.integrator = match i {
+            IntegratorArg::Whitted => irradia_scene::Integrator::Whitted,
+            IntegratorArg::Path => irradia_scene::Integrator::Path,
+        };
     }
     if let Some(d) = args.max_depth {
         s.max_depth = d;

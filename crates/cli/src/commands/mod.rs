@@ -5,6 +5,7 @@ pub mod formfactor;
 pub mod parallel;
 pub mod radiosity;
 pub mod render;
+pub mod render_path;
 pub mod scenes;
 pub mod trace_pixel;
 pub mod wall;

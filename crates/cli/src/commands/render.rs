@@ -71,6 +71,8 @@ pub struct RenderArgs {
     /// (comma-separated or repeated).
     #[arg(long, value_name = "AOV", value_delimiter = ',')]
     pub aov: Vec<AovArg>,
+    #[command(flatten)]
+    pub path: super::render_path::PathArgs,
     /// Print nothing but errors (no progress bar, no statistics).
     #[arg(short, long)]
     pub quiet: bool,
@@ -129,8 +131,17 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     // Everything that can be wrong with the options is found before rendering.
     let format = check_output(&args.output)?;
     let aovs: Vec<Aov> = args.aov.iter().map(|&a| a.into()).collect();
+    args.path.validate()?;
     let scene = load_scene(args.scene.as_ref(), &args.scene_args)?;
     let (w, h) = (scene.settings.width, scene.settings.height);
+    if scene.settings.integrator == irradia_scene::Integrator::Path {
+        return run_path(&args, &scene);
+    }
+    if args.path.any() {
+        return Err(CliError::Input(
+            "--time, --target-error, --checkpoint and --resume belong to the path tracer: add --integrator path".into(),
+        ));
+    }
 
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let pb =
@@ -181,6 +192,36 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         for p in written {
             eprintln!("Wrote {}", p.display());
         }
+    }
+    Ok(())
+}
+
+/// `irradia render` with the path tracer: budgets, checkpoints and the summary.
+fn run_path(args: &RenderArgs, scene: &irradia_scene::Scene) -> Result<(), CliError> {
+    if !args.aov.is_empty() {
+        return Err(CliError::Input(
+            "--aov images come from the Whitted integrator: render them with --integrator whitted".into(),
+        ));
+    }
+    let threads = args.threads.map(|t| t as usize);
+    let summary = super::render_path::run(scene, &args.path, args.scene_args.spp.is_some(), threads, args.quiet)?;
+    save(&summary.image, &args.output).map_err(|e| CliError::Failure(e.to_string()))?;
+    if !args.quiet {
+        let secs = summary.seconds.max(1e-9);
+        eprintln!(
+            "Path traced {}x{} at {} spp in {secs:.3} s ({:?}): {:.2} Msamples/s, {:.2} Mrays/s, relative error {:.4}",
+            scene.settings.width,
+            scene.settings.height,
+            summary.samples,
+            summary.stop,
+            summary.paths as f64 / secs / 1e6,
+            summary.rays as f64 / secs / 1e6,
+            summary.relative_error
+        );
+        if let Some(c) = args.path.checkpoint.as_ref().or(args.path.resume.as_ref()) {
+            eprintln!("Checkpoint {}", c.display());
+        }
+        eprintln!("Wrote {}", args.output.display());
     }
     Ok(())
 }

@@ -5,6 +5,7 @@
 use super::node::{ChildRef, NodeRay, WIDTH};
 use super::Bvh;
 use irradia_core::Ray;
+use std::mem::MaybeUninit;
 
 /// Stack depth: at most `WIDTH - 1` entries per level and the builder bounds the depth
 /// (median splits beyond binary depth 40, so below 40 + 32 levels).
@@ -86,10 +87,9 @@ impl Bvh {
         let nray = NodeRay::new(ray.origin, ray.dir);
         let mut t_max = t_max;
         let mut found = false;
-        let mut stack = [Entry {
-            node: ChildRef::EMPTY,
-            t_near: 0.0,
-        }; STACK];
+        // Left uninitialised: zeroing 3 KiB per query cost more than many whole
+        // traversals of small scenes. Only slots below `sp` are ever read.
+        let mut stack: [MaybeUninit<Entry>; STACK] = [const { MaybeUninit::uninit() }; STACK];
         let mut sp = 0usize;
         let mut current = ChildRef { index: 0, count: 0 };
         loop {
@@ -134,7 +134,7 @@ impl Bvh {
                         n += 1;
                     }
                     for e in &hits[..n - 1] {
-                        stack[sp] = *e;
+                        stack[sp] = MaybeUninit::new(*e);
                         sp += 1;
                     }
                     current = hits[n - 1].node;
@@ -147,7 +147,8 @@ impl Bvh {
                     return found.then_some(t_max);
                 }
                 sp -= 1;
-                let e = stack[sp];
+                // SAFETY: every slot below the stack pointer was written by a push.
+                let e = unsafe { stack[sp].assume_init() };
                 if e.t_near <= t_max {
                     current = e.node;
                     break;
@@ -175,7 +176,7 @@ impl Bvh {
         F: FnMut(ChildRef, f32) -> bool,
     {
         let nray = NodeRay::new(ray.origin, ray.dir);
-        let mut stack = [ChildRef::EMPTY; STACK];
+        let mut stack: [MaybeUninit<ChildRef>; STACK] = [const { MaybeUninit::uninit() }; STACK];
         let mut sp = 0usize;
         let mut current = ChildRef { index: 0, count: 0 };
         loop {
@@ -192,7 +193,7 @@ impl Bvh {
                     while mask != 0 {
                         let i = mask.trailing_zeros() as usize;
                         mask &= mask - 1;
-                        stack[sp] = node.child_ref(i);
+                        stack[sp] = MaybeUninit::new(node.child_ref(i));
                         sp += 1;
                     }
                     current = node.child_ref(first);
@@ -203,7 +204,8 @@ impl Bvh {
                 return false;
             }
             sp -= 1;
-            current = stack[sp];
+            // SAFETY: every slot below the stack pointer was written by a push.
+            current = unsafe { stack[sp].assume_init() };
         }
     }
 }

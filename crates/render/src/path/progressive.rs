@@ -62,10 +62,15 @@ pub struct PathRender {
 /// A fingerprint of what determines the image, to refuse resuming a checkpoint of
 /// another scene.
 pub fn fingerprint(scene: &Scene, params: &PathParams) -> u64 {
+    // Everything that changes the image, and not the sample budget.
+    let s = &scene.settings;
     let text = format!(
-        "{:?}|{:?}|{}|{}|{}|{}|{:?}",
-        scene.settings,
+        "{}x{}|{:?}|{:?}|{:?}|{}|{}|{}|{}|{:?}",
+        s.width,
+        s.height,
+        s.background,
         scene.camera,
+        scene.materials.iter().map(|m| (m.emission, m.diffuse, m.specular, m.transmission)).collect::<Vec<_>>(),
         scene.objects.len(),
         scene.materials.len(),
         scene.lights.len(),
