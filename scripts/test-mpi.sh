@@ -9,12 +9,13 @@ if ! command -v mpirun >/dev/null 2>&1; then
   echo "test-mpi: mpirun not found; skipping the MPI tests (apt-get install openmpi-bin libopenmpi-dev libclang-dev)"
   exit 0
 fi
-if ! cargo build --locked --release -p irradia-parallel --features mpi --example mpi_check 2>&1; then
+# The test profile (opt-level 2, no LTO) shares its dependencies with `cargo test`.
+if ! cargo build --locked --profile test -p irradia-parallel --features mpi --example mpi_check 2>&1; then
   echo "test-mpi: build failed"
   echo "0 passed, 1 failed"
   exit 1
 fi
-dir="${CARGO_TARGET_DIR:-target}/release/examples"
+dir="${CARGO_TARGET_DIR:-target}/debug/examples"
 MPIRUN=(mpirun --oversubscribe)
 if [ "$(id -u)" = 0 ]; then MPIRUN+=(--allow-run-as-root); fi
 passed=0
