@@ -79,7 +79,10 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(5);
     let accel = scene();
-    let w: u32 = std::env::args().nth(2).and_then(|s| s.parse().ok()).unwrap_or(1280);
+    let w: u32 = std::env::args()
+        .nth(2)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1280);
     let h = w * 9 / 16;
     let eye = Vec3::new(0.0, 3.2, -7.5);
     let forward = (Vec3::new(0.0, 0.9, 0.0) - eye).normalize();

@@ -1,11 +1,19 @@
 //! Prints the size of the benchmark gyroid mesh and checks it is closed inside the grid.
-use irradia_geometry::generators::{gyroid_mesh, gyroid::BENCHMARK_GRID};
+use irradia_geometry::generators::{gyroid::BENCHMARK_GRID, gyroid_mesh};
 use std::collections::HashMap;
 fn main() {
-    let n: u32 = std::env::args().nth(1).map(|s| s.parse().unwrap()).unwrap_or(BENCHMARK_GRID);
+    let n: u32 = std::env::args()
+        .nth(1)
+        .map(|s| s.parse().unwrap())
+        .unwrap_or(BENCHMARK_GRID);
     let t = std::time::Instant::now();
     let m = gyroid_mesh(n);
-    println!("grid {n}^3: {} vertices, {} triangles in {:.2?}", m.positions.len(), m.indices.len(), t.elapsed());
+    println!(
+        "grid {n}^3: {} vertices, {} triangles in {:.2?}",
+        m.positions.len(),
+        m.indices.len(),
+        t.elapsed()
+    );
     let mut edges: HashMap<(u32, u32), i32> = HashMap::new();
     for t in &m.indices {
         for k in 0..3 {

@@ -10,13 +10,13 @@ pub mod bvh;
 pub mod csg;
 pub mod expr;
 pub mod generators;
+pub mod instance;
 pub mod io;
 pub mod mesh;
-pub mod triangle;
-pub mod instance;
 pub mod roots;
 pub mod shape;
 pub mod shapes;
+pub mod triangle;
 
 pub use accel::{Accel, SceneHit};
 pub use csg::{Csg, CsgOp, CsgOperand};

@@ -243,7 +243,14 @@ fn closed_meshes_are_solids_with_spans() {
         let ray = Ray::new(p.normalize_or(Vec3::X) * 4.0, -p.normalize_or(Vec3::X));
         let mut spans = Vec::new();
         mesh.spans(&ray, &mut spans);
-        assert_eq!(spans.len(), 1, "from {} {:?} hit {:?}", ray.origin, spans, mesh.intersect(&ray, f32::INFINITY).map(|h| h.t));
+        assert_eq!(
+            spans.len(),
+            1,
+            "from {} {:?} hit {:?}",
+            ray.origin,
+            spans,
+            mesh.intersect(&ray, f32::INFINITY).map(|h| h.t)
+        );
         assert!((spans[0].enter.t - 3.0).abs() < 0.02 && (spans[0].exit.t - 5.0).abs() < 0.02);
     }
     // Remove one triangle: open, so no solid and no spans.

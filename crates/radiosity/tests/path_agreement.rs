@@ -16,14 +16,18 @@ use irradia_radiosity::pipeline::{run, Config, NoProgress};
 use irradia_radiosity::scenes;
 use irradia_render::path::integrator::{radiance, PathCounters, PathParams};
 use irradia_render::path::lights::LightSampler;
-use irradia_scene::{Camera, FovAxis, Material, Object, Projection, RenderSettings, Scene, Texture};
+use irradia_scene::{
+    Camera, FovAxis, Material, Object, Projection, RenderSettings, Scene, Texture,
+};
 use rayon::prelude::*;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
 /// A spec's surface as triangles (a fan; non-planar quads are cut as the mesher cuts them).
 fn triangles(spec: &PatchSpec) -> Vec<[DVec3; 3]> {
-    (1..spec.corners.len() - 1).map(|k| [spec.corners[0], spec.corners[k], spec.corners[k + 1]]).collect()
+    (1..spec.corners.len() - 1)
+        .map(|k| [spec.corners[0], spec.corners[k], spec.corners[k + 1]])
+        .collect()
 }
 
 /// The radiosity scene as an Irradia scene: one diffuse polygon per triangle, emission
@@ -41,8 +45,13 @@ fn scene_of(specs: &[PatchSpec]) -> Scene {
             ..Material::default()
         });
         for t in triangles(s) {
-            let poly = Polygon::new(t.iter().map(|p| p.as_vec3()).collect()).expect("valid triangle");
-            objects.push(Object { name: s.name.clone(), material: i as u32, leaf_materials: vec![] });
+            let poly =
+                Polygon::new(t.iter().map(|p| p.as_vec3()).collect()).expect("valid triangle");
+            objects.push(Object {
+                name: s.name.clone(),
+                material: i as u32,
+                leaf_materials: vec![],
+            });
             instances.push(Instance::untransformed(Arc::new(poly)));
         }
     }
@@ -50,9 +59,15 @@ fn scene_of(specs: &[PatchSpec]) -> Scene {
         eye: Vec3::new(278.0, 273.0, -800.0),
         look_at: Vec3::new(278.0, 273.0, 0.0),
         up: Vec3::Y,
-        projection: Projection::Perspective { fov_degrees: 39.3, axis: FovAxis::Smaller },
+        projection: Projection::Perspective {
+            fov_degrees: 39.3,
+            axis: FovAxis::Smaller,
+        },
     };
-    let settings = RenderSettings { background: Rgb::BLACK, ..RenderSettings::default() };
+    let settings = RenderSettings {
+        background: Rgb::BLACK,
+        ..RenderSettings::default()
+    };
     Scene::new(camera, settings, materials, vec![], objects, instances)
 }
 
@@ -60,15 +75,23 @@ fn scene_of(specs: &[PatchSpec]) -> Scene {
 fn path_traced_means(specs: &[PatchSpec], points: u32) -> Vec<([f64; 3], f64)> {
     let scene = scene_of(specs);
     let lights = LightSampler::new(&scene);
-    let params = PathParams { max_depth: 200, rr_depth: 5 };
+    let params = PathParams {
+        max_depth: 200,
+        rr_depth: 5,
+    };
     specs
         .par_iter()
         .enumerate()
         .map(|(si, s)| {
             let tris = triangles(s);
-            let areas: Vec<f64> = tris.iter().map(|t| 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length()).collect();
+            let areas: Vec<f64> = tris
+                .iter()
+                .map(|t| 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length())
+                .collect();
             let total: f64 = areas.iter().sum();
-            let normal = (tris[0][1] - tris[0][0]).cross(tris[0][2] - tris[0][0]).normalize();
+            let normal = (tris[0][1] - tris[0][0])
+                .cross(tris[0][2] - tris[0][0])
+                .normalize();
             let (mut sum, mut sum_sq) = ([0.0f64; 3], 0.0f64);
             let mut counters = PathCounters::default();
             let side = (points as f64).sqrt() as u32;
@@ -76,7 +99,10 @@ fn path_traced_means(specs: &[PatchSpec], points: u32) -> Vec<([f64; 3], f64)> {
                 let mut rng = Rng::new(si as u64 * 1_000_003 + i as u64, 77);
                 // Stratified point on the surface, chosen by area among the triangles.
                 let (a, b) = ((i % side) as f32, (i / side) as f32);
-                let u = Vec2::new((a + rng.next_f32()) / side as f32, (b + rng.next_f32()) / side as f32);
+                let u = Vec2::new(
+                    (a + rng.next_f32()) / side as f32,
+                    (b + rng.next_f32()) / side as f32,
+                );
                 let mut x = u.x as f64 * total;
                 let mut k = 0;
                 while k + 1 < tris.len() && x >= areas[k] {
@@ -86,12 +112,21 @@ fn path_traced_means(specs: &[PatchSpec], points: u32) -> Vec<([f64; 3], f64)> {
                 let ux = (x / areas[k]).clamp(0.0, 1.0);
                 let bary = irradia_core::sampling::uniform_triangle(Vec2::new(ux as f32, u.y));
                 let t = tris[k];
-                let p = t[0] * (1.0 - bary.x as f64 - bary.y as f64) + t[1] * bary.x as f64 + t[2] * bary.y as f64;
+                let p = t[0] * (1.0 - bary.x as f64 - bary.y as f64)
+                    + t[1] * bary.x as f64
+                    + t[2] * bary.y as f64;
                 let n = (t[1] - t[0]).cross(t[2] - t[0]).normalize();
                 let n = if n.dot(normal) < 0.0 { -n } else { n };
                 // Look at the point from just in front of it.
                 let eye = (p + n * 0.5).as_vec3();
-                let l = radiance(&scene, &lights, &params, Ray::new(eye, (-n).as_vec3()), &mut rng, &mut counters);
+                let l = radiance(
+                    &scene,
+                    &lights,
+                    &params,
+                    Ray::new(eye, (-n).as_vec3()),
+                    &mut rng,
+                    &mut counters,
+                );
                 let v = [l.r as f64 * PI, l.g as f64 * PI, l.b as f64 * PI];
                 for c in 0..3 {
                     sum[c] += v[c];
@@ -128,22 +163,47 @@ fn compare(specs: &[PatchSpec], cfg: Config, exceptions: &[(&str, f64)]) {
         );
         // The path tracer's own noise must be well below the tolerance for the test to
         // mean anything.
-        assert!(stderr / lum(*p) < 0.01, "{}: path-traced estimate too noisy ({stderr})", s.name);
-        let tolerance = exceptions.iter().find(|(p, _)| s.name.contains(p)).map_or(0.02, |e| e.1);
+        assert!(
+            stderr / lum(*p) < 0.01,
+            "{}: path-traced estimate too noisy ({stderr})",
+            s.name
+        );
+        let tolerance = exceptions
+            .iter()
+            .find(|(p, _)| s.name.contains(p))
+            .map_or(0.02, |e| e.1);
         if rel / tolerance > worst.0 {
-            worst = (rel / tolerance, format!("{}: {:.2}% (tolerance {:.1}%)", s.name, 100.0 * rel, 100.0 * tolerance));
+            worst = (
+                rel / tolerance,
+                format!(
+                    "{}: {:.2}% (tolerance {:.1}%)",
+                    s.name,
+                    100.0 * rel,
+                    100.0 * tolerance
+                ),
+            );
         }
     }
-    assert!(worst.0 < 1.0, "radiosity and path tracer differ: {}", worst.1);
+    assert!(
+        worst.0 < 1.0,
+        "radiosity and path tracer differ: {}",
+        worst.1
+    );
 }
 
 #[test]
 fn empty_cornell_box_agrees_with_the_path_tracer_within_two_percent() {
     // An empty convex room: every pair of elements sees each other (no visibility rays).
     let cfg = Config {
-        mesh: MeshOptions { max_element_area: Some(40.0 * 40.0), ..Default::default() },
+        mesh: MeshOptions {
+            max_element_area: Some(40.0 * 40.0),
+            ..Default::default()
+        },
         method: Method::Contour,
-        params: Params { visibility_samples: 0, ..Default::default() },
+        params: Params {
+            visibility_samples: 0,
+            ..Default::default()
+        },
         ..Default::default()
     };
     compare(&scenes::cornell_empty(), cfg, &[]);
@@ -154,9 +214,15 @@ fn cornell_box_with_blocks_agrees_with_the_path_tracer_within_two_percent() {
     // 35 mm elements, two rounds of adaptive subdivision where radiosity changes fast,
     // visibility by 16 rays per element pair.
     let cfg = Config {
-        mesh: MeshOptions { max_element_area: Some(35.0 * 35.0), ..Default::default() },
+        mesh: MeshOptions {
+            max_element_area: Some(35.0 * 35.0),
+            ..Default::default()
+        },
         method: Method::Contour,
-        params: Params { visibility_samples: 16, ..Default::default() },
+        params: Params {
+            visibility_samples: 16,
+            ..Default::default()
+        },
         adaptive_rounds: 2,
         ..Default::default()
     };

@@ -18,6 +18,12 @@ fn main() {
     let t = std::time::Instant::now();
     let o = irradia_render::render(&scene, &irradia_render::RenderOptions::default()).unwrap();
     let secs = t.elapsed().as_secs_f64();
-    println!("{name}: {}x{} {} spp in {secs:.2} s: {:.2} Msamples/s", scene.settings.width, scene.settings.height, scene.settings.spp, o.stats.samples as f64 / secs / 1e6);
+    println!(
+        "{name}: {}x{} {} spp in {secs:.2} s: {:.2} Msamples/s",
+        scene.settings.width,
+        scene.settings.height,
+        scene.settings.spp,
+        o.stats.samples as f64 / secs / 1e6
+    );
     irradia_core::io::save(&o.image, std::path::Path::new(out)).unwrap();
 }

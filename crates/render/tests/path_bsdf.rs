@@ -16,20 +16,36 @@ fn dir(cos_t: f64, phi: f64) -> Vec3 {
 }
 
 fn bin_of(w: Vec3) -> usize {
-    let t = (((w.z as f64 + 1.0) / 2.0) * THETA_BINS as f64).floor().clamp(0.0, THETA_BINS as f64 - 1.0) as usize;
+    let t = (((w.z as f64 + 1.0) / 2.0) * THETA_BINS as f64)
+        .floor()
+        .clamp(0.0, THETA_BINS as f64 - 1.0) as usize;
     let mut phi = (w.y as f64).atan2(w.x as f64);
     if phi < 0.0 {
         phi += 2.0 * PI;
     }
-    let p = ((phi / (2.0 * PI)) * PHI_BINS as f64).floor().clamp(0.0, PHI_BINS as f64 - 1.0) as usize;
+    let p = ((phi / (2.0 * PI)) * PHI_BINS as f64)
+        .floor()
+        .clamp(0.0, PHI_BINS as f64 - 1.0) as usize;
     t * PHI_BINS + p
 }
 
 /// Expected probability of each (cos θ, φ) bin: the density integrated by composite
 /// 5-point Gauss-Legendre quadrature (the measure d(cos θ) dφ is the solid angle).
 fn expected(pdf: impl Fn(Vec3) -> f64) -> Vec<f64> {
-    const X: [f64; 5] = [-0.906_179_845_938_664, -0.538_469_310_105_683, 0.0, 0.538_469_310_105_683, 0.906_179_845_938_664];
-    const W: [f64; 5] = [0.236_926_885_056_189, 0.478_628_670_499_366, 0.568_888_888_888_889, 0.478_628_670_499_366, 0.236_926_885_056_189];
+    const X: [f64; 5] = [
+        -0.906_179_845_938_664,
+        -0.538_469_310_105_683,
+        0.0,
+        0.538_469_310_105_683,
+        0.906_179_845_938_664,
+    ];
+    const W: [f64; 5] = [
+        0.236_926_885_056_189,
+        0.478_628_670_499_366,
+        0.568_888_888_888_889,
+        0.478_628_670_499_366,
+        0.236_926_885_056_189,
+    ];
     let sub = 6;
     let (dz, dp) = (2.0 / THETA_BINS as f64, 2.0 * PI / PHI_BINS as f64);
     let (hz, hp) = (dz / sub as f64, dp / sub as f64);
@@ -128,8 +144,15 @@ fn chi_square(bsdf: &Bsdf, wo: Vec3, n: usize, seed: u64) -> f64 {
     for _ in 0..n {
         match bsdf.sample(wo, rng.next_f32(), rng.next_2d()) {
             Some(s) => {
-                assert!((s.wi.length() - 1.0).abs() < 1e-3, "sampled direction not unit: {}", s.wi);
-                assert!((s.pdf - bsdf.pdf(wo, s.wi)).abs() <= 1e-3 * s.pdf.max(1.0), "sample pdf disagrees with pdf()");
+                assert!(
+                    (s.wi.length() - 1.0).abs() < 1e-3,
+                    "sampled direction not unit: {}",
+                    s.wi
+                );
+                assert!(
+                    (s.pdf - bsdf.pdf(wo, s.wi)).abs() <= 1e-3 * s.pdf.max(1.0),
+                    "sample pdf disagrees with pdf()"
+                );
                 obs[bin_of(s.wi)] += 1.0;
             }
             None => missing += 1.0,
@@ -153,26 +176,58 @@ fn chi_square(bsdf: &Bsdf, wo: Vec3, n: usize, seed: u64) -> f64 {
         chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
         dof += 1;
     } else {
-        assert!(pool_o <= 10.0 + 3.0 * pool_e, "{pool_o} samples where the density expects {pool_e}");
+        assert!(
+            pool_o <= 10.0 + 3.0 * pool_e,
+            "{pool_o} samples where the density expects {pool_e}"
+        );
     }
     gamma_q((dof - 1) as f64 / 2.0, chi2 / 2.0)
 }
 
 fn lobes() -> Vec<(&'static str, Bsdf)> {
     vec![
-        ("lambert", Bsdf::new().with(Lobe::Lambert { albedo: Rgb::splat(0.8) })),
-        ("phong n=1", Bsdf::new().with(Lobe::Phong { ks: Rgb::splat(0.9), exponent: 1.0 })),
-        ("phong n=20", Bsdf::new().with(Lobe::Phong { ks: Rgb::splat(0.9), exponent: 20.0 })),
+        (
+            "lambert",
+            Bsdf::new().with(Lobe::Lambert {
+                albedo: Rgb::splat(0.8),
+            }),
+        ),
+        (
+            "phong n=1",
+            Bsdf::new().with(Lobe::Phong {
+                ks: Rgb::splat(0.9),
+                exponent: 1.0,
+            }),
+        ),
+        (
+            "phong n=20",
+            Bsdf::new().with(Lobe::Phong {
+                ks: Rgb::splat(0.9),
+                exponent: 20.0,
+            }),
+        ),
         (
             "lambert+phong",
-            Bsdf::new().with(Lobe::Lambert { albedo: Rgb::new(0.5, 0.3, 0.2) }).with(Lobe::Phong { ks: Rgb::splat(0.3), exponent: 8.0 }),
+            Bsdf::new()
+                .with(Lobe::Lambert {
+                    albedo: Rgb::new(0.5, 0.3, 0.2),
+                })
+                .with(Lobe::Phong {
+                    ks: Rgb::splat(0.3),
+                    exponent: 8.0,
+                }),
         ),
     ]
 }
 
 #[test]
 fn sampling_matches_density_chi_square() {
-    let wos = [Vec3::Z, Vec3::new(0.5, 0.2, 0.6).normalize(), Vec3::new(-0.9, 0.1, 0.2).normalize(), Vec3::new(0.3, 0.3, -0.8).normalize()];
+    let wos = [
+        Vec3::Z,
+        Vec3::new(0.5, 0.2, 0.6).normalize(),
+        Vec3::new(-0.9, 0.1, 0.2).normalize(),
+        Vec3::new(0.3, 0.3, -0.8).normalize(),
+    ];
     let tests = lobes().len() * wos.len();
     let alpha = 0.01 / tests as f64; // Šidák-style correction for many tests
     for (seed, (name, bsdf)) in lobes().into_iter().enumerate() {
@@ -187,8 +242,14 @@ fn sampling_matches_density_chi_square() {
 fn chi_square_detects_a_wrong_density() {
     // Guard that the test above can fail: a Phong lobe sampled with one exponent and
     // checked against another must be rejected.
-    let sampled = Bsdf::new().with(Lobe::Phong { ks: Rgb::splat(0.9), exponent: 20.0 });
-    let claimed = Bsdf::new().with(Lobe::Phong { ks: Rgb::splat(0.9), exponent: 16.0 });
+    let sampled = Bsdf::new().with(Lobe::Phong {
+        ks: Rgb::splat(0.9),
+        exponent: 20.0,
+    });
+    let claimed = Bsdf::new().with(Lobe::Phong {
+        ks: Rgb::splat(0.9),
+        exponent: 16.0,
+    });
     let wo = Vec3::new(0.5, 0.2, 0.6).normalize();
     let exp = expected(|wi| claimed.pdf(wo, wi) as f64);
     let mut obs = vec![0.0; exp.len()];
@@ -199,7 +260,12 @@ fn chi_square_detects_a_wrong_density() {
             obs[bin_of(s.wi)] += 1.0;
         }
     }
-    let chi2: f64 = obs.iter().zip(&exp).filter(|(_, e)| **e * n as f64 >= 5.0).map(|(o, e)| (o - e * n as f64).powi(2) / (e * n as f64)).sum();
+    let chi2: f64 = obs
+        .iter()
+        .zip(&exp)
+        .filter(|(_, e)| **e * n as f64 >= 5.0)
+        .map(|(o, e)| (o - e * n as f64).powi(2) / (e * n as f64))
+        .sum();
     let dof = exp.iter().filter(|e| **e * n as f64 >= 5.0).count();
     assert!(gamma_q((dof - 1) as f64 / 2.0, chi2 / 2.0) < 1e-6);
 }
@@ -208,9 +274,18 @@ fn chi_square_detects_a_wrong_density() {
 fn every_lobe_conserves_energy() {
     let lobes = [
         Lobe::Lambert { albedo: Rgb::WHITE },
-        Lobe::Phong { ks: Rgb::WHITE, exponent: 1.0 },
-        Lobe::Phong { ks: Rgb::WHITE, exponent: 10.0 },
-        Lobe::Phong { ks: Rgb::WHITE, exponent: 200.0 },
+        Lobe::Phong {
+            ks: Rgb::WHITE,
+            exponent: 1.0,
+        },
+        Lobe::Phong {
+            ks: Rgb::WHITE,
+            exponent: 10.0,
+        },
+        Lobe::Phong {
+            ks: Rgb::WHITE,
+            exponent: 200.0,
+        },
         Lobe::Mirror { r: Rgb::WHITE },
     ];
     for lobe in lobes {
@@ -219,18 +294,28 @@ fn every_lobe_conserves_energy() {
             let theta = theta.min(89.5f32.to_radians());
             let wo = Vec3::new(theta.sin(), 0.0, theta.cos());
             let a = lobe.albedo(wo, 40_000).max_component();
-            assert!(a <= 1.0 + 2e-3, "{lobe:?} at {:.0}°: albedo {a}", theta.to_degrees());
+            assert!(
+                a <= 1.0 + 2e-3,
+                "{lobe:?} at {:.0}°: albedo {a}",
+                theta.to_degrees()
+            );
         }
     }
     // The Lambertian lobe of albedo 1 reflects everything, at every angle.
-    let a = Lobe::Lambert { albedo: Rgb::WHITE }.albedo(Vec3::new(0.6, 0.0, 0.8), 40_000).g;
+    let a = Lobe::Lambert { albedo: Rgb::WHITE }
+        .albedo(Vec3::new(0.6, 0.0, 0.8), 40_000)
+        .g;
     assert!((a - 1.0).abs() < 1e-3);
 }
 
 #[test]
 fn dielectric_splits_by_fresnel_and_refracts_by_snell() {
     let eta = 1.5f32;
-    let lobe = Lobe::Dielectric { eta, tint: Rgb::WHITE, weight: 1.0 };
+    let lobe = Lobe::Dielectric {
+        eta,
+        tint: Rgb::WHITE,
+        weight: 1.0,
+    };
     let mut rng = Rng::new(5, 5);
     for cos in [1.0f32, 0.8, 0.4, 0.1, -0.95, -0.8] {
         let wo = Vec3::new((1.0 - cos * cos).sqrt(), 0.0, cos);
@@ -238,7 +323,9 @@ fn dielectric_splits_by_fresnel_and_refracts_by_snell() {
         let n = 20_000;
         let mut reflected = 0;
         for _ in 0..n {
-            let s = lobe.sample(wo, rng.next_2d()).expect("a smooth dielectric always scatters");
+            let s = lobe
+                .sample(wo, rng.next_2d())
+                .expect("a smooth dielectric always scatters");
             if s.wi.z * wo.z > 0.0 {
                 reflected += 1;
                 assert!((s.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-5);
@@ -252,7 +339,10 @@ fn dielectric_splits_by_fresnel_and_refracts_by_snell() {
         }
         let frac = reflected as f32 / n as f32;
         let sigma = (f * (1.0 - f) / n as f32).sqrt();
-        assert!((frac - f).abs() <= 5.0 * sigma + 1e-6, "cos {cos}: reflected {frac}, Fresnel {f}");
+        assert!(
+            (frac - f).abs() <= 5.0 * sigma + 1e-6,
+            "cos {cos}: reflected {frac}, Fresnel {f}"
+        );
     }
     // Beyond the critical angle everything reflects.
     let crit = (1.0f32 / eta).asin();
@@ -260,7 +350,12 @@ fn dielectric_splits_by_fresnel_and_refracts_by_snell() {
     assert_eq!(fresnel_dielectric(-t.cos(), eta), 1.0);
     let wo = Vec3::new(t.sin(), 0.0, -t.cos());
     for _ in 0..100 {
-        assert!(lobe.sample(wo, Vec2::new(rng.next_f32(), 0.3)).unwrap().wi.z < 0.0);
+        assert!(
+            lobe.sample(wo, Vec2::new(rng.next_f32(), 0.3))
+                .unwrap()
+                .wi
+                .z
+                < 0.0
+        );
     }
 }
-

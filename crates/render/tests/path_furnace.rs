@@ -6,10 +6,19 @@ use irradia_render::path::{self, Film, PathParams, ProgressiveOptions};
 use std::time::Duration;
 
 fn render(scene: &irradia_scene::Scene, spp: u32, max_depth: u32) -> Film {
-    let params = PathParams { max_depth, rr_depth: 5 };
-    let opts = ProgressiveOptions { spp, checkpoint_interval: Duration::from_secs(3600), ..Default::default() };
+    let params = PathParams {
+        max_depth,
+        rr_depth: 5,
+    };
+    let opts = ProgressiveOptions {
+        spp,
+        checkpoint_interval: Duration::from_secs(3600),
+        ..Default::default()
+    };
     let film = Film::new(scene.settings.width, scene.settings.height).unwrap();
-    path::render(scene, &params, &opts, film, |_, _| {}).unwrap().film
+    path::render(scene, &params, &opts, film, |_, _| {})
+        .unwrap()
+        .film
 }
 
 /// Every pixel within five of its own standard errors of `expected`, and the image mean
@@ -18,11 +27,17 @@ fn assert_converges_to(film: &Film, expected: f32, rel: f32, what: &str) {
     let im = film.image();
     let mean = im.mean();
     for c in [mean.r, mean.g, mean.b] {
-        assert!((c - expected).abs() < rel * expected, "{what}: mean {c}, expected {expected}");
+        assert!(
+            (c - expected).abs() < rel * expected,
+            "{what}: mean {c}, expected {expected}"
+        );
     }
     for (p, var) in im.pixels().iter().zip(film.variance_of_mean()) {
         let sigma = var.sqrt() as f32;
-        assert!((p.g - expected).abs() <= 5.0 * sigma + 1e-4, "{what}: pixel {p:?} (σ {sigma}), expected {expected}");
+        assert!(
+            (p.g - expected).abs() <= 5.0 * sigma + 1e-4,
+            "{what}: pixel {p:?} (σ {sigma}), expected {expected}"
+        );
     }
 }
 

@@ -200,11 +200,18 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
 fn run_path(args: &RenderArgs, scene: &irradia_scene::Scene) -> Result<(), CliError> {
     if !args.aov.is_empty() {
         return Err(CliError::Input(
-            "--aov images come from the Whitted integrator: render them with --integrator whitted".into(),
+            "--aov images come from the Whitted integrator: render them with --integrator whitted"
+                .into(),
         ));
     }
     let threads = args.threads.map(|t| t as usize);
-    let summary = super::render_path::run(scene, &args.path, args.scene_args.spp.is_some(), threads, args.quiet)?;
+    let summary = super::render_path::run(
+        scene,
+        &args.path,
+        args.scene_args.spp.is_some(),
+        threads,
+        args.quiet,
+    )?;
     save(&summary.image, &args.output).map_err(|e| CliError::Failure(e.to_string()))?;
     if !args.quiet {
         let secs = summary.seconds.max(1e-9);

@@ -32,24 +32,34 @@ pub struct PathArgs {
 impl PathArgs {
     /// True when any path-tracer option was given.
     pub fn any(&self) -> bool {
-        self.time.is_some() || self.target_error.is_some() || self.checkpoint.is_some() || self.resume.is_some()
+        self.time.is_some()
+            || self.target_error.is_some()
+            || self.checkpoint.is_some()
+            || self.resume.is_some()
     }
 
     /// Checks the values before any work starts.
     pub fn validate(&self) -> Result<(), CliError> {
         if let Some(t) = self.time {
             if !(t.is_finite() && t > 0.0) {
-                return Err(CliError::Input(format!("--time: must be a positive number of seconds (got {t})")));
+                return Err(CliError::Input(format!(
+                    "--time: must be a positive number of seconds (got {t})"
+                )));
             }
         }
         if let Some(e) = self.target_error {
             if !(e.is_finite() && e > 0.0) {
-                return Err(CliError::Input(format!("--target-error: must be a positive number (got {e})")));
+                return Err(CliError::Input(format!(
+                    "--target-error: must be a positive number (got {e})"
+                )));
             }
         }
         if let Some(r) = &self.resume {
             if !r.is_file() {
-                return Err(CliError::Input(format!("--resume: {}: no such checkpoint file", r.display())));
+                return Err(CliError::Input(format!(
+                    "--resume: {}: no such checkpoint file",
+                    r.display()
+                )));
             }
         }
         Ok(())
@@ -69,18 +79,36 @@ pub struct PathSummary {
 
 /// Path-traces `scene`. `spp_given` tells whether the user fixed the sample count:
 /// with only a time or error budget, samples are not capped.
-pub fn run(scene: &Scene, args: &PathArgs, spp_given: bool, threads: Option<usize>, quiet: bool) -> Result<PathSummary, CliError> {
+pub fn run(
+    scene: &Scene,
+    args: &PathArgs,
+    spp_given: bool,
+    threads: Option<usize>,
+    quiet: bool,
+) -> Result<PathSummary, CliError> {
     let s = &scene.settings;
-    let params = PathParams { max_depth: s.max_depth.max(1), ..PathParams::default() };
+    let params = PathParams {
+        max_depth: s.max_depth.max(1),
+        ..PathParams::default()
+    };
     let budget = args.time.is_some() || args.target_error.is_some();
-    let spp = if budget && !spp_given { u32::MAX } else { s.spp.max(1) };
+    let spp = if budget && !spp_given {
+        u32::MAX
+    } else {
+        s.spp.max(1)
+    };
     let fingerprint = path::progressive::fingerprint(scene, &params);
     let film = match &args.resume {
-        Some(p) => Film::load_checkpoint(p, fingerprint).map_err(|e| CliError::Input(e.to_string()))?,
+        Some(p) => {
+            Film::load_checkpoint(p, fingerprint).map_err(|e| CliError::Input(e.to_string()))?
+        }
         None => Film::new(s.width, s.height).map_err(|e| CliError::Input(e.to_string()))?,
     };
     if film.samples() >= spp && !quiet {
-        eprintln!("The checkpoint already holds {} samples per pixel; nothing to add.", film.samples());
+        eprintln!(
+            "The checkpoint already holds {} samples per pixel; nothing to add.",
+            film.samples()
+        );
     }
     let options = ProgressiveOptions {
         spp,
@@ -98,7 +126,9 @@ pub fn run(scene: &Scene, args: &PathArgs, spp_given: bool, threads: Option<usiz
         } else {
             "{bar:40} {pos}/{len} spp  {msg}  {elapsed_precise} eta {eta}"
         };
-        pb.set_style(ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()));
+        pb.set_style(
+            ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
         pb.set_position(film.samples() as u64);
         pb
     });

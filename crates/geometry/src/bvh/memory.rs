@@ -25,7 +25,11 @@ pub fn advise_huge_pages<T>(v: &mut Vec<T>) {
             // SAFETY: the range lies inside `v`'s own allocation; MADV_HUGEPAGE only
             // changes how the kernel backs it, never its contents. Failure is harmless.
             unsafe {
-                madvise(aligned as *mut std::ffi::c_void, end - aligned, MADV_HUGEPAGE);
+                madvise(
+                    aligned as *mut std::ffi::c_void,
+                    end - aligned,
+                    MADV_HUGEPAGE,
+                );
             }
         }
     }

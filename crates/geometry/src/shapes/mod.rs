@@ -24,8 +24,11 @@
 //!   operand `CsgOperand::shape(Arc<dyn Shape>, to_parent)` or `CsgOperand::node(csg,
 //!   to_parent)`; `csg.leaf_count()`, `csg.leaf_paths()` map `Hit::leaf` to operands.
 
+pub mod bezier;
 pub mod cuboid;
 pub mod disk;
+pub mod implicit;
+pub mod parametric;
 pub mod plane;
 pub mod polygon;
 pub mod polyhedron;
@@ -33,12 +36,12 @@ pub mod quadric;
 pub mod shape_error;
 pub mod sphere;
 pub mod torus;
-pub mod parametric;
-pub mod bezier;
-pub mod implicit;
 
+pub use bezier::{teapot_mesh, teapot_patches, BezierPatch, BezierSurface};
 pub use cuboid::Cuboid;
 pub use disk::Disk;
+pub use implicit::{ImplicitError, ImplicitSurface, RootMethod};
+pub use parametric::{ParametricError, ParametricSurface};
 pub use plane::Plane;
 pub use polygon::Polygon;
 pub use polyhedron::Polyhedron;
@@ -46,6 +49,3 @@ pub use quadric::Quadric;
 pub use shape_error::ShapeError;
 pub use sphere::Sphere;
 pub use torus::Torus;
-pub use parametric::{ParametricError, ParametricSurface};
-pub use bezier::{teapot_mesh, teapot_patches, BezierPatch, BezierSurface};
-pub use implicit::{ImplicitError, ImplicitSurface, RootMethod};

@@ -93,7 +93,9 @@ impl Bsdf {
         if total <= 0.0 {
             return 0.0;
         }
-        self.lobes().map(|l| l.selection_weight() / total * l.pdf(wo, wi)).sum()
+        self.lobes()
+            .map(|l| l.selection_weight() / total * l.pdf(wo, wi))
+            .sum()
     }
 
     /// Samples a direction: first a lobe (`u_lobe`), then a direction in it (`u`).
@@ -128,7 +130,12 @@ impl Bsdf {
             return None;
         }
         let f = self.eval(wo, s.wi);
-        Some(BsdfSample { wi: s.wi, weight: f * (s.wi.z.abs() / pdf), pdf, delta: false })
+        Some(BsdfSample {
+            wi: s.wi,
+            weight: f * (s.wi.z.abs() / pdf),
+            pdf,
+            delta: false,
+        })
     }
 }
 
@@ -199,7 +206,12 @@ impl Lobe {
                     wi.z = -wi.z;
                 }
                 let pdf = cosine_hemisphere_pdf(wi.z.abs());
-                (pdf > 0.0).then_some(BsdfSample { wi, weight: albedo, pdf, delta: false })
+                (pdf > 0.0).then_some(BsdfSample {
+                    wi,
+                    weight: albedo,
+                    pdf,
+                    delta: false,
+                })
             }
             Lobe::Phong { exponent, .. } => {
                 // Sample cos^n around the mirror direction.
@@ -217,21 +229,41 @@ impl Lobe {
                     return None;
                 }
                 let f = self.eval(wo, wi);
-                Some(BsdfSample { wi, weight: f * (wi.z.abs() / pdf), pdf, delta: false })
+                Some(BsdfSample {
+                    wi,
+                    weight: f * (wi.z.abs() / pdf),
+                    pdf,
+                    delta: false,
+                })
             }
             Lobe::Mirror { r } => {
                 let wi = reflect(wo);
-                Some(BsdfSample { wi, weight: r, pdf: 1.0, delta: true })
+                Some(BsdfSample {
+                    wi,
+                    weight: r,
+                    pdf: 1.0,
+                    delta: true,
+                })
             }
             Lobe::Dielectric { eta, tint, weight } => {
                 let f = fresnel_dielectric(wo.z, eta);
                 if u.x < f {
-                    Some(BsdfSample { wi: reflect(wo), weight: Rgb::splat(weight), pdf: f, delta: true })
+                    Some(BsdfSample {
+                        wi: reflect(wo),
+                        weight: Rgb::splat(weight),
+                        pdf: f,
+                        delta: true,
+                    })
                 } else {
                     let (wi, eta_rel) = refract(wo, eta)?;
                     // Radiance is compressed into the denser medium: divide by the
                     // squared relative index (PBRT 4th ed., 9.5.2).
-                    Some(BsdfSample { wi, weight: tint * (weight / (eta_rel * eta_rel)), pdf: 1.0 - f, delta: true })
+                    Some(BsdfSample {
+                        wi,
+                        weight: tint * (weight / (eta_rel * eta_rel)),
+                        pdf: 1.0 - f,
+                        delta: true,
+                    })
                 }
             }
         }
@@ -265,7 +297,11 @@ pub fn reflect(w: Vec3) -> Vec3 {
 /// normal +z pointing outside). Returns the refracted direction and the relative index
 /// `eta_t / eta_i` along the path, or `None` on total internal reflection.
 pub fn refract(wo: Vec3, eta: f32) -> Option<(Vec3, f32)> {
-    let (cos_i, eta_rel, sign) = if wo.z > 0.0 { (wo.z, eta, 1.0) } else { (-wo.z, 1.0 / eta, -1.0) };
+    let (cos_i, eta_rel, sign) = if wo.z > 0.0 {
+        (wo.z, eta, 1.0)
+    } else {
+        (-wo.z, 1.0 / eta, -1.0)
+    };
     let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
     let sin2_t = sin2_i / (eta_rel * eta_rel);
     if sin2_t >= 1.0 {
@@ -279,7 +315,11 @@ pub fn refract(wo: Vec3, eta: f32) -> Option<(Vec3, f32)> {
 /// Unpolarised Fresnel reflectance of a dielectric boundary for light arriving at
 /// cosine `cos_i` (positive: from outside) with relative index `eta` (inside/outside).
 pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
-    let (cos_i, eta) = if cos_i < 0.0 { (-cos_i, 1.0 / eta) } else { (cos_i, eta) };
+    let (cos_i, eta) = if cos_i < 0.0 {
+        (-cos_i, 1.0 / eta)
+    } else {
+        (cos_i, eta)
+    };
     let sin2_t = (1.0 - cos_i * cos_i).max(0.0) / (eta * eta);
     if sin2_t >= 1.0 {
         return 1.0;

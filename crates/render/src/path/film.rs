@@ -33,7 +33,13 @@ impl Film {
     /// An empty film; the size is checked before allocating.
     pub fn new(width: u32, height: u32) -> Result<Self, ImageError> {
         let n = irradia_core::image::check_size(width, height, 32)?;
-        Ok(Self { width, height, samples: 0, sum: vec![[0.0; 3]; n], sum_sq: vec![0.0; n] })
+        Ok(Self {
+            width,
+            height,
+            samples: 0,
+            sum: vec![[0.0; 3]; n],
+            sum_sq: vec![0.0; n],
+        })
     }
 
     pub fn width(&self) -> u32 {
@@ -48,10 +54,14 @@ impl Film {
     }
 
     /// Rows of (sum, sum of squared luminance) for parallel accumulation.
-    pub(crate) fn rows_mut(&mut self) -> impl rayon::iter::IndexedParallelIterator<Item = (&mut [[f64; 3]], &mut [f64])> {
+    pub(crate) fn rows_mut(
+        &mut self,
+    ) -> impl rayon::iter::IndexedParallelIterator<Item = (&mut [[f64; 3]], &mut [f64])> {
         use rayon::prelude::*;
         let w = self.width as usize;
-        self.sum.par_chunks_mut(w).zip(self.sum_sq.par_chunks_mut(w))
+        self.sum
+            .par_chunks_mut(w)
+            .zip(self.sum_sq.par_chunks_mut(w))
     }
 
     pub(crate) fn finish_pass(&mut self, samples: u32) {
@@ -60,8 +70,16 @@ impl Film {
 
     /// The mean of the samples (black before the first sample).
     pub fn image(&self) -> Image {
-        let k = if self.samples > 0 { 1.0 / self.samples as f64 } else { 0.0 };
-        let px = self.sum.iter().map(|s| Rgb::new((s[0] * k) as f32, (s[1] * k) as f32, (s[2] * k) as f32)).collect();
+        let k = if self.samples > 0 {
+            1.0 / self.samples as f64
+        } else {
+            0.0
+        };
+        let px = self
+            .sum
+            .iter()
+            .map(|s| Rgb::new((s[0] * k) as f32, (s[1] * k) as f32, (s[2] * k) as f32))
+            .collect();
         Image::from_pixels(self.width, self.height, px)
     }
 
@@ -90,7 +108,8 @@ impl Film {
         }
         let var = self.variance_of_mean();
         let rms = (var.iter().sum::<f64>() / var.len() as f64).sqrt();
-        let mean = self.sum.iter().map(luminance).sum::<f64>() / (self.sum.len() as f64 * self.samples as f64);
+        let mean = self.sum.iter().map(luminance).sum::<f64>()
+            / (self.sum.len() as f64 * self.samples as f64);
         if mean > 0.0 {
             rms / mean
         } else if rms == 0.0 {
@@ -120,8 +139,14 @@ impl Film {
     /// Reads a checkpoint written by [`Film::save_checkpoint`] for the same scene.
     pub fn load_checkpoint(path: &Path, fingerprint: u64) -> Result<Film, CheckpointError> {
         let p = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|e| CheckpointError::Io { path: p.clone(), message: e.to_string() })?;
-        let bad = |m: &str| CheckpointError::Format { path: p.clone(), message: m.into() };
+        let bytes = std::fs::read(path).map_err(|e| CheckpointError::Io {
+            path: p.clone(),
+            message: e.to_string(),
+        })?;
+        let bad = |m: &str| CheckpointError::Format {
+            path: p.clone(),
+            message: m.into(),
+        };
         if bytes.len() < 36 || &bytes[..16] != MAGIC {
             return Err(bad("wrong header"));
         }
@@ -138,7 +163,8 @@ impl Film {
         }
         for i in 0..n {
             let o = 36 + i * 32;
-            let f = |k: usize| f64::from_le_bytes(bytes[o + 8 * k..o + 8 * k + 8].try_into().unwrap());
+            let f =
+                |k: usize| f64::from_le_bytes(bytes[o + 8 * k..o + 8 * k + 8].try_into().unwrap());
             film.sum[i] = [f(0), f(1), f(2)];
             film.sum_sq[i] = f(3);
         }

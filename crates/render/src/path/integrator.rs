@@ -24,7 +24,10 @@ pub struct PathParams {
 
 impl Default for PathParams {
     fn default() -> Self {
-        Self { max_depth: 8, rr_depth: 5 }
+        Self {
+            max_depth: 8,
+            rr_depth: 5,
+        }
     }
 }
 
@@ -103,7 +106,11 @@ pub fn radiance(
             break;
         }
         // Shade with the shading normal, kept on the geometric normal's side.
-        let ns = if hit.shading_normal.dot(n) < 0.0 { -hit.shading_normal } else { hit.shading_normal };
+        let ns = if hit.shading_normal.dot(n) < 0.0 {
+            -hit.shading_normal
+        } else {
+            hit.shading_normal
+        };
         let frame = Frame::from_normal(ns);
         let wo = frame.to_local(wo_world);
 
@@ -118,10 +125,16 @@ pub fn radiance(
                     counters.shadow_rays += 1;
                     let visible = match ls.target {
                         Some(t) => !scene.accel.occluded(&Ray::new(origin, t - origin), 1.0),
-                        None => !scene.accel.occluded(&Ray::new(origin, ls.wi), f32::INFINITY),
+                        None => !scene
+                            .accel
+                            .occluded(&Ray::new(origin, ls.wi), f32::INFINITY),
                     };
                     if visible {
-                        let w = if ls.delta { 1.0 } else { mis(ls.pdf, bsdf.pdf(wo, wi)) };
+                        let w = if ls.delta {
+                            1.0
+                        } else {
+                            mis(ls.pdf, bsdf.pdf(wo, wi))
+                        };
                         l += beta * f * ls.li * (wi.z.abs() * w / ls.pdf);
                     }
                 }
@@ -146,7 +159,11 @@ pub fn radiance(
         if beta.is_black() || !beta.is_finite() {
             break;
         }
-        prev = if s.delta { None } else { Some((hit.point, s.pdf)) };
+        prev = if s.delta {
+            None
+        } else {
+            Some((hit.point, s.pdf))
+        };
         let side = if wi_world.dot(n) > 0.0 { n } else { -n };
         ray = Ray::new(offset_ray_origin(hit.point, side, hit.error), wi_world);
 

@@ -29,13 +29,45 @@ pub struct LightSample {
 
 #[derive(Clone, Debug)]
 enum Emitter {
-    Point { position: Vec3, intensity: Rgb },
-    Spot { position: Vec3, direction: Vec3, intensity: Rgb, cos_inner: f32, cos_outer: f32 },
-    Directional { direction: Vec3, irradiance: Rgb },
-    Rect { corner: Vec3, edge_u: Vec3, edge_v: Vec3, normal: Vec3, area: f32, radiance: Rgb },
-    Sphere { center: Vec3, radius: f32, radiance: Rgb },
-    Object { instance: u32, radiance: Rgb, area: f32, two_sided: bool, surface: SurfaceSampler },
-    Environment { radiance: Rgb, radius: f32 },
+    Point {
+        position: Vec3,
+        intensity: Rgb,
+    },
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        intensity: Rgb,
+        cos_inner: f32,
+        cos_outer: f32,
+    },
+    Directional {
+        direction: Vec3,
+        irradiance: Rgb,
+    },
+    Rect {
+        corner: Vec3,
+        edge_u: Vec3,
+        edge_v: Vec3,
+        normal: Vec3,
+        area: f32,
+        radiance: Rgb,
+    },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+        radiance: Rgb,
+    },
+    Object {
+        instance: u32,
+        radiance: Rgb,
+        area: f32,
+        two_sided: bool,
+        surface: SurfaceSampler,
+    },
+    Environment {
+        radiance: Rgb,
+        radius: f32,
+    },
 }
 
 /// Uniform-by-area points on an emissive shape, in object space: the shape's own
@@ -44,7 +76,10 @@ enum Emitter {
 #[derive(Clone, Debug)]
 enum SurfaceSampler {
     Exact,
-    Facets { triangles: Vec<[Vec3; 3]>, cdf: Vec<f32> },
+    Facets {
+        triangles: Vec<[Vec3; 3]>,
+        cdf: Vec<f32>,
+    },
 }
 
 impl SurfaceSampler {
@@ -134,25 +169,76 @@ impl LightSampler {
             .map(|i| i.bounds())
             .filter(|b| b.is_finite())
             .fold(irradia_core::Aabb::EMPTY, |a, b| a.union(b));
-        let radius = if bounds.is_empty() { 1.0 } else { 0.5 * bounds.extent().length().max(1e-3) };
+        let radius = if bounds.is_empty() {
+            1.0
+        } else {
+            0.5 * bounds.extent().length().max(1e-3)
+        };
         for l in &scene.lights {
             emitters.push(match *l {
-                Light::Point { position, intensity } => Emitter::Point { position, intensity },
-                Light::Spot { position, direction, intensity, cos_inner, cos_outer } => {
-                    Emitter::Spot { position, direction: direction.normalize(), intensity, cos_inner, cos_outer }
-                }
-                Light::Directional { direction, irradiance } => {
-                    Emitter::Directional { direction: direction.normalize(), irradiance }
-                }
-                Light::Rect { corner, edge_u, edge_v, radiance, .. } => {
+                Light::Point {
+                    position,
+                    intensity,
+                } => Emitter::Point {
+                    position,
+                    intensity,
+                },
+                Light::Spot {
+                    position,
+                    direction,
+                    intensity,
+                    cos_inner,
+                    cos_outer,
+                } => Emitter::Spot {
+                    position,
+                    direction: direction.normalize(),
+                    intensity,
+                    cos_inner,
+                    cos_outer,
+                },
+                Light::Directional {
+                    direction,
+                    irradiance,
+                } => Emitter::Directional {
+                    direction: direction.normalize(),
+                    irradiance,
+                },
+                Light::Rect {
+                    corner,
+                    edge_u,
+                    edge_v,
+                    radiance,
+                    ..
+                } => {
                     let c = edge_u.cross(edge_v);
-                    Emitter::Rect { corner, edge_u, edge_v, normal: c.normalize(), area: c.length(), radiance }
+                    Emitter::Rect {
+                        corner,
+                        edge_u,
+                        edge_v,
+                        normal: c.normalize(),
+                        area: c.length(),
+                        radiance,
+                    }
                 }
-                Light::Sphere { center, radius, radiance, .. } => Emitter::Sphere { center, radius, radiance },
+                Light::Sphere {
+                    center,
+                    radius,
+                    radiance,
+                    ..
+                } => Emitter::Sphere {
+                    center,
+                    radius,
+                    radiance,
+                },
             });
         }
         let mut by_instance = vec![None; scene.objects.len()];
-        for (i, (obj, inst)) in scene.objects.iter().zip(scene.accel.instances()).enumerate() {
+        for (i, (obj, inst)) in scene
+            .objects
+            .iter()
+            .zip(scene.accel.instances())
+            .enumerate()
+        {
             let material = &scene.materials[obj.material as usize];
             let e = material.emission;
             if e.is_black() {
@@ -160,31 +246,56 @@ impl LightSampler {
             }
             if let Some((surface, area)) = SurfaceSampler::for_shape(inst.shape.as_ref()) {
                 by_instance[i] = Some(emitters.len() as u32);
-                emitters.push(Emitter::Object { instance: i as u32, radiance: e, area, two_sided: material.emission_two_sided, surface });
+                emitters.push(Emitter::Object {
+                    instance: i as u32,
+                    radiance: e,
+                    area,
+                    two_sided: material.emission_two_sided,
+                    surface,
+                });
             }
         }
         let mut environment = None;
         if !scene.settings.background.is_black() {
             environment = Some(emitters.len() as u32);
-            emitters.push(Emitter::Environment { radiance: scene.settings.background, radius });
+            emitters.push(Emitter::Environment {
+                radiance: scene.settings.background,
+                radius,
+            });
         }
         let powers: Vec<f32> = emitters
             .iter()
             .map(|e| match e {
-                Emitter::Point { intensity, .. } | Emitter::Spot { intensity, .. } => 4.0 * PI * intensity.mean(),
+                Emitter::Point { intensity, .. } | Emitter::Spot { intensity, .. } => {
+                    4.0 * PI * intensity.mean()
+                }
                 Emitter::Directional { irradiance, .. } => PI * radius * radius * irradiance.mean(),
                 Emitter::Rect { area, radiance, .. } => PI * area * radiance.mean(),
-                Emitter::Sphere { radius, radiance, .. } => PI * 4.0 * PI * radius * radius * radiance.mean(),
-                Emitter::Object { instance, radiance, area, .. } => {
-                    let s = det3(scene.accel.instances()[*instance as usize].to_world()).abs().powf(2.0 / 3.0);
+                Emitter::Sphere {
+                    radius, radiance, ..
+                } => PI * 4.0 * PI * radius * radius * radiance.mean(),
+                Emitter::Object {
+                    instance,
+                    radiance,
+                    area,
+                    ..
+                } => {
+                    let s = det3(scene.accel.instances()[*instance as usize].to_world())
+                        .abs()
+                        .powf(2.0 / 3.0);
                     PI * area * s * radiance.mean()
                 }
-                Emitter::Environment { radiance, radius } => PI * 4.0 * PI * radius * radius * radiance.mean(),
+                Emitter::Environment { radiance, radius } => {
+                    PI * 4.0 * PI * radius * radius * radiance.mean()
+                }
             })
             .map(|p| if p.is_finite() && p > 0.0 { p } else { 0.0 })
             .collect();
         let total: f32 = powers.iter().sum();
-        let probability: Vec<f32> = powers.iter().map(|p| if total > 0.0 { p / total } else { 0.0 }).collect();
+        let probability: Vec<f32> = powers
+            .iter()
+            .map(|p| if total > 0.0 { p / total } else { 0.0 })
+            .collect();
         let mut acc = 0.0;
         let cdf = probability
             .iter()
@@ -193,7 +304,13 @@ impl LightSampler {
                 acc
             })
             .collect();
-        Self { emitters, cdf, probability, by_instance, environment }
+        Self {
+            emitters,
+            cdf,
+            probability,
+            by_instance,
+            environment,
+        }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -207,12 +324,20 @@ impl LightSampler {
         }
         let total = *self.cdf.last()?;
         let x = u_pick * total;
-        let idx = self.cdf.partition_point(|&c| c <= x).min(self.emitters.len() - 1);
+        let idx = self
+            .cdf
+            .partition_point(|&c| c <= x)
+            .min(self.emitters.len() - 1);
         let pick = self.probability[idx];
         if pick <= 0.0 {
             return None;
         }
-        let on_surface = |q: Vec3, n: Vec3, radiance: Rgb, pdf_area: f32, two_sided: bool| -> Option<LightSample> {
+        let on_surface = |q: Vec3,
+                          n: Vec3,
+                          radiance: Rgb,
+                          pdf_area: f32,
+                          two_sided: bool|
+         -> Option<LightSample> {
             let d = q - p;
             let dist2 = d.length_squared();
             let wi = d / dist2.sqrt();
@@ -222,41 +347,115 @@ impl LightSampler {
                 return None;
             }
             let target = irradia_core::offset_ray_origin(q, if facing > 0.0 { n } else { -n }, 0.0);
-            Some(LightSample { wi, target: Some(target), li: radiance, pdf: pick * pdf_area * dist2 / cos_l, delta: false })
+            Some(LightSample {
+                wi,
+                target: Some(target),
+                li: radiance,
+                pdf: pick * pdf_area * dist2 / cos_l,
+                delta: false,
+            })
         };
         match self.emitters[idx] {
-            Emitter::Point { position, intensity } => {
+            Emitter::Point {
+                position,
+                intensity,
+            } => {
                 let d = position - p;
                 let dist2 = d.length_squared();
-                Some(LightSample { wi: d / dist2.sqrt(), target: Some(position), li: intensity / dist2, pdf: pick, delta: true })
+                Some(LightSample {
+                    wi: d / dist2.sqrt(),
+                    target: Some(position),
+                    li: intensity / dist2,
+                    pdf: pick,
+                    delta: true,
+                })
             }
-            Emitter::Spot { position, direction, intensity, cos_inner, cos_outer } => {
+            Emitter::Spot {
+                position,
+                direction,
+                intensity,
+                cos_inner,
+                cos_outer,
+            } => {
                 let d = position - p;
                 let dist2 = d.length_squared();
                 let wi = d / dist2.sqrt();
                 let f = spot_falloff((-wi).dot(direction), cos_inner, cos_outer);
-                (f > 0.0).then_some(LightSample { wi, target: Some(position), li: intensity * (f / dist2), pdf: pick, delta: true })
+                (f > 0.0).then_some(LightSample {
+                    wi,
+                    target: Some(position),
+                    li: intensity * (f / dist2),
+                    pdf: pick,
+                    delta: true,
+                })
             }
-            Emitter::Directional { direction, irradiance } => {
-                Some(LightSample { wi: -direction, target: None, li: irradiance, pdf: pick, delta: true })
-            }
-            Emitter::Rect { corner, edge_u, edge_v, normal, area, radiance } => {
-                on_surface(corner + edge_u * u.x + edge_v * u.y, normal, radiance, 1.0 / area, false)
-            }
-            Emitter::Sphere { center, radius, radiance } => {
+            Emitter::Directional {
+                direction,
+                irradiance,
+            } => Some(LightSample {
+                wi: -direction,
+                target: None,
+                li: irradiance,
+                pdf: pick,
+                delta: true,
+            }),
+            Emitter::Rect {
+                corner,
+                edge_u,
+                edge_v,
+                normal,
+                area,
+                radiance,
+            } => on_surface(
+                corner + edge_u * u.x + edge_v * u.y,
+                normal,
+                radiance,
+                1.0 / area,
+                false,
+            ),
+            Emitter::Sphere {
+                center,
+                radius,
+                radiance,
+            } => {
                 let n = sampling::uniform_sphere(u);
-                on_surface(center + n * radius, n, radiance, 1.0 / (4.0 * PI * radius * radius), false)
+                on_surface(
+                    center + n * radius,
+                    n,
+                    radiance,
+                    1.0 / (4.0 * PI * radius * radius),
+                    false,
+                )
             }
-            Emitter::Object { instance, radiance, area, two_sided, ref surface } => {
+            Emitter::Object {
+                instance,
+                radiance,
+                area,
+                two_sided,
+                ref surface,
+            } => {
                 let inst = &scene.accel.instances()[instance as usize];
                 let (qo, no) = surface.sample(inst.shape.as_ref(), u)?;
                 let q = inst.to_world().transform_point3(qo);
-                let n = Vec3::from(inst.to_object().matrix3.transpose() * glam::Vec3A::from(no)).normalize();
-                on_surface(q, n, radiance, 1.0 / (area * area_jacobian(inst, no)), two_sided)
+                let n = Vec3::from(inst.to_object().matrix3.transpose() * glam::Vec3A::from(no))
+                    .normalize();
+                on_surface(
+                    q,
+                    n,
+                    radiance,
+                    1.0 / (area * area_jacobian(inst, no)),
+                    two_sided,
+                )
             }
             Emitter::Environment { radiance, .. } => {
                 let wi = sampling::uniform_sphere(u);
-                Some(LightSample { wi, target: None, li: radiance, pdf: pick / (4.0 * PI), delta: false })
+                Some(LightSample {
+                    wi,
+                    target: None,
+                    li: radiance,
+                    pdf: pick / (4.0 * PI),
+                    delta: false,
+                })
             }
         }
     }
@@ -272,7 +471,8 @@ impl LightSampler {
             return 0.0;
         };
         let inst = &scene.accel.instances()[instance as usize];
-        let n_obj = Vec3::from(inst.to_world().matrix3.transpose() * glam::Vec3A::from(n)).normalize();
+        let n_obj =
+            Vec3::from(inst.to_world().matrix3.transpose() * glam::Vec3A::from(n)).normalize();
         let d = q - p;
         let dist2 = d.length_squared();
         let cos_l = (d.dot(n) / dist2.sqrt()).abs();
@@ -284,6 +484,7 @@ impl LightSampler {
 
     /// The solid-angle density of sampling direction `wi` from the environment.
     pub fn pdf_environment(&self) -> f32 {
-        self.environment.map_or(0.0, |i| self.probability[i as usize] / (4.0 * PI))
+        self.environment
+            .map_or(0.0, |i| self.probability[i as usize] / (4.0 * PI))
     }
 }

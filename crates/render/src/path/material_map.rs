@@ -24,16 +24,30 @@ pub fn bsdf_for(material: &Material, p: Vec3, uv: Vec2) -> Bsdf {
     let color = material.color.eval(p, uv);
     let albedo = color * material.diffuse;
     let transmits = material.transmission > 0.0;
-    let mirror = if transmits && material.fresnel { Rgb::BLACK } else { material.reflection };
-    let total = albedo.max_component() + material.specular + mirror.max_component() + material.transmission;
+    let mirror = if transmits && material.fresnel {
+        Rgb::BLACK
+    } else {
+        material.reflection
+    };
+    let total =
+        albedo.max_component() + material.specular + mirror.max_component() + material.transmission;
     let scale = if total > 1.0 { 1.0 / total } else { 1.0 };
     let mut bsdf = Bsdf::new()
-        .with(Lobe::Lambert { albedo: albedo * scale })
-        .with(Lobe::Phong { ks: Rgb::splat(material.specular * scale), exponent: material.shininess.max(0.0) })
+        .with(Lobe::Lambert {
+            albedo: albedo * scale,
+        })
+        .with(Lobe::Phong {
+            ks: Rgb::splat(material.specular * scale),
+            exponent: material.shininess.max(0.0),
+        })
         .with(Lobe::Mirror { r: mirror * scale });
     if transmits {
         let tint = material.filter_color.unwrap_or(color);
-        bsdf = bsdf.with(Lobe::Dielectric { eta: material.ior, tint, weight: material.transmission * scale });
+        bsdf = bsdf.with(Lobe::Dielectric {
+            eta: material.ior,
+            tint,
+            weight: material.transmission * scale,
+        });
     }
     bsdf
 }

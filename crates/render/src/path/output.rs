@@ -10,8 +10,15 @@ use std::time::Duration;
 /// settings, Mitsuba's convention) on the pool `options.threads` asks for.
 pub fn render_output(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, RenderError> {
     let s = &scene.settings;
-    let params = PathParams { max_depth: s.max_depth.max(1), ..PathParams::default() };
-    let progressive = ProgressiveOptions { spp: s.spp.max(1), checkpoint_interval: Duration::MAX, ..Default::default() };
+    let params = PathParams {
+        max_depth: s.max_depth.max(1),
+        ..PathParams::default()
+    };
+    let progressive = ProgressiveOptions {
+        spp: s.spp.max(1),
+        checkpoint_interval: Duration::MAX,
+        ..Default::default()
+    };
     let film = Film::new(s.width, s.height)?;
     let pixels = s.width as u64 * s.height as u64;
     let run = || {
@@ -46,5 +53,10 @@ pub fn render_output(scene: &Scene, options: &RenderOptions) -> Result<RenderOut
         max_level: params.max_depth,
         ..Stats::default()
     };
-    Ok(RenderOutput { image: result.film.image(), aovs: Vec::new(), stats, elapsed: result.elapsed })
+    Ok(RenderOutput {
+        image: result.film.image(),
+        aovs: Vec::new(),
+        stats,
+        elapsed: result.elapsed,
+    })
 }

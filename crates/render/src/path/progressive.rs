@@ -70,14 +70,20 @@ pub fn fingerprint(scene: &Scene, params: &PathParams) -> u64 {
         s.height,
         s.background,
         scene.camera,
-        scene.materials.iter().map(|m| (m.emission, m.diffuse, m.specular, m.transmission)).collect::<Vec<_>>(),
+        scene
+            .materials
+            .iter()
+            .map(|m| (m.emission, m.diffuse, m.specular, m.transmission))
+            .collect::<Vec<_>>(),
         scene.objects.len(),
         scene.materials.len(),
         scene.lights.len(),
         params.max_depth,
         scene.source
     );
-    text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ b as u64).wrapping_mul(0x100_0000_01b3))
+    text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
+    })
 }
 
 /// Renders (or continues rendering into `film`) until a stop condition holds.
@@ -120,11 +126,20 @@ pub fn render(
                 for x in 0..width {
                     let (s, s2) = (&mut sum[x as usize], &mut sum_sq[x as usize]);
                     for i in first..first + n {
-                        let mut rng = Rng::for_pixel(x, y as u32, i, PATH_STREAM ^ options.seed.wrapping_mul(0x9e37_79b9));
+                        let mut rng = Rng::for_pixel(
+                            x,
+                            y as u32,
+                            i,
+                            PATH_STREAM ^ options.seed.wrapping_mul(0x9e37_79b9),
+                        );
                         let j = rng.next_2d();
                         let ray = cam.ray(x as f32 + j.x, y as f32 + j.y);
                         let l = radiance(scene, &lights, params, ray, &mut rng, &mut c);
-                        let v = if l.is_finite() { [l.r as f64, l.g as f64, l.b as f64] } else { [0.0; 3] };
+                        let v = if l.is_finite() {
+                            [l.r as f64, l.g as f64, l.b as f64]
+                        } else {
+                            [0.0; 3]
+                        };
                         s[0] += v[0];
                         s[1] += v[1];
                         s[2] += v[2];
@@ -158,5 +173,10 @@ pub fn render(
     if let Some(path) = &options.checkpoint {
         film.save_checkpoint(path, fp)?;
     }
-    Ok(PathRender { film, counters, stop, elapsed: start.elapsed() })
+    Ok(PathRender {
+        film,
+        counters,
+        stop,
+        elapsed: start.elapsed(),
+    })
 }

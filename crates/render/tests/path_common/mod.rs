@@ -5,7 +5,9 @@ use glam::{Affine3A, Vec3};
 use irradia_core::Rgb;
 use irradia_geometry::shapes::Sphere;
 use irradia_geometry::Instance;
-use irradia_scene::{Camera, FovAxis, Integrator, Material, Object, Projection, RenderSettings, Scene, Texture};
+use irradia_scene::{
+    Camera, FovAxis, Integrator, Material, Object, Projection, RenderSettings, Scene, Texture,
+};
 use std::sync::Arc;
 
 pub fn diffuse(albedo: f32, emission: f32) -> Material {
@@ -19,15 +21,35 @@ pub fn diffuse(albedo: f32, emission: f32) -> Material {
 }
 
 pub fn settings(w: u32, h: u32, max_depth: u32, background: Rgb) -> RenderSettings {
-    RenderSettings { width: w, height: h, max_depth, spp: 1, background, integrator: Integrator::Path, ..RenderSettings::default() }
+    RenderSettings {
+        width: w,
+        height: h,
+        max_depth,
+        spp: 1,
+        background,
+        integrator: Integrator::Path,
+        ..RenderSettings::default()
+    }
 }
 
 pub fn camera(eye: Vec3, look_at: Vec3, fov: f32) -> Camera {
-    Camera { eye, look_at, up: Vec3::Y, projection: Projection::Perspective { fov_degrees: fov, axis: FovAxis::Vertical } }
+    Camera {
+        eye,
+        look_at,
+        up: Vec3::Y,
+        projection: Projection::Perspective {
+            fov_degrees: fov,
+            axis: FovAxis::Vertical,
+        },
+    }
 }
 
 fn object(name: &str, material: u32) -> Object {
-    Object { name: name.into(), material, leaf_materials: vec![] }
+    Object {
+        name: name.into(),
+        material,
+        leaf_materials: vec![],
+    }
 }
 
 /// The inside of a closed ellipsoid (a sphere stretched by its transform, which also
@@ -39,7 +61,10 @@ pub fn furnace_sphere(rho: f32, e: f32) -> Scene {
     Scene::new(
         camera(Vec3::new(0.3, -0.2, 0.1), Vec3::new(1.0, 0.0, -1.0), 90.0),
         settings(16, 12, 200, Rgb::BLACK),
-        vec![Material { emission_two_sided: true, ..diffuse(rho, e) }],
+        vec![Material {
+            emission_two_sided: true,
+            ..diffuse(rho, e)
+        }],
         vec![],
         vec![object("shell", 0)],
         vec![inst],
@@ -66,14 +91,29 @@ pub fn small_room() -> Scene {
     let ball = Instance::untransformed(Arc::new(Sphere::new(Vec3::new(-1.0, -0.5, 0.0), 1.0)));
     let glass = Instance::untransformed(Arc::new(Sphere::new(Vec3::new(1.2, -0.8, 0.5), 0.7)));
     let lamp = Instance::untransformed(Arc::new(Sphere::new(Vec3::new(0.0, 3.0, 0.0), 0.5)));
-    let glossy = Material { specular: 0.4, shininess: 30.0, ..diffuse(0.5, 0.0) };
-    let clear = Material { diffuse: 0.0, transmission: 1.0, ior: 1.5, fresnel: true, ..diffuse(0.0, 0.0) };
+    let glossy = Material {
+        specular: 0.4,
+        shininess: 30.0,
+        ..diffuse(0.5, 0.0)
+    };
+    let clear = Material {
+        diffuse: 0.0,
+        transmission: 1.0,
+        ior: 1.5,
+        fresnel: true,
+        ..diffuse(0.0, 0.0)
+    };
     Scene::new(
         camera(Vec3::new(0.0, 0.0, 4.5), Vec3::new(0.0, -0.3, 0.0), 60.0),
         settings(16, 12, 8, Rgb::BLACK),
         vec![diffuse(0.6, 0.0), glossy, clear, diffuse(0.0, 8.0)],
         vec![],
-        vec![object("room", 0), object("ball", 1), object("glass", 2), object("lamp", 3)],
+        vec![
+            object("room", 0),
+            object("ball", 1),
+            object("glass", 2),
+            object("lamp", 3),
+        ],
         vec![room, ball, glass, lamp],
     )
 }
@@ -85,13 +125,27 @@ pub fn soft_room() -> Scene {
     let ball = Instance::untransformed(Arc::new(Sphere::new(Vec3::new(-1.0, -0.5, 0.0), 1.0)));
     let ball2 = Instance::untransformed(Arc::new(Sphere::new(Vec3::new(1.2, -0.8, 0.5), 0.7)));
     let lamp = Instance::untransformed(Arc::new(Sphere::new(Vec3::new(0.0, 3.0, 0.0), 1.2)));
-    let glossy = Material { specular: 0.3, shininess: 10.0, ..diffuse(0.5, 0.0) };
+    let glossy = Material {
+        specular: 0.3,
+        shininess: 10.0,
+        ..diffuse(0.5, 0.0)
+    };
     Scene::new(
         camera(Vec3::new(0.0, 0.0, 4.5), Vec3::new(0.0, -0.3, 0.0), 60.0),
         settings(16, 12, 8, Rgb::BLACK),
-        vec![diffuse(0.6, 0.0), glossy, diffuse(0.8, 0.0), diffuse(0.0, 2.0)],
+        vec![
+            diffuse(0.6, 0.0),
+            glossy,
+            diffuse(0.8, 0.0),
+            diffuse(0.0, 2.0),
+        ],
         vec![],
-        vec![object("room", 0), object("ball", 1), object("ball2", 2), object("lamp", 3)],
+        vec![
+            object("room", 0),
+            object("ball", 1),
+            object("ball2", 2),
+            object("lamp", 3),
+        ],
         vec![room, ball, ball2, lamp],
     )
 }
