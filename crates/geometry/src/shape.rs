@@ -151,4 +151,11 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         let _ = u;
         None
     }
+
+    /// Warnings the shape gathered while rays were cast (for example an implicit
+    /// surface whose given Lipschitz bound proved too small), each returned once, for
+    /// the renderer to print after a render.
+    fn take_warnings(&self) -> Vec<String> {
+        Vec::new()
+    }
 }

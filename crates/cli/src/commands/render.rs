@@ -166,6 +166,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     if let Some(pb) = &bar {
         pb.finish_and_clear();
     }
+    print_shape_warnings(&scene, args.quiet);
 
     save(&out.image, &args.output).map_err(|e| CliError::Failure(e.to_string()))?;
     let mut written = vec![args.output.clone()];
@@ -212,6 +213,7 @@ fn run_path(args: &RenderArgs, scene: &irradia_scene::Scene) -> Result<(), CliEr
         threads,
         args.quiet,
     )?;
+    print_shape_warnings(scene, args.quiet);
     save(&summary.image, &args.output).map_err(|e| CliError::Failure(e.to_string()))?;
     if !args.quiet {
         let secs = summary.seconds.max(1e-9);
@@ -231,4 +233,16 @@ fn run_path(args: &RenderArgs, scene: &irradia_scene::Scene) -> Result<(), CliEr
         eprintln!("Wrote {}", args.output.display());
     }
     Ok(())
+}
+
+/// Prints what the shapes noticed while rendering (a Lipschitz bound too small, rays
+/// given up), once each.
+fn print_shape_warnings(scene: &irradia_scene::Scene, quiet: bool) {
+    for instance in scene.accel.instances() {
+        for w in instance.shape.take_warnings() {
+            if !quiet {
+                eprintln!("irradia: warning: {w}");
+            }
+        }
+    }
 }

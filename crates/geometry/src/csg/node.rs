@@ -280,6 +280,13 @@ fn hit_at(ray: &Ray, b: &Boundary) -> Hit {
 }
 
 impl Shape for Csg {
+    fn take_warnings(&self) -> Vec<String> {
+        self.children
+            .iter()
+            .flat_map(|c| c.instance.shape.take_warnings())
+            .collect()
+    }
+
     fn kind(&self) -> &'static str {
         "csg"
     }

@@ -418,6 +418,19 @@ impl ImplicitSurface {
 }
 
 impl Shape for ImplicitSurface {
+    fn take_warnings(&self) -> Vec<String> {
+        let mut out: Vec<String> = self.take_lipschitz_warning().into_iter().collect();
+        let abandoned = self.abandoned.swap(0, Ordering::Relaxed);
+        if abandoned > 0 {
+            out.push(format!(
+                "implicit surface '{}': {abandoned} rays were given up after the interval \
+                 method's evaluation limit; thin features may be missing there",
+                self.expr.source()
+            ));
+        }
+        out
+    }
+
     fn kind(&self) -> &'static str {
         "implicit"
     }
