@@ -79,10 +79,16 @@ impl Rgb {
         self.map(|v| v.clamp(0.0, 1.0))
     }
 
-    /// Encodes to 8-bit sRGB (IEC 61966-2-1), clamping to [0, 1].
+    /// Encodes to 8-bit sRGB (IEC 61966-2-1), clamping to [0, 1]: the code whose
+    /// sRGB value is nearest, found by binary search over the 255 linear-light
+    /// boundaries between codes (no `powf` per channel).
+    #[inline]
     pub fn to_srgb8(self) -> [u8; 3] {
-        let f = |v: f32| (linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8;
-        [f(self.r), f(self.g), f(self.b)]
+        [
+            encode_srgb8(self.r),
+            encode_srgb8(self.g),
+            encode_srgb8(self.b),
+        ]
     }
 
     /// Decodes from 8-bit sRGB.
@@ -90,6 +96,29 @@ impl Rgb {
         let f = |v: u8| srgb_to_linear(v as f32 / 255.0);
         Self::new(f(c[0]), f(c[1]), f(c[2]))
     }
+}
+
+/// Linear values at which the nearest 8-bit sRGB code steps from `k` to `k + 1`:
+/// `srgb_to_linear((k + 0.5) / 255)`, computed once.
+fn srgb8_boundaries() -> &'static [f32; 255] {
+    static TABLE: std::sync::OnceLock<[f32; 255]> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| std::array::from_fn(|k| srgb_to_linear((k as f32 + 0.5) / 255.0)))
+}
+
+/// One linear value (clamped to [0, 1]; NaN gives 0) to its nearest 8-bit sRGB code.
+#[inline]
+pub fn encode_srgb8(v: f32) -> u8 {
+    let t = srgb8_boundaries();
+    // Count the boundaries at or below v: an 8-step branchless binary search.
+    let mut lo = 0usize;
+    let mut step = 128usize;
+    while step > 0 {
+        if lo + step <= 255 && t[lo + step - 1] <= v {
+            lo += step;
+        }
+        step /= 2;
+    }
+    lo as u8
 }
 
 /// The sRGB encoding curve for one linear value in [0, 1].
@@ -198,6 +227,23 @@ impl std::iter::Sum for Rgb {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn table_encoding_matches_the_curve() {
+        for i in 0..=100_000u32 {
+            let v = i as f32 / 100_000.0;
+            let exact = linear_to_srgb(v) * 255.0;
+            let code = encode_srgb8(v) as f32;
+            // The nearest code, up to float rounding right at a boundary.
+            assert!(
+                (code - exact).abs() <= 0.5 + 1e-3,
+                "v {v}: code {code}, curve {exact}"
+            );
+        }
+        assert_eq!(encode_srgb8(-1.0), 0);
+        assert_eq!(encode_srgb8(7.0), 255);
+        assert_eq!(encode_srgb8(f32::NAN), 0);
+    }
 
     #[test]
     fn srgb_round_trips_every_byte() {

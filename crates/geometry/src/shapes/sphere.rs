@@ -62,12 +62,43 @@ impl Sphere {
         // fraction of the f64 ones (this runs for both ends of every CSG span).
         let nf = n.as_vec3();
         let uv = Vec2::new(
-            0.5 + nf.z.atan2(nf.x) / std::f32::consts::TAU,
-            nf.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI,
+            0.5 + atan2_approx(nf.z, nf.x) / std::f32::consts::TAU,
+            atan2_approx((1.0 - nf.y * nf.y).max(0.0).sqrt(), nf.y) / std::f32::consts::PI,
         );
         // Project the point onto the sphere to remove the error of t.
         let p = self.center.as_dvec3() + n * self.radius as f64;
         (p.as_vec3(), n.as_vec3(), uv)
+    }
+}
+
+/// atan2 by a degree-11 odd minimax polynomial on [0, 1] and octant folding: absolute
+/// error below 2e-5 rad, several times cheaper than libm's, which matters because
+/// texture coordinates are computed for every sphere hit.
+#[inline]
+fn atan2_approx(y: f32, x: f32) -> f32 {
+    use std::f32::consts::{FRAC_PI_2, PI};
+    let (ax, ay) = (x.abs(), y.abs());
+    let (num, den) = if ay > ax { (ax, ay) } else { (ay, ax) };
+    if den == 0.0 {
+        return 0.0;
+    }
+    let a = num / den;
+    let s = a * a;
+    let mut r = ((((-0.011_721_2 * s + 0.052_653_32) * s - 0.116_432_87) * s + 0.193_543_46) * s
+        - 0.332_623_47)
+        * s
+        + 0.999_977_26;
+    r *= a;
+    if ay > ax {
+        r = FRAC_PI_2 - r;
+    }
+    if x < 0.0 {
+        r = PI - r;
+    }
+    if y < 0.0 {
+        -r
+    } else {
+        r
     }
 }
 
@@ -172,6 +203,20 @@ pub(crate) fn uv_sphere(detail: u32) -> Facets {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fast_atan2_is_accurate_everywhere() {
+        for i in 0..3600 {
+            let a = (i as f32 / 10.0).to_radians();
+            for r in [1e-3f32, 1.0, 1e3] {
+                let (y, x) = (r * a.sin(), r * a.cos());
+                let e = (atan2_approx(y, x) - y.atan2(x)).abs();
+                let e = e.min((e - std::f32::consts::TAU).abs());
+                assert!(e < 2e-5, "angle {a}: error {e}");
+            }
+        }
+        assert_eq!(atan2_approx(0.0, 0.0), 0.0);
+    }
 
     #[test]
     fn hits_from_outside_and_inside() {

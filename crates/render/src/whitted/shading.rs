@@ -69,11 +69,23 @@ impl Whitted<'_> {
                 if mat.specular > 0.0 {
                     let rv = reflect(-s.dir, ns).dot(view);
                     if rv > 0.0 {
-                        c += e * (mat.specular * rv.powf(mat.shininess));
+                        c += e * (mat.specular * phong_power(rv, mat.shininess));
                     }
                 }
             }
         }
         c
+    }
+}
+
+/// `x^n` for the Phong highlight: by repeated squaring when `n` is a whole number (the
+/// usual case, e.g. POV-Ray's `phong_size 80`), which is several times cheaper than
+/// `powf`; `powf` otherwise.
+#[inline]
+fn phong_power(x: f32, n: f32) -> f32 {
+    if n.fract() == 0.0 && (0.0..=4096.0).contains(&n) {
+        x.powi(n as i32)
+    } else {
+        x.powf(n)
     }
 }
