@@ -44,8 +44,6 @@ pub enum RenderError {
         width: u32,
         height: u32,
     },
-    #[error("the {0} integrator is not available in this build")]
-    Unsupported(&'static str),
 }
 
 /// How to render (what to render is in the scene's settings).

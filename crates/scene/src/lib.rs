@@ -14,6 +14,6 @@ pub mod scene;
 pub use camera::{Camera, FovAxis, Projection};
 pub use error::{ErrorKind, SceneError};
 pub use file::{load_file, load_str, Format};
-pub use light::Light;
+pub use light::{spot_falloff, Light};
 pub use material::{Material, ShadingModel, Texture};
 pub use scene::{Integrator, Object, RenderSettings, Scene};

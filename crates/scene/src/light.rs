@@ -36,3 +36,17 @@ pub enum Light {
         samples: u32,
     },
 }
+
+/// The spot light's cone falloff: 1 inside `cos_inner`, 0 outside `cos_outer`, and a
+/// smoothstep between (shared by every integrator so they light spots alike).
+#[inline]
+pub fn spot_falloff(cos: f32, cos_inner: f32, cos_outer: f32) -> f32 {
+    if cos >= cos_inner {
+        1.0
+    } else if cos <= cos_outer {
+        0.0
+    } else {
+        let x = (cos - cos_outer) / (cos_inner - cos_outer).max(1e-9);
+        x * x * (3.0 - 2.0 * x)
+    }
+}

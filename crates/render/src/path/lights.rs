@@ -9,7 +9,7 @@
 use glam::{Affine3A, Vec2, Vec3};
 use irradia_core::{sampling, Rgb};
 use irradia_geometry::Instance;
-use irradia_scene::{Light, Scene};
+use irradia_scene::{spot_falloff, Light, Scene};
 use std::f32::consts::PI;
 
 /// One sampled light connection from a shading point.
@@ -134,18 +134,6 @@ pub struct LightSampler {
     /// For each instance, the index of its emitter (emissive objects).
     by_instance: Vec<Option<u32>>,
     environment: Option<u32>,
-}
-
-/// Spot falloff between the inner and outer cone (smoothstep), as the Whitted tracer.
-pub fn spot_falloff(cos: f32, cos_inner: f32, cos_outer: f32) -> f32 {
-    if cos >= cos_inner {
-        1.0
-    } else if cos <= cos_outer {
-        0.0
-    } else {
-        let t = (cos - cos_outer) / (cos_inner - cos_outer);
-        t * t * (3.0 - 2.0 * t)
-    }
 }
 
 fn det3(m: &Affine3A) -> f32 {

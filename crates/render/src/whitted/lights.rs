@@ -207,13 +207,7 @@ impl PreparedLight {
                 if cos <= cos_outer {
                     return None;
                 }
-                let fall = if cos >= cos_inner {
-                    1.0
-                } else {
-                    // Smoothstep from the outer to the inner cone.
-                    let x = (cos - cos_outer) / (cos_inner - cos_outer).max(1e-9);
-                    x * x * (3.0 - 2.0 * x)
-                };
+                let fall = irradia_scene::spot_falloff(cos, cos_inner, cos_outer);
                 let e = intensity * fall;
                 Some(LightSample {
                     dir,

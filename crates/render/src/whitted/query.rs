@@ -2,8 +2,9 @@
 //! loop over the objects' boxes when there are only a handful of them.
 //!
 //! For a handful of objects a linear scan beats any hierarchy: one slab test per
-//! object and no traversal state (the BVH sets up a traversal stack per query, which for
-//! the three-object `whitted` scene cost more than the intersections themselves).
+//! object and no traversal state. Measured on the three-object `whitted` scene at
+//! 1280x720 with 2 threads (2026-11-22): 0.33-0.36 s with the scan, 0.38-0.41 s through
+//! the BVH (whose traversal stack is no longer zeroed per query).
 
 use glam::Vec3;
 use irradia_core::{Aabb, Ray};
