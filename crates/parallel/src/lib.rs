@@ -10,6 +10,8 @@ pub mod composite;
 pub mod frame;
 pub mod job;
 pub mod netmodel;
+pub mod raytrace_first;
+pub mod raytrace_last;
 pub mod report;
 pub mod sort_first;
 pub mod sort_last;

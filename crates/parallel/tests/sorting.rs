@@ -62,3 +62,54 @@ fn every_sorting_scheme_equals_the_serial_render() {
         }
     }
 }
+
+#[test]
+fn sort_first_tiles_equal_the_serial_render() {
+    use sort_first::{Assign, Tiling};
+    for w in workloads() {
+        let tris = w.triangles();
+        let p = w.pipeline(W, H);
+        let serial = frame::serial(&p, &tris);
+        for ranks in [1, 2, 3, 5] {
+            for tiling in [
+                Tiling {
+                    per_rank: 4,
+                    assign: Assign::Interleaved,
+                },
+                Tiling {
+                    per_rank: 3,
+                    assign: Assign::Cost,
+                },
+            ] {
+                let out = run_local(ranks, LocalOptions::default(), |c| {
+                    sort_first::render_tiled(c, &p, &tris, 0, tiling).unwrap()
+                });
+                let img = out.into_iter().next().unwrap().unwrap().unwrap();
+                assert!(
+                    img == serial,
+                    "{} {tiling:?} with {ranks} ranks differs",
+                    w.name()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn cost_dealt_tiles_balance_the_raster_estimate_better_than_strips() {
+    use sort_first::{imbalance, raster_costs, Assign, TileLayout, Tiling};
+    let w = Workload::Teapot { level: 3 };
+    let (tris, p) = (w.triangles(), w.pipeline(W, H));
+    let ranks = 4;
+    let strips = TileLayout::strips(W, H, ranks);
+    let a = imbalance(&strips.rank_costs(&raster_costs(&p, &tris, &strips.tiles), ranks));
+    let tiling = Tiling {
+        per_rank: 8,
+        assign: Assign::Cost,
+    };
+    let l = TileLayout::unassigned(W, H, ranks, tiling);
+    let costs = raster_costs(&p, &tris, &l.tiles);
+    let l = TileLayout::assigned(W, H, ranks, tiling, &costs);
+    let b = imbalance(&l.rank_costs(&costs, ranks));
+    assert!(b < a && b < 1.15, "tiles {b} vs strips {a}");
+}

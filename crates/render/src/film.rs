@@ -118,6 +118,25 @@ pub fn render_with<I: Integrator>(
     })
 }
 
+/// Renders the pixels of the rectangle at (`x0`, `y0`) of `w` x `h` pixels exactly as
+/// [`render_with`] renders them (the same samples and adaptive decisions, which depend
+/// only on the pixel), row-major, with the rays it traced: image-parallel (sort-first)
+/// rendering of screen regions.
+pub fn render_region<I: Integrator>(
+    integrator: &I,
+    scene: &Scene,
+    x0: u32,
+    y0: u32,
+    w: u32,
+    h: u32,
+) -> (Vec<Rgb>, Stats) {
+    let cam = scene
+        .camera
+        .rays(scene.settings.width, scene.settings.height);
+    let r = render_tile(integrator, scene, &cam, Tile { x0, y0, w, h }, false);
+    (r.colour, r.stats)
+}
+
 fn render_tile<I: Integrator>(
     integrator: &I,
     scene: &Scene,

@@ -1,0 +1,211 @@
+//! The ray tracer in object-parallel (sort-last) form: each rank owns a contiguous block
+//! of the scene's objects, casts every pixel's primary ray against its own objects only,
+//! shades the nearest hit locally, and writes colour and depth (distance along the ray);
+//! the layers are depth-composited with any strategy of [`crate::composite`].
+//!
+//! What this form can and cannot do (the lecture's point about object-parallel ray
+//! tracing): a primary ray needs only the objects it might hit, and the nearest of the
+//! ranks' nearest hits is the scene's nearest hit, so *ray casting* distributes exactly.
+//! Everything after the first hit does not: a shadow ray must test every object between
+//! the point and the light, and a reflected or refracted ray may hit any object, which
+//! live on other ranks. So the shading here is local: ambient, emission and the Phong
+//! diffuse and specular terms of every light, **without shadows, reflection or
+//! refraction** (area lights count as a point at their centre with the rectangle's or
+//! sphere's power). Full Whitted ray tracing of a distributed scene would have to send
+//! the secondary rays to the ranks owning what they may hit (ray forwarding), which this
+//! module does not do; use the image-parallel form ([`crate::raytrace_first`]) for it.
+//!
+//! The composite equals [`serial`], the same ray casting over the whole scene, bit for
+//! bit: per-object intersections do not depend on which other objects share a rank, and
+//! the depth compositors break ties towards the lower rank, which owns the objects that
+//! come first. One ray goes through each pixel centre (supersampling would average
+//! colours of different objects inside a pixel, which a depth composite cannot undo).
+
+use crate::comm::{Comm, CommError};
+use crate::composite::{self, CompositeOptions, Layer, Operator, Strategy, FAR};
+use crate::frame::block;
+use glam::Vec3;
+use irradia_core::{Ray, Rgb};
+use irradia_geometry::SceneHit;
+use irradia_render::film::camera_sample;
+use irradia_scene::{spot_falloff, Light, Scene};
+use rayon::prelude::*;
+use std::ops::Range;
+
+/// The scene with only objects `objects` (same camera, settings, materials, lights).
+pub fn sub_scene(scene: &Scene, objects: Range<usize>) -> Scene {
+    Scene::new(
+        scene.camera,
+        scene.settings.clone(),
+        scene.materials.clone(),
+        scene.lights.clone(),
+        scene.objects[objects.clone()].to_vec(),
+        scene.accel.instances()[objects].to_vec(),
+    )
+}
+
+/// Ray casts `scene` through every pixel centre: colour (linear RGB, alpha 1) and
+/// distance to the nearest hit; pixels that hit nothing are clear at depth [`FAR`].
+pub fn cast_layer(scene: &Scene) -> Layer<[f32; 4]> {
+    let (w, h) = (scene.settings.width, scene.settings.height);
+    let cam = scene.camera.rays(w, h);
+    let rows: Vec<Vec<([f32; 4], f32)>> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            (0..w)
+                .map(|x| {
+                    let (ray, _) = camera_sample(&cam, x, y, 0, 1);
+                    match scene.accel.intersect(&ray, f32::INFINITY) {
+                        Some(sh) => {
+                            let c = shade(scene, &ray, &sh);
+                            ([c.r, c.g, c.b, 1.0], sh.hit.t * ray.dir.length())
+                        }
+                        None => ([0.0; 4], FAR),
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let mut l = Layer::new(w, h);
+    for (i, (c, d)) in rows.into_iter().flatten().enumerate() {
+        l.color[i] = c;
+        l.depth[i] = d;
+    }
+    l
+}
+
+/// Paints the pixels nothing covers with the scene's background colour.
+pub fn fill_background(l: &mut Layer<[f32; 4]>, background: Rgb) {
+    for (c, &d) in l.color.iter_mut().zip(&l.depth) {
+        if d == FAR {
+            *c = [background.r, background.g, background.b, 1.0];
+        }
+    }
+}
+
+/// The serial reference: the same ray casting over the whole scene.
+pub fn serial(scene: &Scene) -> Layer<[f32; 4]> {
+    let mut l = cast_layer(scene);
+    fill_background(&mut l, scene.settings.background);
+    l
+}
+
+/// Renders object-parallel and composites with `strategy`; the image arrives at `root`.
+pub fn render<C: Comm>(
+    comm: &C,
+    scene: &Scene,
+    strategy: Strategy,
+    root: usize,
+) -> Result<Option<Layer<[f32; 4]>>, CommError> {
+    comm.log().begin_stage("render");
+    let objects = block(scene.objects.len(), comm.rank(), comm.size());
+    let layer = if objects.is_empty() {
+        Layer::new(scene.settings.width, scene.settings.height)
+    } else {
+        cast_layer(&sub_scene(scene, objects))
+    };
+    let opts = CompositeOptions {
+        op: Operator::Depth,
+        order: None,
+        rle: true,
+        root,
+    };
+    let mut out = composite::composite(comm, strategy, layer, &opts)?;
+    if let Some(l) = out.as_mut() {
+        fill_background(l, scene.settings.background);
+    }
+    Ok(out)
+}
+
+/// Local shading at the nearest hit, no shadows: emission, ambient, and the lecture's
+/// Phong terms `E (k_d C cos θ + k_s (R·V)^n)` per light.
+pub fn shade(scene: &Scene, ray: &Ray, sh: &SceneHit) -> Rgb {
+    let hit = &sh.hit;
+    let object = &scene.objects[sh.instance as usize];
+    let mat = &scene.materials[object.material_for_leaf(hit.leaf) as usize];
+    let ng = if ray.dir.dot(hit.normal) < 0.0 {
+        hit.normal
+    } else {
+        -hit.normal
+    };
+    let ns = if hit.shading_normal.dot(ng) < 0.0 {
+        -hit.shading_normal
+    } else {
+        hit.shading_normal
+    };
+    let view = -ray.dir.normalize();
+    let colour = mat.color.eval(hit.point, hit.uv);
+    let mut c = mat.emission + colour * scene.settings.ambient_light * mat.ambient;
+    for light in &scene.lights {
+        let Some((l, e)) = incident(light, hit.point) else {
+            continue;
+        };
+        let cos = ns.dot(l);
+        if cos <= 0.0 || ng.dot(l) <= 0.0 {
+            continue;
+        }
+        if mat.diffuse > 0.0 {
+            c += colour * e * (mat.diffuse * cos);
+        }
+        if mat.specular > 0.0 {
+            let r = 2.0 * ns.dot(l) * ns - l;
+            let rv = r.dot(view);
+            if rv > 0.0 {
+                c += e * (mat.specular * rv.powf(mat.shininess));
+            }
+        }
+    }
+    c
+}
+
+/// Unit direction towards `light` from `p` and the irradiance it brings (normal
+/// incidence); area lights as a point at their centre with their power.
+fn incident(light: &Light, p: Vec3) -> Option<(Vec3, Rgb)> {
+    let towards = |q: Vec3| {
+        let d = q - p;
+        let r2 = d.length_squared();
+        (r2 > 0.0).then(|| (d / r2.sqrt(), r2))
+    };
+    match *light {
+        Light::Point {
+            position,
+            intensity,
+        } => towards(position).map(|(l, r2)| (l, intensity / r2)),
+        Light::Directional {
+            direction,
+            irradiance,
+        } => Some((-direction.normalize(), irradiance)),
+        Light::Spot {
+            position,
+            direction,
+            intensity,
+            cos_inner,
+            cos_outer,
+        } => towards(position).map(|(l, r2)| {
+            let f = spot_falloff((-l).dot(direction.normalize()), cos_inner, cos_outer);
+            (l, intensity * (f / r2))
+        }),
+        Light::Rect {
+            corner,
+            edge_u,
+            edge_v,
+            radiance,
+            ..
+        } => {
+            let n = edge_u.cross(edge_v);
+            let area = n.length();
+            let centre = corner + 0.5 * (edge_u + edge_v);
+            towards(centre).map(|(l, r2)| {
+                let cos_l = (-l).dot(n / area.max(1e-30)).max(0.0);
+                (l, radiance * (area * cos_l / r2))
+            })
+        }
+        Light::Sphere {
+            center,
+            radius,
+            radiance,
+            ..
+        } => towards(center)
+            .map(|(l, r2)| (l, radiance * (std::f32::consts::PI * radius * radius / r2))),
+    }
+}
