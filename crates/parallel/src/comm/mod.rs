@@ -135,6 +135,24 @@ impl MessageLog {
     }
 }
 
+/// The error for piece `piece` of an [`Comm::exchange_pieces`] that arrived with `got`
+/// bytes instead of `want`.
+pub(crate) fn check_piece_len(
+    src: usize,
+    piece: usize,
+    got: usize,
+    want: usize,
+) -> Result<(), CommError> {
+    if got == want {
+        Ok(())
+    } else {
+        Err(CommError::Malformed {
+            rank: src,
+            message: format!("piece {piece} has {got} bytes, expected {want}"),
+        })
+    }
+}
+
 /// Tags below this are free for algorithms; the ones above are used by the defaults here.
 pub const TAG_BARRIER: u32 = 0x7fff_0000;
 pub const TAG_ALL_TO_ALL: u32 = 0x7fff_0001;
@@ -173,6 +191,37 @@ pub trait Comm {
             self.send(*d, tag, b)?;
         }
         sources.iter().map(|&s| self.recv(s, tag)).collect()
+    }
+
+    /// A pairwise exchange in pieces, for overlapping the transfer with work on what has
+    /// already arrived: sends every piece of `sends` to `partner` and receives the
+    /// partner's pieces into `recvs` (piece i must arrive with exactly `recvs[i].len()`
+    /// bytes), all with `tag`. As soon as piece i and every earlier one are in, calls
+    /// `arrived(i, pieces)` with the received pieces `0..=i`, while later pieces may still
+    /// be in flight. Pieces from one sender arrive in order.
+    ///
+    /// The default goes through [`Comm::exchange`] and copies into `recvs`;
+    /// `MpiComm` posts non-blocking receives straight into `recvs` and sends straight
+    /// from `sends`, so nothing is copied or allocated. An error from `arrived` ends the
+    /// exchange (under MPI it ends the job, since posted requests cannot be abandoned).
+    fn exchange_pieces(
+        &self,
+        partner: usize,
+        tag: u32,
+        sends: &[&[u8]],
+        recvs: &mut [&mut [u8]],
+        arrived: &mut dyn FnMut(usize, &[&[u8]]) -> Result<(), CommError>,
+    ) -> Result<(), CommError> {
+        let out: Vec<(usize, &[u8])> = sends.iter().map(|s| (partner, *s)).collect();
+        let from = vec![partner; recvs.len()];
+        let got = self.exchange(&out, &from, tag)?;
+        for (i, piece) in got.iter().enumerate() {
+            check_piece_len(partner, i, piece.len(), recvs[i].len())?;
+            recvs[i].copy_from_slice(piece);
+            let done: Vec<&[u8]> = recvs[..=i].iter().map(|r| &**r).collect();
+            arrived(i, &done)?;
+        }
+        Ok(())
     }
 
     /// Dissemination barrier (Hensgen, Finkel, Manber 1988): ceil(log2 p) rounds.

@@ -7,7 +7,8 @@
 //! rank that dies outright (signal, exit without finalize) is noticed by `mpirun`
 //! itself, which then kills the remaining ranks and names the dead one.
 
-use super::{Comm, CommError, MessageLog};
+use super::{check_piece_len, Comm, CommError, MessageLog};
+use mpi::datatype::Equivalence;
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::{Communicator, SimpleCommunicator};
 use std::time::{Duration, Instant};
@@ -149,6 +150,84 @@ impl Comm for MpiComm {
                 }
             }
             Ok(out)
+        })
+    }
+
+    /// Non-blocking receives posted straight into `recvs` before non-blocking sends
+    /// straight from `sends` (the sender's memory is read in place: with shared memory,
+    /// OpenMPI's single-copy CMA path moves each piece once); then the receives are
+    /// tested in order and `arrived` runs on each piece while the later ones travel.
+    fn exchange_pieces(
+        &self,
+        partner: usize,
+        tag: u32,
+        sends: &[&[u8]],
+        recvs: &mut [&mut [u8]],
+        arrived: &mut dyn FnMut(usize, &[&[u8]]) -> Result<(), CommError>,
+    ) -> Result<(), CommError> {
+        self.check(partner)?;
+        let me = self.rank();
+        let process = self.world.process_at_rank(partner as i32);
+        let wants: Vec<usize> = recvs.iter().map(|r| r.len()).collect();
+        let deadline = Instant::now() + self.timeout;
+        let timed_out = || CommError::Timeout {
+            rank: partner,
+            waiting_rank: me,
+            tag,
+            seconds: self.timeout.as_secs_f64(),
+        };
+        mpi::request::scope(|scope| {
+            let receives: Vec<_> = recvs
+                .iter_mut()
+                .map(|b| process.immediate_receive_into_with_tag(scope, &mut **b, tag as i32))
+                .collect();
+            let sent: Vec<_> = sends
+                .iter()
+                .map(|b| {
+                    self.log.record(me, partner, b.len(), true);
+                    process.immediate_send_with_tag(scope, *b, tag as i32)
+                })
+                .collect();
+            let mut done: Vec<&[u8]> = Vec::with_capacity(receives.len());
+            for (i, mut r) in receives.into_iter().enumerate() {
+                let mut spins = 0u32;
+                let (status, data) = loop {
+                    match r.test_with_data() {
+                        Ok(x) => break x,
+                        Err(again) => r = again,
+                    }
+                    spins += 1;
+                    if spins > 64 {
+                        if Instant::now() >= deadline {
+                            self.fail(&timed_out());
+                        }
+                        std::thread::yield_now();
+                    }
+                };
+                let got = status.count(u8::equivalent_datatype()) as usize;
+                if let Err(e) = check_piece_len(partner, i, got, wants[i]) {
+                    self.fail(&e);
+                }
+                self.log.record(partner, me, got, false);
+                done.push(data);
+                // Outstanding requests cannot be abandoned: an error ends the job here.
+                if let Err(e) = arrived(i, &done) {
+                    self.fail(&e);
+                }
+            }
+            for mut r in sent {
+                loop {
+                    match r.test() {
+                        Ok(_) => break,
+                        Err(again) => r = again,
+                    }
+                    if Instant::now() >= deadline {
+                        self.fail(&timed_out());
+                    }
+                    std::thread::yield_now();
+                }
+            }
+            Ok(())
         })
     }
 }

@@ -4,8 +4,10 @@
 //! one, leaving 2^m active ranks; then, in m rounds, partners v and v xor 2^i swap halves
 //! of their current span, each keeping and compositing one half. Every rank ends with
 //! 1/2^m of the image, having sent S(1 - 1/2^m) bytes: the reduce-scatter lower bound.
+//! Each round is a [`pairwise::swap`]: dense halves go straight from the layer's memory
+//! in pipelined pieces, sparse ones as run lengths.
 
-use super::{rle, split_span, CompositeOptions, Layer, Order, Pixel, TAG_COMPOSITE};
+use super::{pairwise, rle, split_span, CompositeOptions, Layer, Order, Pixel, TAG_COMPOSITE};
 use crate::comm::{Comm, CommError};
 use std::ops::Range;
 
@@ -62,26 +64,17 @@ pub fn reduce<P: Pixel, C: Comm>(
         } else {
             (halves[1].clone(), halves[0].clone())
         };
-        let msg = rle::encode(&layer, give, opts.op, opts.rle);
-        let got = comm.exchange(&[(partner, &msg)], &[partner], TAG_COMPOSITE + round)?;
-        let s = rle::apply(
+        pairwise::swap(
+            comm,
+            partner,
             &mut layer,
-            &got[0],
-            rle::Apply::Blend {
-                op: opts.op,
-                incoming_front: pv < v,
-            },
-        )
-        .map_err(|message| CommError::Malformed {
-            rank: partner,
-            message,
-        })?;
-        if s != keep {
-            return Err(CommError::Malformed {
-                rank: partner,
-                message: format!("sent span {s:?}, expected {keep:?}"),
-            });
-        }
+            give,
+            keep.clone(),
+            TAG_COMPOSITE + round,
+            opts.op,
+            pv < v,
+            opts.rle,
+        )?;
         span = keep;
         bit <<= 1;
         round += 1;

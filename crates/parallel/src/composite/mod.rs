@@ -20,6 +20,8 @@ pub mod depth;
 pub mod direct_send;
 pub mod gather;
 pub mod over;
+pub mod pairwise;
+pub mod profile;
 pub mod radix_k;
 pub mod rle;
 pub mod tree;

@@ -30,7 +30,19 @@ pub fn encode<P: Pixel>(layer: &Layer<P>, span: Range<usize>, op: Operator, rle:
         return out;
     }
     let mut out = Vec::with_capacity(12 + 64);
-    push_words(&mut out, &[span.start as u32, span.end as u32, RLE]);
+    encode_runs_into(&mut out, layer, span, op);
+    out
+}
+
+/// Appends the run-length message of `span` of `layer` to `out` (no allocation when
+/// `out` has room: the pairwise swap reuses one buffer for every round and frame).
+pub fn encode_runs_into<P: Pixel>(
+    out: &mut Vec<u8>,
+    layer: &Layer<P>,
+    span: Range<usize>,
+    op: Operator,
+) {
+    push_words(out, &[span.start as u32, span.end as u32, RLE]);
     let mut i = span.start;
     while i < span.end {
         let s0 = i;
@@ -59,11 +71,10 @@ pub fn encode<P: Pixel>(layer: &Layer<P>, span: Range<usize>, op: Operator, rle:
                 }
             }
         }
-        push_words(&mut out, &[(a0 - s0) as u32, (i - a0) as u32]);
+        push_words(out, &[(a0 - s0) as u32, (i - a0) as u32]);
         out.extend_from_slice(bytemuck::cast_slice(&layer.color[a0..i]));
         out.extend_from_slice(bytemuck::cast_slice(&layer.depth[a0..i]));
     }
-    out
 }
 
 /// A received buffer as 4-byte words (copied only if the allocation is misaligned).
@@ -102,12 +113,24 @@ pub fn apply<P: Pixel>(
     buf: &[u8],
     how: Apply,
 ) -> Result<Range<usize>, String> {
+    apply_to(&mut layer.color, &mut layer.depth, 0, buf, how)
+}
+
+/// [`apply`] on a window of a layer: `colors` and `depths` hold pixels
+/// `base..base + colors.len()`, and the message's span must lie inside that window.
+pub fn apply_to<P: Pixel>(
+    colors: &mut [P],
+    depths: &mut [f32],
+    base: usize,
+    buf: &[u8],
+    how: Apply,
+) -> Result<Range<usize>, String> {
     let w = words(buf)?;
     let (start, end, mode) = (w[0] as usize, w[1] as usize, w[2]);
-    if start > end || end > layer.len() {
+    if start > end || start < base || end - base > colors.len() {
         return Err(format!(
-            "span {start}..{end} outside an image of {} pixels",
-            layer.len()
+            "span {start}..{end} outside pixels {base}..{}",
+            base + colors.len()
         ));
     }
     let cw = std::mem::size_of::<P>() / 4;
@@ -117,9 +140,16 @@ pub fn apply<P: Pixel>(
         if words.len() < need {
             return Err("message ends inside a run".into());
         }
-        let colors: &[P] = bytemuck::cast_slice(&words[..count * cw]);
-        let depths: &[f32] = bytemuck::cast_slice(&words[count * cw..need]);
-        apply_run(layer, at, colors, depths, how);
+        let incoming: &[P] = bytemuck::cast_slice(&words[..count * cw]);
+        let incoming_depths: &[f32] = bytemuck::cast_slice(&words[count * cw..need]);
+        let at = at - base;
+        apply_run(
+            &mut colors[at..at + count],
+            &mut depths[at..at + count],
+            incoming,
+            incoming_depths,
+            how,
+        );
         Ok(need)
     };
     match mode {
@@ -149,10 +179,7 @@ pub fn apply<P: Pixel>(
 }
 
 #[inline]
-fn apply_run<P: Pixel>(layer: &mut Layer<P>, at: usize, colors: &[P], depths: &[f32], how: Apply) {
-    let n = colors.len();
-    let lc = &mut layer.color[at..at + n];
-    let ld = &mut layer.depth[at..at + n];
+fn apply_run<P: Pixel>(lc: &mut [P], ld: &mut [f32], colors: &[P], depths: &[f32], how: Apply) {
     match how {
         Apply::Replace => {
             lc.copy_from_slice(colors);
