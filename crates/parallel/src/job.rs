@@ -48,3 +48,21 @@ pub fn run<C: Comm>(
         Mode::SortLast => sort_last::render(comm, p, tris, strategy, &CompositeOptions::default()),
     }
 }
+
+/// [`run`] with sort-first regions cut by `tiling`; also returns the sort-first layout
+/// (`None` for the other modes).
+pub fn run_tiled<C: Comm>(
+    comm: &C,
+    mode: Mode,
+    p: &Pipeline,
+    tris: &[Triangle],
+    strategy: Strategy,
+    tiling: sort_first::Tiling,
+) -> Result<(Option<Layer<[u8; 4]>>, Option<sort_first::TileLayout>), CommError> {
+    match mode {
+        Mode::SortFirst => {
+            sort_first::render_tiled_layout(comm, p, tris, 0, tiling).map(|(i, l)| (i, Some(l)))
+        }
+        _ => run(comm, mode, p, tris, strategy).map(|i| (i, None)),
+    }
+}

@@ -31,31 +31,48 @@ pub fn scene_projection(scene: &Scene) -> Pipeline {
     p
 }
 
-/// Estimated ray-tracing work per tile: one unit per pixel (the camera ray) plus, for
-/// every object, the pixels of the tile its projected bounding box covers (the rays
-/// that hit something spawn shadow and secondary rays; an unbounded object, or one
-/// reaching behind the eye, covers every tile).
+/// Estimated ray-tracing work per tile, in rays: one camera ray per sample, plus, for
+/// every object, over the pixels of the tile its projected bounding box covers, the rays
+/// a hit on it spawns: one shadow ray per light sample, and a reflected (transmitted)
+/// ray with its own shadow rays when the material reflects (transmits). An unbounded
+/// object, or one reaching behind the eye, covers every tile.
 pub fn object_costs(scene: &Scene, tiles: &[Rect]) -> Vec<f64> {
     let p = scene_projection(scene);
+    let shadow: f64 = scene
+        .lights
+        .iter()
+        .map(|l| match l {
+            irradia_scene::Light::Rect { samples, .. }
+            | irradia_scene::Light::Sphere { samples, .. } => (*samples).max(1) as f64,
+            _ => 1.0,
+        })
+        .sum();
     let boxes: Vec<_> = scene
         .accel
         .instances()
         .iter()
-        .map(|inst| {
+        .zip(&scene.objects)
+        .map(|(inst, obj)| {
+            let m = &scene.materials[obj.material as usize];
+            let mut rays = shadow;
+            if !m.reflection.is_black() {
+                rays += 1.0 + shadow;
+            }
+            if m.transmission > 0.0 {
+                rays += 2.0 * (1.0 + shadow);
+            }
             let b = inst.bounds();
             if !(b.min.is_finite() && b.max.is_finite()) {
-                return None;
+                return (None, rays);
             }
-            points_box(
-                &p,
-                (0..8).map(|k| {
-                    glam::Vec3::new(
-                        if k & 1 == 0 { b.min.x } else { b.max.x },
-                        if k & 2 == 0 { b.min.y } else { b.max.y },
-                        if k & 4 == 0 { b.min.z } else { b.max.z },
-                    )
-                }),
-            )
+            let corners = (0..8).map(|k| {
+                glam::Vec3::new(
+                    if k & 1 == 0 { b.min.x } else { b.max.x },
+                    if k & 2 == 0 { b.min.y } else { b.max.y },
+                    if k & 4 == 0 { b.min.z } else { b.max.z },
+                )
+            });
+            (points_box(&p, corners), rays)
         })
         .collect();
     let spp = scene.settings.spp.max(1) as f64;
@@ -63,7 +80,7 @@ pub fn object_costs(scene: &Scene, tiles: &[Rect]) -> Vec<f64> {
         .iter()
         .map(|r| {
             let area = (r.x1 - r.x0) as f64 * (r.y1 - r.y0) as f64;
-            let covered: f64 = boxes.iter().map(|b| overlap(b, r)).sum();
+            let covered: f64 = boxes.iter().map(|(b, rays)| rays * overlap(b, r)).sum();
             spp * (area + covered)
         })
         .collect()

@@ -136,8 +136,10 @@ pub fn shade(scene: &Scene, ray: &Ray, sh: &SceneHit) -> Rgb {
     let view = -ray.dir.normalize();
     let colour = mat.color.eval(hit.point, hit.uv);
     let mut c = mat.emission + colour * scene.settings.ambient_light * mat.ambient;
+    // POV-Ray's point and spot lights do not fade with distance (as in the Whitted tracer).
+    let fade = mat.model != irradia_scene::ShadingModel::PovRay;
     for light in &scene.lights {
-        let Some((l, e)) = incident(light, hit.point) else {
+        let Some((l, e)) = incident(light, hit.point, fade) else {
             continue;
         };
         let cos = ns.dot(l);
@@ -159,18 +161,20 @@ pub fn shade(scene: &Scene, ray: &Ray, sh: &SceneHit) -> Rgb {
 }
 
 /// Unit direction towards `light` from `p` and the irradiance it brings (normal
-/// incidence); area lights as a point at their centre with their power.
-fn incident(light: &Light, p: Vec3) -> Option<(Vec3, Rgb)> {
+/// incidence); area lights as a point at their centre with their power. Point and spot
+/// lights fall off as `1 / r²` when `fade`.
+fn incident(light: &Light, p: Vec3, fade: bool) -> Option<(Vec3, Rgb)> {
     let towards = |q: Vec3| {
         let d = q - p;
         let r2 = d.length_squared();
         (r2 > 0.0).then(|| (d / r2.sqrt(), r2))
     };
+    let point = |q: Vec3| towards(q).map(|(l, r2)| (l, if fade { r2 } else { 1.0 }));
     match *light {
         Light::Point {
             position,
             intensity,
-        } => towards(position).map(|(l, r2)| (l, intensity / r2)),
+        } => point(position).map(|(l, r2)| (l, intensity / r2)),
         Light::Directional {
             direction,
             irradiance,
@@ -181,7 +185,7 @@ fn incident(light: &Light, p: Vec3) -> Option<(Vec3, Rgb)> {
             intensity,
             cos_inner,
             cos_outer,
-        } => towards(position).map(|(l, r2)| {
+        } => point(position).map(|(l, r2)| {
             let f = spot_falloff((-l).dot(direction.normalize()), cos_inner, cos_outer);
             (l, intensity * (f / r2))
         }),

@@ -313,6 +313,17 @@ pub fn render_tiled<C: Comm>(
     root: usize,
     tiling: Tiling,
 ) -> Result<Option<Layer<[u8; 4]>>, CommError> {
+    render_tiled_layout(comm, p, tris, root, tiling).map(|(img, _)| img)
+}
+
+/// [`render_tiled`], also returning the layout the ranks agreed on.
+pub fn render_tiled_layout<C: Comm>(
+    comm: &C,
+    p: &Pipeline,
+    tris: &[Triangle],
+    root: usize,
+    tiling: Tiling,
+) -> Result<(Option<Layer<[u8; 4]>>, TileLayout), CommError> {
     let (rank, n) = (comm.rank(), comm.size());
     comm.log().begin_stage("sort");
     let layout = raster_layout(comm, p, tris, tiling, root)?;
@@ -348,7 +359,7 @@ pub fn render_tiled<C: Comm>(
     let img = gather_tiles(comm, &layer, &layout, root, Operator::Depth)?;
     comm.barrier()?;
     comm.log().end_stage();
-    Ok(img)
+    Ok((img, layout))
 }
 
 const TAG_TILES: u32 = 0x0ffe;

@@ -131,3 +131,107 @@ impl Workload {
         p
     }
 }
+
+/// A scene's objects as raster triangles, for `irradia parallel --workload SCENE`.
+#[derive(Clone, Debug, Default)]
+pub struct SceneTriangles {
+    /// In object order (the serial draw order), ids `0..n`.
+    pub triangles: Vec<Triangle>,
+    /// Names of the objects that have no facets (unbounded planes, CSG, implicit
+    /// surfaces) and so are left out.
+    pub skipped: Vec<String>,
+}
+
+/// Segments around a full turn when curved shapes are cut into facets.
+pub const SCENE_FACET_DETAIL: u32 = 48;
+
+/// The scene's objects cut into facets (`Shape::facets`), moved to world space, each
+/// vertex coloured by its object's material texture there.
+pub fn scene_triangles(scene: &irradia_scene::Scene) -> SceneTriangles {
+    let mut out = SceneTriangles::default();
+    for (obj, inst) in scene.objects.iter().zip(scene.accel.instances()) {
+        let Some(f) = inst.shape.facets(SCENE_FACET_DETAIL) else {
+            out.skipped.push(obj.name.clone());
+            continue;
+        };
+        let mut mesh = Mesh::from_facets(&f);
+        let to_world = *inst.to_world();
+        let normal_matrix = inst.to_object().matrix3.transpose();
+        for q in &mut mesh.positions {
+            *q = to_world.transform_point3(*q);
+        }
+        if mesh.normals.len() == mesh.positions.len() {
+            for n in &mut mesh.normals {
+                *n = (normal_matrix * glam::Vec3::from(*n)).normalize_or_zero();
+            }
+        } else {
+            mesh.normals.clear(); // flat: face normals
+        }
+        let mat = &scene.materials[obj.material as usize];
+        mesh.colors = mesh
+            .positions
+            .iter()
+            .map(|q| {
+                let c = mat.color.eval(*q, glam::Vec2::ZERO) * mat.diffuse + mat.emission;
+                [c.r, c.g, c.b, 1.0]
+            })
+            .collect();
+        out.triangles.extend(mesh.to_triangles());
+    }
+    for (i, t) in out.triangles.iter_mut().enumerate() {
+        t.id = i as u32;
+    }
+    out
+}
+
+/// A pipeline with the scene's camera, image size and lights (area lights as the
+/// rasterizer approximates them; no shadows), Phong shading per pixel.
+pub fn scene_pipeline(scene: &irradia_scene::Scene) -> Pipeline {
+    let (w, h) = (scene.settings.width, scene.settings.height);
+    let mut p = Pipeline::new(w, h);
+    let r = scene_radius(scene);
+    let dist = (scene.camera.look_at - scene.camera.eye).length().max(1e-3);
+    p.view = ViewParams::from_camera(
+        &scene.camera,
+        w,
+        h,
+        (dist * 1e-3).min(r * 1e-3).max(1e-4),
+        dist + 4.0 * r,
+    );
+    let used: Vec<f32> = scene
+        .objects
+        .iter()
+        .map(|o| scene.materials[o.material as usize].ambient)
+        .collect();
+    let ambient = used.iter().sum::<f32>() / used.len().max(1) as f32;
+    p.lights =
+        irradia_raster::Lights::from_scene(&scene.lights, scene.settings.ambient_light * ambient);
+    if scene.lights.is_empty() {
+        // Scenes lit only by emitting objects (for the path tracer): a headlight and a
+        // dim ambient term, so that the rasterizer shows their shapes and colours.
+        let forward = (scene.camera.look_at - scene.camera.eye).normalize_or_zero();
+        p.lights = irradia_raster::Lights {
+            ambient: irradia_core::Rgb::splat(0.15),
+            lights: vec![irradia_raster::lighting::RasterLight::Directional {
+                direction: forward,
+                color: irradia_core::Rgb::splat(0.85),
+            }],
+        };
+    }
+    p.shading = irradia_raster::Shading::Phong;
+    p
+}
+
+/// Radius of the finite part of the scene around the camera's target.
+fn scene_radius(scene: &irradia_scene::Scene) -> f32 {
+    let mut r: f32 = 1.0;
+    for inst in scene.accel.instances() {
+        let b = inst.bounds();
+        if b.min.is_finite() && b.max.is_finite() {
+            r = r
+                .max((b.min - scene.camera.look_at).length())
+                .max((b.max - scene.camera.look_at).length());
+        }
+    }
+    r
+}

@@ -1,17 +1,40 @@
 //! `irradia parallel`: one frame rendered sort-first, sort-middle or sort-last by N ranks
 //! (threads, or MPI processes under `mpirun` with `--comm mpi`), composited, written to
-//! an image, with a per-rank, per-stage JSON report.
+//! an image, with a per-rank, per-stage JSON report. The workload is a generator (random
+//! triangles, teapot, marching cubes) or a scene (file or built-in); each rank runs the
+//! software rasterizer or the ray tracer.
 
 use crate::error::CliError;
+use crate::scene_arg::{load_scene, SceneArgs};
 use clap::{Args, ValueEnum};
 use irradia_core::{Image, Rgb};
 use irradia_parallel::comm::{run_local, Comm, CommError, LocalOptions};
 use irradia_parallel::composite::{Layer, Strategy};
 use irradia_parallel::job::{self, Mode};
 use irradia_parallel::report::Report;
-use irradia_parallel::workload::Workload;
+use irradia_parallel::sort_first::{self, imbalance, Assign, TileLayout, Tiling};
+use irradia_parallel::workload::{scene_pipeline, scene_triangles, Workload};
+use irradia_parallel::{raytrace_first, raytrace_last};
+use irradia_raster::{Pipeline, Triangle};
+use irradia_scene::Scene;
 use std::path::PathBuf;
 use std::time::Duration;
+
+const EXAMPLES: &str = "Examples:
+  irradia parallel --mode sort-last --ranks 4 --workload teapot -o teapot.png --report r.json
+  irradia parallel --mode sort-first --ranks 4 --tiles-per-rank 8 --workload marching-cubes -o g.png
+  irradia parallel --mode sort-first --renderer raytrace --workload builtin:whitted -o w.png
+  irradia parallel --mode sort-last --renderer raytrace --workload scene.toml --compositor radix-k
+  mpirun -np 4 irradia parallel --comm mpi --mode sort-first --renderer raytrace --workload builtin:csg
+
+Workloads: random-triangles, teapot, marching-cubes (with --triangles), a scene file
+(.toml or .json, as for `irradia render`), or builtin:NAME (see `irradia scenes`).
+Renderers: raster (the software pipeline; a scene's objects are cut into facets, planes,
+CSG and implicit surfaces are left out) or raytrace (scenes only): sort-first is the
+Whitted ray tracer on screen tiles (the image equals `irradia render --integrator
+whitted`), sort-last ray casts each rank's objects with local shading and no shadows,
+reflection or refraction (those need the other ranks' objects), then depth-composites.
+Exit codes: 0 done, 1 failure while working, 2 bad input.";
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum CommKind {
@@ -21,13 +44,24 @@ pub enum CommKind {
     Mpi,
 }
 
-#[derive(Clone, Copy, Debug, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Renderer {
+    /// The software rasterization pipeline (crates/raster).
     Raster,
+    /// The ray tracer: Whitted on screen tiles (sort-first) or ray casting of each rank's objects (sort-last).
     Raytrace,
 }
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AssignArg {
+    /// Tile i to rank i mod N.
+    Interleaved,
+    /// Largest estimated cost first to the least loaded rank (costs from screen bounds).
+    Cost,
+}
+
 #[derive(Args, Debug)]
+#[command(after_long_help = EXAMPLES)]
 pub struct ParallelArgs {
     /// Sorting scheme: sort-first, sort-middle or sort-last.
     #[arg(long, default_value = "sort-last")]
@@ -38,19 +72,30 @@ pub struct ParallelArgs {
     /// Compositor for sort-last: direct-send, tree, binary-swap, radix-k (k = 4) or radix-N.
     #[arg(long, default_value = "binary-swap")]
     pub compositor: String,
-    /// Workload: random-triangles, teapot or marching-cubes.
+    /// Workload: random-triangles, teapot, marching-cubes, a scene file (.toml/.json) or builtin:NAME.
     #[arg(long, default_value = "teapot")]
     pub workload: String,
-    /// About how many triangles the workload should have.
+    /// About how many triangles a generator workload should have.
     #[arg(long, default_value_t = 20_000)]
     pub triangles: usize,
-    /// Renderer of each rank (only `raster` is available so far).
+    /// Renderer of each rank.
     #[arg(long, value_enum, default_value = "raster")]
     pub renderer: Renderer,
-    #[arg(long, default_value_t = 640)]
-    pub width: u32,
-    #[arg(long, default_value_t = 480)]
-    pub height: u32,
+    /// Sort-first: screen regions per rank (1 = one horizontal strip each; more = a grid of tiles).
+    #[arg(long, default_value_t = 1)]
+    pub tiles_per_rank: usize,
+    /// Sort-first with tiles: how tiles are dealt out to ranks.
+    #[arg(long, value_enum, default_value = "cost")]
+    pub tile_assign: AssignArg,
+    /// Image width (default 640 for generators, the scene's own for scenes).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height (default 480 for generators, the scene's own for scenes).
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Samples per pixel of the ray tracer in sort-first (overrides the scene's).
+    #[arg(long)]
+    pub spp: Option<u32>,
     /// Communicator.
     #[arg(long, value_enum, default_value = "local")]
     pub comm: CommKind,
@@ -60,7 +105,8 @@ pub struct ParallelArgs {
     /// Output image (PNG, EXR or PFM), written by rank 0.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// Per-rank, per-stage report (bytes, messages, time, load imbalance) as JSON.
+    /// Per-rank, per-stage report (bytes, messages, time, load imbalance) as JSON, with a
+    /// "balance" section: estimated work per rank for the regions used and for strips.
     #[arg(long)]
     pub report: Option<PathBuf>,
     /// Print nothing but errors.
@@ -70,6 +116,85 @@ pub struct ParallelArgs {
 
 fn input(m: String) -> CliError {
     CliError::Input(m)
+}
+
+/// What the ranks render.
+enum Input {
+    Triangles {
+        name: String,
+        tris: Vec<Triangle>,
+        pipeline: Pipeline,
+    },
+    Scene {
+        name: String,
+        scene: Scene,
+    },
+}
+
+/// The workload named by `--workload`.
+fn load_input(a: &ParallelArgs) -> Result<Input, CliError> {
+    if let Some(w) = Workload::by_name(&a.workload, a.triangles) {
+        if a.spp.is_some() {
+            return Err(input(
+                "--spp belongs to the ray tracer and scene workloads".into(),
+            ));
+        }
+        let (width, height) = (a.width.unwrap_or(640), a.height.unwrap_or(480));
+        check_size(width, height)?;
+        return Ok(Input::Triangles {
+            name: w.name().into(),
+            tris: w.triangles(),
+            pipeline: w.pipeline(width, height),
+        });
+    }
+    let scene_args = SceneArgs {
+        width: a.width,
+        height: a.height,
+        spp: a.spp,
+        ..SceneArgs::default()
+    };
+    let scene = if let Some(name) = a.workload.strip_prefix("builtin:") {
+        load_scene(
+            None,
+            &SceneArgs {
+                builtin: Some(name.to_string()),
+                ..scene_args
+            },
+        )?
+    } else {
+        let path = PathBuf::from(&a.workload);
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if !path.exists() && !matches!(ext, "toml" | "json") {
+            return Err(input(format!(
+                "--workload {:?}: expected random-triangles, teapot, marching-cubes, a scene file (.toml or .json) or builtin:NAME",
+                a.workload
+            )));
+        }
+        load_scene(Some(&path), &scene_args)?
+    };
+    check_size(scene.settings.width, scene.settings.height)?;
+    Ok(Input::Scene {
+        name: a.workload.clone(),
+        scene,
+    })
+}
+
+fn check_size(width: u32, height: u32) -> Result<(), CliError> {
+    if width == 0 || height == 0 || width as u64 * height as u64 > 1 << 26 {
+        return Err(input(format!(
+            "--width {width} --height {height}: expected 1 to 67M pixels"
+        )));
+    }
+    Ok(())
+}
+
+/// Everything the ranks need for one frame.
+struct Job {
+    mode: Mode,
+    strategy: Strategy,
+    tiling: Tiling,
+    renderer: Renderer,
+    input: Input,
 }
 
 pub fn run(a: ParallelArgs) -> Result<(), CliError> {
@@ -82,22 +207,19 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
     let strategy = Strategy::parse(&a.compositor).ok_or_else(|| {
         input(format!("--compositor {:?}: expected direct-send, tree, binary-swap, radix-k or radix-N (N >= 2)", a.compositor))
     })?;
-    let workload = Workload::by_name(&a.workload, a.triangles).ok_or_else(|| {
-        input(format!(
-            "--workload {:?}: expected random-triangles, teapot or marching-cubes (scene files are not supported by `irradia parallel` yet)",
-            a.workload
-        ))
-    })?;
-    if matches!(a.renderer, Renderer::Raytrace) {
-        return Err(input("--renderer raytrace: the ray-traced parallel modes are not implemented yet; use --renderer raster".into()));
-    }
     if a.ranks == 0 || a.ranks > 1024 {
         return Err(input(format!("--ranks {}: expected 1 to 1024", a.ranks)));
     }
-    if a.width == 0 || a.height == 0 || a.width as u64 * a.height as u64 > 1 << 26 {
+    if a.tiles_per_rank == 0 || a.tiles_per_rank > 4096 {
         return Err(input(format!(
-            "--width {} --height {}: expected 1 to 67M pixels",
-            a.width, a.height
+            "--tiles-per-rank {}: expected 1 to 4096",
+            a.tiles_per_rank
+        )));
+    }
+    if a.tiles_per_rank > 1 && mode != Mode::SortFirst {
+        return Err(input(format!(
+            "--tiles-per-rank belongs to sort-first (the mode is {})",
+            mode.name()
         )));
     }
     if !(a.timeout > 0.0 && a.timeout.is_finite()) {
@@ -106,10 +228,66 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
             a.timeout
         )));
     }
-    let tris = workload.triangles();
-    let p = workload.pipeline(a.width, a.height);
+    if a.renderer == Renderer::Raytrace && mode == Mode::SortMiddle {
+        return Err(input(
+            "--renderer raytrace --mode sort-middle: sort-middle has no meaning for the ray tracer, which has no geometry stage whose screen-space output could be sorted to rasterizers; use sort-first (image-parallel) or sort-last (object-parallel)".into(),
+        ));
+    }
+    let input_ = load_input(&a)?;
+    let name = match &input_ {
+        Input::Triangles { name, .. } | Input::Scene { name, .. } => name.clone(),
+    };
+    let input_ = match (a.renderer, input_) {
+        (Renderer::Raytrace, Input::Triangles { name, .. }) => {
+            return Err(input(format!(
+                "--renderer raytrace --workload {name}: the ray tracer renders scenes; give a scene file or builtin:NAME (a scene file can hold a generator object: type = \"generator\", see docs/scene-format.md)"
+            )))
+        }
+        (Renderer::Raster, Input::Scene { name, scene }) => {
+            let st = scene_triangles(&scene);
+            if st.triangles.is_empty() {
+                return Err(input(format!(
+                    "--workload {name}: none of the scene's objects can be cut into facets for the rasterizer (planes, CSG and implicit surfaces cannot); use --renderer raytrace"
+                )));
+            }
+            if !st.skipped.is_empty() && !a.quiet && is_display_process(&a) {
+                eprintln!(
+                    "note: {} object(s) without facets left out of the raster image: {}",
+                    st.skipped.len(),
+                    st.skipped.join(", ")
+                );
+            }
+            Input::Triangles {
+                name,
+                pipeline: scene_pipeline(&scene),
+                tris: st.triangles,
+            }
+        }
+        (_, i) => i,
+    };
+    if let Input::Scene { scene, .. } = &input_ {
+        if scene.settings.integrator == irradia_scene::Integrator::Path
+            && !a.quiet
+            && is_display_process(&a)
+        {
+            eprintln!("note: the parallel ray tracer is the Whitted tracer; the scene's `integrator = \"path\"` is not used (compare with `irradia render --integrator whitted`)");
+        }
+    }
+    let job = Job {
+        mode,
+        strategy,
+        tiling: Tiling {
+            per_rank: a.tiles_per_rank,
+            assign: match a.tile_assign {
+                AssignArg::Interleaved => Assign::Interleaved,
+                AssignArg::Cost => Assign::Cost,
+            },
+        },
+        renderer: a.renderer,
+        input: input_,
+    };
     let timeout = Duration::from_secs_f64(a.timeout);
-    let (image, report) = match a.comm {
+    let frame = match a.comm {
         CommKind::Local => {
             let out = run_local(
                 a.ranks,
@@ -117,7 +295,7 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
                     timeout,
                     delay: None,
                 },
-                |c| one_frame(c, mode, &p, &tris, strategy),
+                |c| one_frame(c, &job),
             );
             let mut first = None;
             for (r, res) in out.into_iter().enumerate() {
@@ -129,20 +307,27 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
             }
             first.expect("rank 0 ran")
         }
-        CommKind::Mpi => mpi_frame(mode, &p, &tris, strategy, timeout)?,
+        CommKind::Mpi => mpi_frame(&job, timeout)?,
     };
-    let (Some(image), Some(report)) = (image, report) else {
+    let Frame {
+        image: Some(image),
+        report: Some(report),
+        balance,
+    } = frame
+    else {
         return Ok(()); // not rank 0
     };
+    let (width, height) = (image.width(), image.height());
     if !a.quiet {
+        let what = match &job.input {
+            Input::Triangles { tris, .. } => format!("{} triangles", tris.len()),
+            Input::Scene { scene, .. } => format!("{} objects", scene.objects.len()),
+        };
         eprintln!(
-            "{} of {} ({} triangles) on {} ranks, {}x{}:",
+            "{} ({:?}) of {name} ({what}) on {} ranks, {width}x{height}:",
             mode.name(),
-            workload.name(),
-            tris.len(),
+            job.renderer,
             report.ranks,
-            a.width,
-            a.height
         );
         for s in &report.stages {
             eprintln!(
@@ -153,53 +338,159 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
                 s.load_imbalance
             );
         }
+        if let Some(b) = &balance {
+            eprintln!(
+                "  regions: {} ({} tiles); estimated work imbalance {:.3} (strips {:.3}){}",
+                b["regions"].as_str().unwrap_or(""),
+                b["tiles"],
+                b["estimated_imbalance"].as_f64().unwrap_or(0.0),
+                b["strips_estimated_imbalance"].as_f64().unwrap_or(0.0),
+                match b.get("rays_imbalance").and_then(|v| v.as_f64()) {
+                    Some(x) => format!("; rays traced imbalance {x:.3}"),
+                    None => String::new(),
+                }
+            );
+        }
     }
     if let Some(path) = &a.output {
-        irradia_core::io::save(&to_image(&image), path)
-            .map_err(|e| CliError::Failure(e.to_string()))?;
+        irradia_core::io::save(&image, path).map_err(|e| CliError::Failure(e.to_string()))?;
     }
     if let Some(path) = &a.report {
-        irradia_core::io::write_atomic(path, report.to_json().as_bytes())
+        let mut json: serde_json::Value = serde_json::from_str(&report.to_json())
+            .map_err(|e| CliError::Failure(e.to_string()))?;
+        if let (Some(obj), Some(b)) = (json.as_object_mut(), balance) {
+            obj.insert("balance".into(), b);
+        }
+        let text =
+            serde_json::to_string_pretty(&json).map_err(|e| CliError::Failure(e.to_string()))?;
+        irradia_core::io::write_atomic(path, text.as_bytes())
             .map_err(|e| CliError::Failure(format!("{}: {e}", path.display())))?;
     }
     Ok(())
 }
 
-type Frame = (Option<Layer<[u8; 4]>>, Option<Report>);
+/// Whether this process prints notes (every local run; rank 0 only is not known before
+/// MPI starts, so MPI runs print nothing before the frame).
+fn is_display_process(a: &ParallelArgs) -> bool {
+    matches!(a.comm, CommKind::Local)
+}
 
-fn one_frame<C: Comm>(
-    c: &C,
-    mode: Mode,
-    p: &irradia_raster::Pipeline,
-    tris: &[irradia_raster::Triangle],
-    strategy: Strategy,
-) -> Result<Frame, CommError> {
-    let img = job::run(c, mode, p, tris, strategy)?;
+/// What rank 0 ends with (the others: all `None`).
+struct Frame {
+    image: Option<Image>,
+    report: Option<Report>,
+    balance: Option<serde_json::Value>,
+}
+
+fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
+    let n = c.size();
+    let (image, balance) = match &job.input {
+        Input::Triangles {
+            tris, pipeline: p, ..
+        } => {
+            let (img, layout) = job::run_tiled(c, job.mode, p, tris, job.strategy, job.tiling)?;
+            let balance = match (&img, layout) {
+                (Some(_), Some(layout)) => {
+                    let costs = sort_first::raster_costs(p, tris, &layout.tiles);
+                    let strips = TileLayout::strips(p.width, p.height, n);
+                    let strip_costs = sort_first::raster_costs(p, tris, &strips.tiles);
+                    Some(balance_json(
+                        job.tiling,
+                        &layout,
+                        &costs,
+                        &strips,
+                        &strip_costs,
+                        None,
+                    ))
+                }
+                _ => None,
+            };
+            (img.as_ref().map(to_image), balance)
+        }
+        Input::Scene { scene, .. } => match job.mode {
+            Mode::SortFirst => {
+                let r = raytrace_first::render(c, scene, job.tiling, 0)?;
+                c.log().begin_stage("balance");
+                let rays = c.gather(0, &r.rays.to_le_bytes())?;
+                c.log().end_stage();
+                let balance = r.image.as_ref().map(|_| {
+                    let layout = raytrace_first::layout(scene, n, job.tiling);
+                    let costs = raytrace_first::object_costs(scene, &layout.tiles);
+                    let (w, h) = (scene.settings.width, scene.settings.height);
+                    let strips = TileLayout::strips(w, h, n);
+                    let strip_costs = raytrace_first::object_costs(scene, &strips.tiles);
+                    let rays: Vec<f64> = rays
+                        .iter()
+                        .map(|b| {
+                            b.get(..8)
+                                .map_or(0, |b| u64::from_le_bytes(b.try_into().expect("8 bytes")))
+                                as f64
+                        })
+                        .collect();
+                    balance_json(
+                        job.tiling,
+                        &layout,
+                        &costs,
+                        &strips,
+                        &strip_costs,
+                        Some(&rays),
+                    )
+                });
+                (r.image.as_ref().map(raytrace_first::to_image), balance)
+            }
+            _ => {
+                let img = raytrace_last::render(c, scene, job.strategy, 0)?;
+                (img.as_ref().map(raytrace_first::to_image), None)
+            }
+        },
+    };
     let report = Report::gather(c)?;
-    Ok((img, report))
+    Ok(Frame {
+        image,
+        report,
+        balance,
+    })
+}
+
+/// The "balance" section of the report: estimated work per rank for the regions used
+/// and for one strip per rank, and (ray tracer) the rays each rank traced.
+fn balance_json(
+    tiling: Tiling,
+    layout: &TileLayout,
+    costs: &[f64],
+    strips: &TileLayout,
+    strip_costs: &[f64],
+    rays: Option<&[f64]>,
+) -> serde_json::Value {
+    let n = strips.tiles.len();
+    let per_rank = layout.rank_costs(costs, n);
+    let strip_per_rank = strips.rank_costs(strip_costs, n);
+    let mut v = serde_json::json!({
+        "regions": if tiling.is_strips() { "strips" } else { "tiles" },
+        "tiles": layout.tiles.len(),
+        "tiles_per_rank": tiling.per_rank,
+        "assign": if tiling.is_strips() { "strips" } else { tiling.assign.name() },
+        "estimated_cost_per_rank": per_rank,
+        "estimated_imbalance": imbalance(&per_rank),
+        "strips_estimated_cost_per_rank": strip_per_rank,
+        "strips_estimated_imbalance": imbalance(&strip_per_rank),
+    });
+    if let Some(r) = rays {
+        v["rays_per_rank"] = serde_json::json!(r);
+        v["rays_imbalance"] = serde_json::json!(imbalance(r));
+    }
+    v
 }
 
 #[cfg(feature = "mpi")]
-fn mpi_frame(
-    mode: Mode,
-    p: &irradia_raster::Pipeline,
-    tris: &[irradia_raster::Triangle],
-    strategy: Strategy,
-    timeout: Duration,
-) -> Result<Frame, CliError> {
+fn mpi_frame(job: &Job, timeout: Duration) -> Result<Frame, CliError> {
     let comm = irradia_parallel::comm::MpiComm::init(timeout)
         .ok_or_else(|| CliError::Failure("MPI was already initialised".into()))?;
-    one_frame(&comm, mode, p, tris, strategy).map_err(|e| -> CliError { comm.fail(&e) })
+    one_frame(&comm, job).map_err(|e| -> CliError { comm.fail(&e) })
 }
 
 #[cfg(not(feature = "mpi"))]
-fn mpi_frame(
-    _: Mode,
-    _: &irradia_raster::Pipeline,
-    _: &[irradia_raster::Triangle],
-    _: Strategy,
-    _: Duration,
-) -> Result<Frame, CliError> {
+fn mpi_frame(_: &Job, _: Duration) -> Result<Frame, CliError> {
     Err(CliError::Input(
         "--comm mpi: this irradia was built without MPI; rebuild with `cargo build --release -p irradia --features mpi`".into(),
     ))
