@@ -1,9 +1,12 @@
 //! Tiled walls: blend weights sum to one, a uniform grey wall photographs uniform within
-//! 1%, projectors with different responses are matched, bad wall files are rejected.
+//! 1%, projectors with different responses are matched, bad wall files are rejected;
+//! the wall job writes every display's image and the photographs, and a rank failing
+//! during it ends every rank with an error naming it.
 
 use glam::Vec3;
-use irradia_parallel::comm::{run_local, LocalOptions};
-use irradia_parallel::wall::{self, blend, color, WallConfig, WallSource};
+use irradia_parallel::comm::{run_local, Comm, CommError, LocalOptions};
+use irradia_parallel::wall::{self, blend, color, job, WallConfig, WallSource};
+use std::time::{Duration, Instant};
 
 const TWO_DIFFERENT: &str = r#"
 columns = 2
@@ -145,4 +148,137 @@ fn bad_wall_files_name_the_field() {
         let e = WallConfig::parse(text).expect_err(text);
         assert!(e.contains(needle), "{e:?} should mention {needle}");
     }
+}
+
+fn quick() -> LocalOptions {
+    LocalOptions {
+        timeout: Duration::from_millis(300),
+        delay: None,
+    }
+}
+
+#[test]
+fn the_wall_job_writes_every_display_and_both_photographs() {
+    let c = WallConfig::parse(GRID).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let src = WallSource::Uniform(Vec3::new(0.3, 0.5, 0.7));
+    let out = run_local(c.displays(), LocalOptions::default(), |comm| {
+        job::run(comm, &c, &src, dir.path()).unwrap()
+    });
+    let mut names: Vec<String> = out
+        .into_iter()
+        .flat_map(|r| r.unwrap())
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "display-0-0.png",
+            "display-0-1.png",
+            "display-0-2.png",
+            "display-1-0.png",
+            "display-1-1.png",
+            "display-1-2.png",
+            "photo-uncorrected.png",
+            "photo.png"
+        ]
+    );
+    // Each display's file holds its drive values (8-bit).
+    let f = run_local(c.displays(), LocalOptions::default(), |comm| {
+        wall::frame(comm, &c, &src, true).unwrap()
+    })
+    .into_iter()
+    .next()
+    .unwrap()
+    .unwrap()
+    .unwrap();
+    for i in 0..c.displays() {
+        let img = irradia_core::io::load(&dir.path().join(job::display_file(&c, i))).unwrap();
+        assert_eq!((img.width(), img.height()), (c.width, c.height));
+        for (k, p) in img.pixels().iter().enumerate() {
+            // The file's 8-bit values are the drive levels.
+            for (ch, lin) in [p.r, p.g, p.b].into_iter().enumerate() {
+                let byte = (irradia_core::color::linear_to_srgb(lin) * 255.0).round();
+                let want = f.frames[i][k][ch] * 255.0;
+                assert!(
+                    (byte - want).abs() <= 0.5 + 1e-3,
+                    "display {i} pixel {k}: {byte} vs {want}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_wrong_rank_count_is_an_error() {
+    let c = WallConfig::parse(GRID).unwrap();
+    let out = run_local(4, quick(), |comm| {
+        wall::frame(comm, &c, &WallSource::Uniform(Vec3::ONE), true)
+    });
+    for r in out {
+        let e = r.unwrap().err().expect("4 ranks for 6 displays");
+        assert!(e.to_string().contains("6 displays"), "{e}");
+    }
+}
+
+/// Every rank but `culprit` ends with an error naming it, within a few timeouts.
+fn all_blame(
+    out: Vec<Result<Result<Vec<std::path::PathBuf>, job::WallError>, CommError>>,
+    culprit: usize,
+) {
+    for (r, res) in out.into_iter().enumerate() {
+        if r == culprit {
+            continue;
+        }
+        let e = res
+            .expect("no panic")
+            .expect_err("the job must fail on every rank");
+        assert_eq!(e.culprit(), Some(culprit), "rank {r} blamed: {e}");
+        assert!(e.to_string().contains(&format!("rank {culprit}")), "{e}");
+    }
+}
+
+#[test]
+fn a_rank_failing_during_the_wall_ends_every_rank_naming_it() {
+    let c = WallConfig::parse(GRID).unwrap();
+    let src = WallSource::Uniform(Vec3::splat(0.5));
+    // A rank that cannot write its display image (a folder is in the way).
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("display-0-1.png")).unwrap();
+    let t0 = Instant::now();
+    let out = run_local(c.displays(), quick(), |comm| {
+        job::run(comm, &c, &src, dir.path())
+    });
+    assert!(t0.elapsed() < Duration::from_secs(5));
+    let own = out[1].as_ref().unwrap().as_ref().unwrap_err();
+    assert!(
+        matches!(own, job::WallError::Write { rank: 1, .. }),
+        "{own}"
+    );
+    assert!(own.to_string().contains("display-0-1.png"), "{own}");
+    all_blame(out, 1);
+
+    // A rank that crashes while rendering.
+    let dir = tempfile::tempdir().unwrap();
+    let out = run_local(c.displays(), quick(), |comm| {
+        if comm.rank() == 4 {
+            panic!("simulated crash of display 4");
+        }
+        job::run(comm, &c, &src, dir.path())
+    });
+    assert!(out[4].is_err());
+    all_blame(out, 4);
+
+    // A rank that hangs (never reaches the frame barrier).
+    let t0 = Instant::now();
+    let out = run_local(c.displays(), quick(), |comm| {
+        if comm.rank() == 3 {
+            std::thread::sleep(Duration::from_millis(900));
+            return Ok(Vec::new());
+        }
+        job::run(comm, &c, &src, dir.path())
+    });
+    assert!(t0.elapsed() < Duration::from_secs(5));
+    all_blame(out, 3);
 }

@@ -8,7 +8,9 @@
 //! triangles were given, so the image is the same for any number of threads — this is
 //! sort-middle inside one machine, as in the lecture's "Sorting Paradigm".
 
-use crate::fragment::{draw, ColorTarget, DepthFunc, InterpolatedColor, PhongShader, PixelShader};
+use crate::fragment::{
+    draw, ColorTarget, DepthFunc, InterpolatedColor, PhongShader, PixelShader, Unproject,
+};
 use crate::framebuffer::{ColorBuffer, Framebuffer};
 use crate::lighting::{EyeLights, Shading};
 use crate::rasterizer::row_range;
@@ -25,6 +27,8 @@ pub(crate) struct FragmentState<'a> {
     pub shading: Shading,
     pub lights: &'a EyeLights,
     pub depth_func: DepthFunc,
+    /// For Phong: pixel and depth back to eye space.
+    pub unproject: Unproject,
 }
 
 /// Draws the triangles of `batches` (in order: batch by batch, each in order) into
@@ -84,11 +88,15 @@ pub(crate) fn rasterize_binned(
         depth_func: state.depth_func,
     };
     let depth = &mut fb.depth;
+    let phong = PhongShader {
+        lights: state.lights,
+        unproject: state.unproject,
+    };
     match (&mut fb.color, state.shading) {
         (ColorBuffer::Id(c), _) => job.run(c, depth, &InterpolatedColor),
-        (ColorBuffer::Rgba8(c), Shading::Phong) => job.run(c, depth, &PhongShader(state.lights)),
+        (ColorBuffer::Rgba8(c), Shading::Phong) => job.run(c, depth, &phong),
         (ColorBuffer::Rgba8(c), _) => job.run(c, depth, &InterpolatedColor),
-        (ColorBuffer::Rgba32F(c), Shading::Phong) => job.run(c, depth, &PhongShader(state.lights)),
+        (ColorBuffer::Rgba32F(c), Shading::Phong) => job.run(c, depth, &phong),
         (ColorBuffer::Rgba32F(c), _) => job.run(c, depth, &InterpolatedColor),
     }
 }

@@ -6,7 +6,7 @@ use crate::interpolate::{perspective_weights, varyings};
 use crate::lighting::EyeLights;
 use crate::rasterizer::Setup;
 use crate::screen::{varying, Rect, ScreenTriangle};
-use glam::Vec3;
+use glam::{Mat4, Vec3, Vec4};
 
 /// The depth comparison (the fragment passes when `new OP stored`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -29,9 +29,17 @@ impl DepthFunc {
     }
 }
 
+/// Where a fragment is: its pixel and its interpolated NDC depth.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FragCoord {
+    pub x: u32,
+    pub y: u32,
+    pub z: f32,
+}
+
 /// Computes a fragment's colour from perspective-correct weights.
 pub(crate) trait PixelShader: Sync {
-    fn color(&self, s: &Setup, w: [f32; 3]) -> [f32; 4];
+    fn color(&self, s: &Setup, w: [f32; 3], at: FragCoord) -> [f32; 4];
 }
 
 /// Gouraud and unlit: the interpolated vertex colour.
@@ -39,20 +47,64 @@ pub(crate) struct InterpolatedColor;
 
 impl PixelShader for InterpolatedColor {
     #[inline(always)]
-    fn color(&self, s: &Setup, w: [f32; 3]) -> [f32; 4] {
+    fn color(&self, s: &Setup, w: [f32; 3], _at: FragCoord) -> [f32; 4] {
         varyings::<4>(&s.v, w, varying::COLOR)
     }
 }
 
-/// Phong: lighting evaluated with the interpolated, renormalised normal.
-pub(crate) struct PhongShader<'a>(pub &'a EyeLights);
+/// Pixel centre and depth back to eye space: the inverse of projection, perspective
+/// divide and viewport.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Unproject {
+    inv_proj: Mat4,
+    /// NDC x = x * sx + ox at pixel centres, NDC y = oy - y * sy.
+    sx: f32,
+    ox: f32,
+    sy: f32,
+    oy: f32,
+}
+
+impl Unproject {
+    pub fn new(proj: Mat4, width: u32, height: u32) -> Self {
+        let (w, h) = (width.max(1) as f32, height.max(1) as f32);
+        Self {
+            inv_proj: proj.inverse(),
+            sx: 2.0 / w,
+            ox: 1.0 / w - 1.0,
+            sy: 2.0 / h,
+            oy: 1.0 - 1.0 / h,
+        }
+    }
+
+    /// The eye-space point seen at the centre of pixel (x, y) at NDC depth z.
+    #[inline(always)]
+    pub fn eye_point(&self, at: FragCoord) -> Vec3 {
+        let ndc = Vec4::new(
+            at.x as f32 * self.sx + self.ox,
+            self.oy - at.y as f32 * self.sy,
+            at.z,
+            1.0,
+        );
+        let h = self.inv_proj * ndc;
+        h.truncate() / h.w
+    }
+}
+
+/// Phong: lighting evaluated at every pixel with the interpolated, renormalised normal
+/// and the interpolated vertex colour as the diffuse base, at the eye-space point the
+/// pixel sees (recovered from its depth).
+pub(crate) struct PhongShader<'a> {
+    pub lights: &'a EyeLights,
+    pub unproject: Unproject,
+}
 
 impl PixelShader for PhongShader<'_> {
     #[inline(always)]
-    fn color(&self, s: &Setup, w: [f32; 3]) -> [f32; 4] {
+    fn color(&self, s: &Setup, w: [f32; 3], at: FragCoord) -> [f32; 4] {
         let n = Vec3::from(varyings::<3>(&s.v, w, varying::NORMAL)).normalize_or_zero();
-        let p = Vec3::from(varyings::<3>(&s.v, w, varying::VIEW_POS));
-        let c = self.0.shade(p, n, Vec3::ONE);
+        let base = Vec3::from(varyings::<3>(&s.v, w, varying::BASE_COLOR));
+        let p = self.unproject.eye_point(at);
+        let c = self.lights.shade(p, n, base);
         [c.x, c.y, c.z, 1.0]
     }
 }
@@ -65,6 +117,7 @@ pub(crate) trait ColorTarget {
         tri: &ScreenTriangle,
         s: &Setup,
         l: [f32; 3],
+        at: FragCoord,
         shader: &S,
     );
 }
@@ -78,9 +131,10 @@ impl ColorTarget for [[u8; 4]] {
         _t: &ScreenTriangle,
         s: &Setup,
         l: [f32; 3],
+        at: FragCoord,
         shader: &S,
     ) {
-        self[i] = to_rgba8(shader.color(s, perspective_weights(&s.v, l)));
+        self[i] = to_rgba8(shader.color(s, perspective_weights(&s.v, l), at));
     }
 }
 
@@ -93,9 +147,10 @@ impl ColorTarget for [[f32; 4]] {
         _t: &ScreenTriangle,
         s: &Setup,
         l: [f32; 3],
+        at: FragCoord,
         shader: &S,
     ) {
-        self[i] = shader.color(s, perspective_weights(&s.v, l));
+        self[i] = shader.color(s, perspective_weights(&s.v, l), at);
     }
 }
 
@@ -108,6 +163,7 @@ impl ColorTarget for [u32] {
         t: &ScreenTriangle,
         _s: &Setup,
         _l: [f32; 3],
+        _at: FragCoord,
         _shader: &S,
     ) {
         self[i] = t.id;
@@ -142,7 +198,7 @@ pub(crate) fn draw<C: ColorTarget + ?Sized, S: PixelShader>(
         let z = s.depth_in_row(row_z, x);
         if func.pass(z, depth_buf[i]) {
             depth_buf[i] = z;
-            target.write(i, tri, &s, s.lambda(e), shader);
+            target.write(i, tri, &s, s.lambda(e), FragCoord { x, y, z }, shader);
         }
     });
 }

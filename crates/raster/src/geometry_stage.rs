@@ -84,10 +84,9 @@ impl<'a> GeometryStage<'a> {
                 var[..4].copy_from_slice(&[c.x, c.y, c.z, color[3]]);
             }
             Shading::Phong => {
-                let pe = self.view.transform_point3(p);
                 let ne = (self.normal_matrix * n).normalize_or_zero();
                 var[varying::NORMAL..varying::NORMAL + 3].copy_from_slice(&ne.to_array());
-                var[varying::VIEW_POS..varying::VIEW_POS + 3].copy_from_slice(&pe.to_array());
+                var[varying::BASE_COLOR..varying::BASE_COLOR + 3].copy_from_slice(&color[..3]);
             }
         }
         var[varying::UV] = uv.x;

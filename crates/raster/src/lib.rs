@@ -21,6 +21,7 @@
 //! assert!(fb.depth_at(32, 24) < 1.0);
 //! ```
 
+pub mod area_lights;
 pub mod binning;
 pub mod clip;
 pub mod fragment;

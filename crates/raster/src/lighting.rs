@@ -4,6 +4,12 @@
 //!
 //! Lights are given in world space and moved to eye space once per frame
 //! ([`EyeLights`]); all shading happens in eye space, where the eye is at the origin.
+//!
+//! The lights follow the Whitted tracer's conventions (`irradia_render`'s shading):
+//! point and spot lights give `I / r²`, spot cones use the one falloff of every
+//! integrator ([`irradia_scene::spot_falloff`]), and area lights are replaced by sample
+//! points ([`crate::area_lights`]), so a shadow-free scene rasterizes to what the ray
+//! tracer draws.
 
 use glam::{Mat4, Vec3};
 use irradia_core::Rgb;
@@ -28,6 +34,22 @@ pub enum RasterLight {
     Directional { direction: Vec3, color: Rgb },
     /// A point light of intensity `color`; irradiance falls off as 1 / r².
     Point { position: Vec3, color: Rgb },
+    /// A point light limited to a cone around unit `direction`: intensity `color` times
+    /// [`irradia_scene::spot_falloff`] of the angle from the axis.
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        color: Rgb,
+        cos_inner: f32,
+        cos_outer: f32,
+    },
+    /// A small one-sided Lambertian emitter (a sample point of an area light): intensity
+    /// `color * cos θ` at angle θ from the unit `normal`, nothing behind it.
+    Emitter {
+        position: Vec3,
+        normal: Vec3,
+        color: Rgb,
+    },
 }
 
 /// The lights of a frame, in world space.
@@ -52,61 +74,29 @@ impl Default for Lights {
 }
 
 impl Lights {
-    /// The scene's lights, with area lights approximated by a point at their centre of
-    /// the same total power (the rasterizer has no shadows or soft lighting).
+    /// The scene's lights: point, directional and spot lights as they are; rectangle
+    /// and sphere lights as sample points ([`crate::area_lights`]), as many as the
+    /// light's `samples` (at most [`crate::area_lights::MAX_POINTS`]).
     pub fn from_scene(lights: &[Light], ambient: Rgb) -> Self {
-        let lights = lights
-            .iter()
-            .map(|l| match *l {
-                Light::Point {
-                    position,
-                    intensity,
-                } => RasterLight::Point {
-                    position,
-                    color: intensity,
-                },
-                Light::Directional {
-                    direction,
-                    irradiance,
-                } => RasterLight::Directional {
-                    direction: direction.normalize(),
-                    color: irradiance,
-                },
-                Light::Spot {
-                    position,
-                    intensity,
-                    ..
-                } => RasterLight::Point {
-                    position,
-                    color: intensity,
-                },
-                Light::Rect {
-                    corner,
-                    edge_u,
-                    edge_v,
-                    radiance,
-                    ..
-                } => {
-                    // A one-sided Lambertian rectangle has intensity L * A along its normal;
-                    // use it as an isotropic point intensity.
-                    let area = edge_u.cross(edge_v).length();
-                    RasterLight::Point {
-                        position: corner + 0.5 * (edge_u + edge_v),
-                        color: radiance * area,
-                    }
-                }
-                Light::Sphere {
-                    center,
-                    radius,
-                    radiance,
-                    ..
-                } => RasterLight::Point {
-                    position: center,
-                    color: radiance * (std::f32::consts::PI * radius * radius),
-                },
-            })
-            .collect();
-        Self { ambient, lights }
+        Self {
+            ambient,
+            lights: lights
+                .iter()
+                .flat_map(|l| crate::area_lights::scene_light(l, None))
+                .collect(),
+        }
+    }
+
+    /// [`Lights::from_scene`] with every area light cut into about `points` sample
+    /// points whatever its `samples`.
+    pub fn from_scene_with_points(lights: &[Light], ambient: Rgb, points: u32) -> Self {
+        Self {
+            ambient,
+            lights: lights
+                .iter()
+                .flat_map(|l| crate::area_lights::scene_light(l, Some(points)))
+                .collect(),
+        }
     }
 }
 
@@ -146,6 +136,19 @@ enum EyeLight {
         position: Vec3,
         color: Vec3,
     },
+    Spot {
+        position: Vec3,
+        /// Unit axis of the cone.
+        axis: Vec3,
+        color: Vec3,
+        cos_inner: f32,
+        cos_outer: f32,
+    },
+    Emitter {
+        position: Vec3,
+        normal: Vec3,
+        color: Vec3,
+    },
 }
 
 /// The frame's lights and material in eye space, ready to shade points.
@@ -173,6 +176,28 @@ impl EyeLights {
                 },
                 RasterLight::Point { position, color } => EyeLight::Point {
                     position: view.transform_point3(position),
+                    color: v3(color),
+                },
+                RasterLight::Spot {
+                    position,
+                    direction,
+                    color,
+                    cos_inner,
+                    cos_outer,
+                } => EyeLight::Spot {
+                    position: view.transform_point3(position),
+                    axis: view.transform_vector3(direction).normalize_or_zero(),
+                    color: v3(color),
+                    cos_inner,
+                    cos_outer,
+                },
+                RasterLight::Emitter {
+                    position,
+                    normal,
+                    color,
+                } => EyeLight::Emitter {
+                    position: view.transform_point3(position),
+                    normal: view.transform_vector3(normal).normalize_or_zero(),
                     color: v3(color),
                 },
             })
@@ -209,6 +234,37 @@ impl EyeLights {
                     let d = position - p;
                     let r2 = d.length_squared().max(1e-20);
                     (d / r2.sqrt(), color / r2)
+                }
+                EyeLight::Spot {
+                    position,
+                    axis,
+                    color,
+                    cos_inner,
+                    cos_outer,
+                } => {
+                    let d = position - p;
+                    let r2 = d.length_squared().max(1e-20);
+                    let to_light = d / r2.sqrt();
+                    let cos = -to_light.dot(axis);
+                    if cos <= cos_outer {
+                        continue;
+                    }
+                    let f = irradia_scene::spot_falloff(cos, cos_inner, cos_outer);
+                    (to_light, color * (f / r2))
+                }
+                EyeLight::Emitter {
+                    position,
+                    normal,
+                    color,
+                } => {
+                    let d = position - p;
+                    let r2 = d.length_squared().max(1e-20);
+                    let to_light = d / r2.sqrt();
+                    let cos_l = -to_light.dot(normal);
+                    if cos_l <= 0.0 {
+                        continue;
+                    }
+                    (to_light, color * (cos_l / r2))
                 }
             };
             let cos = n.dot(to_light);

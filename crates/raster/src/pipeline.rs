@@ -3,7 +3,7 @@
 //! rendering run them on different ranks) or together.
 
 use crate::binning::{rasterize_batches, rasterize_binned, FragmentState};
-use crate::fragment::DepthFunc;
+use crate::fragment::{DepthFunc, Unproject};
 use crate::framebuffer::Framebuffer;
 use crate::geometry_stage::{Batch, BatchPool, GeometryStage};
 use crate::lighting::{EyeLights, Lights, Material, Shading};
@@ -99,6 +99,7 @@ impl Pipeline {
             shading: self.shading,
             lights,
             depth_func: self.depth_func,
+            unproject: Unproject::new(self.view.proj, self.width, self.height),
         }
     }
 

@@ -11,11 +11,20 @@ pub const VARYINGS: usize = 8;
 /// Where each value lives in [`ScreenVertex::var`].
 ///
 /// Gouraud and unlit shading carry the lit RGBA colour in `0..4`; Phong carries the
-/// view-space normal in `0..3` and the view-space position in `3..6`. Both keep the
-/// texture coordinate in `6..8`.
+/// view-space normal in `0..3` and the vertex colour (the diffuse base, RGB) in `3..6`
+/// (the view-space position of a Phong fragment is recovered from its pixel and depth
+/// through the inverse projection, so it needs no varyings). Both keep the texture
+/// coordinate in `6..8`.
 pub mod varying {
     pub const COLOR: usize = 0;
     pub const NORMAL: usize = 0;
+    /// Phong's vertex colour (RGB).
+    pub const BASE_COLOR: usize = 3;
+    /// Slots `3..6` held the view-space position before Phong reconstructed it; they
+    /// now hold [`BASE_COLOR`].
+    #[deprecated(
+        note = "Phong fragments recover the view position from depth; slots 3..6 are BASE_COLOR"
+    )]
     pub const VIEW_POS: usize = 3;
     pub const UV: usize = 6;
 }

@@ -2,11 +2,14 @@
 //! alignment, overlap areas, synching, dark field): one rank per display renders its
 //! own off-axis frustum of the wall's view, blends its edges ([`blend`]), corrects its
 //! colour response ([`color`]), waits at a frame barrier, and sends its frame to rank 0,
-//! which writes every display's image and a simulated photograph ([`photo`]).
+//! which makes a simulated photograph ([`photo`]). [`job`] is the whole job as
+//! `irradia wall` runs it, on threads or under `mpirun`: every rank writes its own
+//! display's image, rank 0 the photographs.
 
 pub mod blend;
 pub mod color;
 pub mod config;
+pub mod job;
 pub mod photo;
 
 pub use config::{Projector, WallConfig};
@@ -83,6 +86,27 @@ pub struct WallFrame {
     pub correction: Correction,
 }
 
+/// The drive values of display `i` in [0, 1] (row-major): its part of the wall's image,
+/// blended and colour-corrected, or (`corrected = false`) gamma-encoded naively.
+pub fn display_frame(c: &WallConfig, src: &WallSource, i: usize, corrected: bool) -> Vec<Vec3> {
+    let want = render_display(c, src, i);
+    if !corrected {
+        return want
+            .iter()
+            .map(|v| v.clamp(Vec3::ZERO, Vec3::ONE).powf(1.0 / 2.2))
+            .collect();
+    }
+    let weights: Vec<Vec<f32>> = (0..c.displays()).map(|j| blend::weights(c, j)).collect();
+    let corr = Correction::plan(c, &weights);
+    (0..c.height)
+        .flat_map(|y| (0..c.width).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let k = (y * c.width + x) as usize;
+            corr.drive(c, i, x, y, weights[i][k], want[k])
+        })
+        .collect()
+}
+
 /// One wall frame on `comm` (one rank per display). `corrected = false` drives every
 /// projector naively (no blending, no matching) to show what the correction fixes.
 pub fn frame<C: Comm>(
@@ -91,31 +115,26 @@ pub fn frame<C: Comm>(
     src: &WallSource,
     corrected: bool,
 ) -> Result<Option<WallFrame>, CommError> {
-    assert_eq!(comm.size(), c.displays(), "one rank per display");
+    Ok(frame_and_own(comm, c, src, corrected)?.1)
+}
+
+/// [`frame`], also returning this rank's own drive values (every rank gets them).
+pub fn frame_and_own<C: Comm>(
+    comm: &C,
+    c: &WallConfig,
+    src: &WallSource,
+    corrected: bool,
+) -> Result<(Vec<Vec3>, Option<WallFrame>), CommError> {
+    if comm.size() != c.displays() {
+        return Err(CommError::Aborted(format!(
+            "a wall of {} displays needs one rank per display, not {}",
+            c.displays(),
+            comm.size()
+        )));
+    }
     let i = comm.rank();
     comm.log().begin_stage("render");
-    let want = render_display(c, src, i);
-    let weights: Vec<Vec<f32>> = (0..c.displays()).map(|j| blend::weights(c, j)).collect();
-    let corr = Correction::plan(c, &weights);
-    let drive: Vec<Vec3> = if corrected {
-        (0..c.height)
-            .flat_map(|y| (0..c.width).map(move |x| (x, y)))
-            .map(|(x, y)| {
-                corr.drive(
-                    c,
-                    i,
-                    x,
-                    y,
-                    weights[i][(y * c.width + x) as usize],
-                    want[(y * c.width + x) as usize],
-                )
-            })
-            .collect()
-    } else {
-        want.iter()
-            .map(|v| v.clamp(Vec3::ZERO, Vec3::ONE).powf(1.0 / 2.2))
-            .collect()
-    };
+    let drive = display_frame(c, src, i, corrected);
     // Frame barrier: no display swaps before every display has its frame.
     comm.log().begin_stage("swap-barrier");
     comm.barrier()?;
@@ -125,7 +144,7 @@ pub fn frame<C: Comm>(
     let all = comm.gather(0, &bytes)?;
     comm.log().end_stage();
     if i != 0 {
-        return Ok(None);
+        return Ok((drive, None));
     }
     let mut frames = Vec::new();
     for (r, b) in all.iter().enumerate() {
@@ -138,10 +157,15 @@ pub fn frame<C: Comm>(
         let f: Vec<[f32; 3]> = bytemuck::pod_collect_to_vec(b);
         frames.push(f.into_iter().map(Vec3::from).collect());
     }
+    let weights: Vec<Vec<f32>> = (0..c.displays()).map(|j| blend::weights(c, j)).collect();
+    let corr = Correction::plan(c, &weights);
     let photo = photo::photograph(c, &corr, &frames);
-    Ok(Some(WallFrame {
-        frames,
-        photo,
-        correction: corr,
-    }))
+    Ok((
+        drive,
+        Some(WallFrame {
+            frames,
+            photo,
+            correction: corr,
+        }),
+    ))
 }
