@@ -20,6 +20,7 @@ pub const CSG_KINDS: &[&str] = &["union", "intersection", "difference", "merge"]
 pub const OTHER_KINDS: &[&str] = &[
     "mesh",
     "gyroid_mesh",
+    "generator",
     "implicit",
     "parametric",
     "bezier",
@@ -163,6 +164,9 @@ fn build_shape(kind: &str, t: &Table) -> Result<Option<Arc<dyn Shape>>> {
     }
     if kind == "gyroid_mesh" {
         return Ok(Some(Arc::new(gyroid_mesh(t)?)));
+    }
+    if kind == "generator" {
+        return Ok(Some(Arc::new(super::generators::read_generator(t)?)));
     }
     if let Some(s) = build_primitive(kind, t)? {
         return Ok(Some(s));
