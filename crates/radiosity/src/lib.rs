@@ -19,7 +19,6 @@ pub mod scene_input;
 pub mod scenes;
 pub mod solver;
 pub mod visibility;
-pub mod zbuffer;
 
 pub use error::{RadiosityError, Result};
 pub use mesh::{Mesh, MeshOptions, PatchSpec};

@@ -10,7 +10,7 @@
 //! - `contour`: the closed-form point-to-polygon (contour integral) formula at centroids;
 //! - `hemisphere`: the Nusselt analogue, integrated numerically by ray casting;
 //! - `hemicube`: Cohen and Greenberg's hemicube with precomputed delta form factors,
-//!   drawn with a z-buffer (item buffer);
+//!   drawn with the software rasterizer (`irradia_raster`) into an ID buffer;
 //! - `raycast`: Wallace, Elmquist, Haines (1989), from sample points on the source
 //!   element to the receiving element's vertices, through the BVH;
 //! - `montecarlo`: Monte Carlo area-to-area integration.
