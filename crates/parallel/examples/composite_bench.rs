@@ -1,14 +1,23 @@
 //! Binary-swap compositing benchmark over MPI (bench/composite/run.sh runs it):
-//! `mpirun -np P composite_bench [--width 1280] [--height 720] [--reps 9]`.
+//! `mpirun -np P composite_bench [--width 1280] [--height 720] [--reps 9] [--pieces 8]`.
 //!
-//! Measures, in one run: the MPI ping-pong bandwidth for a message the size of a whole
-//! RGBA8 + f32-depth image; binary swap (the reduce-scatter, without the final gather)
-//! of a dense image and of a 10%-active one; and the bytes-over-bandwidth bound
-//! S(1 - 1/p) / bandwidth. Times are the slowest rank's, median over the repetitions,
-//! each started after a barrier. Rank 0 prints `RESULT key=value ...` lines.
+//! Measures, in one run and with the same ranks:
+//! * the transfer bound: for every binary-swap round, a concurrent pairwise exchange of
+//!   that round's message (every rank with its round partner, as the OSU multi-pair
+//!   bidirectional test does) of the size the busiest rank sends in that round, dense
+//!   RGBA8 + f32 depth, through the same `Comm::exchange_pieces` (one piece: MPI_Irecv
+//!   into a ready buffer, MPI_Isend from the data in place); the bound is the sum over
+//!   the rounds of those exchange times, i.e. sum of bytes(round) / bandwidth(round);
+//! * binary swap (the reduce-scatter, without the final gather) of a dense image and of
+//!   a 10%-active one, with the time of each step (decide, header, encode, wait, blend).
+//!
+//! Times are the slowest rank's, median over the repetitions, each started after a
+//! barrier. Rank 0 prints `RESULT key=value ...` and `PROFILE ...` lines.
 
 use irradia_parallel::comm::{Comm, MpiComm};
-use irradia_parallel::composite::{self, CompositeOptions, Layer, Strategy};
+use irradia_parallel::composite::{
+    self, pairwise, profile, split_span, CompositeOptions, Layer, Strategy,
+};
 use std::time::{Duration, Instant};
 
 fn arg(name: &str, default: usize) -> usize {
@@ -59,64 +68,142 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// The largest give span (pixels) of any rank in each binary-swap round, for a power of
+/// two `p` and an image of `n` pixels, computed as `binary_swap` splits its spans.
+fn round_give_pixels(n: usize, p: usize) -> Vec<usize> {
+    let mut most = Vec::new();
+    let mut spans = vec![0..n; p];
+    let mut bit = 1;
+    while bit < p {
+        let mut m = 0;
+        for (v, span) in spans.iter_mut().enumerate() {
+            let halves = split_span(span, 2);
+            let (keep, give) = if v & bit == 0 {
+                (halves[0].clone(), halves[1].clone())
+            } else {
+                (halves[1].clone(), halves[0].clone())
+            };
+            m = m.max(give.len());
+            *span = keep;
+        }
+        most.push(m);
+        bit <<= 1;
+    }
+    most
+}
+
 fn main() {
     let comm = MpiComm::init(Duration::from_secs(60)).expect("MPI initialises once");
-    let (w, h, reps) = (
+    let (w, h, reps, pieces) = (
         arg("--width", 1280) as u32,
         arg("--height", 720) as u32,
         arg("--reps", 9),
+        arg("--pieces", 8),
     );
+    pairwise::set_max_pieces(pieces);
     let (rank, p) = (comm.rank(), comm.size());
-    let image_bytes = w as usize * h as usize * 8;
+    let pixels = w as usize * h as usize;
+    let pixel_bytes = 8; // RGBA8 + f32 depth
+    let ok = |r: Result<(), _>| r.unwrap_or_else(|e| comm.fail(&e));
 
-    // Ping-pong between ranks 0 and 1 with a whole image.
-    let mut bw = f64::NAN;
-    if p >= 2 {
-        let msg = vec![7u8; image_bytes];
-        let mut times = Vec::new();
-        for _ in 0..reps.max(3) {
-            comm.barrier().unwrap_or_else(|e| comm.fail(&e));
-            let t0 = Instant::now();
-            if rank == 0 {
-                comm.send(1, 1, &msg).unwrap_or_else(|e| comm.fail(&e));
-                comm.recv(1, 2).unwrap_or_else(|e| comm.fail(&e));
-            } else if rank == 1 {
-                let m = comm.recv(0, 1).unwrap_or_else(|e| comm.fail(&e));
-                comm.send(0, 2, &m).unwrap_or_else(|e| comm.fail(&e));
+    // The transfer bound, round by round, with the algorithm's own partners.
+    let mut bound = 0.0;
+    let mut round_lines = Vec::new();
+    if p.is_power_of_two() {
+        for (r, give) in round_give_pixels(pixels, p).into_iter().enumerate() {
+            let bytes = give * pixel_bytes;
+            let partner = rank ^ (1 << r);
+            let send = vec![0x5au8; bytes];
+            let mut recv = vec![0u8; bytes];
+            let mut times = Vec::new();
+            for rep in 0..reps + 1 {
+                ok(comm.barrier());
+                let t0 = Instant::now();
+                ok(comm.exchange_pieces(
+                    partner,
+                    0x7000 + r as u32,
+                    &[&send],
+                    &mut [&mut recv],
+                    &mut |_, _| Ok(()),
+                ));
+                let t = slowest(&comm, t0.elapsed().as_secs_f64());
+                if rep > 0 {
+                    times.push(t); // the first is a warm-up
+                }
             }
-            times.push(t0.elapsed().as_secs_f64() / 2.0);
+            let t = median(times);
+            bound += t;
+            round_lines.push(format!(
+                "RESULT np={p} round={} bytes={bytes} exchange_ms={:.3} exchange_gbps={:.3}",
+                r + 1,
+                t * 1e3,
+                bytes as f64 / t / 1e9
+            ));
         }
-        bw = image_bytes as f64 / median(times);
     }
 
     let mut results = Vec::new();
+    let mut profiles = Vec::new();
     for (name, fraction) in [("dense", 1.0), ("active10", 0.10)] {
         let base = layer(w, h, rank, fraction);
         let opts = CompositeOptions::default();
         let mut times = Vec::new();
-        for _ in 0..reps {
+        let mut prof = profile::SwapProfile::default();
+        for rep in 0..reps + 1 {
             let l = base.clone();
-            comm.barrier().unwrap_or_else(|e| comm.fail(&e));
+            ok(comm.barrier());
+            profile::take();
             let t0 = Instant::now();
             let (out, span) = composite::reduce(&comm, Strategy::BinarySwap, l, &opts)
                 .unwrap_or_else(|e| comm.fail(&e));
             let t = t0.elapsed().as_secs_f64();
+            let step = profile::take();
             std::hint::black_box((out, span));
-            times.push(slowest(&comm, t));
+            let t = slowest(&comm, t);
+            if rep > 0 {
+                times.push(t);
+                prof.swaps += step.swaps;
+                prof.rle_swaps += step.rle_swaps;
+                prof.decide_s += step.decide_s;
+                prof.header_s += step.header_s;
+                prof.encode_s += step.encode_s;
+                prof.wait_s += step.wait_s;
+                prof.blend_s += step.blend_s;
+                prof.bytes_sent += step.bytes_sent;
+            }
         }
         results.push((name, median(times)));
+        profiles.push((name, prof));
+    }
+    // Per-rank step times (means over the repetitions) to rank 0.
+    for (name, prof) in &profiles {
+        let k = reps as f64 / 1e3;
+        let line = format!(
+            "PROFILE np={p} case={name} rank={rank} swaps={} rle_swaps={} bytes_sent={} decide_ms={:.3} header_ms={:.3} encode_ms={:.3} wait_ms={:.3} blend_ms={:.3}",
+            prof.swaps / reps as u32,
+            prof.rle_swaps / reps as u32,
+            prof.bytes_sent / reps as u64,
+            prof.decide_s / k,
+            prof.header_s / k,
+            prof.encode_s / k,
+            prof.wait_s / k,
+            prof.blend_s / k,
+        );
+        let all = comm
+            .gather(0, line.as_bytes())
+            .unwrap_or_else(|e| comm.fail(&e));
+        if rank == 0 {
+            for l in all {
+                println!("{}", String::from_utf8_lossy(&l));
+            }
+        }
     }
     if rank == 0 {
-        let pw = if p.is_power_of_two() {
-            p
-        } else {
-            p.next_power_of_two() / 2
-        };
-        let bytes_per_rank = image_bytes as f64 * (1.0 - 1.0 / pw as f64);
-        let bound = bytes_per_rank / bw;
+        for l in &round_lines {
+            println!("{l}");
+        }
         println!(
-            "RESULT np={p} width={w} height={h} pingpong_gbps={:.3} bound_ms={:.3}",
-            bw / 1e9,
+            "RESULT np={p} width={w} height={h} pieces={pieces} bound_ms={:.3}",
             bound * 1e3
         );
         for (name, t) in &results {

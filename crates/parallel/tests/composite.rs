@@ -210,3 +210,59 @@ fn rle_round_trip_and_size() {
     assert!(rle::decode::<[u8; 4]>(W, H, &buf[..buf.len() - 4]).is_err());
     assert!(rle::decode::<[u8; 4]>(W / 2, H, &buf).is_err());
 }
+
+/// Layers of 256x64 where the top half is dense (hashed, quantised depths: ties happen)
+/// and the bottom half sparse (every seventh pixel), so that binary swap's pairwise
+/// swaps send some spans dense in several pieces and others as run lengths.
+fn mixed_layer(rank: usize) -> Layer<[u8; 4]> {
+    let (w, h) = (256u32, 64u32);
+    let mut l = Layer::<[u8; 4]>::new(w, h);
+    let n = l.len();
+    for i in 0..n {
+        let v = (i as u64 ^ ((rank as u64) << 32)).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 40;
+        if i < n / 2 || (i + rank) % 7 == 0 {
+            l.color[i] = [(v & 255) as u8, (v >> 8) as u8, rank as u8, 255];
+            l.depth[i] = ((v >> 16) % 16) as f32 * 0.25;
+        }
+    }
+    l
+}
+
+#[test]
+fn binary_swap_mixes_dense_pieces_and_run_lengths_and_equals_serial() {
+    use irradia_parallel::comm::Comm;
+    use irradia_parallel::composite::profile;
+    for ranks in 2..=8 {
+        let layers: Vec<_> = (0..ranks).map(mixed_layer).collect();
+        let serial = composite::serial(&layers, Operator::Depth, None);
+        for rle in [true, false] {
+            let opts = CompositeOptions {
+                rle,
+                ..Default::default()
+            };
+            let out = run_local(ranks, LocalOptions::default(), |c| {
+                profile::take();
+                let img =
+                    composite::composite(c, Strategy::BinarySwap, mixed_layer(c.rank()), &opts)
+                        .unwrap();
+                (img, profile::take())
+            });
+            let out: Vec<_> = out.into_iter().map(|o| o.unwrap()).collect();
+            assert!(
+                out[0].0.as_ref().unwrap() == &serial,
+                "{ranks} ranks, rle {rle}: differs from the serial composite"
+            );
+            let swaps: u32 = out.iter().map(|o| o.1.swaps).sum();
+            let runs: u32 = out.iter().map(|o| o.1.rle_swaps).sum();
+            assert!(swaps > 0);
+            if rle {
+                assert!(
+                    runs > 0 && runs < swaps,
+                    "{ranks} ranks: {runs} of {swaps} swaps sent runs"
+                );
+            } else {
+                assert_eq!(runs, 0);
+            }
+        }
+    }
+}

@@ -15,6 +15,7 @@
 //! strict `<` test does when objects are drawn in rank order. That is why an opaque
 //! composite equals the serial render bit for bit.
 
+pub mod active;
 pub mod binary_swap;
 pub mod depth;
 pub mod direct_send;

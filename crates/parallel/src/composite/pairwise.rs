@@ -17,7 +17,7 @@
 //!   expect and validates it (a malformed header names the sender).
 //! * The depth test is branch-free ([`super::depth::blend`]).
 
-use super::{depth, over, profile, rle, split_span, Layer, Operator, Pixel};
+use super::{active, depth, over, profile, rle, split_span, Layer, Operator, Pixel};
 use crate::comm::{Comm, CommError};
 use std::cell::RefCell;
 use std::ops::Range;
@@ -149,11 +149,11 @@ fn choose<P: Pixel>(layer: &Layer<P>, give: &Range<usize>, op: Operator, rle: bo
     if !rle {
         return plan(DENSE, give.clone());
     }
-    let Some(a) = give.clone().find(|&i| op.active(layer, i)) else {
-        return plan(DENSE, give.end..give.end);
-    };
-    let b = (a..give.end).rev().find(|&i| op.active(layer, i)).unwrap() + 1;
+    let Range { start: a, end: b } = active::trim(layer, op, give);
     let n = b - a;
+    if n == 0 {
+        return plan(DENSE, a..b);
+    }
     let samples = n.min(SAMPLES);
     let active = (0..samples)
         .filter(|&j| op.active(layer, a + (2 * j + 1) * n / (2 * samples)))

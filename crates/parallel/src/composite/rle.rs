@@ -7,7 +7,7 @@
 //! for `mode = RLE`, runs of `inactive, active, colour[active], depth[active]` until the
 //! span is covered. The receiver blends straight from the buffer, skipping inactive runs.
 
-use super::{Layer, Operator, Pixel, FAR};
+use super::{active, Layer, Operator, Pixel};
 use std::borrow::Cow;
 use std::ops::Range;
 
@@ -45,35 +45,12 @@ pub fn encode_runs_into<P: Pixel>(
     push_words(out, &[span.start as u32, span.end as u32, RLE]);
     let mut i = span.start;
     while i < span.end {
-        let s0 = i;
-        match op {
-            Operator::Depth => {
-                while i < span.end && layer.depth[i] == FAR {
-                    i += 1
-                }
-            }
-            Operator::Over => {
-                while i < span.end && layer.color[i].is_clear() {
-                    i += 1
-                }
-            }
-        }
-        let a0 = i;
-        match op {
-            Operator::Depth => {
-                while i < span.end && layer.depth[i] != FAR {
-                    i += 1
-                }
-            }
-            Operator::Over => {
-                while i < span.end && !layer.color[i].is_clear() {
-                    i += 1
-                }
-            }
-        }
-        push_words(out, &[(a0 - s0) as u32, (i - a0) as u32]);
-        out.extend_from_slice(bytemuck::cast_slice(&layer.color[a0..i]));
-        out.extend_from_slice(bytemuck::cast_slice(&layer.depth[a0..i]));
+        let a0 = active::run_end(layer, op, i, span.end, false);
+        let a1 = active::run_end(layer, op, a0, span.end, true);
+        push_words(out, &[(a0 - i) as u32, (a1 - a0) as u32]);
+        out.extend_from_slice(bytemuck::cast_slice(&layer.color[a0..a1]));
+        out.extend_from_slice(bytemuck::cast_slice(&layer.depth[a0..a1]));
+        i = a1;
     }
 }
 
