@@ -1,7 +1,9 @@
 //! Adaptive subdivision where radiosity changes fast (Cohen et al. 1986, "adaptive
 //! subdivision"): after a solve, an element whose radiosity differs from the average at
-//! one of its corners by more than `tolerance` times the largest radiosity in the scene
-//! is split into four; the caller solves again on the finer mesh. The display mesh
+//! one of its corners by more than `tolerance` times the largest *reflected* radiosity
+//! in the scene (`B − E`: a light's own emission, 100 times brighter than any wall in
+//! the Cornell box, would otherwise hide every jump on the walls) is split into four;
+//! the caller solves again on the finer mesh. The display mesh
 //! (`weld`) removes the T-vertices this leaves between fine and coarse neighbours.
 
 use crate::mesh::{weld, Element, Mesh};
@@ -13,7 +15,11 @@ pub fn refine(mesh: &Mesh, b: &[[f64; 3]], tolerance: f64, min_area: f64) -> (Me
     let display = weld::weld(&mesh.elements, b, scale);
     let bmax = b
         .iter()
-        .flat_map(|c| c.iter().copied())
+        .enumerate()
+        .flat_map(|(i, c)| {
+            let e = mesh.emission(i);
+            (0..3).map(move |k| c[k] - e[k])
+        })
         .fold(0.0f64, f64::max)
         .max(1e-300);
     // Re-derive each element's corner ids by the same welding keys.

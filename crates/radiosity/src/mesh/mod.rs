@@ -2,10 +2,13 @@
 //!
 //! - `patch`: validation of the input polygons (reflectance, area, planarity);
 //! - `subdivide`: uniform patch/element substructuring to a maximum element area;
+//! - `contact`: splitting patches along the edges of patches that stand on them
+//!   (discontinuity-conforming meshing at contact lines);
 //! - `adaptive`: splitting elements where the solved radiosity changes fast;
 //! - `weld`: the display mesh, with shared vertices and no T-vertex cracks.
 
 pub mod adaptive;
+pub mod contact;
 pub mod patch;
 pub mod subdivide;
 pub mod weld;
@@ -65,9 +68,12 @@ impl Default for MeshOptions {
 }
 
 impl Mesh {
-    /// Validates the patches and substructures them into elements.
+    /// Validates the patches, splits them along contact lines (`contact`) and
+    /// substructures them into elements.
     pub fn build(specs: &[PatchSpec], opts: MeshOptions) -> Result<Mesh> {
         let patches = validate(specs)?;
+        let scale = patch_scale(&patches);
+        let patches = contact::split_at_contacts(patches, scale);
         Self::from_patches(patches, opts)
     }
 
@@ -127,14 +133,19 @@ impl Mesh {
     }
     /// Diameter of the scene's bounding box (scales ray offsets).
     pub fn scale(&self) -> f64 {
-        let mut lo = DVec3::splat(f64::INFINITY);
-        let mut hi = DVec3::splat(f64::NEG_INFINITY);
-        for p in &self.patches {
-            for v in p.poly.verts() {
-                lo = lo.min(*v);
-                hi = hi.max(*v);
-            }
-        }
-        (hi - lo).length()
+        patch_scale(&self.patches)
     }
+}
+
+/// Diameter of the bounding box of the patches.
+fn patch_scale(patches: &[Patch]) -> f64 {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for p in patches {
+        for v in p.poly.verts() {
+            lo = lo.min(*v);
+            hi = hi.max(*v);
+        }
+    }
+    (hi - lo).length()
 }
