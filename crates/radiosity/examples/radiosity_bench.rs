@@ -1,8 +1,8 @@
 //! Timing of the measured Cornell box with blocks by hierarchical radiosity (and, for
 //! small meshes, the matrix methods), phase by phase. Used by bench/radiosity/run.sh.
 //!
-//! `cargo run --release -p irradia-radiosity --example radiosity_bench -- ELEMENTS [METHOD SOLVER]`
-//! prints one line: `elements=... leaves=... links=... total_s=... <phase>_s=...`.
+//! `cargo run --release -p irradia-radiosity --example radiosity_bench -- ELEMENTS [METHOD SOLVER EPS]`
+//! (hierarchical: ELEMENTS is the target number of leaves) prints one line: `elements=... leaves=... links=... total_s=... <phase>_s=...`.
 
 use irradia_radiosity::formfactor::{Method, Params};
 use irradia_radiosity::mesh::MeshOptions;
@@ -40,6 +40,8 @@ fn main() {
         solver,
         hierarchical: HierarchicalOptions {
             bf_epsilon: eps,
+            // Hierarchical: the leaf area that gives this many leaves.
+            target_leaves: Some(elements as usize),
             ..Default::default()
         },
         ..Default::default()

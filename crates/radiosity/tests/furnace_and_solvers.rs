@@ -256,3 +256,38 @@ fn hierarchical_agrees_with_direct() {
         );
     }
 }
+
+#[test]
+fn hierarchical_leaf_count_follows_the_target() {
+    // The grid level under each patch lets the leaf count follow the request (a pure
+    // quadtree would give 4^d leaves per patch: 10,304 or 91,136 here, nothing between).
+    let specs = scenes::cornell_measured();
+    let mesh = irradia_radiosity::Mesh::build(&specs, MeshOptions::default()).unwrap();
+    for target in [1_000usize, 10_000, 100_000] {
+        let area = hierarchical::leaf_area_for(&mesh.patches, target);
+        let n = hierarchical::leaf_count(&mesh.patches, area);
+        println!("target {target}: {n} leaves of at most {area:.1} mm²");
+        assert!(
+            n.abs_diff(target) as f64 <= 0.02 * target as f64,
+            "target {target} leaves, got {n}"
+        );
+    }
+    // The solver builds exactly the counted leaves.
+    let r = hierarchical::solve(
+        &mesh,
+        HierarchicalOptions {
+            target_leaves: Some(2_000),
+            bf_epsilon: 1e-2,
+            visibility_rays: 1,
+            ..Default::default()
+        },
+        None,
+    )
+    .unwrap();
+    let expected = hierarchical::leaf_count(
+        &mesh.patches,
+        hierarchical::leaf_area_for(&mesh.patches, 2_000),
+    );
+    assert_eq!(r.mesh.len(), expected);
+    assert!(r.mesh.len().abs_diff(2_000) <= 40, "{}", r.mesh.len());
+}

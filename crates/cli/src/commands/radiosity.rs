@@ -283,6 +283,8 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
         },
         hierarchical: HierarchicalOptions {
             bf_epsilon: a.bf_epsilon,
+            // --elements N: the leaf area that gives N leaves.
+            target_leaves: a.max_element_area.is_none().then_some(a.elements),
             visibility_rays: a.link_rays,
             tolerance: a.tolerance,
             max_iterations: a.max_iterations,

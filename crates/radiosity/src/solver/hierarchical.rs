@@ -1,8 +1,13 @@
 //! Hierarchical radiosity (Hanrahan, Salzman, Aupperle 1991, "A rapid hierarchical
 //! radiosity algorithm"), with BF refinement and no n² matrix.
 //!
-//! Each patch is the root of a quadtree (`Poly::split4`) down to the element level (the
-//! largest area allowed). Energy travels along *links* between nodes at whatever level
+//! Each patch is the root of a hierarchy down to the element level (the largest area
+//! allowed): the patch is first cut into a grid of 16 to 64 cells (the uniform
+//! substructuring of `mesh::subdivide`), and each cell is the root of a quadtree
+//! (`Poly::split4`). The grid level lets the number of leaves follow the requested
+//! element area closely (a pure quadtree multiplies by 4 per level); with
+//! [`HierarchicalOptions::target_leaves`] the element area is searched so that the
+//! number of leaves comes within 1% of the target where the patch sizes allow. Energy travels along *links* between nodes at whatever level
 //! is accurate enough: a link from source `q` to receiver `p` is refined (the larger
 //! node is split and its children linked instead) while its estimated transport
 //! `B_q F_pq` exceeds `ε_BF` and a node can still be split. The solver then alternates
@@ -18,7 +23,7 @@ use super::Solution;
 use crate::error::{RadiosityError, Result};
 use crate::formfactor::contour::point_to_polygon;
 use crate::geom::Poly;
-use crate::mesh::{Element, Mesh, Patch};
+use crate::mesh::{subdivide, Element, Mesh, Patch};
 use crate::visibility::Visibility;
 use glam::DVec3;
 use irradia_core::sampling::hash64;
@@ -31,6 +36,9 @@ use std::f64::consts::PI;
 pub struct HierarchicalOptions {
     /// Leaves have at most this area (the element size).
     pub max_element_area: f64,
+    /// About this many leaves: overrides `max_element_area` with the area that gives
+    /// the nearest count (see [`leaf_area_for`]).
+    pub target_leaves: Option<usize>,
     /// Refine a link while `B_source · F` exceeds this times the largest emission.
     pub bf_epsilon: f64,
     /// Shadow rays per link (0: no occlusion).
@@ -51,6 +59,7 @@ impl Default for HierarchicalOptions {
     fn default() -> Self {
         Self {
             max_element_area: f64::INFINITY,
+            target_leaves: None,
             bf_epsilon: 1e-4,
             visibility_rays: 4,
             gauss_points: 1,
@@ -70,8 +79,10 @@ struct Node {
     area: f64,
     centroid: DVec3,
     normal: DVec3,
-    /// Index of the first of four children (0 = leaf).
+    /// Index of the first child (0 = leaf).
     child: u32,
+    /// Number of children: 4 in the quadtrees, the grid's cells below a patch.
+    children: u32,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -102,21 +113,14 @@ struct Hierarchy<'a> {
 
 impl<'a> Hierarchy<'a> {
     fn build(mesh: &'a Mesh, opts: HierarchicalOptions) -> Result<Self> {
-        let mut leaves = 0usize;
-        let depths: Vec<u32> = mesh
+        let layout: Vec<PatchLayout> = mesh
             .patches
             .iter()
-            .map(|p| {
-                let mut d = 0;
-                let mut a = p.area();
-                while a > opts.max_element_area && d < 24 {
-                    a /= 4.0;
-                    d += 1;
-                }
-                leaves = leaves.saturating_add(1usize << (2 * d));
-                d
-            })
+            .map(|p| PatchLayout::new(&p.poly, opts.max_element_area))
             .collect();
+        let leaves = layout
+            .iter()
+            .fold(0usize, |s, l| s.saturating_add(l.leaves()));
         if leaves > opts.max_elements {
             return Err(RadiosityError::Input(format!(
                 "--max-element-area {} would make {leaves} hierarchical leaves, more than the limit of {}; \
@@ -124,13 +128,26 @@ impl<'a> Hierarchy<'a> {
                 opts.max_element_area, opts.max_elements
             )));
         }
-        let mut nodes = Vec::with_capacity(leaves * 4 / 3 + mesh.patches.len());
+        let mut nodes = Vec::with_capacity(leaves * 4 / 3 + 65 * mesh.patches.len());
         // Roots first, so patch i is node i.
         for (i, p) in mesh.patches.iter().enumerate() {
             nodes.push(make_node(p.poly, i as u32));
         }
-        for (i, &d) in depths.iter().enumerate() {
-            split_to(&mut nodes, i, d);
+        for (i, l) in layout.iter().enumerate() {
+            if l.grid == (1, 1) {
+                split_to(&mut nodes, i, l.depth);
+                continue;
+            }
+            let first = nodes.len() as u32;
+            let cells = subdivide::subdivide(&nodes[i].poly, l.grid);
+            nodes[i].child = first;
+            nodes[i].children = cells.len() as u32;
+            for c in cells {
+                nodes.push(make_node(c, i as u32));
+            }
+            for c in 0..nodes[i].children {
+                split_to(&mut nodes, (first + c) as usize, l.depth);
+            }
         }
         Ok(Self {
             nodes,
@@ -224,11 +241,11 @@ impl<'a> Hierarchy<'a> {
         let split_q = nq.child != 0 && !split_p;
         if transport > eps && (split_p || split_q) {
             if split_p {
-                for c in 0..4 {
+                for c in 0..np.children {
                     self.refine(np.child + c, q, bq, eps, out);
                 }
             } else {
-                for c in 0..4 {
+                for c in 0..nq.children {
                     self.refine(p, nq.child + c, bq, eps, out);
                 }
             }
@@ -249,7 +266,92 @@ fn make_node(poly: Poly, patch: u32) -> Node {
         centroid: poly.centroid(),
         normal: poly.normal(),
         child: 0,
+        children: 0,
     }
+}
+
+/// How one patch is cut: a `grid` of cells (`mesh::subdivide`), each a quadtree of
+/// `depth` levels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct PatchLayout {
+    grid: (usize, usize),
+    depth: u32,
+    cells: usize,
+}
+
+impl PatchLayout {
+    /// Leaves of at most `max_area`: the quadtree depth leaves 16 to 64 grid cells
+    /// (patches of fewer than 16 leaves are a plain quadtree).
+    fn new(poly: &Poly, max_area: f64) -> Self {
+        let area = poly.area();
+        if !(max_area > 0.0) || area <= max_area {
+            return Self {
+                grid: (1, 1),
+                depth: 0,
+                cells: 1,
+            };
+        }
+        let ratio = area / max_area;
+        if ratio < 16.0 {
+            // Small patches: a plain quadtree (1, 4 or 16 leaves).
+            let mut d = 0;
+            let mut a = area;
+            while a > max_area {
+                a /= 4.0;
+                d += 1;
+            }
+            return Self {
+                grid: (1, 1),
+                depth: d,
+                cells: 1,
+            };
+        }
+        let depth = ((ratio.ln() / 4f64.ln()).floor() as i64 - 2).clamp(0, 20) as u32;
+        let cell_area = max_area * 4f64.powi(depth as i32);
+        let grid = subdivide::grid_size(poly, cell_area);
+        Self {
+            grid,
+            depth,
+            cells: subdivide::element_count(poly, grid),
+        }
+    }
+    fn leaves(&self) -> usize {
+        self.cells.saturating_mul(1usize << (2 * self.depth))
+    }
+}
+
+/// Number of hierarchical leaves the patches get for leaves of at most `max_area`.
+pub fn leaf_count(patches: &[Patch], max_area: f64) -> usize {
+    patches
+        .iter()
+        .map(|p| PatchLayout::new(&p.poly, max_area).leaves())
+        .fold(0usize, usize::saturating_add)
+}
+
+/// The leaf area whose leaf count is nearest `target` (bisection on the logarithm of
+/// the area; the count is a step function of the area, nearly monotone).
+pub fn leaf_area_for(patches: &[Patch], target: usize) -> f64 {
+    let total: f64 = patches.iter().map(|p| p.area()).sum();
+    let target = target.max(1);
+    let (mut lo, mut hi) = (
+        (total / target as f64 / 16.0).ln(),
+        (total / target as f64 * 4.0).ln(),
+    );
+    let mut best = (usize::MAX, hi.exp());
+    for _ in 0..80 {
+        let mid = 0.5 * (lo + hi);
+        let n = leaf_count(patches, mid.exp());
+        let off = n.abs_diff(target);
+        if off < best.0 {
+            best = (off, mid.exp());
+        }
+        if n > target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    best.1
 }
 
 fn split_to(nodes: &mut Vec<Node>, i: usize, depth: u32) {
@@ -262,6 +364,7 @@ fn split_to(nodes: &mut Vec<Node>, i: usize, depth: u32) {
     for c in poly.split4() {
         nodes.push(make_node(c, patch));
     }
+    nodes[i].children = 4;
     for c in 0..4 {
         split_to(nodes, (first + c) as usize, depth - 1);
     }
@@ -274,6 +377,10 @@ pub fn solve(
     opts: HierarchicalOptions,
     progress: Option<&(dyn Fn(&str) + Sync)>,
 ) -> Result<HierarchicalResult> {
+    let mut opts = opts;
+    if let Some(n) = opts.target_leaves {
+        opts.max_element_area = leaf_area_for(&mesh.patches, n);
+    }
     let h = Hierarchy::build(mesh, opts)?;
     let nn = h.nodes.len();
     let np = h.patches.len();
@@ -412,7 +519,7 @@ fn push_pull(
         [e[0] + acc[0], e[1] + acc[1], e[2] + acc[2]]
     } else {
         let mut s = [0.0; 3];
-        for c in 0..4 {
+        for c in 0..n.children {
             let ci = (n.child + c) as usize;
             let bc = push_pull(nodes, patches, ci, acc, g, out);
             let w = nodes[ci].area / n.area;
