@@ -138,6 +138,14 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         None
     }
 
+    /// True when [`Shape::facets`] is the surface itself, not an approximation: every
+    /// face is planar and convex, the faces together are exactly the surface, and a hit
+    /// on them is a hit on the shape (polygons, boxes, convex polyhedra). A renderer may
+    /// then intersect the facets instead of the shape (the path tracer's flat scene).
+    fn facets_exact(&self) -> bool {
+        false
+    }
+
     /// Surface area in object space, for shapes that can be sampled as emitters
     /// (the path tracer's next-event estimation and instant radiosity).
     fn area(&self) -> Option<f32> {

@@ -175,6 +175,10 @@ impl Shape for Cuboid {
         }
     }
 
+    fn facets_exact(&self) -> bool {
+        true
+    }
+
     fn facets(&self, _detail: u32) -> Option<Facets> {
         let (a, b) = (self.min, self.max);
         let vertices = (0..8)

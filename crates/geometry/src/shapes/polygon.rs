@@ -279,6 +279,10 @@ impl Shape for Polygon {
 
     fn spans(&self, _ray: &Ray, _out: &mut Vec<Span>) {}
 
+    fn facets_exact(&self) -> bool {
+        true
+    }
+
     fn facets(&self, _detail: u32) -> Option<Facets> {
         Some(Facets {
             vertices: self.vertices.clone(),

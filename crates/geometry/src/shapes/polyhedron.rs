@@ -312,6 +312,10 @@ impl Shape for Polyhedron {
         });
     }
 
+    fn facets_exact(&self) -> bool {
+        true
+    }
+
     fn facets(&self, _detail: u32) -> Option<Facets> {
         Some(Facets {
             vertices: self.vertices.clone(),

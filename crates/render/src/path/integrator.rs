@@ -9,6 +9,7 @@
 use super::bsdf::Bsdf;
 use super::lights::LightSampler;
 use super::material_map::bsdf_for;
+use super::tracer::{AccelTracer, Tracer};
 use glam::Vec3;
 use irradia_core::{offset_ray_origin, Frame, Ray, Rgb, Rng};
 use irradia_scene::Scene;
@@ -58,8 +59,31 @@ impl PathCounters {
     }
 }
 
-/// One sample of the radiance arriving along `ray` (a camera ray).
+/// One sample of the radiance arriving along `ray` (a camera ray), traced through the
+/// scene's generic acceleration structure.
 pub fn radiance(
+    scene: &Scene,
+    lights: &LightSampler,
+    params: &PathParams,
+    ray: Ray,
+    rng: &mut Rng,
+    counters: &mut PathCounters,
+) -> Rgb {
+    radiance_with(
+        &AccelTracer { scene },
+        scene,
+        lights,
+        params,
+        ray,
+        rng,
+        counters,
+    )
+}
+
+/// One sample of the radiance arriving along `ray`, with ray queries answered by
+/// `tracer` (the [`FlatScene`](super::flat_scene::FlatScene) in renders).
+pub fn radiance_with<T: Tracer>(
+    tracer: &T,
     scene: &Scene,
     lights: &LightSampler,
     params: &PathParams,
@@ -75,7 +99,7 @@ pub fn radiance(
     let background = scene.settings.background;
     for depth in 1..=params.max_depth {
         counters.rays += 1;
-        let Some(sh) = scene.accel.intersect(&ray, f32::INFINITY) else {
+        let Some(sh) = tracer.intersect(&ray, f32::INFINITY) else {
             if !background.is_black() {
                 let w = match prev {
                     Some((_, pdf)) => mis(pdf, lights.pdf_environment()),
@@ -86,8 +110,7 @@ pub fn radiance(
             break;
         };
         let hit = sh.hit;
-        let object = &scene.objects[sh.instance as usize];
-        let material = &scene.materials[object.material_for_leaf(hit.leaf) as usize];
+        let material = &scene.materials[sh.material as usize];
         let wo_world = -ray.dir.normalize();
         let n = hit.normal;
 
@@ -124,10 +147,8 @@ pub fn radiance(
                     let origin = offset_ray_origin(hit.point, side, hit.error);
                     counters.shadow_rays += 1;
                     let visible = match ls.target {
-                        Some(t) => !scene.accel.occluded(&Ray::new(origin, t - origin), 1.0),
-                        None => !scene
-                            .accel
-                            .occluded(&Ray::new(origin, ls.wi), f32::INFINITY),
+                        Some(t) => !tracer.occluded(&Ray::new(origin, t - origin), 1.0),
+                        None => !tracer.occluded(&Ray::new(origin, ls.wi), f32::INFINITY),
                     };
                     if visible {
                         let w = if ls.delta {

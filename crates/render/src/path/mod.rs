@@ -4,16 +4,21 @@
 //! - [`bsdf`]: physically based lobes and their sampling;
 //! - [`material_map`]: scene materials to BSDFs (Whitted scenes render unchanged);
 //! - [`lights`]: emitters and light selection proportional to power;
+//! - [`tracer`] and [`flat_scene`]: ray queries; planar objects baked into one
+//!   world-space triangle hierarchy;
 //! - [`integrator`]: next-event estimation + BSDF sampling with MIS, Russian roulette;
 //! - [`film`] and [`progressive`]: sample/time/error budgets, checkpoints and resume.
 
 pub mod bsdf;
 pub mod film;
+pub mod flat_scene;
 pub mod integrator;
 pub mod lights;
 pub mod material_map;
 pub mod output;
 pub mod progressive;
+pub mod tracer;
+pub mod triangle_packet;
 
 pub use film::{CheckpointError, Film};
 pub use integrator::{PathCounters, PathParams};

@@ -1,0 +1,345 @@
+//! The path tracer's flat scene: every planar-faceted object baked into world-space
+//! triangles under ONE bounding volume hierarchy, so that the Cornell box and scenes
+//! like it are traced without a top-level hierarchy, instance transforms or per-shape
+//! virtual calls.
+//!
+//! At setup every object whose shape reports [`Shape::facets_exact`] (polygons, boxes,
+//! convex polyhedra: planar, convex faces that *are* the surface) has its faces
+//! fan-triangulated and carried to world space by its instance transform. Each
+//! triangle keeps its object, material and geometric normal (the shape's own face
+//! normal by Newell's method, carried by the inverse transpose, so hits see the same
+//! normal the shape would report). The triangles are grouped in eight-triangle SIMD
+//! packets ([`TrianglePacket`]); up to 64 triangles are simply all tested, more are
+//! indexed by the geometry crate's 4-wide SAH hierarchy (Wald, Benthin, Boulos,
+//! "Getting Rid of Packets", RT 2008) with packet leaves.
+//!
+//! Everything else (spheres, quadrics, tori, CSG, implicit surfaces, meshes with
+//! smooth normals, image-textured objects whose `uv` matters) stays in an [`Accel`] of
+//! the remaining instances; a ray is tested against both and the nearer hit wins.
+//!
+//! The geometry is the same surface, so the image is statistically the same; hits
+//! differ from the shapes' own tests only by rounding (f32 triangles instead of the
+//! polygons' f64 plane test). Surface coordinates `uv` of baked hits are the
+//! triangle's barycentrics, which is why objects with image textures are not baked.
+
+use super::tracer::{PathHit, SubsetAccel, Tracer};
+use super::triangle_packet::{self as packet, PacketHit, TrianglePacket, LANES};
+use glam::{DVec3, Vec2, Vec3};
+use irradia_core::{Aabb, Ray};
+use irradia_geometry::bvh::{Bvh, ChildRef};
+use irradia_geometry::triangle::TriangleHit;
+use irradia_geometry::{Accel, Hit, Instance};
+use irradia_scene::{Scene, Texture};
+
+/// One baked world-space triangle.
+#[derive(Clone, Copy, Debug)]
+struct FlatTriangle {
+    corners: [Vec3; 3],
+    /// Unit geometric normal, the shape's face normal in world space.
+    normal: Vec3,
+    instance: u32,
+    material: u32,
+    /// The face of the shape's facets the triangle belongs to (reported as `Hit::prim`).
+    face: u32,
+}
+
+/// The scene as the path tracer traces it: baked triangles plus the remaining shapes.
+#[derive(Debug)]
+pub struct FlatScene {
+    baked: Option<Baked>,
+    rest: Option<SubsetAccel>,
+    baked_objects: usize,
+}
+
+/// The world-space triangles of `instance` (corners, unit normal, face index), or
+/// `None` when it cannot be baked exactly.
+fn bake_instance(instance: &Instance) -> Option<Vec<([Vec3; 3], Vec3, u32)>> {
+    let shape = instance.shape.as_ref();
+    if !shape.facets_exact() {
+        return None;
+    }
+    let facets = shape.facets(64)?;
+    if !facets.normals.is_empty() {
+        return None; // smooth shading normals: leave to the shape
+    }
+    let to_world = instance.to_world();
+    let normal_to_world = instance.to_object().matrix3.transpose();
+    let mut out = Vec::new();
+    for (face_index, face) in facets.faces.iter().enumerate() {
+        let v: Vec<DVec3> = face
+            .iter()
+            .map(|&i| facets.vertices.get(i as usize).map(|p| p.as_dvec3()))
+            .collect::<Option<_>>()?;
+        if v.len() < 3 {
+            return None;
+        }
+        // Newell's normal around the centroid, as the polygon computes its own.
+        let centroid = v.iter().sum::<DVec3>() / v.len() as f64;
+        let newell = (0..v.len()).fold(DVec3::ZERO, |acc, i| {
+            acc + (v[i] - centroid).cross(v[(i + 1) % v.len()] - centroid)
+        });
+        if newell.length_squared() == 0.0 {
+            return None;
+        }
+        let n_obj = newell.normalize();
+        // A fan from the first vertex covers the face exactly when every fan triangle
+        // turns the same way as the face (convex faces always do).
+        for k in 1..v.len() - 1 {
+            if (v[k] - v[0]).cross(v[k + 1] - v[0]).dot(n_obj) <= 0.0 {
+                return None;
+            }
+        }
+        let normal = Vec3::from(normal_to_world * glam::Vec3A::from(n_obj.as_vec3())).normalize();
+        if !normal.is_finite() {
+            return None;
+        }
+        let world = |p: DVec3| to_world.transform_point3(p.as_vec3());
+        for k in 1..v.len() - 1 {
+            out.push((
+                [world(v[0]), world(v[k]), world(v[k + 1])],
+                normal,
+                face_index as u32,
+            ));
+        }
+    }
+    Some(out)
+}
+
+/// Up to this many triangles are tested one packet after another without a
+/// hierarchy: for the Cornell box (36 triangles) nine packet tests cost less than
+/// descending a tree whose big wall triangles overlap every box.
+const BRUTE_FORCE_TRIANGLES: usize = 64;
+
+/// The triangles and their hierarchy.
+#[derive(Debug)]
+struct Baked {
+    /// `None` for small scenes (every packet is tested); otherwise its leaves index
+    /// `packets`: a leaf of n triangles owns ceil(n / 4) packets.
+    bvh: Option<Bvh>,
+    packets: Vec<TrianglePacket>,
+    /// The triangle of each packet lane.
+    lanes: Vec<[u32; LANES]>,
+    triangles: Vec<FlatTriangle>,
+}
+
+impl Baked {
+    fn build(triangles: Vec<FlatTriangle>) -> Self {
+        let mut packets = Vec::new();
+        let mut lanes = Vec::new();
+        let mut pack = |chunk: &[u32]| {
+            let corners: Vec<[Vec3; 3]> = chunk
+                .iter()
+                .map(|&t| triangles[t as usize].corners)
+                .collect();
+            packets.push(TrianglePacket::new(&corners));
+            let mut ids = [u32::MAX; LANES];
+            ids[..chunk.len()].copy_from_slice(chunk);
+            lanes.push(ids);
+        };
+        let degenerate = |t: &FlatTriangle| {
+            let [a, b, c] = t.corners;
+            (b - a).cross(c - a) == Vec3::ZERO
+        };
+        let bvh = if triangles.len() <= BRUTE_FORCE_TRIANGLES {
+            let all: Vec<u32> = (0..triangles.len() as u32)
+                .filter(|&i| !degenerate(&triangles[i as usize]))
+                .collect();
+            all.chunks(LANES).for_each(&mut pack);
+            None
+        } else {
+            let boxes: Vec<Aabb> = triangles
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.corners;
+                    if degenerate(t) {
+                        Aabb::EMPTY // never hit
+                    } else {
+                        Aabb::new(a.min(b).min(c), a.max(b).max(c))
+                    }
+                })
+                .collect();
+            let mut bvh = Bvh::build_blocked(&boxes, LANES);
+            let order = bvh.order().to_vec();
+            let mut next = 0u32;
+            bvh.map_leaves(|start, count| {
+                let first = next;
+                for chunk in order[start as usize..(start + count) as usize].chunks(LANES) {
+                    pack(chunk);
+                    next += 1;
+                }
+                first
+            });
+            Some(bvh)
+        };
+        Self {
+            bvh,
+            packets,
+            lanes,
+            triangles,
+        }
+    }
+
+    #[inline(always)]
+    fn leaf_packets(&self, leaf: ChildRef) -> &[TrianglePacket] {
+        let start = leaf.index as usize;
+        &self.packets[start..start + (leaf.count as usize).div_ceil(LANES)]
+    }
+
+    /// The nearest triangle with `0 < t < t_max`: (triangle, hit).
+    #[inline]
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(u32, PacketHit)> {
+        let (o, d) = (ray.origin, ray.dir);
+        let (index, h) = match &self.bvh {
+            None => packet::nearest(&self.packets, o, d, t_max)?,
+            Some(bvh) => {
+                let mut best = None;
+                bvh.closest_hit_leaves(ray, t_max, |leaf, t| {
+                    let (k, h) = packet::nearest(self.leaf_packets(leaf), o, d, t)?;
+                    best = Some((leaf.index as usize + k, h));
+                    Some(h.t)
+                })?;
+                best?
+            }
+        };
+        Some((self.lanes[index][h.lane], h))
+    }
+
+    #[inline]
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let (o, d) = (ray.origin, ray.dir);
+        match &self.bvh {
+            None => packet::any(&self.packets, o, d, t_max),
+            Some(bvh) => bvh.any_hit_leaves(ray, t_max, |leaf, t| {
+                packet::any(self.leaf_packets(leaf), o, d, t)
+            }),
+        }
+    }
+}
+
+impl FlatScene {
+    /// Bakes every object of `scene` that can be baked exactly; the others go to a
+    /// smaller [`Accel`].
+    pub fn new(scene: &Scene) -> Self {
+        let mut triangles = Vec::new();
+        let mut rest = Vec::new();
+        let mut rest_index = Vec::new();
+        let mut rest_materials = Vec::new();
+        let mut baked_objects = 0;
+        for (i, (object, instance)) in scene
+            .objects
+            .iter()
+            .zip(scene.accel.instances())
+            .enumerate()
+        {
+            let material = object.material;
+            let plain = object.leaf_materials.is_empty()
+                && !matches!(
+                    scene.materials.get(material as usize).map(|m| &m.color),
+                    Some(Texture::Image { .. }) | None
+                );
+            match plain.then(|| bake_instance(instance)).flatten() {
+                Some(tris) => {
+                    baked_objects += 1;
+                    triangles.extend(
+                        tris.into_iter()
+                            .map(|(corners, normal, face)| FlatTriangle {
+                                corners,
+                                normal,
+                                instance: i as u32,
+                                material,
+                                face,
+                            }),
+                    )
+                }
+                None => {
+                    rest.push(instance.clone());
+                    rest_index.push(i as u32);
+                    rest_materials.push((material, object.leaf_materials.clone()));
+                }
+            }
+        }
+        Self {
+            baked: (!triangles.is_empty()).then(|| Baked::build(triangles)),
+            rest: (!rest.is_empty()).then(|| SubsetAccel {
+                accel: Accel::build(rest),
+                scene_index: rest_index,
+                materials: rest_materials,
+            }),
+            baked_objects,
+        }
+    }
+
+    /// How many objects were baked into triangles.
+    pub fn baked_objects(&self) -> usize {
+        self.baked_objects
+    }
+
+    /// How many world-space triangles were baked.
+    pub fn triangle_count(&self) -> usize {
+        self.baked.as_ref().map_or(0, |b| b.triangles.len())
+    }
+
+    /// Shape of the triangle hierarchy (`None` when nothing was baked).
+    pub fn bvh_stats(&self) -> Option<irradia_geometry::bvh::BvhStats> {
+        self.baked
+            .as_ref()
+            .and_then(|b| b.bvh.as_ref())
+            .map(|b| b.stats())
+    }
+
+    /// How many objects are intersected through their own shapes.
+    pub fn generic_objects(&self) -> usize {
+        self.rest.as_ref().map_or(0, |r| r.scene_index.len())
+    }
+}
+
+impl Tracer for FlatScene {
+    #[inline]
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<PathHit> {
+        let mut best = None;
+        let mut t_max = t_max;
+        if let Some(baked) = &self.baked {
+            if let Some((tri, h)) = baked.intersect(ray, t_max) {
+                let t = &baked.triangles[tri as usize];
+                let [p0, p1, p2] = t.corners;
+                let (point, error) = TriangleHit {
+                    t: h.t,
+                    b0: 1.0 - h.b1 - h.b2,
+                    b1: h.b1,
+                    b2: h.b2,
+                }
+                .point_and_error(p0, p1, p2);
+                t_max = h.t;
+                best = Some(PathHit {
+                    instance: t.instance,
+                    material: t.material,
+                    hit: Hit {
+                        t: h.t,
+                        point,
+                        normal: t.normal,
+                        shading_normal: t.normal,
+                        uv: Vec2::new(h.b1, h.b2),
+                        prim: t.face,
+                        leaf: 0,
+                        error,
+                    },
+                });
+            }
+        }
+        if let Some(rest) = &self.rest {
+            if let Some(h) = rest.intersect(ray, t_max) {
+                best = Some(h);
+            }
+        }
+        best
+    }
+
+    #[inline]
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.baked.as_ref().is_some_and(|b| b.occluded(ray, t_max))
+            || self
+                .rest
+                .as_ref()
+                .is_some_and(|r| r.accel.occluded(ray, t_max))
+    }
+}
