@@ -1,7 +1,9 @@
 //! Display of a radiosity solution (lecture, "Rendered Image"): vertex radiosity by
 //! area-weighted averaging of the elements around each vertex (`mesh::weld`), Gouraud
-//! interpolation across triangles with a z-buffer, and export of the solved mesh as PLY
-//! with vertex colours.
+//! interpolation across triangles by the software rasterizer (`irradia_raster`, unlit
+//! per-vertex colours, perspective-correct interpolation, z-buffer), and export of the
+//! solved mesh as PLY with vertex colours. The two-pass image (ray-traced mirrors and
+//! glass over the same vertex radiosity) is `crate::two_pass`.
 //!
 //! Pixel values are radiance `L = b / π` (linear), the quantity a path tracer
 //! estimates for a diffuse surface, so images compare directly.
@@ -9,8 +11,9 @@
 use crate::error::{RadiosityError, Result};
 use crate::mesh::weld::{weld, DisplayMesh};
 use crate::mesh::Element;
-use glam::{DMat4, DVec3, DVec4};
+use glam::{DMat4, DVec3, Mat4};
 use irradia_core::{Image, Rgb};
+use irradia_raster::{ColorFormat, Framebuffer, Mesh as RasterMesh, Pipeline, Shading, ViewParams};
 use std::f64::consts::PI;
 use std::io::Write;
 use std::path::Path;
@@ -41,18 +44,45 @@ impl View {
         }
     }
 
+    fn near_far(&self) -> (f64, f64) {
+        (1e-3 * self.eye.distance(self.target).max(1.0), 1e7)
+    }
+
     /// World to clip space (right-handed, looking down −z in view space). The image's
     /// x runs to the left of +z when looking along +z, as in the Cornell photographs.
     pub fn matrix(&self) -> DMat4 {
         let view = DMat4::look_at_rh(self.eye, self.target, self.up);
         let aspect = self.width as f64 / self.height as f64;
-        let proj = DMat4::perspective_rh(
-            self.fov_y.to_radians(),
-            aspect,
-            1e-3 * self.eye.distance(self.target).max(1.0),
-            1e7,
-        );
-        proj * view
+        let (near, far) = self.near_far();
+        DMat4::perspective_rh(self.fov_y.to_radians(), aspect, near, far) * view
+    }
+
+    /// The same camera for the rasterizer.
+    pub fn view_params(&self) -> ViewParams {
+        let (near, far) = self.near_far();
+        ViewParams {
+            view: Mat4::look_at_rh(self.eye.as_vec3(), self.target.as_vec3(), self.up.as_vec3()),
+            proj: Mat4::perspective_rh(
+                self.fov_y.to_radians() as f32,
+                self.width as f32 / self.height as f32,
+                near as f32,
+                far as f32,
+            ),
+        }
+    }
+
+    /// The unit direction of the ray from the eye through the image point `(x, y)` in
+    /// pixels (origin at the top left, y down; pixel `(i, j)` has its centre at
+    /// `(i + 1/2, j + 1/2)`): the ray the rasterizer's pixel sees.
+    pub fn ray_direction(&self, x: f64, y: f64) -> DVec3 {
+        let fwd = (self.target - self.eye).normalize();
+        let right = fwd.cross(self.up).normalize();
+        let up = right.cross(fwd);
+        let ty = (0.5 * self.fov_y.to_radians()).tan();
+        let tx = ty * self.width as f64 / self.height as f64;
+        let sx = 2.0 * x / self.width as f64 - 1.0;
+        let sy = 1.0 - 2.0 * y / self.height as f64;
+        (fwd + right * (sx * tx) + up * (sy * ty)).normalize()
     }
 }
 
@@ -61,107 +91,41 @@ pub fn display_mesh(elements: &[Element], b: &[[f64; 3]], scale: f64) -> Display
     weld(elements, b, scale)
 }
 
-/// Renders the display mesh with Gouraud shading and a z-buffer (perspective-correct
-/// interpolation of vertex radiance).
-pub fn render_gouraud(mesh: &DisplayMesh, view: &View) -> Result<Image> {
-    let (w, h) = (view.width as usize, view.height as usize);
-    let mut img = Image::new(view.width, view.height)
-        .map_err(|e| RadiosityError::Input(format!("image size: {e}")))?;
-    let mut depth = vec![f64::INFINITY; w * h];
-    let m = view.matrix();
-    // Clip-space vertices.
-    let clip: Vec<DVec4> = mesh.positions.iter().map(|p| m * p.extend(1.0)).collect();
-    let colour: Vec<[f64; 3]> = mesh
-        .radiosity
-        .iter()
-        .map(|b| [b[0] / PI, b[1] / PI, b[2] / PI])
-        .collect();
-    let mut poly: Vec<(DVec4, [f64; 3])> = Vec::with_capacity(8);
-    let mut tmp: Vec<(DVec4, [f64; 3])> = Vec::with_capacity(8);
-    for t in &mesh.triangles {
-        poly.clear();
-        for &k in t {
-            poly.push((clip[k as usize], colour[k as usize]));
-        }
-        // Clip against the near plane (z > -w in GL conventions).
-        tmp.clear();
-        for i in 0..poly.len() {
-            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-            let (da, db) = (a.0.z + a.0.w, b.0.z + b.0.w);
-            if da >= 0.0 {
-                tmp.push(a);
-            }
-            if (da >= 0.0) != (db >= 0.0) {
-                let s = da / (da - db);
-                let c = std::array::from_fn(|c| a.1[c] + (b.1[c] - a.1[c]) * s);
-                tmp.push((a.0 + (b.0 - a.0) * s, c));
-            }
-        }
-        if tmp.len() < 3 {
-            continue;
-        }
-        // To screen: (x_px, y_px, z_ndc, 1/w, colour/w).
-        let scr: Vec<([f64; 4], [f64; 3])> = tmp
+/// The display mesh as a rasterizer mesh: positions and, as vertex colours, the
+/// radiance `b/π`.
+pub fn raster_mesh(mesh: &DisplayMesh) -> RasterMesh {
+    RasterMesh {
+        positions: mesh.positions.iter().map(|p| p.as_vec3()).collect(),
+        colors: mesh
+            .radiosity
             .iter()
-            .map(|(p, c)| {
-                let iw = 1.0 / p.w;
-                let x = (p.x * iw * 0.5 + 0.5) * w as f64;
-                let y = (0.5 - p.y * iw * 0.5) * h as f64;
-                ([x, y, p.z * iw, iw], [c[0] * iw, c[1] * iw, c[2] * iw])
+            .map(|b| {
+                [
+                    (b[0] / PI) as f32,
+                    (b[1] / PI) as f32,
+                    (b[2] / PI) as f32,
+                    1.0,
+                ]
             })
-            .collect();
-        for k in 1..scr.len() - 1 {
-            raster_triangle(
-                &scr[0],
-                &scr[k],
-                &scr[k + 1],
-                w,
-                h,
-                &mut depth,
-                img.pixels_mut(),
-            );
-        }
+            .collect(),
+        indices: mesh.triangles.clone(),
+        ..RasterMesh::default()
     }
-    Ok(img)
 }
 
-type SV = ([f64; 4], [f64; 3]);
-
-fn raster_triangle(a: &SV, b: &SV, c: &SV, w: usize, h: usize, depth: &mut [f64], px: &mut [Rgb]) {
-    let area = (b.0[0] - a.0[0]) * (c.0[1] - a.0[1]) - (b.0[1] - a.0[1]) * (c.0[0] - a.0[0]);
-    if area == 0.0 || !area.is_finite() {
-        return;
-    }
-    let xmin = a.0[0].min(b.0[0]).min(c.0[0]).floor().max(0.0) as usize;
-    let ymin = a.0[1].min(b.0[1]).min(c.0[1]).floor().max(0.0) as usize;
-    let xmax = a.0[0].max(b.0[0]).max(c.0[0]).ceil().min(w as f64).max(0.0) as usize;
-    let ymax = a.0[1].max(b.0[1]).max(c.0[1]).ceil().min(h as f64).max(0.0) as usize;
-    let e = |p: &SV, q: &SV, x: f64, y: f64| {
-        (q.0[0] - p.0[0]) * (y - p.0[1]) - (q.0[1] - p.0[1]) * (x - p.0[0])
-    };
-    for y in ymin..ymax {
-        for x in xmin..xmax {
-            let (fx, fy) = (x as f64 + 0.5, y as f64 + 0.5);
-            let (w0, w1, w2) = (
-                e(b, c, fx, fy) / area,
-                e(c, a, fx, fy) / area,
-                e(a, b, fx, fy) / area,
-            );
-            if w0 < 0.0 || w1 < 0.0 || w2 < 0.0 {
-                continue;
-            }
-            let z = w0 * a.0[2] + w1 * b.0[2] + w2 * c.0[2];
-            let k = y * w + x;
-            if z >= depth[k] || z > 1.0 {
-                continue;
-            }
-            depth[k] = z;
-            let iw = w0 * a.0[3] + w1 * b.0[3] + w2 * c.0[3];
-            let col: [f64; 3] =
-                std::array::from_fn(|ch| (w0 * a.1[ch] + w1 * b.1[ch] + w2 * c.1[ch]) / iw);
-            px[k] = Rgb::new(col[0] as f32, col[1] as f32, col[2] as f32);
-        }
-    }
+/// Renders the display mesh with Gouraud shading: the software rasterizer draws the
+/// triangles with their vertex radiance as unlit colours, interpolated
+/// perspective-correctly, into a float framebuffer with a z-buffer.
+pub fn render_gouraud(mesh: &DisplayMesh, view: &View) -> Result<Image> {
+    let mut fb = Framebuffer::new(view.width, view.height, ColorFormat::Rgba32F)
+        .map_err(|e| RadiosityError::Input(format!("image size: {e}")))?;
+    let mut pipeline = Pipeline::new(view.width, view.height);
+    pipeline.shading = Shading::Unlit;
+    pipeline.view = view.view_params();
+    pipeline
+        .render_mesh(&raster_mesh(mesh), &mut fb)
+        .map_err(|e| RadiosityError::Failure(format!("rasterizer: {e}")))?;
+    Ok(fb.to_image())
 }
 
 /// Writes the display mesh as a binary little-endian PLY: position, normal, vertex

@@ -3,7 +3,9 @@
 //! Data flows one way: patches (`scenes`, or your own `PatchSpec`s) -> `mesh::Mesh`
 //! (patches cut into elements) -> form factors (`formfactor`, one method per file) ->
 //! solver (`solver`, one per file; `solver::hierarchical` needs no matrix) -> display
-//! (`display`: vertex radiosity, Gouraud images, PLY). `instant` is Keller's instant
+//! (`display`: vertex radiosity, Gouraud images through the rasterizer, PLY;
+//! `two_pass`: the ray-traced two-pass image with mirrors and glass, whose scenes are
+//! `two_pass_scene`). `instant` is Keller's instant
 //! radiosity; `convergence` writes residual histories and charts; `pipeline` runs the
 //! whole job with timings, as the `irradia radiosity` command does.
 
@@ -18,6 +20,8 @@ pub mod pipeline;
 pub mod scene_input;
 pub mod scenes;
 pub mod solver;
+pub mod two_pass;
+pub mod two_pass_scene;
 pub mod visibility;
 
 pub use error::{RadiosityError, Result};

@@ -24,7 +24,8 @@ fn hemicube_converges_to_the_centroid_form_factors() {
     for (i, ei) in mesh.elements.iter().enumerate() {
         for (j, ej) in mesh.elements.iter().enumerate() {
             if i != j {
-                exact[i * n + j] = point_to_polygon(ei.centroid, ei.normal, ej.poly.verts()).max(0.0);
+                exact[i * n + j] =
+                    point_to_polygon(ei.centroid, ei.normal, ej.poly.verts()).max(0.0);
             }
         }
     }
@@ -39,12 +40,11 @@ fn hemicube_converges_to_the_centroid_form_factors() {
         )
         .compute(&mesh, None)
         .unwrap();
-        let e = hc
-            .f
-            .iter()
-            .zip(&exact)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let e =
+            hc.f.iter()
+                .zip(&exact)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
         println!("hemicube {r:>4}: max error {e:.3e}");
         errors.push(e);
     }
