@@ -10,7 +10,7 @@ if ! command -v mpirun >/dev/null 2>&1; then
   exit 0
 fi
 # The test profile (opt-level 2, no LTO) shares its dependencies with `cargo test`.
-if ! cargo build --locked --profile test -p irradia-parallel --features mpi --example mpi_check 2>&1; then
+if ! cargo build --locked --profile test -p irradia-parallel --features mpi --example mpi_check --example mpi_raytrace_check 2>&1; then
   echo "test-mpi: build failed"
   echo "0 passed, 1 failed"
   exit 1
@@ -28,6 +28,17 @@ for np in $(seq 1 16); do
     failed=$((failed + 1))
     echo "$out" | grep -v '^ok' | tail -n 20
     echo "test-mpi: np=$np FAILED"
+  fi
+done
+# The parallel ray tracer (image- and object-parallel) against the serial render.
+for np in 2 3; do
+  if out=$(timeout 120 "${MPIRUN[@]}" -np "$np" "$dir/mpi_raytrace_check" 2>&1); then
+    passed=$((passed + 1))
+    echo "$out" | tail -n 1
+  else
+    failed=$((failed + 1))
+    echo "$out" | grep -v '^ok' | tail -n 20
+    echo "test-mpi: ray tracer np=$np FAILED"
   fi
 done
 cargo build --locked --profile test -p irradia-parallel --features mpi --example mpi_wall_check >/dev/null 2>&1 && out=$(timeout 120 "${MPIRUN[@]}" -np 4 "$dir/mpi_wall_check" 2>&1) && { passed=$((passed + 1)); echo "$out" | head -n 1; } || { failed=$((failed + 1)); echo "$out" | tail -n 20; echo "test-mpi: wall np=4 FAILED"; } # the tiled wall over MPI equals the threads' run
