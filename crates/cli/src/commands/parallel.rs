@@ -124,6 +124,8 @@ enum Input {
         name: String,
         tris: Vec<Triangle>,
         pipeline: Pipeline,
+        /// A scene's background colour, painted where nothing was drawn.
+        background: Option<Rgb>,
     },
     Scene {
         name: String,
@@ -145,6 +147,7 @@ fn load_input(a: &ParallelArgs) -> Result<Input, CliError> {
             name: w.name().into(),
             tris: w.triangles(),
             pipeline: w.pipeline(width, height),
+            background: None,
         });
     }
     let scene_args = SceneArgs {
@@ -261,6 +264,7 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
                 name,
                 pipeline: scene_pipeline(&scene),
                 tris: st.triangles,
+                background: Some(scene.settings.background),
             }
         }
         (_, i) => i,
@@ -386,7 +390,10 @@ fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
     let n = c.size();
     let (image, balance) = match &job.input {
         Input::Triangles {
-            tris, pipeline: p, ..
+            tris,
+            pipeline: p,
+            background,
+            ..
         } => {
             let (img, layout) = job::run_tiled(c, job.mode, p, tris, job.strategy, job.tiling)?;
             let balance = match (&img, layout) {
@@ -405,7 +412,18 @@ fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
                 }
                 _ => None,
             };
-            (img.as_ref().map(to_image), balance)
+            let image = img.as_ref().map(|l| {
+                let mut im = to_image(l);
+                if let Some(bg) = background {
+                    for (px, &d) in im.pixels_mut().iter_mut().zip(&l.depth) {
+                        if d == irradia_parallel::composite::FAR {
+                            *px = *bg;
+                        }
+                    }
+                }
+                im
+            });
+            (image, balance)
         }
         Input::Scene { scene, .. } => match job.mode {
             Mode::SortFirst => {
