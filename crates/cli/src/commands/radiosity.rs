@@ -10,6 +10,8 @@ use irradia_radiosity::mesh::MeshOptions;
 use irradia_radiosity::pipeline::{self, Config, Progress};
 use irradia_radiosity::solver::hierarchical::HierarchicalOptions;
 use irradia_radiosity::solver::{SolveOptions, SolverKind};
+use irradia_radiosity::two_pass::{TwoPass, TwoPassOptions};
+use irradia_radiosity::two_pass_scene::{self, SpecularScene};
 use irradia_radiosity::{convergence, scenes, RadiosityError};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -24,10 +26,17 @@ Examples:
   irradia radiosity --builtin cornell-empty --form-factors hemicube --hemicube-resolution 256
   irradia radiosity --elements 500 --convergence residuals.csv   # also residuals.png
   irradia radiosity scene.toml --max-element-area 0.01 -o scene.png
+  irradia radiosity --builtin cornell-specular --display two-pass -o specular.png
 
 Built-in scenes: cornell (the measured Cornell box with its blocks; the default),
-cornell-empty (without the blocks), furnace (a closed glowing cube, b = 2); other names
-are looked up among the ray tracer's built-ins (see `irradia scenes`).
+cornell-empty (without the blocks), furnace (a closed glowing cube, b = 2),
+cornell-specular (the empty box with a mirror sphere and a glass sphere, for
+--display two-pass); other names are looked up among the ray tracer's built-ins (see
+`irradia scenes`).
+Displays: gouraud (the default) draws the vertex radiosity with the software
+rasterizer; two-pass traces rays from the eye, reading the same vertex radiosity at
+diffuse hits and following mirrors and glass (in the radiosity pass mirrors are black
+occluders and glass is left out).
 Units of the Cornell box are millimetres (--max-element-area 100 is 10 mm x 10 mm).
 Pixel values are radiance b/pi. Exit codes: 0 done, 1 failure, 2 bad input.";
 
@@ -45,6 +54,15 @@ pub enum FormFactorArg {
     Raycast,
     /// Monte Carlo area to area.
     Montecarlo,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DisplayArg {
+    /// Vertex radiosity interpolated across triangles by the software rasterizer.
+    Gouraud,
+    /// Ray traced from the eye: solved radiosity at diffuse hits, mirrors and glass
+    /// followed recursively.
+    TwoPass,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -68,7 +86,8 @@ pub struct RadiosityArgs {
     /// Cornell box.
     #[arg(value_name = "SCENE")]
     pub scene: Option<PathBuf>,
-    /// A built-in scene: cornell, cornell-empty, furnace, or a ray-tracer built-in.
+    /// A built-in scene: cornell, cornell-empty, furnace, cornell-specular, or a
+    /// ray-tracer built-in.
     #[arg(long, value_name = "NAME")]
     pub builtin: Option<String>,
     /// Form-factor method (matrix solvers).
@@ -115,9 +134,16 @@ pub struct RadiosityArgs {
     /// Rounds of adaptive subdivision where radiosity changes fast (matrix solvers).
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub adaptive: usize,
-    /// Output image (.png, .exr, .pfm): Gouraud-shaded radiance.
+    /// Output image (.png, .exr, .pfm): radiance b/pi, drawn as --display says.
     #[arg(short, long, value_name = "FILE", default_value = "radiosity.png")]
     pub output: PathBuf,
+    /// How the image is made: gouraud (rasterized vertex radiosity) or two-pass
+    /// (ray traced, with mirrors and glass).
+    #[arg(long, value_enum, default_value = "gouraud")]
+    pub display: DisplayArg,
+    /// Two-pass display: rays per pixel along each axis (N² per pixel).
+    #[arg(long, value_name = "N", default_value_t = 2)]
+    pub pixel_samples: u32,
     #[arg(long, value_name = "W", default_value_t = 512)]
     pub width: u32,
     #[arg(long, value_name = "H", default_value_t = 512)]
@@ -171,10 +197,18 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
         ("--rays", a.rays),
         ("--samples", a.samples),
         ("--elements", a.elements),
+        ("--pixel-samples", a.pixel_samples as usize),
     ] {
         if v == 0 {
             return Err(CliError::Input(format!("{name} must be at least 1")));
         }
+    }
+    if a.pixel_samples > 64 {
+        return Err(CliError::Input(format!(
+            "--pixel-samples {} would trace {} rays per pixel; use at most 64",
+            a.pixel_samples,
+            a.pixel_samples as u64 * a.pixel_samples as u64
+        )));
     }
     if !(a.tolerance > 0.0) || !(a.bf_epsilon > 0.0) {
         return Err(CliError::Input(
@@ -186,6 +220,7 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
     // The scene.
     let mut view = View::cornell(a.width, a.height);
     let mut warnings = Vec::new();
+    let mut specular: Option<SpecularScene> = None;
     let specs = match (&a.scene, &a.builtin) {
         (Some(_), Some(_)) => {
             return Err(CliError::Input(
@@ -194,6 +229,12 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
         }
         (None, None) => scenes::cornell_measured(),
         (None, Some(name)) => match scenes::builtin(name) {
+            None if two_pass_scene::builtin(name).is_some() => {
+                let s = two_pass_scene::builtin(name).expect("checked");
+                let patches = s.patches.clone();
+                specular = Some(s);
+                patches
+            }
             Some(s) => {
                 if name == "furnace" {
                     view = View {
@@ -317,7 +358,30 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
     }
     let t = Instant::now();
     let dm = report.display_mesh();
-    let img = render_gouraud(&dm, &view).map_err(err)?;
+    let img = match a.display {
+        DisplayArg::Gouraud => {
+            if specular.is_some() && !a.quiet {
+                eprintln!(
+                    "irradia: note: the Gouraud image shows mirrors as their black stand-ins and no glass; \
+                     --display two-pass traces them"
+                );
+            }
+            render_gouraud(&dm, &view).map_err(err)?
+        }
+        DisplayArg::TwoPass => {
+            let objects = specular.as_ref().map_or(&[][..], |s| &s.objects[..]);
+            let keep = |p: u32| {
+                let source = report.mesh.patches[p as usize].source;
+                !specular.as_ref().is_some_and(|s| s.is_stand_in(source))
+            };
+            let tracer = TwoPass::new(&dm, keep, objects).map_err(err)?;
+            let opts = TwoPassOptions {
+                samples_per_axis: a.pixel_samples,
+                ..Default::default()
+            };
+            tracer.render(&view, &opts).map_err(err)?
+        }
+    };
     irradia_core::io::save(&img, &a.output)
         .map_err(|e| CliError::Failure(format!("{}: {e}", a.output.display())))?;
     if let Some(p) = &a.mesh_out {
@@ -370,7 +434,10 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
         }
         eprintln!(
             "  {:<44} {:>9.3} s",
-            "display (vertex radiosity, image, PLY)",
+            match a.display {
+                DisplayArg::Gouraud => "display (Gouraud image, PLY)",
+                DisplayArg::TwoPass => "display (two-pass image, PLY)",
+            },
             display_time.as_secs_f64()
         );
         eprintln!("  {:<44} {:>9.3} s", "total", total.as_secs_f64());
