@@ -11,8 +11,11 @@
 //! * binary swap (the reduce-scatter, without the final gather) of a dense image and of
 //!   a 10%-active one, with the time of each step (decide, header, encode, wait, blend).
 //!
-//! Times are the slowest rank's, median over the repetitions, each started after a
-//! barrier. Rank 0 prints `RESULT key=value ...` and `PROFILE ...` lines.
+//! Every repetition runs the round exchanges, the dense composite and the sparse one back
+//! to back (so that all see the same machine load); the first repetition is a warm-up.
+//! Times are the slowest rank's, each started after a barrier; medians (and minima) over
+//! the repetitions. Rank 0 prints `RESULT key=value ...` and `PROFILE ...` lines (the
+//! median time of each step on each rank).
 
 use irradia_parallel::comm::{Comm, MpiComm};
 use irradia_parallel::composite::{
@@ -68,6 +71,25 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// Each step's median over the repetitions (robust to a rank being descheduled).
+fn median_profile(v: &[profile::SwapProfile]) -> profile::SwapProfile {
+    let m = |f: fn(&profile::SwapProfile) -> f64| median(v.iter().map(f).collect());
+    profile::SwapProfile {
+        swaps: v[0].swaps,
+        rle_swaps: v[0].rle_swaps,
+        bytes_sent: v[0].bytes_sent,
+        decide_s: m(|p| p.decide_s),
+        header_s: m(|p| p.header_s),
+        encode_s: m(|p| p.encode_s),
+        wait_s: m(|p| p.wait_s),
+        blend_s: m(|p| p.blend_s),
+    }
+}
+
+fn min(v: &[f64]) -> f64 {
+    v.iter().cloned().fold(f64::INFINITY, f64::min)
+}
+
 /// The largest give span (pixels) of any rank in each binary-swap round, for a power of
 /// two `p` and an image of `n` pixels, computed as `binary_swap` splits its spans.
 fn round_give_pixels(n: usize, p: usize) -> Vec<usize> {
@@ -106,50 +128,41 @@ fn main() {
     let pixel_bytes = 8; // RGBA8 + f32 depth
     let ok = |r: Result<(), _>| r.unwrap_or_else(|e| comm.fail(&e));
 
-    // The transfer bound, round by round, with the algorithm's own partners.
-    let mut bound = 0.0;
-    let mut round_lines = Vec::new();
-    if p.is_power_of_two() {
-        for (r, give) in round_give_pixels(pixels, p).into_iter().enumerate() {
-            let bytes = give * pixel_bytes;
-            let partner = rank ^ (1 << r);
-            let send = vec![0x5au8; bytes];
-            let mut recv = vec![0u8; bytes];
-            let mut times = Vec::new();
-            for rep in 0..reps + 1 {
-                ok(comm.barrier());
-                let t0 = Instant::now();
-                ok(comm.exchange_pieces(
-                    partner,
-                    0x7000 + r as u32,
-                    &[&send],
-                    &mut [&mut recv],
-                    &mut |_, _| Ok(()),
-                ));
-                let t = slowest(&comm, t0.elapsed().as_secs_f64());
-                if rep > 0 {
-                    times.push(t); // the first is a warm-up
-                }
-            }
-            let t = median(times);
-            bound += t;
-            round_lines.push(format!(
-                "RESULT np={p} round={} bytes={bytes} exchange_ms={:.3} exchange_gbps={:.3}",
-                r + 1,
-                t * 1e3,
-                bytes as f64 / t / 1e9
+    // Each repetition measures, back to back, the exchange of every round (the bound),
+    // the dense composite and the 10%-active one, so that all three see the same load.
+    let rounds = if p.is_power_of_two() {
+        round_give_pixels(pixels, p)
+    } else {
+        Vec::new() // the bound is defined for powers of two only
+    };
+    let mut buffers: Vec<(Vec<u8>, Vec<u8>)> = rounds
+        .iter()
+        .map(|g| (vec![0x5au8; g * pixel_bytes], vec![0u8; g * pixel_bytes]))
+        .collect();
+    let cases = [("dense", 1.0), ("active10", 0.10)];
+    let bases: Vec<Layer<[u8; 4]>> = cases.iter().map(|c| layer(w, h, rank, c.1)).collect();
+    let opts = CompositeOptions::default();
+    let mut exchange_times = vec![Vec::new(); rounds.len()];
+    let mut times = vec![Vec::new(); cases.len()];
+    let mut steps = vec![Vec::new(); cases.len()];
+    for rep in 0..reps + 1 {
+        let keep = rep > 0; // the first repetition warms up
+        for (r, (send, recv)) in buffers.iter_mut().enumerate() {
+            ok(comm.barrier());
+            let t0 = Instant::now();
+            ok(comm.exchange_pieces(
+                rank ^ (1 << r),
+                0x7000 + r as u32,
+                &[send],
+                &mut [recv],
+                &mut |_, _| Ok(()),
             ));
+            let t = slowest(&comm, t0.elapsed().as_secs_f64());
+            if keep {
+                exchange_times[r].push(t);
+            }
         }
-    }
-
-    let mut results = Vec::new();
-    let mut profiles = Vec::new();
-    for (name, fraction) in [("dense", 1.0), ("active10", 0.10)] {
-        let base = layer(w, h, rank, fraction);
-        let opts = CompositeOptions::default();
-        let mut times = Vec::new();
-        let mut prof = profile::SwapProfile::default();
-        for rep in 0..reps + 1 {
+        for (c, base) in bases.iter().enumerate() {
             let l = base.clone();
             ok(comm.barrier());
             profile::take();
@@ -160,29 +173,46 @@ fn main() {
             let step = profile::take();
             std::hint::black_box((out, span));
             let t = slowest(&comm, t);
-            if rep > 0 {
-                times.push(t);
-                prof.swaps += step.swaps;
-                prof.rle_swaps += step.rle_swaps;
-                prof.decide_s += step.decide_s;
-                prof.header_s += step.header_s;
-                prof.encode_s += step.encode_s;
-                prof.wait_s += step.wait_s;
-                prof.blend_s += step.blend_s;
-                prof.bytes_sent += step.bytes_sent;
+            if keep {
+                times[c].push(t);
+                steps[c].push(step);
             }
         }
-        results.push((name, median(times)));
-        profiles.push((name, prof));
     }
-    // Per-rank step times (means over the repetitions) to rank 0.
+    let (mut bound, mut bound_min) = (0.0, 0.0);
+    let mut round_lines = Vec::new();
+    for (r, ts) in exchange_times.iter().enumerate() {
+        let bytes = rounds[r] * pixel_bytes;
+        let (t, fastest) = (median(ts.clone()), min(ts));
+        bound += t;
+        bound_min += fastest;
+        round_lines.push(format!(
+            "RESULT np={p} round={} bytes={bytes} exchange_ms={:.3} exchange_gbps={:.3} exchange_min_ms={:.3}",
+            r + 1,
+            t * 1e3,
+            bytes as f64 / t / 1e9,
+            fastest * 1e3
+        ));
+    }
+    let results: Vec<_> = cases
+        .iter()
+        .zip(&times)
+        .map(|(c, ts)| (c.0, median(ts.clone()), min(ts)))
+        .collect();
+    let profiles: Vec<_> = cases
+        .iter()
+        .zip(&steps)
+        .map(|(c, st)| (c.0, median_profile(st)))
+        .collect();
+
+    // Per-rank step times (medians over the repetitions) to rank 0.
     for (name, prof) in &profiles {
-        let k = reps as f64 / 1e3;
+        let k = 1e-3;
         let line = format!(
             "PROFILE np={p} case={name} rank={rank} swaps={} rle_swaps={} bytes_sent={} decide_ms={:.3} header_ms={:.3} encode_ms={:.3} wait_ms={:.3} blend_ms={:.3}",
-            prof.swaps / reps as u32,
-            prof.rle_swaps / reps as u32,
-            prof.bytes_sent / reps as u64,
+            prof.swaps,
+            prof.rle_swaps,
+            prof.bytes_sent,
             prof.decide_s / k,
             prof.header_s / k,
             prof.encode_s / k,
@@ -203,14 +233,17 @@ fn main() {
             println!("{l}");
         }
         println!(
-            "RESULT np={p} width={w} height={h} pieces={pieces} bound_ms={:.3}",
-            bound * 1e3
+            "RESULT np={p} width={w} height={h} pieces={pieces} bound_ms={:.3} bound_min_ms={:.3}",
+            bound * 1e3,
+            bound_min * 1e3
         );
-        for (name, t) in &results {
+        for (name, t, fastest) in &results {
             println!(
-                "RESULT np={p} case={name} median_ms={:.3} over_bound={:.2}",
+                "RESULT np={p} case={name} median_ms={:.3} over_bound={:.2} min_ms={:.3} min_over_bound_min={:.2}",
                 t * 1e3,
-                t / bound
+                t / bound,
+                fastest * 1e3,
+                fastest / bound_min
             );
         }
         let dense = results[0].1;

@@ -11,7 +11,25 @@ use super::{check_piece_len, Comm, CommError, MessageLog};
 use mpi::datatype::Equivalence;
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::{Communicator, SimpleCommunicator};
+use std::collections::VecDeque;
+use std::sync::OnceLock;
 use std::time::{Duration, Instant};
+
+/// How many pieces of an [`Comm::exchange_pieces`] have receives posted at once
+/// (`IRRADIA_MPI_PIECE_WINDOW`, default 2; 0 = all).
+fn piece_window() -> usize {
+    static W: OnceLock<usize> = OnceLock::new();
+    *W.get_or_init(|| {
+        match std::env::var("IRRADIA_MPI_PIECE_WINDOW")
+            .ok()
+            .and_then(|v| v.parse().ok())
+        {
+            Some(0) => usize::MAX,
+            Some(w) => w,
+            None => 2,
+        }
+    })
+}
 
 /// One rank of an MPI job (`MPI_COMM_WORLD`). Create exactly one per process.
 pub struct MpiComm {
@@ -176,11 +194,18 @@ impl Comm for MpiComm {
             tag,
             seconds: self.timeout.as_secs_f64(),
         };
+        let window = piece_window();
         mpi::request::scope(|scope| {
-            let receives: Vec<_> = recvs
-                .iter_mut()
-                .map(|b| process.immediate_receive_into_with_tag(scope, &mut **b, tag as i32))
-                .collect();
+            // Receives are posted `window` pieces ahead of the one being worked on, so
+            // the single-copy transfer of a piece (done by the receiver's CPU when it
+            // polls) lands just before that piece is used, while it is still in cache.
+            let mut buffers = recvs.iter_mut();
+            let mut receives = VecDeque::with_capacity(wants.len());
+            for b in buffers.by_ref().take(window) {
+                receives.push_back(
+                    process.immediate_receive_into_with_tag(scope, &mut **b, tag as i32),
+                );
+            }
             let sent: Vec<_> = sends
                 .iter()
                 .map(|b| {
@@ -188,8 +213,9 @@ impl Comm for MpiComm {
                     process.immediate_send_with_tag(scope, *b, tag as i32)
                 })
                 .collect();
-            let mut done: Vec<&[u8]> = Vec::with_capacity(receives.len());
-            for (i, mut r) in receives.into_iter().enumerate() {
+            let mut done: Vec<&[u8]> = Vec::with_capacity(wants.len());
+            for i in 0..wants.len() {
+                let mut r = receives.pop_front().expect("a receive is posted");
                 let mut spins = 0u32;
                 let (status, data) = loop {
                     match r.test_with_data() {
@@ -210,6 +236,11 @@ impl Comm for MpiComm {
                 }
                 self.log.record(partner, me, got, false);
                 done.push(data);
+                if let Some(b) = buffers.next() {
+                    receives.push_back(
+                        process.immediate_receive_into_with_tag(scope, &mut **b, tag as i32),
+                    );
+                }
                 // Outstanding requests cannot be abandoned: an error ends the job here.
                 if let Err(e) = arrived(i, &done) {
                     self.fail(&e);
