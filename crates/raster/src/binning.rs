@@ -55,15 +55,15 @@ pub(crate) fn band_count(height: u32) -> usize {
     height.div_ceil(BAND_ROWS) as usize
 }
 
-/// Appends `item` to the bins of the bands that rows `y0..=y1` touch.
+/// Appends triangle `i` to the bins of the bands that rows `y0..=y1` touch.
 #[inline(always)]
-pub(crate) fn push_to_bands<T: Copy>(bins: &mut [Vec<T>], item: &T, y0: i64, y1: i64) {
+pub(crate) fn push_to_bands(bins: &mut [Vec<u32>], i: u32, y0: i64, y1: i64) {
     let (first, last) = (
         y0 as usize / BAND_ROWS as usize,
         y1 as usize / BAND_ROWS as usize,
     );
     for bin in &mut bins[first..=last] {
-        bin.push(*item);
+        bin.push(i);
     }
 }
 
@@ -81,33 +81,24 @@ pub(crate) fn rasterize_binned(
         return;
     }
     let job = Job {
-        source: &Indexed { pieces, bins },
+        pieces,
+        bins,
         region,
         width: fb.width() as usize,
         depth_func: state.depth_func,
     };
-    job.dispatch(fb, state);
-}
-
-/// Draws triangles already copied into bands: `bands[b][band]` are the triangles of
-/// batch `b` that touch `band`, in order (the fused path of `Pipeline::render_mesh`).
-pub(crate) fn rasterize_banded(
-    bands: &[&[Vec<ScreenTriangle>]],
-    fb: &mut Framebuffer,
-    region: Rect,
-    state: &FragmentState,
-) {
-    let region = region.intersect(&Rect::full(fb.width(), fb.height()));
-    if region.is_empty() {
-        return;
+    let depth = &mut fb.depth;
+    let phong = PhongShader {
+        lights: state.lights,
+        unproject: state.unproject,
+    };
+    match (&mut fb.color, state.shading) {
+        (ColorBuffer::Id(c), _) => job.run(c, depth, &InterpolatedColor),
+        (ColorBuffer::Rgba8(c), Shading::Phong) => job.run(c, depth, &phong),
+        (ColorBuffer::Rgba8(c), _) => job.run(c, depth, &InterpolatedColor),
+        (ColorBuffer::Rgba32F(c), Shading::Phong) => job.run(c, depth, &phong),
+        (ColorBuffer::Rgba32F(c), _) => job.run(c, depth, &InterpolatedColor),
     }
-    let job = Job {
-        source: &Banded(bands),
-        region,
-        width: fb.width() as usize,
-        depth_func: state.depth_func,
-    };
-    job.dispatch(fb, state);
 }
 
 /// For each band, the indices into `tris` of the triangles whose pixel bounds meet
@@ -123,76 +114,20 @@ fn bin(tris: &[ScreenTriangle], region: &Rect, bands: usize) -> Vec<Vec<u32>> {
         if x0 > x1 || y0 > y1 {
             continue;
         }
-        push_to_bands(&mut bins, &(i as u32), y0, y1);
+        push_to_bands(&mut bins, i as u32, y0, y1);
     }
     bins
 }
 
-/// Where a band finds its triangles, in drawing order.
-trait BandSource: Sync {
-    fn for_each(&self, band: usize, f: impl FnMut(&ScreenTriangle));
-}
-
-/// Triangles in batches with per-band index lists.
-struct Indexed<'a> {
+struct Job<'a> {
     pieces: &'a [&'a [ScreenTriangle]],
     bins: &'a [&'a [Vec<u32>]],
-}
-
-impl BandSource for Indexed<'_> {
-    #[inline(always)]
-    fn for_each(&self, band: usize, mut f: impl FnMut(&ScreenTriangle)) {
-        for (piece, bins) in self.pieces.iter().zip(self.bins) {
-            let list = &bins[band];
-            for (j, &i) in list.iter().enumerate() {
-                if let Some(&ahead) = list.get(j + PREFETCH_AHEAD) {
-                    prefetch(&piece[ahead as usize]);
-                }
-                f(&piece[i as usize]);
-            }
-        }
-    }
-}
-
-/// Triangles copied into per-band lists, batch by batch: read sequentially.
-struct Banded<'a>(&'a [&'a [Vec<ScreenTriangle>]]);
-
-impl BandSource for Banded<'_> {
-    #[inline(always)]
-    fn for_each(&self, band: usize, mut f: impl FnMut(&ScreenTriangle)) {
-        for batch in self.0 {
-            if let Some(list) = batch.get(band) {
-                for t in list {
-                    f(t);
-                }
-            }
-        }
-    }
-}
-
-struct Job<'a, B: BandSource> {
-    source: &'a B,
     region: Rect,
     width: usize,
     depth_func: DepthFunc,
 }
 
-impl<B: BandSource> Job<'_, B> {
-    fn dispatch(&self, fb: &mut Framebuffer, state: &FragmentState) {
-        let depth = &mut fb.depth;
-        let phong = PhongShader {
-            lights: state.lights,
-            unproject: state.unproject,
-        };
-        match (&mut fb.color, state.shading) {
-            (ColorBuffer::Id(c), _) => self.run(c, depth, &InterpolatedColor),
-            (ColorBuffer::Rgba8(c), Shading::Phong) => self.run(c, depth, &phong),
-            (ColorBuffer::Rgba8(c), _) => self.run(c, depth, &InterpolatedColor),
-            (ColorBuffer::Rgba32F(c), Shading::Phong) => self.run(c, depth, &phong),
-            (ColorBuffer::Rgba32F(c), _) => self.run(c, depth, &InterpolatedColor),
-        }
-    }
-
+impl Job<'_> {
     fn run<T: Send, S: PixelShader>(&self, color: &mut [T], depth: &mut [f32], shader: &S)
     where
         [T]: ColorTarget,
@@ -211,9 +146,24 @@ impl<B: BandSource> Job<'_, B> {
                 if clip.is_empty() {
                     return;
                 }
-                self.source.for_each(band, |t| {
-                    draw(t, &clip, self.width, y0, d, c, shader, self.depth_func)
-                });
+                for (piece, bins) in self.pieces.iter().zip(self.bins) {
+                    let list = &bins[band];
+                    for (j, &i) in list.iter().enumerate() {
+                        if let Some(&ahead) = list.get(j + PREFETCH_AHEAD) {
+                            prefetch(&piece[ahead as usize]);
+                        }
+                        draw(
+                            &piece[i as usize],
+                            &clip,
+                            self.width,
+                            y0,
+                            d,
+                            c,
+                            shader,
+                            self.depth_func,
+                        );
+                    }
+                }
             });
     }
 }

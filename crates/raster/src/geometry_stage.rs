@@ -127,15 +127,13 @@ impl<'a> GeometryStage<'a> {
     fn emit(&self, a: &ScreenVertex, b: &ScreenVertex, c: &ScreenVertex, id: u32, out: &mut Batch) {
         // Cull before building the triangle: most rejected ones are never copied.
         if let Some((_, _, y0, y1)) = covered_bounds_of(a, b, c, self.cull, &self.screen) {
-            let t = ScreenTriangle {
+            if self.bin {
+                push_to_bands(&mut out.bins, out.tris.len() as u32, y0, y1);
+            }
+            out.tris.push(ScreenTriangle {
                 v: [*a, *b, *c],
                 id,
-            };
-            if self.bin {
-                push_to_bands(&mut out.bands, &t, y0, y1);
-            } else {
-                out.tris.push(t);
-            }
+            });
         }
     }
 
@@ -173,21 +171,17 @@ impl<'a> GeometryStage<'a> {
             .and_then(|p| p.0.lock().ok().and_then(|mut v| v.pop()))
             .unwrap_or(Batch {
                 tris: Vec::new(),
-                bands: Vec::new(),
+                bins: Vec::new(),
             });
         b.tris.clear();
+        b.tris.reserve(capacity);
         let bands = if self.bin { self.bands } else { 0 };
-        b.bands.resize_with(bands, Vec::new);
-        b.bands.truncate(bands);
-        if self.bin {
-            for band in &mut b.bands {
-                band.clear();
-                // About one band in `bands` of the triangles, plus straddlers (a pooled
-                // batch keeps the capacity of earlier frames).
-                band.reserve(capacity / bands.max(1) * 5 / 4 + 16);
-            }
-        } else {
-            b.tris.reserve(capacity);
+        b.bins.resize_with(bands, Vec::new);
+        b.bins.truncate(bands);
+        for bin in &mut b.bins {
+            bin.clear();
+            // About one band in `bands` of the triangles, plus straddlers.
+            bin.reserve(capacity / bands.max(1) * 2 + 16);
         }
         b
     }
@@ -297,12 +291,11 @@ struct Prepared {
     code: u8,
 }
 
-/// Screen triangles of one batch, in input order: all in `tris`, or (when binning) in
-/// `bands[k]` those touching band `k` of the screen (a triangle straddling bands is
-/// copied into each, so that every band later reads its triangles sequentially).
+/// Screen triangles of one batch, in input order, and (when binning) for each band of
+/// the screen the indices of the triangles touching it.
 pub(crate) struct Batch {
     pub tris: Vec<ScreenTriangle>,
-    pub bands: Vec<Vec<ScreenTriangle>>,
+    pub bins: Vec<Vec<u32>>,
 }
 
 /// Batches kept between frames so that their memory is reused (fresh allocations of

@@ -2,7 +2,7 @@
 //! depth test) plus the two stages, callable separately (sort-first and sort-middle
 //! rendering run them on different ranks) or together.
 
-use crate::binning::{rasterize_banded, rasterize_batches, FragmentState};
+use crate::binning::{rasterize_batches, rasterize_binned, FragmentState};
 use crate::fragment::{DepthFunc, Unproject};
 use crate::framebuffer::Framebuffer;
 use crate::geometry_stage::{Batch, BatchPool, GeometryStage};
@@ -164,10 +164,11 @@ impl Pipeline {
     }
 
     fn draw_batches(&self, lights: &EyeLights, batches: &[Batch], fb: &mut Framebuffer) {
-        let bands: Vec<&[Vec<ScreenTriangle>]> =
-            batches.iter().map(|b| b.bands.as_slice()).collect();
-        rasterize_banded(
-            &bands,
+        let pieces: Vec<&[ScreenTriangle]> = batches.iter().map(|b| b.tris.as_slice()).collect();
+        let bins: Vec<&[Vec<u32>]> = batches.iter().map(|b| b.bins.as_slice()).collect();
+        rasterize_binned(
+            &pieces,
+            &bins,
             fb,
             Rect::full(self.width, self.height),
             &self.fragment_state(lights),
