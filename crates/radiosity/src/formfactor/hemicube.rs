@@ -163,7 +163,7 @@ impl Hemicube {
     }
 }
 
-/// Per-thread state of [`Hemicube::row`]: the elements as one rasterizer mesh (corners
+/// Working state of [`Hemicube::row`] (one per worker thread): the elements as one rasterizer mesh (corners
 /// rewritten for every row), the two pipelines and their framebuffers.
 pub struct Scratch {
     /// Corners of every element; indices and ids of the triangles drawn on one face.
@@ -244,12 +244,14 @@ impl FormFactorMethod for Hemicube {
                 "too many element corners for the hemicube's rasterizer mesh; use --solver hierarchical".into(),
             ));
         }
-        let template = Scratch::new(mesh, self.resolution)?;
-        let pool: std::sync::Mutex<Vec<Scratch>> = std::sync::Mutex::new(Vec::new());
+        // Scratch state for one row at a time per worker: taken from the pool, returned
+        // after the row. The first is made here so that a bad size is an error.
+        let pool = std::sync::Mutex::new(vec![Scratch::new(mesh, self.resolution)?]);
         FormFactors::compute_rows(mesh.len(), progress, |i, row| {
-            // One scratch per worker at a time: taken from the pool, returned after the row.
             let taken = pool.lock().ok().and_then(|mut p| p.pop());
-            let mut scratch = taken.unwrap_or_else(|| template.clone_fresh());
+            let mut scratch = taken.unwrap_or_else(|| {
+                Scratch::new(mesh, self.resolution).expect("the first scratch had this size")
+            });
             self.row(mesh, i, row, &mut scratch);
             if let Ok(mut p) = pool.lock() {
                 p.push(scratch);
@@ -288,25 +290,6 @@ impl Scratch {
                 self.mesh.indices.push([w[0], q, q + 1]);
                 self.mesh.ids.push(self.element_id[j]);
             }
-        }
-    }
-
-    /// A copy with its own buffers (and its own pipeline scratch pools).
-    fn clone_fresh(&self) -> Self {
-        let (w, h) = (self.top.width, self.top.height);
-        let mut top = Pipeline::new(w, h);
-        top.shading = self.top.shading;
-        let mut side = Pipeline::new(self.side.width, self.side.height);
-        side.shading = self.side.shading;
-        Self {
-            mesh: self.mesh.clone(),
-            first_corner: self.first_corner.clone(),
-            element_id: self.element_id.clone(),
-            scene_size: self.scene_size,
-            top,
-            side,
-            fb_top: self.fb_top.clone(),
-            fb_side: self.fb_side.clone(),
         }
     }
 }
