@@ -187,7 +187,7 @@ fn main() {
         bound += t;
         bound_min += fastest;
         round_lines.push(format!(
-            "RESULT np={p} round={} bytes={bytes} exchange_ms={:.3} exchange_gbps={:.3} exchange_min_ms={:.3}",
+            "RESULT np={p} swap_round={} bytes={bytes} exchange_ms={:.3} exchange_gbps={:.3} exchange_min_ms={:.3}",
             r + 1,
             t * 1e3,
             bytes as f64 / t / 1e9,

@@ -30,7 +30,7 @@ const RLE: u32 = 1;
 /// (dense bytes scale with the trimmed span, run-length bytes with the active pixels).
 pub const RLE_BELOW: f64 = 0.5;
 /// Pixels sampled (evenly spaced) to estimate the active fraction of a trimmed span.
-pub const SAMPLES: usize = 256;
+pub const SAMPLES: usize = 64;
 /// Pieces are at least this many pixels (below it, per-message latency dominates).
 pub const MIN_PIECE_PIXELS: usize = 1024;
 /// Pieces carry the header's tag plus this.
