@@ -134,6 +134,10 @@ pub struct RadiosityArgs {
     /// Rounds of adaptive subdivision where radiosity changes fast (matrix solvers).
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub adaptive: usize,
+    /// The scene is a closed room: check that every edge of every surface is shared
+    /// (an open edge is an error naming the object, with its file and line).
+    #[arg(long)]
+    pub closed: bool,
     /// Output image (.png, .exr, .pfm): radiance b/pi, drawn as --display says.
     #[arg(short, long, value_name = "FILE", default_value = "radiosity.png")]
     pub output: PathBuf,
@@ -266,8 +270,12 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
             }
             let scene = irradia_scene::load_file(path)?;
             view = view_of(&scene, a.width, a.height)?;
-            let (s, w) =
-                irradia_radiosity::scene_input::patches_from_scene(&scene, 32).map_err(err)?;
+            let (s, objects, w) =
+                irradia_radiosity::scene_input::patches_with_objects(&scene, 32).map_err(err)?;
+            if a.closed {
+                irradia_radiosity::scene_input::check_closed(&s, Some((&scene, &objects)))
+                    .map_err(err)?;
+            }
             warnings.extend(w);
             s
         }
