@@ -49,6 +49,9 @@ pub fn run<C: Comm>(
     }
 }
 
+/// An image (at rank 0) and the sort-first layout, if any.
+pub type TiledImage = (Option<Layer<[u8; 4]>>, Option<sort_first::TileLayout>);
+
 /// [`run`] with sort-first regions cut by `tiling`; also returns the sort-first layout
 /// (`None` for the other modes).
 pub fn run_tiled<C: Comm>(
@@ -58,7 +61,7 @@ pub fn run_tiled<C: Comm>(
     tris: &[Triangle],
     strategy: Strategy,
     tiling: sort_first::Tiling,
-) -> Result<(Option<Layer<[u8; 4]>>, Option<sort_first::TileLayout>), CommError> {
+) -> Result<TiledImage, CommError> {
     match mode {
         Mode::SortFirst => {
             sort_first::render_tiled_layout(comm, p, tris, 0, tiling).map(|(i, l)| (i, Some(l)))

@@ -200,7 +200,7 @@ pub fn points_box(p: &Pipeline, points: impl IntoIterator<Item = glam::Vec3>) ->
     ];
     for q in points {
         let c = m * q.extend(1.0);
-        if !(c.w > 1e-6) {
+        if c.w.is_nan() || c.w <= 1e-6 {
             return None;
         }
         let x = (c.x / c.w + 1.0) * 0.5 * p.width as f32;
@@ -316,6 +316,9 @@ pub fn render_tiled<C: Comm>(
     render_tiled_layout(comm, p, tris, root, tiling).map(|(img, _)| img)
 }
 
+/// The image (at the root) and the layout the ranks agreed on.
+pub type TiledFrame = (Option<Layer<[u8; 4]>>, TileLayout);
+
 /// [`render_tiled`], also returning the layout the ranks agreed on.
 pub fn render_tiled_layout<C: Comm>(
     comm: &C,
@@ -323,7 +326,7 @@ pub fn render_tiled_layout<C: Comm>(
     tris: &[Triangle],
     root: usize,
     tiling: Tiling,
-) -> Result<(Option<Layer<[u8; 4]>>, TileLayout), CommError> {
+) -> Result<TiledFrame, CommError> {
     let (rank, n) = (comm.rank(), comm.size());
     comm.log().begin_stage("sort");
     let layout = raster_layout(comm, p, tris, tiling, root)?;

@@ -162,7 +162,7 @@ pub fn scene_triangles(scene: &irradia_scene::Scene) -> SceneTriangles {
         }
         if mesh.normals.len() == mesh.positions.len() {
             for n in &mut mesh.normals {
-                *n = (normal_matrix * glam::Vec3::from(*n)).normalize_or_zero();
+                *n = (normal_matrix * *n).normalize_or_zero();
             }
         } else {
             mesh.normals.clear(); // flat: face normals
