@@ -75,18 +75,27 @@ impl Default for Tiling {
 /// The screen's regions and the rank owning each.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TileLayout {
+    /// Row-major grid of tiles (strips are a grid of one column).
     pub tiles: Vec<Rect>,
     pub owner: Vec<usize>,
+    /// Column boundaries (columns + 1 of them) and row boundaries, in pixels.
+    xs: Vec<u32>,
+    ys: Vec<u32>,
 }
 
 impl TileLayout {
     /// One horizontal strip per rank (strip `r` to rank `r`).
     pub fn strips(width: u32, height: u32, ranks: usize) -> Self {
+        let tiles: Vec<Rect> = (0..ranks)
+            .map(|r| region(width, height, r, ranks))
+            .collect();
+        let mut ys: Vec<u32> = tiles.iter().map(|t| t.y0).collect();
+        ys.push(height);
         Self {
-            tiles: (0..ranks)
-                .map(|r| region(width, height, r, ranks))
-                .collect(),
+            tiles,
             owner: (0..ranks).collect(),
+            xs: vec![0, width],
+            ys,
         }
     }
 
@@ -97,7 +106,36 @@ impl TileLayout {
         }
         let tiles = grid(width, height, tiling.per_rank * ranks);
         let owner = (0..tiles.len()).map(|i| i % ranks).collect();
-        Self { tiles, owner }
+        let mut xs: Vec<u32> = tiles
+            .iter()
+            .take_while(|t| t.y0 == tiles[0].y0)
+            .map(|t| t.x0)
+            .collect();
+        xs.push(width);
+        let mut ys: Vec<u32> = tiles.iter().step_by(xs.len() - 1).map(|t| t.y0).collect();
+        ys.push(height);
+        Self {
+            tiles,
+            owner,
+            xs,
+            ys,
+        }
+    }
+
+    /// Indices of the tiles a screen box meets (the same test as [`meets`]), found from
+    /// the grid's boundaries in logarithmic time rather than by testing every tile.
+    pub fn meeting(&self, b: &ScreenBox) -> impl Iterator<Item = usize> {
+        let (cols, rows) = (self.xs.len() - 1, self.ys.len() - 1);
+        let (c0, c1, r0, r1) = match b {
+            None => (0, cols, 0, rows),
+            Some(b) => (
+                self.xs[1..].partition_point(|&x| (x as f32) < b[0]),
+                self.xs[..cols].partition_point(|&x| (x as f32) <= b[2]),
+                self.ys[1..].partition_point(|&y| (y as f32) < b[1]),
+                self.ys[..rows].partition_point(|&y| (y as f32) <= b[3]),
+            ),
+        };
+        (r0..r1.max(r0)).flat_map(move |j| (c0..c1.max(c0)).map(move |i| j * cols + i))
     }
 
     /// The regions of `tiling`, dealt out by `costs` (one per tile) when the tiling
@@ -232,14 +270,12 @@ pub fn meets(b: &ScreenBox, r: &Rect) -> bool {
 /// Estimated rasterization work per tile for `tris`: one unit per triangle that meets
 /// the tile (setup) plus its covered bounding-box pixels over 25 (fill; a pixel costs
 /// about a twenty-fifth of a triangle setup in `crates/raster`).
-pub fn raster_costs(p: &Pipeline, tris: &[Triangle], tiles: &[Rect]) -> Vec<f64> {
-    let mut c = vec![0.0; tiles.len()];
+pub fn raster_costs(p: &Pipeline, tris: &[Triangle], layout: &TileLayout) -> Vec<f64> {
+    let mut c = vec![0.0; layout.tiles.len()];
     for t in tris {
         let b = triangle_box(p, t);
-        for (k, r) in tiles.iter().enumerate() {
-            if meets(&b, r) {
-                c[k] += 1.0 + overlap(&b, r) / 25.0;
-            }
+        for k in layout.meeting(&b) {
+            c[k] += 1.0 + overlap(&b, &layout.tiles[k]) / 25.0;
         }
     }
     c
@@ -260,7 +296,7 @@ pub fn raster_layout<C: Comm>(
     if tiling.is_strips() || tiling.assign != Assign::Cost {
         return Ok(layout);
     }
-    let mine = raster_costs(p, &tris[block(tris.len(), rank, n)], &layout.tiles);
+    let mine = raster_costs(p, &tris[block(tris.len(), rank, n)], &layout);
     let all = comm.gather(root, bytemuck::cast_slice(&mine))?;
     let mut owners = Vec::new();
     if rank == root {
@@ -334,10 +370,11 @@ pub fn render_tiled_layout<C: Comm>(
     let mut sent_to = vec![usize::MAX; n];
     for (i, t) in tris[block(tris.len(), rank, n)].iter().enumerate() {
         let b = triangle_box(p, t);
-        for (r, o) in layout.tiles.iter().zip(&layout.owner) {
-            if sent_to[*o] != i && meets(&b, r) {
-                sent_to[*o] = i;
-                write_triangle(t, &mut out[*o]);
+        for k in layout.meeting(&b) {
+            let o = layout.owner[k];
+            if sent_to[o] != i {
+                sent_to[o] = i;
+                write_triangle(t, &mut out[o]);
             }
         }
     }

@@ -102,14 +102,61 @@ fn cost_dealt_tiles_balance_the_raster_estimate_better_than_strips() {
     let (tris, p) = (w.triangles(), w.pipeline(W, H));
     let ranks = 4;
     let strips = TileLayout::strips(W, H, ranks);
-    let a = imbalance(&strips.rank_costs(&raster_costs(&p, &tris, &strips.tiles), ranks));
+    let a = imbalance(&strips.rank_costs(&raster_costs(&p, &tris, &strips), ranks));
     let tiling = Tiling {
         per_rank: 8,
         assign: Assign::Cost,
     };
     let l = TileLayout::unassigned(W, H, ranks, tiling);
-    let costs = raster_costs(&p, &tris, &l.tiles);
+    let costs = raster_costs(&p, &tris, &l);
     let l = TileLayout::assigned(W, H, ranks, tiling, &costs);
     let b = imbalance(&l.rank_costs(&costs, ranks));
     assert!(b < a && b < 1.15, "tiles {b} vs strips {a}");
+}
+
+#[test]
+fn tiles_meeting_a_box_are_the_tiles_the_box_meets() {
+    use sort_first::{meets, Assign, TileLayout, Tiling};
+    let layouts = [
+        TileLayout::strips(W, H, 5),
+        TileLayout::strips(W, 3, 5), // more ranks than rows: empty strips
+        TileLayout::unassigned(
+            W,
+            H,
+            3,
+            Tiling {
+                per_rank: 4,
+                assign: Assign::Cost,
+            },
+        ),
+        TileLayout::unassigned(
+            W,
+            H,
+            7,
+            Tiling {
+                per_rank: 9,
+                assign: Assign::Interleaved,
+            },
+        ),
+    ];
+    let mut x = 12345u64;
+    let mut next = |lo: f32, hi: f32| {
+        x = x
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        lo + (hi - lo) * ((x >> 40) as f32 / (1u64 << 24) as f32)
+    };
+    for l in &layouts {
+        let all: Vec<usize> = l.meeting(&None).collect();
+        assert_eq!(all, (0..l.tiles.len()).collect::<Vec<_>>());
+        for _ in 0..500 {
+            let (x0, y0) = (next(-20.0, 80.0), next(-20.0, 60.0));
+            let b = Some([x0, y0, x0 + next(0.0, 30.0), y0 + next(0.0, 30.0)]);
+            let fast: Vec<usize> = l.meeting(&b).collect();
+            let slow: Vec<usize> = (0..l.tiles.len())
+                .filter(|&k| meets(&b, &l.tiles[k]))
+                .collect();
+            assert_eq!(fast, slow, "{b:?}");
+        }
+    }
 }

@@ -398,9 +398,9 @@ fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
             let (img, layout) = job::run_tiled(c, job.mode, p, tris, job.strategy, job.tiling)?;
             let balance = match (&img, layout) {
                 (Some(_), Some(layout)) => {
-                    let costs = sort_first::raster_costs(p, tris, &layout.tiles);
+                    let costs = sort_first::raster_costs(p, tris, &layout);
                     let strips = TileLayout::strips(p.width, p.height, n);
-                    let strip_costs = sort_first::raster_costs(p, tris, &strips.tiles);
+                    let strip_costs = sort_first::raster_costs(p, tris, &strips);
                     Some(balance_json(
                         job.tiling,
                         &layout,
