@@ -492,6 +492,8 @@ fn balance_json(
         "estimated_imbalance": imbalance(&per_rank),
         "strips_estimated_cost_per_rank": strip_per_rank,
         "strips_estimated_imbalance": imbalance(&strip_per_rank),
+        "tile_rects": layout.tiles.iter().map(|t| [t.x0, t.y0, t.x1, t.y1]).collect::<Vec<_>>(),
+        "tile_owner": layout.owner,
     });
     if let Some(r) = rays {
         v["rays_per_rank"] = serde_json::json!(r);
