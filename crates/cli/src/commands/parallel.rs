@@ -136,11 +136,6 @@ enum Input {
 /// The workload named by `--workload`.
 fn load_input(a: &ParallelArgs) -> Result<Input, CliError> {
     if let Some(w) = Workload::by_name(&a.workload, a.triangles) {
-        if a.spp.is_some() {
-            return Err(input(
-                "--spp belongs to the ray tracer and scene workloads".into(),
-            ));
-        }
         let (width, height) = (a.width.unwrap_or(640), a.height.unwrap_or(480));
         check_size(width, height)?;
         return Ok(Input::Triangles {
@@ -234,6 +229,11 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
     if a.renderer == Renderer::Raytrace && mode == Mode::SortMiddle {
         return Err(input(
             "--renderer raytrace --mode sort-middle: sort-middle has no meaning for the ray tracer, which has no geometry stage whose screen-space output could be sorted to rasterizers; use sort-first (image-parallel) or sort-last (object-parallel)".into(),
+        ));
+    }
+    if a.spp.is_some() && !(a.renderer == Renderer::Raytrace && mode == Mode::SortFirst) {
+        return Err(input(
+            "--spp belongs to sort-first ray tracing (sort-last ray casting sends one ray through each pixel centre; the rasterizer takes no samples)".into(),
         ));
     }
     let input_ = load_input(&a)?;
