@@ -28,6 +28,7 @@ use glam::Vec3;
 use irradia_core::{Ray, Rgb};
 use irradia_geometry::SceneHit;
 use irradia_render::film::camera_sample;
+use irradia_render::{AovSample, Integrator, Stats, Whitted};
 use irradia_scene::{spot_falloff, Light, Scene};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -90,19 +91,79 @@ pub fn serial(scene: &Scene) -> Layer<[f32; 4]> {
     l
 }
 
-/// Renders object-parallel and composites with `strategy`; the image arrives at `root`.
+/// How each rank shades the hits on its own objects.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shading {
+    /// Local shading, no shadows or secondary rays: the composite equals [`serial`].
+    Local,
+    /// The full Whitted tracer, but over the rank's own objects only: shadow, reflected
+    /// and refracted rays miss every object of the other ranks. Shown to make the
+    /// lecture's point: the composite differs from the serial Whitted image as soon as
+    /// there are two ranks (equal on one rank, with one ray per pixel centre).
+    WhittedOwnObjects,
+}
+
+/// The Whitted tracer through every pixel centre of `scene`: colour and distance to the
+/// first hit (one ray per pixel; misses are clear at depth [`FAR`]).
+pub fn whitted_layer(scene: &Scene) -> Layer<[f32; 4]> {
+    let (w, h) = (scene.settings.width, scene.settings.height);
+    let cam = scene.camera.rays(w, h);
+    let tracer = Whitted::new(scene);
+    let rows: Vec<Vec<([f32; 4], f32)>> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let mut stats = Stats::default();
+            (0..w)
+                .map(|x| {
+                    let (ray, mut rng) = camera_sample(&cam, x, y, 0, 1);
+                    let mut aov = AovSample::default();
+                    let c = tracer.sample(&ray, &mut rng, &mut stats, &mut aov);
+                    if aov.depth.is_finite() {
+                        ([c.r, c.g, c.b, 1.0], aov.depth)
+                    } else {
+                        ([0.0; 4], FAR)
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let mut l = Layer::new(w, h);
+    for (i, (c, d)) in rows.into_iter().flatten().enumerate() {
+        l.color[i] = c;
+        l.depth[i] = d;
+    }
+    l
+}
+
+/// Renders object-parallel with local shading and composites with `strategy`; the
+/// image arrives at `root`.
 pub fn render<C: Comm>(
     comm: &C,
     scene: &Scene,
     strategy: Strategy,
     root: usize,
 ) -> Result<Option<Layer<[f32; 4]>>, CommError> {
+    render_shaded(comm, scene, strategy, root, Shading::Local)
+}
+
+/// [`render`] with a choice of [`Shading`].
+pub fn render_shaded<C: Comm>(
+    comm: &C,
+    scene: &Scene,
+    strategy: Strategy,
+    root: usize,
+    shading: Shading,
+) -> Result<Option<Layer<[f32; 4]>>, CommError> {
     comm.log().begin_stage("render");
     let objects = block(scene.objects.len(), comm.rank(), comm.size());
     let layer = if objects.is_empty() {
         Layer::new(scene.settings.width, scene.settings.height)
     } else {
-        cast_layer(&sub_scene(scene, objects))
+        let mine = sub_scene(scene, objects);
+        match shading {
+            Shading::Local => cast_layer(&mine),
+            Shading::WhittedOwnObjects => whitted_layer(&mine),
+        }
     };
     let opts = CompositeOptions {
         op: Operator::Depth,

@@ -147,3 +147,30 @@ fn object_parallel_casting_has_no_shadows_or_mirrors() {
         .count();
     assert!(differ > 64 * 48 / 20, "only {differ} pixels differ");
 }
+
+#[test]
+fn whitted_on_own_objects_only_misses_the_other_ranks_objects() {
+    use irradia_parallel::raytrace_last::{render_shaded, whitted_layer, Shading};
+    let s = scene("whitted");
+    let serial = whitted_layer(&s);
+    let differing = |ranks: usize| {
+        let out = run_local(ranks, LocalOptions::default(), |c| {
+            render_shaded(c, &s, Strategy::BinarySwap, 0, Shading::WhittedOwnObjects).unwrap()
+        });
+        let img = out.into_iter().next().unwrap().unwrap().unwrap();
+        img.color
+            .iter()
+            .zip(&serial.color)
+            .zip(&serial.depth)
+            .filter(|((a, b), d)| d.is_finite() && a != b)
+            .count()
+    };
+    // One rank owns every object: the serial Whitted image exactly.
+    assert_eq!(differing(1), 0);
+    // With objects on different ranks, reflections, refractions and shadows of the
+    // other ranks' objects are lost.
+    for ranks in [2, 3] {
+        let n = differing(ranks);
+        assert!(n > 64 * 48 / 20, "{ranks} ranks: only {n} pixels differ");
+    }
+}

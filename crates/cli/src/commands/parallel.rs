@@ -60,6 +60,14 @@ pub enum AssignArg {
     Cost,
 }
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ObjectShadingArg {
+    /// Local shading without shadows or secondary rays (equals a serial ray cast).
+    Local,
+    /// Whitted over each rank's own objects only: shows what object-parallel ray tracing loses.
+    WhittedOwnObjects,
+}
+
 #[derive(Args, Debug)]
 #[command(after_long_help = EXAMPLES)]
 pub struct ParallelArgs {
@@ -87,6 +95,9 @@ pub struct ParallelArgs {
     /// Sort-first with tiles: how tiles are dealt out to ranks.
     #[arg(long, value_enum, default_value = "cost")]
     pub tile_assign: AssignArg,
+    /// Sort-last ray tracing: how each rank shades hits on its own objects.
+    #[arg(long, value_enum, default_value = "local")]
+    pub object_shading: ObjectShadingArg,
     /// Image width (default 640 for generators, the scene's own for scenes).
     #[arg(long)]
     pub width: Option<u32>,
@@ -192,6 +203,7 @@ struct Job {
     strategy: Strategy,
     tiling: Tiling,
     renderer: Renderer,
+    object_shading: raytrace_last::Shading,
     input: Input,
 }
 
@@ -234,6 +246,13 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
     if a.spp.is_some() && !(a.renderer == Renderer::Raytrace && mode == Mode::SortFirst) {
         return Err(input(
             "--spp belongs to sort-first ray tracing (sort-last ray casting sends one ray through each pixel centre; the rasterizer takes no samples)".into(),
+        ));
+    }
+    if a.object_shading != ObjectShadingArg::Local
+        && !(a.renderer == Renderer::Raytrace && mode == Mode::SortLast)
+    {
+        return Err(input(
+            "--object-shading belongs to sort-last ray tracing (--mode sort-last --renderer raytrace)".into(),
         ));
     }
     let input_ = load_input(&a)?;
@@ -288,6 +307,10 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
             },
         },
         renderer: a.renderer,
+        object_shading: match a.object_shading {
+            ObjectShadingArg::Local => raytrace_last::Shading::Local,
+            ObjectShadingArg::WhittedOwnObjects => raytrace_last::Shading::WhittedOwnObjects,
+        },
         input: input_,
     };
     let timeout = Duration::from_secs_f64(a.timeout);
@@ -457,7 +480,8 @@ fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
                 (r.image.as_ref().map(raytrace_first::to_image), balance)
             }
             _ => {
-                let img = raytrace_last::render(c, scene, job.strategy, 0)?;
+                let img =
+                    raytrace_last::render_shaded(c, scene, job.strategy, 0, job.object_shading)?;
                 (img.as_ref().map(raytrace_first::to_image), None)
             }
         },
