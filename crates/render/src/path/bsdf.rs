@@ -100,6 +100,10 @@ impl Bsdf {
 
     /// Samples a direction: first a lobe (`u_lobe`), then a direction in it (`u`).
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        if self.count == 1 {
+            // One lobe: its own sample is the mixture's (selection probability 1).
+            return self.lobes[0]?.sample(wo, u);
+        }
         let total = self.total_weight();
         if total <= 0.0 {
             return None;

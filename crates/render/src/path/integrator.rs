@@ -10,9 +10,9 @@ use super::bsdf::Bsdf;
 use super::lights::LightSampler;
 use super::material_map::bsdf_for;
 use super::tracer::{AccelTracer, Tracer};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use irradia_core::{offset_ray_origin, Frame, Ray, Rgb, Rng};
-use irradia_scene::Scene;
+use irradia_scene::{Scene, Texture};
 
 /// Parameters of the estimator.
 #[derive(Clone, Copy, Debug)]
@@ -59,6 +59,37 @@ impl PathCounters {
     }
 }
 
+/// Everything a path sample reads, prepared once per render: the scene, the ray
+/// queries, the lights and the BSDF of every material whose colour is the same
+/// everywhere (so it is not rebuilt at every hit).
+pub struct PathScene<'a, T: Tracer> {
+    pub scene: &'a Scene,
+    pub tracer: T,
+    pub lights: &'a LightSampler,
+    /// Per material: its BSDF when it does not vary over surfaces (solid colour);
+    /// `None`, or an empty table, means it is built at each hit.
+    pub bsdfs: Vec<Option<Bsdf>>,
+}
+
+impl<'a, T: Tracer> PathScene<'a, T> {
+    /// Prepares `scene` for sampling with the ray queries of `tracer`.
+    pub fn new(scene: &'a Scene, tracer: T, lights: &'a LightSampler) -> Self {
+        let bsdfs = scene
+            .materials
+            .iter()
+            .map(|m| {
+                matches!(m.color, Texture::Solid(_)).then(|| bsdf_for(m, Vec3::ZERO, Vec2::ZERO))
+            })
+            .collect();
+        Self {
+            scene,
+            tracer,
+            lights,
+            bsdfs,
+        }
+    }
+}
+
 /// One sample of the radiance arriving along `ray` (a camera ray), traced through the
 /// scene's generic acceleration structure.
 pub fn radiance(
@@ -69,28 +100,25 @@ pub fn radiance(
     rng: &mut Rng,
     counters: &mut PathCounters,
 ) -> Rgb {
-    radiance_with(
-        &AccelTracer { scene },
+    let ps = PathScene {
         scene,
+        tracer: AccelTracer { scene },
         lights,
-        params,
-        ray,
-        rng,
-        counters,
-    )
+        bsdfs: Vec::new(),
+    };
+    radiance_in(&ps, params, ray, rng, counters)
 }
 
-/// One sample of the radiance arriving along `ray`, with ray queries answered by
-/// `tracer` (the [`FlatScene`](super::flat_scene::FlatScene) in renders).
-pub fn radiance_with<T: Tracer>(
-    tracer: &T,
-    scene: &Scene,
-    lights: &LightSampler,
+/// One sample of the radiance arriving along `ray`, in a prepared scene (with the
+/// [`FlatScene`](super::flat_scene::FlatScene) as its tracer in renders).
+pub fn radiance_in<T: Tracer>(
+    ps: &PathScene<'_, T>,
     params: &PathParams,
     mut ray: Ray,
     rng: &mut Rng,
     counters: &mut PathCounters,
 ) -> Rgb {
+    let (scene, tracer, lights) = (ps.scene, &ps.tracer, ps.lights);
     counters.paths += 1;
     let mut l = Rgb::BLACK;
     let mut beta = Rgb::WHITE;
@@ -124,7 +152,10 @@ pub fn radiance_with<T: Tracer>(
         if depth == params.max_depth {
             break;
         }
-        let bsdf: Bsdf = bsdf_for(material, hit.point, hit.uv);
+        let bsdf: Bsdf = match ps.bsdfs.get(sh.material as usize) {
+            Some(Some(b)) => *b,
+            _ => bsdf_for(material, hit.point, hit.uv),
+        };
         if bsdf.is_empty() {
             break;
         }

@@ -63,6 +63,8 @@ enum Emitter {
         area: f32,
         two_sided: bool,
         surface: SurfaceSampler,
+        /// The facets in world space (for facet-sampled shapes).
+        world: Option<WorldFacets>,
     },
     Environment {
         radiance: Rgb,
@@ -80,6 +82,69 @@ enum SurfaceSampler {
         triangles: Vec<[Vec3; 3]>,
         cdf: Vec<f32>,
     },
+}
+
+/// The facets of an emissive instance carried to world space once, at setup, so a
+/// light sample costs one table lookup and one barycentric combination (no transform,
+/// Jacobian or normalisation per sample; Pharr, Jakob, Humphreys, PBRT 4th ed., 12.5:
+/// precompute what sampling needs). The distribution is the one [`SurfaceSampler`]
+/// samples (uniform by object-space area; an affine map keeps points uniform inside
+/// each triangle), so the estimator is unchanged.
+#[derive(Clone, Debug)]
+struct WorldFacets {
+    /// World-space corners of each triangle.
+    triangles: Vec<[Vec3; 3]>,
+    /// Unit world-space normal of each triangle.
+    normals: Vec<Vec3>,
+    /// Density by world area of each triangle's points (`1 / (area · Jacobian)`).
+    pdf_area: Vec<f32>,
+    /// Cumulative object-space area, as in [`SurfaceSampler::Facets`].
+    cdf: Vec<f32>,
+}
+
+impl WorldFacets {
+    fn new(inst: &Instance, triangles: &[[Vec3; 3]], cdf: &[f32], area: f32) -> Self {
+        let m = inst.to_world();
+        let normal_to_world = inst.to_object().matrix3.transpose();
+        let mut out = WorldFacets {
+            triangles: Vec::with_capacity(triangles.len()),
+            normals: Vec::with_capacity(triangles.len()),
+            pdf_area: Vec::with_capacity(triangles.len()),
+            cdf: cdf.to_vec(),
+        };
+        for &[a, p, q] in triangles {
+            let n_obj = (p - a).cross(q - a).normalize();
+            out.triangles.push([a, p, q].map(|v| m.transform_point3(v)));
+            out.normals
+                .push(Vec3::from(normal_to_world * glam::Vec3A::from(n_obj)).normalize());
+            out.pdf_area.push(1.0 / (area * area_jacobian(inst, n_obj)));
+        }
+        out
+    }
+
+    /// A world point, its unit normal and its density by area.
+    #[inline]
+    fn sample(&self, u: Vec2) -> Option<(Vec3, Vec3, f32)> {
+        let total = *self.cdf.last()?;
+        let x = u.x * total;
+        // The same index as a binary search of the sorted table; counting avoids a
+        // branch that mispredicts half of the time for a quad's two triangles.
+        let i = if self.cdf.len() <= 16 {
+            self.cdf.iter().map(|&c| (c <= x) as usize).sum::<usize>()
+        } else {
+            self.cdf.partition_point(|&c| c <= x)
+        }
+        .min(self.triangles.len() - 1);
+        let lo = if i == 0 { 0.0 } else { self.cdf[i - 1] };
+        let ux = ((x - lo) / (self.cdf[i] - lo)).clamp(0.0, 1.0 - f32::EPSILON);
+        let b = sampling::uniform_triangle(Vec2::new(ux, u.y));
+        let [a, p, q] = self.triangles[i];
+        Some((
+            a * (1.0 - b.x - b.y) + p * b.x + q * b.y,
+            self.normals[i],
+            self.pdf_area[i],
+        ))
+    }
 }
 
 impl SurfaceSampler {
@@ -234,12 +299,19 @@ impl LightSampler {
             }
             if let Some((surface, area)) = SurfaceSampler::for_shape(inst.shape.as_ref()) {
                 by_instance[i] = Some(emitters.len() as u32);
+                let world = match &surface {
+                    SurfaceSampler::Facets { triangles, cdf } => {
+                        Some(WorldFacets::new(inst, triangles, cdf, area))
+                    }
+                    SurfaceSampler::Exact => None,
+                };
                 emitters.push(Emitter::Object {
                     instance: i as u32,
                     radiance: e,
                     area,
                     two_sided: material.emission_two_sided,
                     surface,
+                    world,
                 });
             }
         }
@@ -416,11 +488,21 @@ impl LightSampler {
                 )
             }
             Emitter::Object {
+                radiance,
+                two_sided,
+                world: Some(ref world),
+                ..
+            } => {
+                let (q, n, pdf_area) = world.sample(u)?;
+                on_surface(q, n, radiance, pdf_area, two_sided)
+            }
+            Emitter::Object {
                 instance,
                 radiance,
                 area,
                 two_sided,
                 ref surface,
+                world: None,
             } => {
                 let inst = &scene.accel.instances()[instance as usize];
                 let (qo, no) = surface.sample(inst.shape.as_ref(), u)?;

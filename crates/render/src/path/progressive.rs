@@ -8,7 +8,7 @@
 
 use super::film::{luminance, Film};
 use super::flat_scene::FlatScene;
-use super::integrator::{radiance_with, PathCounters, PathParams};
+use super::integrator::{radiance_in, PathCounters, PathParams, PathScene};
 use super::lights::LightSampler;
 use irradia_core::Rng;
 use irradia_scene::Scene;
@@ -97,7 +97,7 @@ pub fn render(
 ) -> std::io::Result<PathRender> {
     let start = Instant::now();
     let lights = LightSampler::new(scene);
-    let flat = FlatScene::new(scene);
+    let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
     let cam = scene.camera.rays(film.width(), film.height());
     let fp = fingerprint(scene, params);
     let mut counters = PathCounters::default();
@@ -136,7 +136,7 @@ pub fn render(
                         );
                         let j = rng.next_2d();
                         let ray = cam.ray(x as f32 + j.x, y as f32 + j.y);
-                        let l = radiance_with(&flat, scene, &lights, params, ray, &mut rng, &mut c);
+                        let l = radiance_in(&ps, params, ray, &mut rng, &mut c);
                         let v = if l.is_finite() {
                             [l.r as f64, l.g as f64, l.b as f64]
                         } else {

@@ -401,11 +401,16 @@ mod tests {
         let mut rng = irradia_core::Rng::new(7, 1);
         let mut v = || Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.0 - 1.0;
         let tris: Vec<[Vec3; 3]> = (0..8).map(|_| [v(), v(), v()]).collect();
+        let mut rng = irradia_core::Rng::new(8, 1);
         let p = TrianglePacket::new(&tris);
         let (mut a, mut b) = ([[0f32; LANES]; 4], [[0f32; LANES]; 4]);
         let mut hits = 0;
-        for _ in 0..2000 {
-            let (o, d) = (v() * 3.0, v());
+        for i in 0..2000 {
+            // Aim at a point in (or, barycentrics past 1, just beside) a triangle.
+            let [p0, p1, p2] = tris[i % 8];
+            let (b1, b2) = (rng.next_f32() * 0.7, rng.next_f32() * 0.7);
+            let o = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 6.0 - 3.0;
+            let d = p0 + (p1 - p0) * b1 + (p2 - p0) * b2 - o;
             let m_scalar = p.test_scalar(o, d, 10.0, &mut a);
             let m = p.test(o, d, 10.0, &mut b);
             assert_eq!(m, m_scalar);
@@ -425,6 +430,6 @@ mod tests {
             }
             hits += m_scalar.count_ones();
         }
-        assert!(hits > 100, "too few hits ({hits}) to test anything");
+        assert!(hits > 1000, "too few hits ({hits}) to test anything");
     }
 }
