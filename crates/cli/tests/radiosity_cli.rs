@@ -1,0 +1,90 @@
+//! `irradia radiosity --display gouraud|two-pass` end to end: the two-pass image of the
+//! built-in specular Cornell box, and bad --pixel-samples values (exit 2).
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn irradia(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_irradia"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the irradia binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+const SMALL: [&str; 11] = [
+    "radiosity",
+    "--elements",
+    "150",
+    "--hemicube-resolution",
+    "16",
+    "--width",
+    "40",
+    "--height",
+    "30",
+    "--builtin",
+    "cornell-specular",
+];
+
+#[test]
+fn two_pass_and_gouraud_images_of_the_specular_cornell_box() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = SMALL.to_vec();
+    args.extend([
+        "--display",
+        "two-pass",
+        "--pixel-samples",
+        "1",
+        "-o",
+        "t.png",
+    ]);
+    let o = irradia(&args, dir.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("two-pass image"), "{}", stderr(&o));
+    let traced = irradia_core::io::load(&dir.path().join("t.png")).unwrap();
+    assert_eq!((traced.width(), traced.height()), (40, 30));
+    let mut args = SMALL.to_vec();
+    args.extend(["-o", "g.png"]);
+    let o = irradia(&args, dir.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("black stand-ins"), "{}", stderr(&o));
+    let gouraud = irradia_core::io::load(&dir.path().join("g.png")).unwrap();
+    // The mirror sphere (lower left of the image) is a black stand-in in the Gouraud
+    // image and reflects the lit box in the two-pass image.
+    let region = |im: &irradia_core::Image| -> f32 {
+        let mut s = 0.0;
+        for y in 19..24 {
+            for x in 13..19 {
+                let p = im.get(x, y);
+                s += p.r + p.g + p.b;
+            }
+        }
+        s
+    };
+    assert!(region(&gouraud) < 0.02, "{}", region(&gouraud));
+    assert!(region(&traced) > 1.0, "{}", region(&traced));
+}
+
+#[test]
+fn bad_pixel_samples_is_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    for n in ["0", "65"] {
+        let o = irradia(
+            &[
+                "radiosity",
+                "--display",
+                "two-pass",
+                "--pixel-samples",
+                n,
+                "-q",
+            ],
+            dir.path(),
+        );
+        assert_eq!(o.status.code(), Some(2), "{n}: {}", stderr(&o));
+        assert!(stderr(&o).contains("--pixel-samples"), "{}", stderr(&o));
+    }
+}
