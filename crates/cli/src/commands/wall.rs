@@ -1,19 +1,22 @@
-//! `irradia wall --config FILE [SCENE] -o DIR`: one rank per display renders its part of
-//! the wall, blended and colour-corrected; writes `display-R-C.png` for each display,
+//! `irradia wall --config FILE [SCENE] -o DIR [--comm local|mpi]`: one rank per display
+//! renders its part of the wall, blended and colour-corrected, waits at the frame
+//! barrier and writes `display-R-C.png`; rank 0 gathers the frames and writes
 //! `photo.png` (the simulated photograph) and `photo-uncorrected.png` (the same wall
-//! driven naively, for comparison).
+//! driven naively, for comparison). Ranks are threads (`--comm local`) or MPI processes
+//! (`mpirun -np DISPLAYS irradia wall --comm mpi ...`); both write the same files.
 
+use super::parallel::CommKind;
 use crate::error::CliError;
 use clap::Args;
-use irradia_core::{Image, Rgb};
 use irradia_parallel::comm::{run_local, LocalOptions};
-use irradia_parallel::wall::{self, WallConfig, WallSource};
+use irradia_parallel::wall::{job, WallConfig, WallSource};
 use irradia_parallel::workload::Workload;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 #[derive(Args, Debug)]
 pub struct WallArgs {
-    /// The wall file (TOML; see docs/parallel.md).
+    /// The wall file (TOML; see docs/parallel.md): grid, display size, overlap or bezel, per-projector response.
     #[arg(long)]
     pub config: PathBuf,
     /// What to show: teapot, random-triangles, marching-cubes, or grey (a uniform 50% grey calibration frame).
@@ -22,33 +25,17 @@ pub struct WallArgs {
     /// Triangles for the workload.
     #[arg(long, default_value_t = 20_000)]
     pub triangles: usize,
-    /// Output folder.
+    /// Output folder (created if missing): display-R-C.png per display, photo.png, photo-uncorrected.png.
     #[arg(short, long)]
     pub output: PathBuf,
-}
-
-fn save(
-    path: &std::path::Path,
-    w: u32,
-    h: u32,
-    px: &[glam::Vec3],
-    encoded: bool,
-) -> Result<(), CliError> {
-    // Drive values are already gamma-encoded for their projector: store them as they are.
-    let pixels = px
-        .iter()
-        .map(|v| {
-            let v = v.clamp(glam::Vec3::ZERO, glam::Vec3::ONE);
-            if encoded {
-                let l = v.powf(2.2); // undo the sRGB-like encoding `save` applies
-                Rgb::new(l.x, l.y, l.z)
-            } else {
-                Rgb::new(v.x, v.y, v.z)
-            }
-        })
-        .collect();
-    irradia_core::io::save(&Image::from_pixels(w, h, pixels), path)
-        .map_err(|e| CliError::Failure(e.to_string()))
+    /// Ranks as threads of this process (`local`), or MPI processes (`mpi`): run as
+    /// `mpirun -np D irradia wall --comm mpi ...` with D = columns x rows of the wall file
+    /// (one rank per display; another count exits with code 2). Needs a build with `--features mpi`.
+    #[arg(long, value_enum, default_value = "local")]
+    pub comm: CommKind,
+    /// Seconds a rank waits for another before ending the job with an error naming it.
+    #[arg(long, default_value_t = 30.0)]
+    pub timeout: f64,
 }
 
 pub fn run(a: WallArgs) -> Result<(), CliError> {
@@ -63,44 +50,93 @@ pub fn run(a: WallArgs) -> Result<(), CliError> {
             ))
         })?)
     };
+    if !(a.timeout.is_finite() && a.timeout > 0.0) {
+        return Err(CliError::Input(format!(
+            "--timeout {}: expected a positive number of seconds",
+            a.timeout
+        )));
+    }
+    let timeout = Duration::from_secs_f64(a.timeout);
     std::fs::create_dir_all(&a.output)
         .map_err(|e| CliError::Failure(format!("{}: {e}", a.output.display())))?;
-    let (ww, wh) = c.wall_size();
-    for corrected in [true, false] {
-        let out = run_local(c.displays(), LocalOptions::default(), |comm| {
-            wall::frame(comm, &c, &src, corrected)
-        });
-        let f = out
-            .into_iter()
-            .next()
-            .expect("rank 0")
-            .and_then(|x| x)
-            .map_err(|e| CliError::Failure(e.to_string()))?
-            .expect("rank 0 gets the frame");
-        if corrected {
-            for (i, fr) in f.frames.iter().enumerate() {
-                let p = a.output.join(format!(
-                    "display-{}-{}.png",
-                    i as u32 / c.columns,
-                    i as u32 % c.columns
-                ));
-                save(&p, c.width, c.height, fr, true)?;
+    let wrote_all = match a.comm {
+        CommKind::Local => {
+            let out = run_local(
+                c.displays(),
+                LocalOptions {
+                    timeout,
+                    delay: None,
+                },
+                |comm| job::run(comm, &c, &src, &a.output),
+            );
+            for (r, res) in out.into_iter().enumerate() {
+                match res {
+                    Ok(Ok(_)) => {}
+                    Ok(Err(e)) => return Err(CliError::Failure(e.to_string())),
+                    Err(e) => return Err(CliError::Failure(format!("rank {r}: {e}"))),
+                }
             }
-            save(&a.output.join("photo.png"), ww, wh, &f.photo, false)?;
-        } else {
-            save(
-                &a.output.join("photo-uncorrected.png"),
-                ww,
-                wh,
-                &f.photo,
-                false,
-            )?;
+            true
         }
+        CommKind::Mpi => mpi_run(&c, &src, &a.config, &a.output, timeout)?,
+    };
+    if wrote_all {
+        eprintln!(
+            "wrote {} display images, photo.png and photo-uncorrected.png to {}",
+            c.displays(),
+            a.output.display()
+        );
     }
-    eprintln!(
-        "wrote {} display images and photo.png to {}",
-        c.displays(),
-        a.output.display()
-    );
     Ok(())
+}
+
+/// The wall under `mpirun`: true on rank 0 (which reports), false elsewhere.
+#[cfg(feature = "mpi")]
+fn mpi_run(
+    c: &WallConfig,
+    src: &WallSource,
+    config: &Path,
+    dir: &Path,
+    timeout: Duration,
+) -> Result<bool, CliError> {
+    use irradia_parallel::comm::{Comm, CommError, MpiComm};
+    let comm = MpiComm::init(timeout)
+        .ok_or_else(|| CliError::Failure("MPI was already initialised".into()))?;
+    if comm.size() != c.displays() {
+        let msg = format!(
+            "{}: the wall has {} displays ({} x {}) and needs one MPI rank per display: \
+             start it with `mpirun -np {} irradia wall --comm mpi ...` (this job has {} ranks)",
+            config.display(),
+            c.displays(),
+            c.columns,
+            c.rows,
+            c.displays(),
+            comm.size()
+        );
+        // Every rank sees the same count and exits 2; only rank 0 says why.
+        if comm.rank() != 0 {
+            drop(comm);
+            std::process::exit(2);
+        }
+        return Err(CliError::Input(msg));
+    }
+    match job::run(&comm, c, src, dir) {
+        Ok(_) => Ok(comm.rank() == 0),
+        Err(job::WallError::Comm(e)) => comm.fail(&e),
+        // A rank that cannot write its image ends the job on every rank, naming itself.
+        Err(e) => comm.fail(&CommError::Aborted(e.to_string())),
+    }
+}
+
+#[cfg(not(feature = "mpi"))]
+fn mpi_run(
+    _: &WallConfig,
+    _: &WallSource,
+    _: &Path,
+    _: &Path,
+    _: Duration,
+) -> Result<bool, CliError> {
+    Err(CliError::Input(
+        "--comm mpi: this irradia was built without MPI; rebuild with `cargo build --release -p irradia --features mpi`".into(),
+    ))
 }
