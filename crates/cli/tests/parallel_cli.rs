@@ -128,7 +128,7 @@ fn bad_parallel_input_exits_with_code_2() {
         "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n\n[[objects]]\ntype = \"generator\"\ngenerator = \"sponge\"\n",
     )
     .unwrap();
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 7] = [
         (
             &[
                 "--mode",
@@ -149,6 +149,28 @@ fn bad_parallel_input_exits_with_code_2() {
         (
             &["--mode", "sort-last", "--tiles-per-rank", "4"],
             "belongs to sort-first",
+        ),
+        (
+            &[
+                "--object-shading",
+                "whitted-own-objects",
+                "--workload",
+                "builtin:whitted",
+            ],
+            "belongs to sort-last ray tracing",
+        ),
+        (
+            &[
+                "--mode",
+                "sort-last",
+                "--renderer",
+                "raytrace",
+                "--workload",
+                "builtin:whitted",
+                "--spp",
+                "4",
+            ],
+            "--spp belongs to sort-first",
         ),
     ];
     for (args, needle) in cases {
