@@ -220,7 +220,7 @@ fn mixed_layer(rank: usize) -> Layer<[u8; 4]> {
     let n = l.len();
     for i in 0..n {
         let v = (i as u64 ^ ((rank as u64) << 32)).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 40;
-        if i < n / 2 || (i + rank) % 7 == 0 {
+        if i < n / 2 || (i + rank).is_multiple_of(7) {
             l.color[i] = [(v & 255) as u8, (v >> 8) as u8, rank as u8, 255];
             l.depth[i] = ((v >> 16) % 16) as f32 * 0.25;
         }

@@ -153,6 +153,10 @@ pub(crate) fn check_piece_len(
     }
 }
 
+/// What [`Comm::exchange_pieces`] calls as each received piece is complete: the piece's
+/// index and the pieces received so far (`0..=index`).
+pub type PieceArrived<'a> = dyn FnMut(usize, &[&[u8]]) -> Result<(), CommError> + 'a;
+
 /// Tags below this are free for algorithms; the ones above are used by the defaults here.
 pub const TAG_BARRIER: u32 = 0x7fff_0000;
 pub const TAG_ALL_TO_ALL: u32 = 0x7fff_0001;
@@ -210,7 +214,7 @@ pub trait Comm {
         tag: u32,
         sends: &[&[u8]],
         recvs: &mut [&mut [u8]],
-        arrived: &mut dyn FnMut(usize, &[&[u8]]) -> Result<(), CommError>,
+        arrived: &mut PieceArrived<'_>,
     ) -> Result<(), CommError> {
         let out: Vec<(usize, &[u8])> = sends.iter().map(|s| (partner, *s)).collect();
         let from = vec![partner; recvs.len()];

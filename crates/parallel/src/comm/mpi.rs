@@ -7,7 +7,7 @@
 //! rank that dies outright (signal, exit without finalize) is noticed by `mpirun`
 //! itself, which then kills the remaining ranks and names the dead one.
 
-use super::{check_piece_len, Comm, CommError, MessageLog};
+use super::{check_piece_len, Comm, CommError, MessageLog, PieceArrived};
 use mpi::datatype::Equivalence;
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::{Communicator, SimpleCommunicator};
@@ -181,7 +181,7 @@ impl Comm for MpiComm {
         tag: u32,
         sends: &[&[u8]],
         recvs: &mut [&mut [u8]],
-        arrived: &mut dyn FnMut(usize, &[&[u8]]) -> Result<(), CommError>,
+        arrived: &mut PieceArrived<'_>,
     ) -> Result<(), CommError> {
         self.check(partner)?;
         let me = self.rank();
@@ -214,7 +214,7 @@ impl Comm for MpiComm {
                 })
                 .collect();
             let mut done: Vec<&[u8]> = Vec::with_capacity(wants.len());
-            for i in 0..wants.len() {
+            for (i, &want) in wants.iter().enumerate() {
                 let mut r = receives.pop_front().expect("a receive is posted");
                 let mut spins = 0u32;
                 let (status, data) = loop {
@@ -231,7 +231,7 @@ impl Comm for MpiComm {
                     }
                 };
                 let got = status.count(u8::equivalent_datatype()) as usize;
-                if let Err(e) = check_piece_len(partner, i, got, wants[i]) {
+                if let Err(e) = check_piece_len(partner, i, got, want) {
                     self.fail(&e);
                 }
                 self.log.record(partner, me, got, false);

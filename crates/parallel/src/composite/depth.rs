@@ -177,7 +177,13 @@ mod tests {
         // leave remainders after the 16-pixel blocks; RGBA8 (u32 lanes) and RGBA32F.
         let n = 1000;
         let h = |i: usize| ((i as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 59) as f32;
-        let depth = |i: usize| if i % 11 == 0 { FAR } else { h(i) * 0.5 };
+        let depth = |i: usize| {
+            if i.is_multiple_of(11) {
+                FAR
+            } else {
+                h(i) * 0.5
+            }
+        };
         for len in [0, 1, 15, 16, 17, 999] {
             for front in [false, true] {
                 let ld0: Vec<f32> = (0..n).map(depth).collect();

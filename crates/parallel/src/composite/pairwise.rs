@@ -90,7 +90,7 @@ impl Plan {
 
     /// Parses and validates the partner's header: its span must lie inside `keep`.
     fn parse(buf: &[u8], keep: &Range<usize>, pixel_bytes: usize) -> Result<Plan, String> {
-        if buf.len() % 4 != 0 || buf.len() < 16 {
+        if !buf.len().is_multiple_of(4) || buf.len() < 16 {
             return Err(format!("swap header of {} bytes", buf.len()));
         }
         let w: Vec<u32> = bytemuck::pod_collect_to_vec(buf);
@@ -106,7 +106,9 @@ impl Plan {
             DENSE if lens.is_empty() => {}
             RLE if lens.len() == k => {
                 let most = 12 * k + (b - a) * (pixel_bytes + 8);
-                if lens.iter().any(|&l| l % 4 != 0 || l < 12) || lens.iter().sum::<usize>() > most {
+                if lens.iter().any(|&l| !l.is_multiple_of(4) || l < 12)
+                    || lens.iter().sum::<usize>() > most
+                {
                     return Err(format!("run-length piece sizes {lens:?} for span {a}..{b}"));
                 }
             }
@@ -268,7 +270,7 @@ pub fn swap<P: Pixel, C: Comm>(
         let mut arrived = |i: usize, pieces: &[&[u8]]| -> Result<(), CommError> {
             let t0 = Instant::now();
             if theirs.mode == DENSE {
-                if i % 2 == 0 {
+                if i.is_multiple_of(2) {
                     return Ok(()); // colour piece: wait for its depths
                 }
                 let part = &in_parts[i / 2];

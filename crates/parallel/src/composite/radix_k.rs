@@ -17,7 +17,7 @@ pub fn factors(n: usize, k: usize) -> Vec<usize> {
     let mut m = n;
     let mut d = 2;
     while m > 1 {
-        while m % d == 0 {
+        while m.is_multiple_of(d) {
             primes.push(d);
             m /= d;
         }

@@ -56,7 +56,7 @@ pub fn encode_runs_into<P: Pixel>(
 
 /// A received buffer as 4-byte words (copied only if the allocation is misaligned).
 fn words(buf: &[u8]) -> Result<Cow<'_, [u32]>, String> {
-    if buf.len() % 4 != 0 || buf.len() < 12 {
+    if !buf.len().is_multiple_of(4) || buf.len() < 12 {
         return Err(format!(
             "image message of {} bytes is not whole words",
             buf.len()

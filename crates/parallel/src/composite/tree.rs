@@ -20,7 +20,7 @@ pub fn reduce<P: Pixel, C: Comm>(
     let mut round = 0;
     while bit < n {
         let tag = TAG_COMPOSITE + round;
-        if me % (2 * bit) == 0 {
+        if me.is_multiple_of(2 * bit) {
             if me + bit < n {
                 let from = order.rank(me + bit);
                 let buf = comm.recv(from, tag)?;
