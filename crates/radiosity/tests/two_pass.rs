@@ -268,3 +268,55 @@ fn mirrors_and_glass_vanish_in_a_furnace() {
     let seen = tracer.radiance(view.eye, DVec3::new(0.3, 0.3, 0.4) - view.eye, &opts);
     assert!((seen[0] - 0.5 * want).abs() < 1e-5 * want, "{seen:?}");
 }
+
+#[test]
+fn glass_sphere_on_axis_transmits_one_minus_f_over_one_plus_f() {
+    // A ray through the centre of a clear glass sphere meets both surfaces at normal
+    // incidence (F = ((n−1)/(n+1))² = 0.04 for n = 1.5) and is never bent: the light
+    // leaving forward after any number of inner reflections is (1−F)²Σ F^2k = (1−F)/(1+F)
+    // of the wall ahead, the rest, 2F/(1+F), comes from the wall behind.
+    let objects = [SpecularObject {
+        name: "glass".into(),
+        shape: Arc::new(Sphere::new(Vec3::new(0.5, 0.5, 0.5), 0.2)),
+        material: SpecularMaterial::Glass {
+            ior: 1.5,
+            transmittance: [1.0; 3],
+        },
+    }];
+    let mesh = irradia_radiosity::Mesh::build(
+        &scenes::closed_box(1.0, [0.5; 3], [1.0; 3]),
+        MeshOptions {
+            max_element_area: Some(0.1),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let (ahead, behind, other) = (1.0, 3.0, 2.0);
+    let b: Vec<[f64; 3]> = mesh
+        .elements
+        .iter()
+        .map(|e| {
+            let v = if e.normal.z > 0.9 {
+                ahead
+            } else if e.normal.z < -0.9 {
+                behind
+            } else {
+                other
+            };
+            [v; 3]
+        })
+        .collect();
+    let dm = irradia_radiosity::display::display_mesh(&mesh.elements, &b, mesh.scale());
+    let tracer = TwoPass::new(&dm, |_| true, &objects).unwrap();
+    let opts = TwoPassOptions {
+        samples_per_axis: 1,
+        max_depth: 64,
+        min_weight: 1e-9,
+    };
+    let l = tracer.radiance(DVec3::new(0.5, 0.5, 0.9), -DVec3::Z, &opts);
+    let f: f64 = 0.04;
+    let want =
+        (ahead * (1.0 - f) / (1.0 + f) + behind * 2.0 * f / (1.0 + f)) / std::f64::consts::PI;
+    println!("through the glass sphere: {:.6} (expected {want:.6})", l[0]);
+    assert!((l[0] - want).abs() < 1e-4 * want, "{} vs {want}", l[0]);
+}
