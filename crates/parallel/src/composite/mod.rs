@@ -7,6 +7,9 @@
 //! powers of two) and [`radix_k`]. Pixels travel as active-pixel run lengths ([`rle`]) so
 //! that background costs (almost) nothing. The per-pixel operators are [`depth`] (opaque,
 //! z-test) and [`over`] (ordered transparency, Porter-Duff "over" in a visibility order).
+//! Binary swap's rounds go through [`pairwise`], which sends dense spans in place and in
+//! pieces, chooses run lengths only when they pay ([`active`] finds the runs) and
+//! records where its time goes ([`profile`]).
 //!
 //! Ordering. Strategies work on *positions* 0..p, the ranks sorted in compositing order
 //! (identity for depth; front to back for "over"). Every group a strategy forms holds a
