@@ -22,7 +22,8 @@
 //! uses the same points, so that it still sums to exactly 1 in a closed enclosure (the
 //! contour formula at each point covers the point's whole hemisphere); visibility for
 //! the far elements of such a row is still estimated from the centroid alone, and for
-//! the near ones from every Gauss point.
+//! the near ones from every Gauss point (the pair's visibility rays shared out over the
+//! points).
 
 use super::{FormFactorMethod, FormFactors};
 use crate::error::Result;
@@ -174,6 +175,8 @@ impl FormFactorMethod for Contour {
                 .ceil()
                 .clamp(NEAR_GAUSS_POINTS as f64, MAX_GAUSS_POINTS as f64);
             let pts = ei.poly.gauss_points(points as usize);
+            // Near pairs: the visibility rays are shared out over the Gauss points.
+            let k_point = k.div_ceil(pts.len()).max(usize::from(k > 0));
             for (j, ej) in els.iter().enumerate() {
                 if i == j || !faces(ei.centroid, ej.centroid, ej.normal) && !near(j) {
                     continue;
@@ -195,7 +198,7 @@ impl FormFactorMethod for Contour {
                                     ei.normal,
                                     &ej.poly,
                                     ej.normal,
-                                    k,
+                                    k_point,
                                 )
                             } else {
                                 1.0
