@@ -156,6 +156,9 @@ pub struct Setup<'a> {
     a: [i64; 3],
     b: [i64; 3],
     c: [i64; 3],
+    /// The fill-rule bias subtracted from `c[k]` (0 or 1); added back wherever the edge
+    /// values are used as weights, so the depth plane and the barycentrics are exact.
+    bias: [i64; 3],
     inv_area: f32,
     /// Depth plane z = zc + zx x + zy y at pixel centres (pixel units, f64 so the plane
     /// is exact enough for thin slivers).
@@ -190,6 +193,7 @@ impl<'a> Setup<'a> {
         let mut a = [0; 3];
         let mut b = [0; 3];
         let mut c = [0; 3];
+        let mut bias = [0; 3];
         for k in 0..3 {
             // Edge from p[k+1] to p[k+2], opposite vertex k:
             // E(P) = (bx-ax)(Py-ay) - (by-ay)(Px-ax), positive inside.
@@ -204,6 +208,7 @@ impl<'a> Setup<'a> {
             // on the edge; other edges give them up (E >= 1 instead of E >= 0).
             let top_left = dy < 0 || (dy == 0 && dx > 0);
             if !top_left {
+                bias[k] = 1;
                 c[k] -= 1;
             }
         }
@@ -216,13 +221,14 @@ impl<'a> Setup<'a> {
         for k in 0..3 {
             zx += (a[k] * ONE) as f64 * z[k];
             zy += (b[k] * ONE) as f64 * z[k];
-            zc += (a[k] * HALF + b[k] * HALF + c[k]) as f64 * z[k];
+            zc += (a[k] * HALF + b[k] * HALF + c[k] + bias[k]) as f64 * z[k];
         }
         Some(Self {
             v,
             a,
             b,
             c,
+            bias,
             swapped,
             inv_area: inv as f32,
             zc: zc * inv,
@@ -239,9 +245,9 @@ impl<'a> Setup<'a> {
     #[inline(always)]
     pub fn lambda(&self, e: &[i64; 3]) -> [f32; 3] {
         [
-            e[0] as f32 * self.inv_area,
-            e[1] as f32 * self.inv_area,
-            e[2] as f32 * self.inv_area,
+            (e[0] + self.bias[0]) as f32 * self.inv_area,
+            (e[1] + self.bias[1]) as f32 * self.inv_area,
+            (e[2] + self.bias[2]) as f32 * self.inv_area,
         ]
     }
 
