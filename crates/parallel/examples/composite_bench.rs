@@ -1,5 +1,5 @@
 //! Binary-swap compositing benchmark over MPI (bench/composite/run.sh runs it):
-//! `mpirun -np P composite_bench [--width 1280] [--height 720] [--reps 9] [--pieces 8]`.
+//! `mpirun -np P composite_bench [--width 1280] [--height 720] [--reps 9] [--pieces 4]`.
 //!
 //! Measures, in one run and with the same ranks:
 //! * the transfer bound: for every binary-swap round, a concurrent pairwise exchange of
@@ -12,7 +12,8 @@
 //!   a 10%-active one, with the time of each step (decide, header, encode, wait, blend).
 //!
 //! Every repetition runs the round exchanges, the dense composite and the sparse one back
-//! to back (so that all see the same machine load); the first repetition is a warm-up.
+//! to back, in a rotating order (so that all see the same machine load); the first
+//! repetition is a warm-up.
 //! Times are the slowest rank's, each started after a barrier; medians (and minima) over
 //! the repetitions. Rank 0 prints `RESULT key=value ...` and `PROFILE ...` lines (the
 //! median time of each step on each rank).
@@ -120,7 +121,7 @@ fn main() {
         arg("--width", 1280) as u32,
         arg("--height", 720) as u32,
         arg("--reps", 9),
-        arg("--pieces", 8),
+        arg("--pieces", 4),
     );
     pairwise::set_max_pieces(pieces);
     let (rank, p) = (comm.rank(), comm.size());
@@ -145,37 +146,47 @@ fn main() {
     let mut exchange_times = vec![Vec::new(); rounds.len()];
     let mut times = vec![Vec::new(); cases.len()];
     let mut steps = vec![Vec::new(); cases.len()];
+    // The three measurements take turns being first, so that none of them always runs
+    // right after the longest one (on a loaded machine a rank that has just used its
+    // time slice is the likeliest to be descheduled).
     for rep in 0..reps + 1 {
         let keep = rep > 0; // the first repetition warms up
-        for (r, (send, recv)) in buffers.iter_mut().enumerate() {
-            ok(comm.barrier());
-            let t0 = Instant::now();
-            ok(comm.exchange_pieces(
-                rank ^ (1 << r),
-                0x7000 + r as u32,
-                &[send],
-                &mut [recv],
-                &mut |_, _| Ok(()),
-            ));
-            let t = slowest(&comm, t0.elapsed().as_secs_f64());
-            if keep {
-                exchange_times[r].push(t);
-            }
-        }
-        for (c, base) in bases.iter().enumerate() {
-            let l = base.clone();
-            ok(comm.barrier());
-            profile::take();
-            let t0 = Instant::now();
-            let (out, span) = composite::reduce(&comm, Strategy::BinarySwap, l, &opts)
-                .unwrap_or_else(|e| comm.fail(&e));
-            let t = t0.elapsed().as_secs_f64();
-            let step = profile::take();
-            std::hint::black_box((out, span));
-            let t = slowest(&comm, t);
-            if keep {
-                times[c].push(t);
-                steps[c].push(step);
+        for k in 0..3 {
+            match (rep + k) % 3 {
+                0 => {
+                    for (r, (send, recv)) in buffers.iter_mut().enumerate() {
+                        ok(comm.barrier());
+                        let t0 = Instant::now();
+                        ok(comm.exchange_pieces(
+                            rank ^ (1 << r),
+                            0x7000 + r as u32,
+                            &[send],
+                            &mut [recv],
+                            &mut |_, _| Ok(()),
+                        ));
+                        let t = slowest(&comm, t0.elapsed().as_secs_f64());
+                        if keep {
+                            exchange_times[r].push(t);
+                        }
+                    }
+                }
+                case => {
+                    let c = case - 1;
+                    let l = bases[c].clone();
+                    ok(comm.barrier());
+                    profile::take();
+                    let t0 = Instant::now();
+                    let (out, span) = composite::reduce(&comm, Strategy::BinarySwap, l, &opts)
+                        .unwrap_or_else(|e| comm.fail(&e));
+                    let t = t0.elapsed().as_secs_f64();
+                    let step = profile::take();
+                    std::hint::black_box((out, span));
+                    let t = slowest(&comm, t);
+                    if keep {
+                        times[c].push(t);
+                        steps[c].push(step);
+                    }
+                }
             }
         }
     }

@@ -38,9 +38,9 @@ const PIECE_TAG: u32 = 0x4000;
 /// Largest piece count a header may announce.
 const MAX_HEADER_PIECES: usize = 4096;
 
-static MAX_PIECES: AtomicUsize = AtomicUsize::new(8);
+static MAX_PIECES: AtomicUsize = AtomicUsize::new(4);
 
-/// Sets how many pieces a span is cut into at most (default 8; 1 = no pipelining). The
+/// Sets how many pieces a span is cut into at most (default 4; 1 = no pipelining). The
 /// benchmark sweeps it; both sides of a swap need not agree (the header says).
 pub fn set_max_pieces(n: usize) {
     MAX_PIECES.store(n.max(1), Ordering::Relaxed);
