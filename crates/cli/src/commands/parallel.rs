@@ -40,7 +40,7 @@ Exit codes: 0 done, 1 failure while working, 2 bad input.";
 pub enum CommKind {
     /// Ranks as threads of this process.
     Local,
-    /// MPI processes: run as `mpirun -np N irradia parallel --comm mpi ...` (needs a build with `--features mpi`).
+    /// MPI processes: run under `mpirun -np N irradia ... --comm mpi` (needs a build with `--features mpi`).
     Mpi,
 }
 
