@@ -27,6 +27,7 @@ Examples:
   irradia radiosity --elements 500 --convergence residuals.csv   # also residuals.png
   irradia radiosity scene.toml --max-element-area 0.01 -o scene.png
   irradia radiosity --builtin cornell-specular --display two-pass -o specular.png
+  irradia radiosity docs/examples/two-pass.toml --display two-pass -o two-pass.png
 
 Built-in scenes: cornell (the measured Cornell box with its blocks; the default),
 cornell-empty (without the blocks), furnace (a closed glowing cube, b = 2),
@@ -36,7 +37,10 @@ cornell-specular (the empty box with a mirror sphere and a glass sphere, for
 Displays: gouraud (the default) draws the vertex radiosity with the software
 rasterizer; two-pass traces rays from the eye, reading the same vertex radiosity at
 diffuse hits and following mirrors and glass (in the radiosity pass mirrors are black
-occluders and glass is left out).
+occluders and glass is left out). In a scene file, with --display two-pass, an object
+whose material has no emission and a mirror `reflection` or `transmission` at least
+its diffuse reflectance (color x diffuse) is traced: glass when transmission > 0
+(Fresnel at `ior`, filtered by transmission x filter), else a mirror (docs/radiosity.md).
 Units of the Cornell box are millimetres (--max-element-area 100 is 10 mm x 10 mm).
 Pixel values are radiance b/pi. Exit codes: 0 done, 1 failure, 2 bad input.";
 
@@ -255,8 +259,14 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
             None => {
                 let scene = irradia_scene::builtin::load(name)?;
                 view = view_of(&scene, a.width, a.height)?;
-                let (s, w) =
-                    irradia_radiosity::scene_input::patches_from_scene(&scene, 32).map_err(err)?;
+                let (s, w) = if a.display == DisplayArg::TwoPass {
+                    let (ss, _, w) = two_pass_scene::from_scene(&scene, 32).map_err(err)?;
+                    let patches = ss.patches.clone();
+                    specular = Some(ss);
+                    (patches, w)
+                } else {
+                    irradia_radiosity::scene_input::patches_from_scene(&scene, 32).map_err(err)?
+                };
                 warnings.extend(w);
                 s
             }
@@ -270,8 +280,15 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
             }
             let scene = irradia_scene::load_file(path)?;
             view = view_of(&scene, a.width, a.height)?;
-            let (s, objects, w) =
-                irradia_radiosity::scene_input::patches_with_objects(&scene, 32).map_err(err)?;
+            let (s, objects, w) = if a.display == DisplayArg::TwoPass {
+                // Mirrors and glass (by their materials) are traced in pass two.
+                let (ss, objects, w) = two_pass_scene::from_scene(&scene, 32).map_err(err)?;
+                let patches = ss.patches.clone();
+                specular = Some(ss);
+                (patches, objects, w)
+            } else {
+                irradia_radiosity::scene_input::patches_with_objects(&scene, 32).map_err(err)?
+            };
             if a.closed {
                 irradia_radiosity::scene_input::check_closed(&s, Some((&scene, &objects)))
                     .map_err(err)?;
