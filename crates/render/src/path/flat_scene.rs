@@ -9,9 +9,10 @@
 //! triangle keeps its object, material and geometric normal (the shape's own face
 //! normal by Newell's method, carried by the inverse transpose, so hits see the same
 //! normal the shape would report). The triangles are grouped in eight-triangle SIMD
-//! packets ([`TrianglePacket`]); up to 64 triangles are simply all tested, more are
-//! indexed by the geometry crate's 4-wide SAH hierarchy (Wald, Benthin, Boulos,
-//! "Getting Rid of Packets", RT 2008) with packet leaves.
+//! packets ([`TrianglePacket`]). Up to 64 triangles form at most eight packets,
+//! grouped as the SAH builder's leaves and culled by one 8-wide test of their boxes
+//! ([`PacketBounds`]); more are indexed by the geometry crate's 4-wide SAH hierarchy
+//! (Wald, Benthin, Boulos, "Getting Rid of Packets", RT 2008) with packet leaves.
 //!
 //! Everything else (spheres, quadrics, tori, CSG, implicit surfaces, meshes with
 //! smooth normals, image-textured objects whose `uv` matters) stays in an [`Accel`] of
@@ -22,6 +23,9 @@
 //! polygons' f64 plane test). Surface coordinates `uv` of baked hits are the
 //! triangle's barycentrics, which is why objects with image textures are not baked.
 
+use super::packet_bounds::PacketBounds;
+#[cfg(target_arch = "x86_64")]
+use super::packet_bounds::{any_culled_avx2, nearest_culled_avx2};
 use super::tracer::{PathHit, SubsetAccel, Tracer};
 use super::triangle_packet::{self as packet, PacketHit, TrianglePacket, LANES};
 use glam::{DVec3, Vec2, Vec3};
@@ -116,6 +120,9 @@ struct Baked {
     /// `None` for small scenes (every packet is tested); otherwise its leaves index
     /// `packets`: a leaf of n triangles owns ceil(n / 4) packets.
     bvh: Option<Bvh>,
+    /// For small scenes of at most eight packets: their boxes, to skip the packets a
+    /// ray passes by.
+    bounds: Option<PacketBounds>,
     packets: Vec<TrianglePacket>,
     /// The triangle of each packet lane.
     lanes: Vec<[u32; LANES]>,
@@ -140,24 +147,48 @@ impl Baked {
             let [a, b, c] = t.corners;
             (b - a).cross(c - a) == Vec3::ZERO
         };
+        let boxes: Vec<Aabb> = triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.corners;
+                if degenerate(t) {
+                    Aabb::EMPTY // never hit
+                } else {
+                    Aabb::new(a.min(b).min(c), a.max(b).max(c))
+                }
+            })
+            .collect();
+        let mut bounds = None;
         let bvh = if triangles.len() <= BRUTE_FORCE_TRIANGLES {
-            let all: Vec<u32> = (0..triangles.len() as u32)
-                .filter(|&i| !degenerate(&triangles[i as usize]))
-                .collect();
-            all.chunks(LANES).for_each(&mut pack);
+            // Group the triangles as the SAH builder's leaves do, so that each packet
+            // is compact and its box can cull it.
+            let mut tree = Bvh::build_blocked(&boxes, LANES);
+            let order = tree.order().to_vec();
+            let mut groups: Vec<Vec<u32>> = Vec::new();
+            tree.map_leaves(|start, count| {
+                for chunk in order[start as usize..(start + count) as usize].chunks(LANES) {
+                    groups.push(chunk.to_vec());
+                }
+                0
+            });
+            if groups.len() <= LANES {
+                let packet_boxes: Vec<Aabb> = groups
+                    .iter()
+                    .map(|g| {
+                        g.iter()
+                            .fold(Aabb::EMPTY, |b, &t| b.union(boxes[t as usize]))
+                    })
+                    .collect();
+                bounds = Some(PacketBounds::new(&packet_boxes));
+                groups.iter().for_each(|g| pack(g));
+            } else {
+                let all: Vec<u32> = (0..triangles.len() as u32)
+                    .filter(|&i| !degenerate(&triangles[i as usize]))
+                    .collect();
+                all.chunks(LANES).for_each(&mut pack);
+            }
             None
         } else {
-            let boxes: Vec<Aabb> = triangles
-                .iter()
-                .map(|t| {
-                    let [a, b, c] = t.corners;
-                    if degenerate(t) {
-                        Aabb::EMPTY // never hit
-                    } else {
-                        Aabb::new(a.min(b).min(c), a.max(b).max(c))
-                    }
-                })
-                .collect();
             let mut bvh = Bvh::build_blocked(&boxes, LANES);
             let order = bvh.order().to_vec();
             let mut next = 0u32;
@@ -173,6 +204,7 @@ impl Baked {
         };
         Self {
             bvh,
+            bounds,
             packets,
             lanes,
             triangles,
@@ -190,6 +222,11 @@ impl Baked {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(u32, PacketHit)> {
         let (o, d) = (ray.origin, ray.dir);
         let (index, h) = match &self.bvh {
+            #[cfg(target_arch = "x86_64")]
+            None if self.bounds.is_some() && packet::has_avx2() => {
+                // SAFETY: the CPU supports AVX2 and FMA.
+                unsafe { nearest_culled_avx2(&self.packets, self.bounds.as_ref()?, o, d, t_max)? }
+            }
             None => packet::nearest(&self.packets, o, d, t_max)?,
             Some(bvh) => {
                 let mut best = None;
@@ -208,6 +245,12 @@ impl Baked {
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let (o, d) = (ray.origin, ray.dir);
         match &self.bvh {
+            #[cfg(target_arch = "x86_64")]
+            None if self.bounds.is_some() && packet::has_avx2() => match &self.bounds {
+                // SAFETY: the CPU supports AVX2 and FMA.
+                Some(b) => unsafe { any_culled_avx2(&self.packets, b, o, d, t_max) },
+                None => false,
+            },
             None => packet::any(&self.packets, o, d, t_max),
             Some(bvh) => bvh.any_hit_leaves(ray, t_max, |leaf, t| {
                 packet::any(self.leaf_packets(leaf), o, d, t)

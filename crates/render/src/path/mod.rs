@@ -16,6 +16,7 @@ pub mod integrator;
 pub mod lights;
 pub mod material_map;
 pub mod output;
+pub mod packet_bounds;
 pub mod progressive;
 pub mod tracer;
 pub mod triangle_packet;
