@@ -201,10 +201,33 @@ impl<'a> GeometryStage<'a> {
             .collect()
     }
 
+    /// [`GeometryStage::triangles`] a group of `group` batches at a time: `sink` gets
+    /// each group's batches (in order) while they are still in the cache, and can hand
+    /// them back to the pool for the next group.
+    pub fn triangles_grouped(
+        &self,
+        tris: &[Triangle],
+        group: usize,
+        mut sink: impl FnMut(Vec<Batch>),
+    ) {
+        for part in tris.chunks(group.max(1) * BATCH) {
+            sink(self.triangles(part));
+        }
+    }
+
     /// An indexed mesh (validated by the caller). With vertex normals every vertex is
     /// transformed, lit and projected once; without, each triangle is lit with its
     /// face normal.
     pub fn mesh(&self, mesh: &Mesh) -> Vec<Batch> {
+        let mut all = Vec::new();
+        self.mesh_grouped(mesh, usize::MAX, |b| all.extend(b));
+        all
+    }
+
+    /// [`GeometryStage::mesh`] a group of `group` batches at a time, handed to `sink` in
+    /// order (see [`GeometryStage::triangles_grouped`]).
+    pub fn mesh_grouped(&self, mesh: &Mesh, group: usize, mut sink: impl FnMut(Vec<Batch>)) {
+        let group = group.max(1);
         let color = |i: usize| {
             if mesh.colors.is_empty() {
                 [1.0; 4]
@@ -222,30 +245,35 @@ impl<'a> GeometryStage<'a> {
         // Flat meshes, and meshes that share few vertices (a triangle soup), are done
         // triangle by triangle: no per-vertex array to write and read back.
         let flat = mesh.normals.is_empty();
+        let groups = mesh.indices.chunks(group.saturating_mul(BATCH)).enumerate();
         if flat || mesh.positions.len() >= 2 * mesh.indices.len() {
-            return mesh
-                .indices
-                .par_chunks(BATCH)
-                .enumerate()
-                .map(|(c, chunk)| {
-                    let mut out = self.new_batch(chunk.len());
-                    for (k, idx) in chunk.iter().enumerate() {
-                        let p = idx.map(|i| mesh.positions[i as usize]);
-                        let face = if flat {
-                            (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero()
-                        } else {
-                            Vec3::ZERO
-                        };
-                        let v = [0, 1, 2].map(|j| {
-                            let i = idx[j] as usize;
-                            let n = if flat { face } else { mesh.normals[i] };
-                            self.prepare(self.vertex(p[j], n, color(i), uv(i)))
-                        });
-                        self.assemble([&v[0], &v[1], &v[2]], mesh.id(c * BATCH + k), &mut out);
-                    }
-                    out
-                })
-                .collect();
+            for (g, part) in groups {
+                let batches = part
+                    .par_chunks(BATCH)
+                    .enumerate()
+                    .map(|(c, chunk)| {
+                        let c = g * group + c;
+                        let mut out = self.new_batch(chunk.len());
+                        for (k, idx) in chunk.iter().enumerate() {
+                            let p = idx.map(|i| mesh.positions[i as usize]);
+                            let face = if flat {
+                                (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero()
+                            } else {
+                                Vec3::ZERO
+                            };
+                            let v = [0, 1, 2].map(|j| {
+                                let i = idx[j] as usize;
+                                let n = if flat { face } else { mesh.normals[i] };
+                                self.prepare(self.vertex(p[j], n, color(i), uv(i)))
+                            });
+                            self.assemble([&v[0], &v[1], &v[2]], mesh.id(c * BATCH + k), &mut out);
+                        }
+                        out
+                    })
+                    .collect();
+                sink(batches);
+            }
+            return;
         }
         let mut verts: Vec<Prepared> = self
             .pool
@@ -260,25 +288,27 @@ impl<'a> GeometryStage<'a> {
                     self.prepare(self.vertex(mesh.positions[i], mesh.normals[i], color(i), uv(i)))
                 }),
         );
-        let batches = mesh
-            .indices
-            .par_chunks(BATCH)
-            .enumerate()
-            .map(|(c, chunk)| {
-                let mut out = self.new_batch(chunk.len());
-                for (k, idx) in chunk.iter().enumerate() {
-                    let v = idx.map(|i| &verts[i as usize]);
-                    self.assemble(v, mesh.id(c * BATCH + k), &mut out);
-                }
-                out
-            })
-            .collect();
+        for (g, part) in groups {
+            let batches = part
+                .par_chunks(BATCH)
+                .enumerate()
+                .map(|(c, chunk)| {
+                    let c = g * group + c;
+                    let mut out = self.new_batch(chunk.len());
+                    for (k, idx) in chunk.iter().enumerate() {
+                        let v = idx.map(|i| &verts[i as usize]);
+                        self.assemble(v, mesh.id(c * BATCH + k), &mut out);
+                    }
+                    out
+                })
+                .collect();
+            sink(batches);
+        }
         if let Some(pool) = self.pool {
             if let Ok(mut v) = pool.1.lock() {
                 *v = verts;
             }
         }
-        batches
     }
 }
 

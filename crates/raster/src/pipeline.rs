@@ -137,12 +137,12 @@ impl Pipeline {
         self.check(fb)?;
         mesh.validate()?;
         let lights = self.eye_lights();
-        let batches = self
-            .stage(&lights, true)
+        self.stage(&lights, true)
             .with_pool(&self.scratch)
-            .mesh(mesh);
-        self.draw_batches(&lights, &batches, fb);
-        self.scratch.give(batches);
+            .mesh_grouped(mesh, group_batches(), |batches| {
+                self.draw_batches(&lights, &batches, fb);
+                self.scratch.give(batches);
+            });
         Ok(())
     }
 
@@ -154,12 +154,12 @@ impl Pipeline {
     ) -> Result<(), RasterError> {
         self.check(fb)?;
         let lights = self.eye_lights();
-        let batches = self
-            .stage(&lights, true)
+        self.stage(&lights, true)
             .with_pool(&self.scratch)
-            .triangles(tris);
-        self.draw_batches(&lights, &batches, fb);
-        self.scratch.give(batches);
+            .triangles_grouped(tris, group_batches(), |batches| {
+                self.draw_batches(&lights, &batches, fb);
+                self.scratch.give(batches);
+            });
         Ok(())
     }
 
@@ -186,6 +186,19 @@ impl Pipeline {
         }
         Ok(())
     }
+}
+
+/// How many batches the fused render paths transform before drawing them: a few per
+/// thread, so that the screen triangles are drawn while they are still in the cache
+/// (written by the geometry stage, read by every band they touch) instead of after the
+/// whole frame's triangles went out to memory. Results do not depend on it (the
+/// triangles are drawn in the same order).
+fn group_batches() -> usize {
+    let per_thread = std::env::var("IRRADIA_GROUP")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(2);
+    rayon::current_num_threads() * per_thread
 }
 
 fn concat(batches: Vec<Batch>) -> Vec<ScreenTriangle> {
