@@ -185,28 +185,20 @@ pub(crate) fn draw<C: ColorTarget + ?Sized, S: PixelShader>(
     func: DepthFunc,
 ) {
     let Some(s) = Setup::new(tri) else { return };
-    let step = s.edge_steps_x();
-    s.spans(clip, |y, first, last, mut e| {
-        let row_z = s.depth_row(y);
-        let row = &mut depth_buf[(y - band_y0) as usize * width..][..=last as usize];
-        let row_i = (y - band_y0) as usize * width;
-        for x in first..=last {
-            let z = s.depth_in_row(row_z, x);
-            let stored = &mut row[x as usize];
-            if func.pass(z, *stored) {
-                *stored = z;
-                target.write(
-                    row_i + x as usize,
-                    tri,
-                    &s,
-                    s.lambda(&e),
-                    FragCoord { x, y, z },
-                    shader,
-                );
-            }
-            e[0] += step[0];
-            e[1] += step[1];
-            e[2] += step[2];
+    let mut row_y = u32::MAX;
+    let mut row_z = 0.0;
+    let mut row_i = 0;
+    s.scan(clip, |x, y, e| {
+        if y != row_y {
+            row_y = y;
+            row_z = s.depth_row(y);
+            row_i = (y - band_y0) as usize * width;
+        }
+        let i = row_i + x as usize;
+        let z = s.depth_in_row(row_z, x);
+        if func.pass(z, depth_buf[i]) {
+            depth_buf[i] = z;
+            target.write(i, tri, &s, s.lambda(e), FragCoord { x, y, z }, shader);
         }
     });
 }

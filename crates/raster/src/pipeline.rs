@@ -194,11 +194,7 @@ impl Pipeline {
 /// whole frame's triangles went out to memory. Results do not depend on it (the
 /// triangles are drawn in the same order).
 fn group_batches() -> usize {
-    let per_thread = std::env::var("IRRADIA_GROUP")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(2);
-    rayon::current_num_threads() * per_thread
+    rayon::current_num_threads() * 2
 }
 
 fn concat(batches: Vec<Batch>) -> Vec<ScreenTriangle> {

@@ -273,37 +273,6 @@ impl<'a> Setup<'a> {
     /// [`Setup::lambda`] turns `edges` into barycentric weights.
     #[inline(always)]
     pub fn scan(&self, clip: &Rect, mut f: impl FnMut(u32, u32, &[i64; 3])) {
-        let step = self.edge_steps_x();
-        self.spans(clip, |y, first, last, mut e| {
-            for x in first..=last {
-                f(x, y, &e);
-                e[0] += step[0];
-                e[1] += step[1];
-                e[2] += step[2];
-            }
-        });
-    }
-
-    /// How the edge values change from one pixel to the next one to its right.
-    #[inline(always)]
-    pub(crate) fn edge_steps_x(&self) -> [i64; 3] {
-        [self.a[0] * ONE, self.a[1] * ONE, self.a[2] * ONE]
-    }
-
-    /// The covered pixels inside `clip` as row spans: `f(y, first, last, edges)` for
-    /// each row with covered pixels `first..=last` (the covered pixels of a row are
-    /// contiguous: the triangle is convex), `edges` being the edge values at `first`
-    /// ([`Setup::edge_steps_x`] steps them along the row).
-    ///
-    /// A triangle whose pixel bounds span at most [`SMALL_SPAN`] + 1 pixels each way has
-    /// its vertices within 2^14 fixed-point units of each other, so every edge value
-    /// inside the bounds (and one step past them) is below 2^30 in magnitude and the
-    /// coverage test runs exactly in i32: each row is tested branch-free into a bit
-    /// mask (one bit per pixel) whose lowest and highest set bits give the span. Larger
-    /// triangles walk each row with one i64 add per edge per pixel. Both give the same
-    /// pixels and edge values.
-    #[inline(always)]
-    pub(crate) fn spans(&self, clip: &Rect, mut f: impl FnMut(u32, u32, u32, [i64; 3])) {
         let x0 = self.x0.max(clip.x0 as i64);
         let x1 = self.x1.min(clip.x1 as i64 - 1);
         let y0 = self.y0.max(clip.y0 as i64);
@@ -311,20 +280,52 @@ impl<'a> Setup<'a> {
         if x0 > x1 || y0 > y1 {
             return;
         }
-        let small = self.x1 - self.x0 <= SMALL_SPAN && self.y1 - self.y0 <= SMALL_SPAN;
         let px = x0 * ONE + HALF;
-        let step_x = self.edge_steps_x();
+        let step_x = [self.a[0] * ONE, self.a[1] * ONE, self.a[2] * ONE];
         let step_y = [self.b[0] * ONE, self.b[1] * ONE, self.b[2] * ONE];
         let mut row: [i64; 3] =
             std::array::from_fn(|k| self.a[k] * px + self.b[k] * (y0 * ONE + HALF) + self.c[k]);
+        let wide = x1 - x0 >= 16;
         for y in y0..=y1 {
-            let span = if small {
-                small_row_span(&row, &step_x, x0, x1)
-            } else {
-                large_row_span(&row, &step_x, x0, x1)
-            };
-            if let Some((first, last, e)) = span {
-                f(y as u32, first as u32, last as u32, e);
+            let mut e = row;
+            let mut x = x0;
+            if wide {
+                // Skip the uncovered start of the row in one step per edge: for an
+                // edge that is negative here and rising, the first x where it is >= 0.
+                let mut start = x0;
+                let mut empty = false;
+                for k in 0..3 {
+                    if e[k] < 0 {
+                        if step_x[k] > 0 {
+                            start = start.max(x0 + (-e[k] + step_x[k] - 1) / step_x[k]);
+                        } else {
+                            empty = true;
+                        }
+                    }
+                }
+                if empty || start > x1 {
+                    x = x1 + 1;
+                } else if start > x {
+                    let n = start - x;
+                    for k in 0..3 {
+                        e[k] += step_x[k] * n;
+                    }
+                    x = start;
+                }
+            }
+            // The covered pixels of a row are contiguous (the triangle is convex).
+            let mut inside = false;
+            while x <= x1 {
+                if (e[0] | e[1] | e[2]) >= 0 {
+                    inside = true;
+                    f(x as u32, y as u32, &e);
+                } else if inside {
+                    break;
+                }
+                e[0] += step_x[0];
+                e[1] += step_x[1];
+                e[2] += step_x[2];
+                x += 1;
             }
             for k in 0..3 {
                 row[k] += step_y[k];
@@ -332,95 +333,6 @@ impl<'a> Setup<'a> {
         }
     }
 }
-
-/// The covered span `(first, last, edges at first)` of a row of a small triangle (see
-/// [`Setup::spans`]) whose edge values at pixel `x0` are `row`.
-#[inline(always)]
-fn small_row_span(
-    row: &[i64; 3],
-    step_x: &[i64; 3],
-    x0: i64,
-    x1: i64,
-) -> Option<(i64, i64, [i64; 3])> {
-    let width = (x1 - x0 + 1) as u32;
-    debug_assert!(width <= 64);
-    let step: [i32; 3] = step_x.map(|s| s as i32);
-    let mut e: [i32; 3] = row.map(|v| v as i32);
-    let mut mask = 0u64;
-    for i in 0..width {
-        mask |= (((e[0] | e[1] | e[2]) >= 0) as u64) << i;
-        e[0] += step[0];
-        e[1] += step[1];
-        e[2] += step[2];
-    }
-    if mask == 0 {
-        return None;
-    }
-    let first = mask.trailing_zeros() as i64;
-    let last = 63 - mask.leading_zeros() as i64;
-    Some((
-        x0 + first,
-        x0 + last,
-        std::array::from_fn(|k| row[k] + step_x[k] * first),
-    ))
-}
-
-/// The covered span `(first, last, edges at first)` of a row whose edge values at pixel
-/// `x0` are `row`, walking it pixel by pixel (after skipping, for a wide row, its
-/// uncovered start in one step per edge).
-#[inline(always)]
-fn large_row_span(
-    row: &[i64; 3],
-    step_x: &[i64; 3],
-    x0: i64,
-    x1: i64,
-) -> Option<(i64, i64, [i64; 3])> {
-    let mut e = *row;
-    let mut x = x0;
-    if x1 - x0 >= 16 {
-        // For an edge that is negative here and rising, the first x where it is >= 0.
-        let mut start = x0;
-        for k in 0..3 {
-            if e[k] < 0 {
-                if step_x[k] > 0 {
-                    start = start.max(x0 + (-e[k] + step_x[k] - 1) / step_x[k]);
-                } else {
-                    return None;
-                }
-            }
-        }
-        if start > x1 {
-            return None;
-        }
-        let n = start - x;
-        for k in 0..3 {
-            e[k] += step_x[k] * n;
-        }
-        x = start;
-    }
-    while x <= x1 && (e[0] | e[1] | e[2]) < 0 {
-        for k in 0..3 {
-            e[k] += step_x[k];
-        }
-        x += 1;
-    }
-    if x > x1 {
-        return None;
-    }
-    let (first, at_first) = (x, e);
-    while x <= x1 && (e[0] | e[1] | e[2]) >= 0 {
-        for k in 0..3 {
-            e[k] += step_x[k];
-        }
-        x += 1;
-    }
-    Some((first, x - 1, at_first))
-}
-
-/// Triangles whose pixel bounds span at most this many pixels plus one, both ways, take
-/// the i32 bit-mask path of [`Setup::spans`] (61 pixels: vertices within 62 pixels, below
-/// 2^14 fixed-point units, of each other).
-const SMALL_SPAN: i64 = 60;
 
 /// Calls `f(x, y, lambda)` for every pixel of `clip` that `t` covers, with the
 /// screen-space barycentric weights of `t.v` (in the triangle's own vertex order) (a convenience
