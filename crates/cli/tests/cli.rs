@@ -1,19 +1,7 @@
 //! End-to-end tests of the `irradia` binary: exit codes, messages, files.
 
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn irradia(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_irradia"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the irradia binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+mod common;
+use common::{irradia, stderr};
 
 #[test]
 fn renders_a_builtin_to_png_exr_and_pfm() {

@@ -2,20 +2,10 @@
 //! traced image equals `irradia render` bit for bit (PFM keeps the floats), scene files
 //! with generator objects run through the rasterizer, and bad input exits with code 2.
 
+mod common;
+use common::{irradia, stderr};
+
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn irradia(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_irradia"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the irradia binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 #[test]
 fn sort_first_ray_tracing_equals_irradia_render() {

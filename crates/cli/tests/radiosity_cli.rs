@@ -1,20 +1,8 @@
 //! `irradia radiosity --display gouraud|two-pass` end to end: the two-pass image of the
 //! built-in specular Cornell box, and bad --pixel-samples values (exit 2).
 
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn irradia(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_irradia"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the irradia binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+mod common;
+use common::{irradia, mirror_sphere_sum, stderr};
 
 const SMALL: [&str; 11] = [
     "radiosity",
@@ -55,16 +43,7 @@ fn two_pass_and_gouraud_images_of_the_specular_cornell_box() {
     let gouraud = irradia_core::io::load(&dir.path().join("g.png")).unwrap();
     // The mirror sphere (lower left of the image) is a black stand-in in the Gouraud
     // image and reflects the lit box in the two-pass image.
-    let region = |im: &irradia_core::Image| -> f32 {
-        let mut s = 0.0;
-        for y in 19..24 {
-            for x in 13..19 {
-                let p = im.get(x, y);
-                s += p.r + p.g + p.b;
-            }
-        }
-        s
-    };
+    let region = mirror_sphere_sum;
     assert!(region(&gouraud) < 0.02, "{}", region(&gouraud));
     assert!(region(&traced) > 1.0, "{}", region(&traced));
 }

@@ -3,20 +3,10 @@
 //! `--display gouraud` solves the same file as diffuse surfaces (the sphere, with no
 //! diffuse part, is black).
 
+mod common;
+use common::{irradia, mirror_sphere_sum, stderr};
+
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn irradia(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_irradia"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the irradia binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 #[test]
 fn the_example_scene_file_traces_its_mirror_sphere() {
@@ -55,16 +45,7 @@ fn the_example_scene_file_traces_its_mirror_sphere() {
     let gouraud = irradia_core::io::load(&dir.path().join("g.png")).unwrap();
     // The mirror sphere (lower left of the image; the file's camera is the built-in
     // Cornell view).
-    let region = |im: &irradia_core::Image| -> f32 {
-        let mut s = 0.0;
-        for y in 19..24 {
-            for x in 13..19 {
-                let p = im.get(x, y);
-                s += p.r + p.g + p.b;
-            }
-        }
-        s
-    };
+    let region = mirror_sphere_sum;
     assert!(region(&gouraud) < 0.02, "{}", region(&gouraud));
     assert!(region(&traced) > 1.0, "{}", region(&traced));
 }
