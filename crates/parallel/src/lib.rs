@@ -7,6 +7,7 @@
 
 pub mod comm;
 pub mod composite;
+pub mod display_tiles;
 pub mod frame;
 pub mod job;
 pub mod netmodel;
