@@ -95,6 +95,16 @@ pub(crate) fn rasterize_binned(
     match (&mut fb.color, state.shading) {
         (ColorBuffer::Id(c), _) => job.run(c, depth, &InterpolatedColor),
         (ColorBuffer::Rgba8(c), Shading::Phong) => job.run(c, depth, &phong),
+        #[cfg(target_arch = "x86_64")]
+        (ColorBuffer::Rgba8(c), _) if crate::simd_span::available() => {
+            let func = state.depth_func;
+            job.run_with(c, depth, |t, clip, y0, d, c| {
+                // SAFETY: `available()` checked that the CPU has AVX2.
+                unsafe {
+                    crate::simd_span::draw_interpolated_rgba8(t, clip, job.width, y0, d, c, func)
+                }
+            })
+        }
         (ColorBuffer::Rgba8(c), _) => job.run(c, depth, &InterpolatedColor),
         (ColorBuffer::Rgba32F(c), Shading::Phong) => job.run(c, depth, &phong),
         (ColorBuffer::Rgba32F(c), _) => job.run(c, depth, &InterpolatedColor),
@@ -132,6 +142,21 @@ impl Job<'_> {
     where
         [T]: ColorTarget,
     {
+        let depth_func = self.depth_func;
+        let width = self.width;
+        self.run_with(color, depth, |t, clip, y0, d, c| {
+            draw(t, clip, width, y0, d, c, shader, depth_func)
+        })
+    }
+
+    /// Draws every band's triangles in order with `draw_one(triangle, clip, band_y0,
+    /// band_depth, band_colour)`, bands in parallel.
+    fn run_with<T: Send>(
+        &self,
+        color: &mut [T],
+        depth: &mut [f32],
+        draw_one: impl Fn(&ScreenTriangle, &Rect, u32, &mut [f32], &mut [T]) + Sync,
+    ) {
         let band_len = self.width * BAND_ROWS as usize;
         color
             .par_chunks_mut(band_len)
@@ -152,16 +177,7 @@ impl Job<'_> {
                         if let Some(&ahead) = list.get(j + PREFETCH_AHEAD) {
                             prefetch(&piece[ahead as usize]);
                         }
-                        draw(
-                            &piece[i as usize],
-                            &clip,
-                            self.width,
-                            y0,
-                            d,
-                            c,
-                            shader,
-                            self.depth_func,
-                        );
+                        draw_one(&piece[i as usize], &clip, y0, d, c);
                     }
                 }
             });

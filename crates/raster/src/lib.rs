@@ -33,6 +33,7 @@ pub mod mesh;
 pub mod pipeline;
 pub mod rasterizer;
 pub mod screen;
+mod simd_span;
 pub mod view;
 
 pub use fragment::DepthFunc;

@@ -15,8 +15,8 @@ use crate::screen::{Rect, ScreenTriangle, ScreenVertex};
 
 /// Bits of sub-pixel precision.
 pub const SUBPIXEL_BITS: u32 = 8;
-const ONE: i64 = 1 << SUBPIXEL_BITS;
-const HALF: i64 = ONE / 2;
+pub(crate) const ONE: i64 = 1 << SUBPIXEL_BITS;
+pub(crate) const HALF: i64 = ONE / 2;
 
 /// Which faces are discarded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -153,25 +153,25 @@ pub struct Setup<'a> {
     pub v: [&'a ScreenVertex; 3],
     /// E_k(X, Y) = a[k] X + b[k] Y + c[k] at fixed-point pixel centres; edge k is
     /// opposite vertex k. Covered when all three are >= 0.
-    a: [i64; 3],
-    b: [i64; 3],
-    c: [i64; 3],
+    pub(crate) a: [i64; 3],
+    pub(crate) b: [i64; 3],
+    pub(crate) c: [i64; 3],
     /// The fill-rule bias subtracted from `c[k]` (0 or 1); added back wherever the edge
     /// values are used as weights, so the depth plane and the barycentrics are exact.
-    bias: [i64; 3],
-    inv_area: f32,
+    pub(crate) bias: [i64; 3],
+    pub(crate) inv_area: f32,
     /// Depth plane z = zc + zx x + zy y at pixel centres (pixel units, f64 so the plane
     /// is exact enough for thin slivers).
-    zc: f64,
-    zx: f64,
-    zy: f64,
+    pub(crate) zc: f64,
+    pub(crate) zx: f64,
+    pub(crate) zy: f64,
     /// Whether `v` is the input order with the last two vertices swapped.
     pub swapped: bool,
     /// Inclusive pixel bounds.
-    x0: i64,
-    x1: i64,
-    y0: i64,
-    y1: i64,
+    pub(crate) x0: i64,
+    pub(crate) x1: i64,
+    pub(crate) y0: i64,
+    pub(crate) y1: i64,
 }
 
 impl<'a> Setup<'a> {
