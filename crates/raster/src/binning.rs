@@ -8,6 +8,7 @@
 //! triangles were given, so the image is the same for any number of threads — this is
 //! sort-middle inside one machine, as in the lecture's "Sorting Paradigm".
 
+use crate::depth_bounds::DepthBounds;
 use crate::fragment::{
     draw, ColorTarget, DepthFunc, InterpolatedColor, PhongShader, PixelShader, Unproject,
 };
@@ -97,13 +98,20 @@ pub(crate) fn rasterize_binned(
         (ColorBuffer::Rgba8(c), Shading::Phong) => job.run(c, depth, &phong),
         #[cfg(target_arch = "x86_64")]
         (ColorBuffer::Rgba8(c), _) if crate::simd_span::available() => {
-            let func = state.depth_func;
-            job.run_with(c, depth, |t, clip, y0, d, c| {
-                // SAFETY: `available()` checked that the CPU has AVX2.
-                unsafe {
-                    crate::simd_span::draw_interpolated_rgba8(t, clip, job.width, y0, d, c, func)
-                }
-            })
+            let (func, width) = (state.depth_func, job.width);
+            job.run_with(
+                c,
+                depth,
+                |y0, d| DepthBounds::new(d, width, y0),
+                |bounds, t, clip, y0, d, c| {
+                    // SAFETY: `available()` checked that the CPU has AVX2.
+                    unsafe {
+                        crate::simd_span::draw_interpolated_rgba8(
+                            t, clip, width, y0, d, c, func, bounds,
+                        )
+                    }
+                },
+            )
         }
         (ColorBuffer::Rgba8(c), _) => job.run(c, depth, &InterpolatedColor),
         (ColorBuffer::Rgba32F(c), Shading::Phong) => job.run(c, depth, &phong),
@@ -144,18 +152,23 @@ impl Job<'_> {
     {
         let depth_func = self.depth_func;
         let width = self.width;
-        self.run_with(color, depth, |t, clip, y0, d, c| {
-            draw(t, clip, width, y0, d, c, shader, depth_func)
-        })
+        self.run_with(
+            color,
+            depth,
+            |_, _| (),
+            |_, t, clip, y0, d, c| draw(t, clip, width, y0, d, c, shader, depth_func),
+        )
     }
 
-    /// Draws every band's triangles in order with `draw_one(triangle, clip, band_y0,
-    /// band_depth, band_colour)`, bands in parallel.
-    fn run_with<T: Send>(
+    /// Draws every band's triangles in order with `draw_one(band_state, triangle, clip,
+    /// band_y0, band_depth, band_colour)`, bands in parallel; `init(band_y0,
+    /// band_depth)` makes each band's state before its first triangle.
+    fn run_with<T: Send, B>(
         &self,
         color: &mut [T],
         depth: &mut [f32],
-        draw_one: impl Fn(&ScreenTriangle, &Rect, u32, &mut [f32], &mut [T]) + Sync,
+        init: impl Fn(u32, &[f32]) -> B + Sync,
+        draw_one: impl Fn(&mut B, &ScreenTriangle, &Rect, u32, &mut [f32], &mut [T]) + Sync,
     ) {
         let band_len = self.width * BAND_ROWS as usize;
         color
@@ -171,13 +184,14 @@ impl Job<'_> {
                 if clip.is_empty() {
                     return;
                 }
+                let mut band_state = init(y0, d);
                 for (piece, bins) in self.pieces.iter().zip(self.bins) {
                     let list = &bins[band];
                     for (j, &i) in list.iter().enumerate() {
                         if let Some(&ahead) = list.get(j + PREFETCH_AHEAD) {
                             prefetch(&piece[ahead as usize]);
                         }
-                        draw_one(&piece[i as usize], &clip, y0, d, c);
+                        draw_one(&mut band_state, &piece[i as usize], &clip, y0, d, c);
                     }
                 }
             });

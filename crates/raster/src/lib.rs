@@ -24,6 +24,7 @@
 pub mod area_lights;
 pub mod binning;
 pub mod clip;
+mod depth_bounds;
 pub mod fragment;
 pub mod framebuffer;
 pub mod geometry_stage;

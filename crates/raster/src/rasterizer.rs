@@ -176,7 +176,7 @@ pub struct Setup<'a> {
 
 impl<'a> Setup<'a> {
     /// `None` for triangles with zero snapped area.
-    #[inline]
+    #[inline(always)]
     pub fn new(t: &'a ScreenTriangle) -> Option<Self> {
         let mut p = snapped(t);
         let mut v = [&t.v[0], &t.v[1], &t.v[2]];

@@ -25,6 +25,7 @@
 //! path. The test module compares both paths on random triangles, including vertices
 //! on pixel centres and shared edges.
 
+use crate::depth_bounds::DepthBounds;
 use crate::fragment::{draw, DepthFunc, InterpolatedColor};
 use crate::rasterizer::{Setup, HALF, ONE};
 use crate::screen::{varying, Rect, ScreenTriangle};
@@ -59,6 +60,7 @@ pub(crate) unsafe fn draw_interpolated_rgba8(
     depth_buf: &mut [f32],
     color: &mut [[u8; 4]],
     func: DepthFunc,
+    bounds: &mut DepthBounds,
 ) {
     use std::arch::x86_64::*;
 
@@ -67,20 +69,25 @@ pub(crate) unsafe fn draw_interpolated_rgba8(
     let x1 = s.x1.min(clip.x1 as i64 - 1);
     let y0 = s.y0.max(clip.y0 as i64);
     let y1 = s.y1.min(clip.y1 as i64 - 1);
-    if x0 > x1 || y0 > y1 {
+    if x0 > x1 || y0 > y1 || bounds.hidden(&s, func, x0, x1, y0, y1) {
         return;
     }
+    bounds.count_drawn(depth_buf);
     // The slices must hold rows y0..=y1 of the band (as the scalar path indexes them).
     let last = (y1 as usize - band_y0 as usize) * width + x1 as usize;
     assert!(last < depth_buf.len() && last < color.len());
     let chunks = (x1 - x0) / 8 + 1;
     let x_end = x0 + chunks * 8 - 1; // the last lane's pixel
     let (px0, py0) = (x0 * ONE + HALF, y0 * ONE + HALF);
+    let mut row: [i64; 3] = std::array::from_fn(|k| s.a[k] * px0 + s.b[k] * py0 + s.c[k]);
     let fits = (0..3).all(|k| {
-        let at = |x: i64, y: i64| s.a[k] * (x * ONE + HALF) + s.b[k] * (y * ONE + HALF) + s.c[k];
-        let step8 = s.a[k] * ONE * 8;
-        let ok = |v: i64| v > i32::MIN as i64 && v < i32::MAX as i64;
-        ok(at(x0, y0)) && ok(at(x_end, y0)) && ok(at(x0, y1)) && ok(at(x_end, y1)) && ok(step8)
+        // The edge is linear: its extremes over the scanned block are at its corners.
+        let across = s.a[k] * ONE * (x_end - x0);
+        let down = s.b[k] * ONE * (y1 - y0);
+        let lo = row[k] + across.min(0) + down.min(0);
+        let hi = row[k] + across.max(0) + down.max(0);
+        // `hi + 1`: the weight adds the fill-rule bias (0 or 1) before converting.
+        lo > i32::MIN as i64 && hi < i32::MAX as i64 && (s.a[k] * ONE * 8).abs() < i32::MAX as i64
     });
     if !fits {
         draw(
@@ -112,7 +119,6 @@ pub(crate) unsafe fn draw_interpolated_rgba8(
     let (scale, half) = (_mm256_set1_ps(255.0), _mm256_set1_ps(0.5));
     let all = _mm256_set1_epi32(-1);
 
-    let mut row: [i64; 3] = std::array::from_fn(|k| s.a[k] * px0 + s.b[k] * py0 + s.c[k]);
     let step_y: [i64; 3] = std::array::from_fn(|k| s.b[k] * ONE);
     let depth_ptr = depth_buf.as_mut_ptr();
     let color_ptr = color.as_mut_ptr() as *mut i32;
@@ -270,11 +276,19 @@ mod tests {
         let n = (w * rows) as usize;
         let mut depth = vec![1.0f32; n];
         let mut color = vec![[7u8, 7, 7, 7]; n];
+        let mut bounds = DepthBounds::new(&depth, w as usize, band_y0);
         for t in tris {
             if simd {
                 unsafe {
                     draw_interpolated_rgba8(
-                        t, &clip, w as usize, band_y0, &mut depth, &mut color, func,
+                        t,
+                        &clip,
+                        w as usize,
+                        band_y0,
+                        &mut depth,
+                        &mut color,
+                        func,
+                        &mut bounds,
                     )
                 };
             } else {
@@ -356,6 +370,7 @@ mod tests {
             };
             let mut depth = vec![1.0; (w * h) as usize];
             let mut color = vec![[0u8; 4]; (w * h) as usize];
+            let mut bounds = DepthBounds::new(&depth, w as usize, 0);
             unsafe {
                 draw_interpolated_rgba8(
                     &t,
@@ -365,6 +380,7 @@ mod tests {
                     &mut depth,
                     &mut color,
                     DepthFunc::Always,
+                    &mut bounds,
                 )
             };
             for (n, d) in count.iter_mut().zip(&depth) {
