@@ -125,6 +125,20 @@ impl WorldFacets {
     /// A world point, its unit normal and its density by area.
     #[inline]
     fn sample(&self, u: Vec2) -> Option<(Vec3, Vec3, f32)> {
+        let (i, u) = self.pick(u)?;
+        let b = sampling::uniform_triangle(u);
+        let [a, p, q] = self.triangles[i];
+        Some((
+            a * (1.0 - b.x - b.y) + p * b.x + q * b.y,
+            self.normals[i],
+            self.pdf_area[i],
+        ))
+    }
+
+    /// The triangle `sample` chooses for `u`, and the point in it to warp with
+    /// [`sampling::uniform_triangle`] (`u.x` rescaled into the triangle's share).
+    #[inline]
+    fn pick(&self, u: Vec2) -> Option<(usize, Vec2)> {
         let total = *self.cdf.last()?;
         let x = u.x * total;
         // The same index as a binary search of the sorted table; counting avoids a
@@ -137,13 +151,7 @@ impl WorldFacets {
         .min(self.triangles.len() - 1);
         let lo = if i == 0 { 0.0 } else { self.cdf[i - 1] };
         let ux = ((x - lo) / (self.cdf[i] - lo)).clamp(0.0, 1.0 - f32::EPSILON);
-        let b = sampling::uniform_triangle(Vec2::new(ux, u.y));
-        let [a, p, q] = self.triangles[i];
-        Some((
-            a * (1.0 - b.x - b.y) + p * b.x + q * b.y,
-            self.normals[i],
-            self.pdf_area[i],
-        ))
+        Some((i, Vec2::new(ux, u.y)))
     }
 }
 
@@ -188,6 +196,16 @@ impl SurfaceSampler {
             }
         }
     }
+}
+
+/// An emissive object's world-space facets, as the 8-wide kernel reads them.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FacetEmitter<'a> {
+    pub radiance: Rgb,
+    pub two_sided: bool,
+    pub triangles: &'a [[Vec3; 3]],
+    pub normals: &'a [Vec3],
+    pub pdf_area: &'a [f32],
 }
 
 /// The emitters of a scene with a discrete distribution proportional to power.
@@ -377,8 +395,9 @@ impl LightSampler {
         self.cdf.last().is_none_or(|&c| c <= 0.0)
     }
 
-    /// Samples a light as seen from world point `p`.
-    pub fn sample(&self, scene: &Scene, p: Vec3, u_pick: f32, u: Vec2) -> Option<LightSample> {
+    /// The emitter `sample` chooses for `u_pick`, and the probability of choosing it.
+    #[inline]
+    fn pick(&self, u_pick: f32) -> Option<(usize, f32)> {
         if self.is_empty() {
             return None;
         }
@@ -389,9 +408,12 @@ impl LightSampler {
             .partition_point(|&c| c <= x)
             .min(self.emitters.len() - 1);
         let pick = self.probability[idx];
-        if pick <= 0.0 {
-            return None;
-        }
+        (pick > 0.0).then_some((idx, pick))
+    }
+
+    /// Samples a light as seen from world point `p`.
+    pub fn sample(&self, scene: &Scene, p: Vec3, u_pick: f32, u: Vec2) -> Option<LightSample> {
+        let (idx, pick) = self.pick(u_pick)?;
         let on_surface = |q: Vec3,
                           n: Vec3,
                           radiance: Rgb,
@@ -527,6 +549,48 @@ impl LightSampler {
                     delta: false,
                 })
             }
+        }
+    }
+
+    /// The emitters as world-space triangles, when every emitter is an emissive object
+    /// sampled by its facets and there is no environment (what the 8-wide kernel of
+    /// [`super::wide`] supports); `None` otherwise. Indexed like the emitters.
+    pub(crate) fn facet_emitters(&self) -> Option<Vec<FacetEmitter<'_>>> {
+        if self.environment.is_some() {
+            return None;
+        }
+        self.emitters
+            .iter()
+            .map(|e| match e {
+                Emitter::Object {
+                    radiance,
+                    two_sided,
+                    world: Some(w),
+                    ..
+                } => Some(FacetEmitter {
+                    radiance: *radiance,
+                    two_sided: *two_sided,
+                    triangles: &w.triangles,
+                    normals: &w.normals,
+                    pdf_area: &w.pdf_area,
+                }),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// The choice `sample` makes for `(u_pick, u)` in a scene of facet emitters only:
+    /// (emitter, probability of choosing it, triangle of the emitter, the point of the
+    /// unit square to warp with [`sampling::uniform_triangle`]).
+    #[inline]
+    pub(crate) fn pick_facet(&self, u_pick: f32, u: Vec2) -> Option<(usize, f32, usize, Vec2)> {
+        let (idx, pick) = self.pick(u_pick)?;
+        match &self.emitters[idx] {
+            Emitter::Object { world: Some(w), .. } => {
+                let (i, u) = w.pick(u)?;
+                Some((idx, pick, i, u))
+            }
+            _ => None,
         }
     }
 

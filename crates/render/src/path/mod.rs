@@ -7,6 +7,8 @@
 //! - [`tracer`] and [`flat_scene`]: ray queries; planar objects baked into one
 //!   world-space triangle hierarchy;
 //! - [`integrator`]: next-event estimation + BSDF sampling with MIS, Russian roulette;
+//! - [`wide`]: the same estimator over eight paths at once in SIMD lanes, for scenes
+//!   of Lambertian surfaces and facet emitters (the Cornell box);
 //! - [`film`] and [`progressive`]: sample/time/error budgets, checkpoints and resume.
 
 pub mod bsdf;
@@ -20,6 +22,7 @@ pub mod packet_bounds;
 pub mod progressive;
 pub mod tracer;
 pub mod triangle_packet;
+pub mod wide;
 
 pub use film::{CheckpointError, Film};
 pub use integrator::{PathCounters, PathParams};

@@ -10,7 +10,9 @@ use super::film::{luminance, Film};
 use super::flat_scene::FlatScene;
 use super::integrator::{radiance_in, PathCounters, PathParams, PathScene};
 use super::lights::LightSampler;
-use irradia_core::Rng;
+use super::wide::WideScene;
+use irradia_core::{Ray, Rgb, Rng};
+use irradia_scene::camera::CameraRays;
 use irradia_scene::Scene;
 use rayon::prelude::*;
 use std::path::PathBuf;
@@ -33,6 +35,9 @@ pub struct ProgressiveOptions {
     pub checkpoint_interval: Duration,
     /// Selects an independent family of random streams (0 for the default image).
     pub seed: u32,
+    /// Always use the scalar estimator, even where the scene qualifies for the 8-wide
+    /// kernel ([`super::wide`]); for comparisons and measurements.
+    pub scalar_only: bool,
 }
 
 /// Where a render stands, reported after every pass.
@@ -87,6 +92,29 @@ pub fn fingerprint(scene: &Scene, params: &PathParams) -> u64 {
     })
 }
 
+/// The start of sample `i` of pixel `(x, y)`: its random stream, and the camera ray
+/// through the jittered point of the pixel drawn first from that stream.
+pub fn pixel_sample(cam: &CameraRays, x: u32, y: u32, i: u32, seed: u32) -> (Ray, Rng) {
+    let mut rng = Rng::for_pixel(x, y, i, PATH_STREAM ^ seed.wrapping_mul(0x9e37_79b9));
+    let j = rng.next_2d();
+    (cam.ray(x as f32 + j.x, y as f32 + j.y), rng)
+}
+
+/// Adds one sample to a pixel's sums (non-finite samples count as black).
+#[inline]
+fn accumulate(sum: &mut [f64; 3], sum_sq: &mut f64, l: Rgb) {
+    let v = if l.is_finite() {
+        [l.r as f64, l.g as f64, l.b as f64]
+    } else {
+        [0.0; 3]
+    };
+    sum[0] += v[0];
+    sum[1] += v[1];
+    sum[2] += v[2];
+    let y = luminance(&v);
+    *sum_sq += y * y;
+}
+
 /// Renders (or continues rendering into `film`) until a stop condition holds.
 pub fn render(
     scene: &Scene,
@@ -98,6 +126,15 @@ pub fn render(
     let start = Instant::now();
     let lights = LightSampler::new(scene);
     let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
+    // Eight paths at once where the scene qualifies; the same estimator either way.
+    // IRRADIA_PATH_KERNEL=scalar turns it off from outside (for A/B timings).
+    let scalar_only =
+        options.scalar_only || std::env::var("IRRADIA_PATH_KERNEL").is_ok_and(|v| v == "scalar");
+    let wide = if scalar_only {
+        None
+    } else {
+        WideScene::new(&ps)
+    };
     let cam = scene.camera.rays(film.width(), film.height());
     let fp = fingerprint(scene, params);
     let mut counters = PathCounters::default();
@@ -125,28 +162,34 @@ pub fn render(
             .enumerate()
             .map(|(y, (sum, sum_sq))| {
                 let mut c = PathCounters::default();
+                let y = y as u32;
+                if let Some(ws) = &wide {
+                    // The row's samples in pixel order, each pixel's in sample order;
+                    // the kernel fills them in any order, the sums add them in this one.
+                    let per_pixel = n as usize;
+                    let mut out = vec![Rgb::BLACK; width as usize * per_pixel];
+                    ws.radiance_batch(
+                        params,
+                        |k| {
+                            let (x, i) = (k / per_pixel, k % per_pixel);
+                            pixel_sample(&cam, x as u32, y, first + i as u32, options.seed)
+                        },
+                        &mut out,
+                        &mut c,
+                    );
+                    for (x, samples) in out.chunks_exact(per_pixel).enumerate() {
+                        for &l in samples {
+                            accumulate(&mut sum[x], &mut sum_sq[x], l);
+                        }
+                    }
+                    return c;
+                }
                 for x in 0..width {
                     let (s, s2) = (&mut sum[x as usize], &mut sum_sq[x as usize]);
                     for i in first..first + n {
-                        let mut rng = Rng::for_pixel(
-                            x,
-                            y as u32,
-                            i,
-                            PATH_STREAM ^ options.seed.wrapping_mul(0x9e37_79b9),
-                        );
-                        let j = rng.next_2d();
-                        let ray = cam.ray(x as f32 + j.x, y as f32 + j.y);
+                        let (ray, mut rng) = pixel_sample(&cam, x, y, i, options.seed);
                         let l = radiance_in(&ps, params, ray, &mut rng, &mut c);
-                        let v = if l.is_finite() {
-                            [l.r as f64, l.g as f64, l.b as f64]
-                        } else {
-                            [0.0; 3]
-                        };
-                        s[0] += v[0];
-                        s[1] += v[1];
-                        s[2] += v[2];
-                        let y = luminance(&v);
-                        *s2 += y * y;
+                        accumulate(s, s2, l);
                     }
                 }
                 c

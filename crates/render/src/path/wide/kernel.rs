@@ -1,0 +1,429 @@
+//! The bounce loop of the 8-wide path kernel (see [`super`] for the stages and the
+//! sources). A lane holds one path; when it ends, its estimate is written to the
+//! output slot of its sample and the lane takes the next sample of the batch, so the
+//! vector stays full until the batch runs out (Laine, Karras, Aila 2013, sec. 4:
+//! regenerating paths in place of finished ones).
+//!
+//! The per-lane stages call exactly the scalar estimator's code (the tracer, the
+//! random stream, the light choice); the vector stage repeats the scalar arithmetic of
+//! [`radiance_in`](crate::path::integrator::radiance_in) lane by lane and in the same
+//! order, with masks where the scalar code branches.
+
+use super::lanes::{offset_ray_origin, sin_cos_quarter_pi, F8, M8, V3, W};
+use super::WideScene;
+use crate::path::integrator::{PathCounters, PathParams};
+use crate::path::tracer::Tracer;
+use glam::Vec3;
+use irradia_core::{Ray, Rgb, Rng};
+use std::f32::consts::{FRAC_1_PI, FRAC_PI_4};
+
+/// No sample in the lane.
+const IDLE: usize = usize::MAX;
+
+/// The paths in flight, one per lane.
+struct Paths {
+    sample: [usize; W],
+    rng: [Rng; W],
+    depth: [u32; W],
+    origin: V3,
+    dir: V3,
+    beta: V3,
+    radiance: V3,
+    /// The previous scattering vertex and its BSDF density (MIS on emitter hits);
+    /// `has_prev` is false for camera rays.
+    prev_p: V3,
+    prev_pdf: F8,
+    has_prev: M8,
+}
+
+/// What the per-lane stage gathers for the vector stage, per bounce.
+#[derive(Default)]
+struct Bounce {
+    /// Lanes that hit a surface.
+    hit: M8,
+    /// Lanes that go on scattering at this hit (random numbers drawn).
+    scatter: M8,
+    p: V3,
+    error: F8,
+    n: V3,
+    ns: V3,
+    albedo: V3,
+    emission: V3,
+    emissive: M8,
+    emission_two_sided: M8,
+    /// `pdf_object` of the hit as seen from the previous vertex (emissive hits).
+    light_pdf: F8,
+    /// Uniform numbers of the BSDF sample.
+    u_bsdf: [F8; 2],
+    /// The light sample: a facet was chosen (`light`), its corners, normal, the
+    /// choice probability, density by area, radiance and sidedness, and the point of
+    /// the square to warp into the triangle.
+    light: M8,
+    la: V3,
+    lb: V3,
+    lc: V3,
+    ln: V3,
+    pick: F8,
+    pdf_area: F8,
+    lradiance: V3,
+    ltwo_sided: M8,
+    u_light: [F8; 2],
+}
+
+/// What the vector stage hands back to the per-lane stage.
+struct Scattered {
+    /// Lanes whose light sample passed every test but the shadow ray, with the
+    /// shadow ray (`t_max = 1`) and the contribution if it is unblocked.
+    nee: M8,
+    shadow_origin: V3,
+    shadow_dir: V3,
+    nee_value: V3,
+    /// Lanes that continue (a valid BSDF sample, throughput not black).
+    go_on: M8,
+    /// Russian roulette: survival probability and the throughput divided by it.
+    q: F8,
+    beta_rr: V3,
+}
+
+/// Power heuristic with β = 2, per lane (as `integrator::mis`).
+#[inline(always)]
+fn mis(a: F8, b: F8) -> F8 {
+    let (a2, b2) = (a * a, b * b);
+    let s = a2 + b2;
+    s.gt(0.0).keep(a2 / s)
+}
+
+/// `Frame::from_normal` (Duff et al. 2017) in every lane: the tangents `(s, t)`.
+#[inline(always)]
+fn frame(n: V3) -> (V3, V3) {
+    let sign = n.z.sign_one();
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    let s = V3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    let t = V3::new(b, sign + n.y * n.y * a, -n.y);
+    (s, t)
+}
+
+/// `cosine_hemisphere` (Shirley-Chiu concentric disk, lifted to the hemisphere) in
+/// every lane; the angle's sine and cosine come from [`sin_cos_quarter_pi`] (for the
+/// second wedge, `cos(π/2 - a) = sin a` and `sin(π/2 - a) = cos a`).
+#[inline(always)]
+fn cosine_hemisphere(u: [F8; 2]) -> V3 {
+    let (ox, oy) = (2.0 * u[0] - 1.0, 2.0 * u[1] - 1.0);
+    let first = ox.abs().gt(oy.abs());
+    let ratio = first.select(oy / ox, ox / oy);
+    let (sin_a, cos_a) = sin_cos_quarter_pi(FRAC_PI_4 * ratio);
+    let r = first.select(ox, oy);
+    let centre = ox.eq(0.0) & oy.eq(0.0);
+    let dx = (!centre).keep(r * first.select(cos_a, sin_a));
+    let dy = (!centre).keep(r * first.select(sin_a, cos_a));
+    let z = (1.0 - (dx * dx + dy * dy)).max(0.0).sqrt();
+    V3::new(dx, dy, z)
+}
+
+/// The vector stage: emission, the light sample and the BSDF sample of every lane.
+#[inline(always)]
+fn scatter(paths: &mut Paths, b: &Bounce) -> Scattered {
+    // Emission, weighted against light sampling from the previous vertex.
+    let wo_world = paths.dir.normalize().neg();
+    let n = b.n;
+    let facing = n.dot(wo_world).gt(0.0);
+    let lit = b.hit & b.emissive & (b.emission_two_sided | facing);
+    let w = paths
+        .has_prev
+        .select(mis(paths.prev_pdf, b.light_pdf), F8::splat(1.0));
+    let emitted = paths.beta.mul(b.emission).scale(w);
+    paths.radiance = V3::select(lit, paths.radiance.add(emitted), paths.radiance);
+
+    let sc = b.scatter;
+    // Shading frame on the geometric normal's side.
+    let ns = V3::select(b.ns.dot(n).lt(0.0), b.ns.neg(), b.ns);
+    let (fs, ft) = frame(ns);
+    let to_local = |v: V3| V3::new(v.dot(fs), v.dot(ft), v.dot(ns));
+    let wo = to_local(wo_world);
+    let f = b.albedo.scale(F8::splat(FRAC_1_PI));
+
+    // Next-event estimation: a point on the chosen facet.
+    let s = b.u_light[0].sqrt();
+    let (b1, b2) = (1.0 - s, b.u_light[1] * s);
+    let q =
+        b.la.scale(1.0 - b1 - b2)
+            .add(b.lb.scale(b1))
+            .add(b.lc.scale(b2));
+    let d = q.sub(b.p);
+    let dist2 = d.dot(d);
+    let wi = d.div(dist2.sqrt());
+    let l_facing = -wi.dot(b.ln);
+    let cos_l = b.ltwo_sided.select(l_facing.abs(), l_facing);
+    let light_ok = sc & b.light & cos_l.gt(0.0) & b.pdf_area.gt(0.0);
+    let l_side = V3::select(l_facing.gt(0.0), b.ln, b.ln.neg());
+    let target = offset_ray_origin(q, l_side, F8::ZERO);
+    let l_pdf = b.pick * b.pdf_area * dist2 / cos_l;
+    let wi_local = to_local(wi);
+    let same_side = (wo.z * wi_local.z).gt(0.0);
+    let f_nonzero = same_side & !f.is_zero();
+    let cos_n = wi.dot(n);
+    let nee = light_ok & f_nonzero & (cos_n * wi_local.z).gt(0.0);
+    let side = V3::select(cos_n.gt(0.0), n, n.neg());
+    let shadow_origin = offset_ray_origin(b.p, side, b.error);
+    let bsdf_pdf = wi_local.z.abs().max(0.0) * FRAC_1_PI;
+    let w_light = mis(l_pdf, bsdf_pdf);
+    let nee_value = paths
+        .beta
+        .mul(f)
+        .mul(b.lradiance)
+        .scale(wi_local.z.abs() * w_light / l_pdf);
+
+    // BSDF sampling: a cosine-weighted direction on the side of `wo`.
+    let mut wi_b = cosine_hemisphere(b.u_bsdf);
+    wi_b.z = wo.z.lt(0.0).select(-wi_b.z, wi_b.z);
+    let pdf_b = wi_b.z.abs().max(0.0) * FRAC_1_PI;
+    let wi_world = fs.scale(wi_b.x).add(ft.scale(wi_b.y)).add(ns.scale(wi_b.z));
+    let cos_w = wi_world.dot(n);
+    let beta = paths.beta.mul(b.albedo);
+    let go_on = sc
+        & wo.z.ne(0.0)
+        & pdf_b.gt(0.0)
+        & (cos_w * wi_b.z).gt(0.0)
+        & !beta.is_zero()
+        & beta.finite();
+    let side = V3::select(cos_w.gt(0.0), n, n.neg());
+    let origin = offset_ray_origin(b.p, side, b.error);
+    paths.beta = V3::select(go_on, beta, paths.beta);
+    paths.origin = V3::select(go_on, origin, paths.origin);
+    paths.dir = V3::select(go_on, wi_world, paths.dir);
+    paths.prev_p = V3::select(go_on, b.p, paths.prev_p);
+    paths.prev_pdf = go_on.select(pdf_b, paths.prev_pdf);
+    paths.has_prev = paths.has_prev | go_on;
+    let q = paths.beta.max_component().min(0.95);
+    Scattered {
+        nee,
+        shadow_origin,
+        shadow_dir: target.sub(shadow_origin),
+        nee_value,
+        go_on,
+        q,
+        beta_rr: paths.beta.scale(1.0 / q),
+    }
+}
+
+/// The whole loop, compiled twice (AVX2 + FMA and portable) by the callers below.
+#[inline(always)]
+fn run<T: Tracer>(
+    ws: &WideScene<'_, '_, T>,
+    params: &PathParams,
+    mut start: impl FnMut(usize) -> (Ray, Rng),
+    out: &mut [Rgb],
+    counters: &mut PathCounters,
+) {
+    let ps = ws.ps;
+    let mut paths = Paths {
+        sample: [IDLE; W],
+        rng: std::array::from_fn(|_| Rng::new(0, 0)),
+        depth: [0; W],
+        origin: V3::ZERO,
+        dir: V3::ZERO,
+        beta: V3::ZERO,
+        radiance: V3::ZERO,
+        prev_p: V3::ZERO,
+        prev_pdf: F8::ZERO,
+        has_prev: M8::FALSE,
+    };
+    let mut next = 0usize;
+    let mut b = Bounce::default();
+    loop {
+        // Stage 1, per lane: refill, trace, draw.
+        let mut live = 0u32;
+        for lane in 0..W {
+            if paths.sample[lane] == IDLE {
+                if next == out.len() {
+                    b.hit.set(lane, false);
+                    b.scatter.set(lane, false);
+                    continue;
+                }
+                let (ray, rng) = start(next);
+                paths.sample[lane] = next;
+                next += 1;
+                paths.rng[lane] = rng;
+                paths.depth[lane] = 1;
+                paths.origin.set_lane(lane, ray.origin);
+                paths.dir.set_lane(lane, ray.dir);
+                paths.beta.set_lane(lane, Vec3::ONE);
+                paths.radiance.set_lane(lane, Vec3::ZERO);
+                paths.has_prev.set(lane, false);
+                counters.paths += 1;
+            }
+            live += 1;
+            counters.rays += 1;
+            let ray = Ray::new(paths.origin.lane(lane), paths.dir.lane(lane));
+            let Some(sh) = ps.tracer.intersect(&ray, f32::INFINITY) else {
+                // Black background: the path ends with what it has.
+                b.hit.set(lane, false);
+                b.scatter.set(lane, false);
+                continue;
+            };
+            let m = &ws.materials[sh.material as usize];
+            let h = &sh.hit;
+            b.hit.set(lane, true);
+            b.p.set_lane(lane, h.point);
+            b.error.0[lane] = h.error;
+            b.n.set_lane(lane, h.normal);
+            b.ns.set_lane(lane, h.shading_normal);
+            b.albedo.set_lane_array(lane, m.albedo);
+            b.emission.set_lane_array(lane, m.emission);
+            b.emissive.set(lane, m.emissive);
+            b.emission_two_sided.set(lane, m.two_sided);
+            if m.emissive && paths.has_prev.get(lane) {
+                b.light_pdf.0[lane] = ps.lights.pdf_object(
+                    ps.scene,
+                    sh.instance,
+                    paths.prev_p.lane(lane),
+                    h.point,
+                    h.normal,
+                );
+            }
+            let scatters = m.scatters && paths.depth[lane] < params.max_depth;
+            b.scatter.set(lane, scatters);
+            if !scatters {
+                continue;
+            }
+            let rng = &mut paths.rng[lane];
+            let u_pick = rng.next_f32();
+            let u_light = rng.next_2d();
+            let _u_lobe = rng.next_f32(); // one lobe: drawn, not used (as the scalar code)
+            let u_bsdf = rng.next_2d();
+            b.u_bsdf[0].0[lane] = u_bsdf.x;
+            b.u_bsdf[1].0[lane] = u_bsdf.y;
+            match ps.lights.pick_facet(u_pick, u_light) {
+                Some((emitter, pick, tri, u)) => {
+                    let f = &ws.facets[ws.facet_start[emitter] + tri];
+                    b.light.set(lane, true);
+                    b.la.set_lane_array(lane, f.corners[0]);
+                    b.lb.set_lane_array(lane, f.corners[1]);
+                    b.lc.set_lane_array(lane, f.corners[2]);
+                    b.ln.set_lane_array(lane, f.normal);
+                    b.pick.0[lane] = pick;
+                    b.pdf_area.0[lane] = f.pdf_area;
+                    b.lradiance.set_lane_array(lane, f.radiance);
+                    b.ltwo_sided.set(lane, f.two_sided);
+                    b.u_light[0].0[lane] = u.x;
+                    b.u_light[1].0[lane] = u.y;
+                }
+                None => b.light.set(lane, false),
+            }
+        }
+        if live == 0 {
+            break;
+        }
+
+        // Stage 2, all lanes.
+        let s = scatter(&mut paths, &b);
+
+        // Stage 3, per lane: shadow rays, Russian roulette, finished paths.
+        for lane in 0..W {
+            if paths.sample[lane] == IDLE {
+                continue;
+            }
+            if s.nee.get(lane) {
+                counters.shadow_rays += 1;
+                let ray = Ray::new(s.shadow_origin.lane(lane), s.shadow_dir.lane(lane));
+                if !ps.tracer.occluded(&ray, 1.0) {
+                    let l = paths.radiance.lane(lane) + s.nee_value.lane(lane);
+                    paths.radiance.set_lane(lane, l);
+                }
+            }
+            let mut alive = s.go_on.get(lane);
+            if alive && paths.depth[lane] + 1 >= params.rr_depth {
+                if paths.rng[lane].next_f32() >= s.q.0[lane] {
+                    alive = false;
+                } else {
+                    let beta = s.beta_rr.lane(lane);
+                    paths.beta.set_lane(lane, beta);
+                }
+            }
+            if alive {
+                paths.depth[lane] += 1;
+            } else {
+                let l = paths.radiance.lane(lane);
+                out[paths.sample[lane]] = Rgb::new(l.x, l.y, l.z);
+                paths.sample[lane] = IDLE;
+            }
+        }
+    }
+}
+
+/// The loop with AVX2 and FMA enabled (LLVM turns the lane loops into 8-wide
+/// instructions).
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+pub(super) unsafe fn run_avx2<T: Tracer>(
+    ws: &WideScene<'_, '_, T>,
+    params: &PathParams,
+    start: impl FnMut(usize) -> (Ray, Rng),
+    out: &mut [Rgb],
+    counters: &mut PathCounters,
+) {
+    run(ws, params, start, out, counters)
+}
+
+/// The loop for any CPU (SSE2 on x86_64).
+pub(super) fn run_portable<T: Tracer>(
+    ws: &WideScene<'_, '_, T>,
+    params: &PathParams,
+    start: impl FnMut(usize) -> (Ray, Rng),
+    out: &mut [Rgb],
+    counters: &mut PathCounters,
+) {
+    run(ws, params, start, out, counters)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cosine_directions_match_the_scalar_warp() {
+        let mut rng = Rng::new(11, 2);
+        let mut worst = 0f32;
+        for _ in 0..500 {
+            let mut us = [F8::ZERO; 2];
+            let mut want = [Vec3::ZERO; W];
+            for lane in 0..W {
+                let v = rng.next_2d();
+                us[0].0[lane] = v.x;
+                us[1].0[lane] = v.y;
+                want[lane] = irradia_core::sampling::cosine_hemisphere(v);
+            }
+            let got = cosine_hemisphere(us);
+            for (lane, w) in want.iter().enumerate() {
+                worst = worst.max((got.lane(lane) - *w).abs().max_element());
+            }
+        }
+        assert!(worst < 1e-6, "worst component difference {worst}");
+    }
+
+    #[test]
+    fn frames_match_the_scalar_frame_bit_for_bit() {
+        let mut rng = Rng::new(5, 9);
+        let mut n = V3::ZERO;
+        let mut want = Vec::new();
+        for lane in 0..W {
+            let v = Vec3::new(
+                rng.next_f32() - 0.5,
+                rng.next_f32() - 0.5,
+                rng.next_f32() - 0.5,
+            )
+            .normalize();
+            n.set_lane(lane, v);
+            want.push(irradia_core::Frame::from_normal(v));
+        }
+        let (s, t) = frame(n);
+        for (lane, f) in want.iter().enumerate() {
+            assert_eq!(s.lane(lane), f.s);
+            assert_eq!(t.lane(lane), f.t);
+        }
+    }
+}

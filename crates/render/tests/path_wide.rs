@@ -1,0 +1,235 @@
+//! The 8-wide path kernel against the scalar estimator: the same samples (same random
+//! streams) give the same values up to rounding, which samples of another stream do
+//! not; independent renders of both converge to the same image; a closed Lambertian box
+//! converges to e / (1 − ρ); and scenes the kernel does not support are refused.
+
+mod path_common;
+
+use glam::Vec3;
+use irradia_core::Rgb;
+use irradia_geometry::shapes::Cuboid;
+use irradia_geometry::Instance;
+use irradia_render::path::flat_scene::FlatScene;
+use irradia_render::path::integrator::{radiance_in, PathScene};
+use irradia_render::path::lights::LightSampler;
+use irradia_render::path::progressive::pixel_sample;
+use irradia_render::path::wide::WideScene;
+use irradia_render::path::{self, Film, PathCounters, PathParams, ProgressiveOptions};
+use irradia_scene::{Material, Object, Scene};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// The inside of a closed box of reflectance `rho` with uniform two-sided emission `e`
+/// (box faces are facet emitters, so the scene qualifies for the wide kernel).
+fn furnace_box(rho: f32, e: f32) -> Scene {
+    let shape = Arc::new(Cuboid::new(Vec3::splat(-1.0), Vec3::new(1.0, 1.5, 2.0)).unwrap());
+    Scene::new(
+        path_common::camera(Vec3::new(0.3, -0.2, 0.1), Vec3::new(1.0, 0.0, -1.0), 90.0),
+        path_common::settings(16, 12, 200, Rgb::BLACK),
+        vec![Material {
+            emission_two_sided: true,
+            ..path_common::diffuse(rho, e)
+        }],
+        vec![],
+        vec![Object {
+            name: "shell".into(),
+            material: 0,
+            leaf_materials: vec![],
+        }],
+        vec![Instance::untransformed(shape)],
+    )
+}
+
+fn cornell(width: u32, height: u32) -> Scene {
+    let mut scene = irradia_scene::builtin::load("cornell").unwrap();
+    scene.settings.width = width;
+    scene.settings.height = height;
+    scene
+}
+
+/// Sample values of every pixel (`spp` each) by the scalar estimator and by the wide
+/// kernel; the scalar ones from stream family `scalar_seed`, the wide ones from 0.
+fn both_estimates(
+    scene: &Scene,
+    spp: u32,
+    params: &PathParams,
+    scalar_seed: u32,
+) -> (Vec<Rgb>, Vec<Rgb>) {
+    let lights = LightSampler::new(scene);
+    let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
+    let wide = WideScene::new(&ps).expect("the scene qualifies for the wide kernel");
+    let (w, h) = (scene.settings.width, scene.settings.height);
+    let cam = scene.camera.rays(w, h);
+    let n = (w * h * spp) as usize;
+    let task = |k: usize| {
+        let (pixel, i) = (k as u32 / spp, k as u32 % spp);
+        (pixel % w, pixel / w, i)
+    };
+    let mut scalar = Vec::with_capacity(n);
+    let mut c_scalar = PathCounters::default();
+    for k in 0..n {
+        let (x, y, i) = task(k);
+        let (ray, mut rng) = pixel_sample(&cam, x, y, i, scalar_seed);
+        scalar.push(radiance_in(&ps, params, ray, &mut rng, &mut c_scalar));
+    }
+    let mut wide_out = vec![Rgb::splat(f32::NAN); n];
+    let mut c_wide = PathCounters::default();
+    wide.radiance_batch(
+        params,
+        |k| {
+            let (x, y, i) = task(k);
+            pixel_sample(&cam, x, y, i, 0)
+        },
+        &mut wide_out,
+        &mut c_wide,
+    );
+    assert_eq!(c_wide.paths, c_scalar.paths);
+    (scalar, wide_out)
+}
+
+/// Fraction of samples whose three channels agree to `1e-4` relative.
+fn fraction_equal(a: &[Rgb], b: &[Rgb]) -> f64 {
+    let close = |x: f32, y: f32| (x - y).abs() <= 1e-4 * x.abs().max(y.abs()) + 1e-7;
+    let same = a
+        .iter()
+        .zip(b)
+        .filter(|(p, q)| close(p.r, q.r) && close(p.g, q.g) && close(p.b, q.b))
+        .count();
+    same as f64 / a.len() as f64
+}
+
+/// Mean luminance and its standard error.
+fn mean_and_error(v: &[Rgb]) -> (f64, f64) {
+    let y: Vec<f64> = v
+        .iter()
+        .map(|c| 0.2126 * c.r as f64 + 0.7152 * c.g as f64 + 0.0722 * c.b as f64)
+        .collect();
+    let n = y.len() as f64;
+    let mean = y.iter().sum::<f64>() / n;
+    let var = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (var / n).sqrt())
+}
+
+#[test]
+fn wide_samples_equal_scalar_samples_up_to_rounding() {
+    let params = PathParams::default();
+    for (name, scene) in [
+        ("cornell", cornell(40, 40)),
+        ("furnace box", furnace_box(0.6, 1.0)),
+    ] {
+        let (scalar, wide) = both_estimates(&scene, 2, &params, 0);
+        assert!(
+            wide.iter().all(|c| c.is_finite()),
+            "{name}: unwritten sample"
+        );
+        let same = fraction_equal(&scalar, &wide);
+        // The disk warp's sine and cosine are a polynomial in the kernel: a path
+        // can take another Russian-roulette or shadow decision when a direction
+        // differs in its last bit, which happens to very few paths.
+        assert!(
+            same > 0.97,
+            "{name}: only {:.1}% of samples agree",
+            same * 100.0
+        );
+        let (ms, es) = mean_and_error(&scalar);
+        let (mw, ew) = mean_and_error(&wide);
+        let se = (es * es + ew * ew).sqrt();
+        // Nearly the same samples: the means differ by far less than their error.
+        assert!(
+            (ms - mw).abs() < 0.5 * se,
+            "{name}: means {ms} and {mw} (error {se})"
+        );
+
+        // The comparison can fail: samples of another stream family do not agree.
+        let (other, _) = both_estimates(&scene, 2, &params, 7);
+        let chance = fraction_equal(&other, &wide);
+        assert!(
+            chance < 0.5,
+            "{name}: {:.1}% agree by chance",
+            chance * 100.0
+        );
+    }
+}
+
+fn render(scene: &Scene, spp: u32, seed: u32, scalar_only: bool) -> Film {
+    let opts = ProgressiveOptions {
+        spp,
+        seed,
+        scalar_only,
+        checkpoint_interval: Duration::from_secs(3600),
+        ..Default::default()
+    };
+    let params = PathParams {
+        max_depth: scene.settings.max_depth,
+        rr_depth: 5,
+    };
+    let film = Film::new(scene.settings.width, scene.settings.height).unwrap();
+    path::render(scene, &params, &opts, film, |_, _| {})
+        .unwrap()
+        .film
+}
+
+/// Independent renders (different random streams) by the wide kernel and by the scalar
+/// estimator agree within a few standard errors, pixel differences pooled.
+#[test]
+fn independent_wide_and_scalar_renders_have_equal_means() {
+    let scene = cornell(24, 24);
+    let wide = render(&scene, 64, 1, false);
+    let scalar = render(&scene, 64, 2, true);
+    let diffs: Vec<Rgb> = wide
+        .image()
+        .pixels()
+        .iter()
+        .zip(scalar.image().pixels())
+        .map(|(a, b)| *a - *b)
+        .collect();
+    let (d, se) = mean_and_error(&diffs);
+    let (level, _) = mean_and_error(scalar.image().pixels());
+    assert!(
+        se > 0.0 && se < 0.05 * level,
+        "standard error {se} of {level}"
+    );
+    assert!(
+        d.abs() < 4.0 * se,
+        "mean difference {d}, standard error {se}"
+    );
+}
+
+/// The closed box converges to e / (1 − ρ) in every pixel (wide kernel); and a wrong
+/// ρ would be seen (the expected value moves by 25% between ρ = 0.5 and 0.6).
+#[test]
+fn wide_furnace_box_converges_to_e_over_one_minus_rho() {
+    let (rho, e) = (0.5f32, 1.0f32);
+    let scene = furnace_box(rho, e);
+    let film = render(&scene, 256, 0, false);
+    let expected = (e / (1.0 - rho)) as f64;
+    // Per pixel loosely (light samples near the box's edges have heavy tails, so
+    // per-pixel variance estimates are unreliable at 256 spp; the scalar estimator
+    // gives the same image), the whole image tightly.
+    for (i, p) in film.image().pixels().iter().enumerate() {
+        let v = p.mean() as f64;
+        assert!(
+            (v / expected - 1.0).abs() < 0.1,
+            "pixel {i}: {v} vs {expected}"
+        );
+    }
+    let mean = film.image().mean().mean() as f64;
+    assert!((mean / expected - 1.0).abs() < 0.01, "image mean {mean}");
+}
+
+#[test]
+fn only_lambertian_scenes_with_facet_emitters_qualify() {
+    let check = |scene: &Scene| {
+        let lights = LightSampler::new(scene);
+        let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
+        WideScene::new(&ps).is_some()
+    };
+    assert!(check(&cornell(8, 8)));
+    assert!(check(&furnace_box(0.5, 1.0)));
+    // A sphere emitter (sampled by its own sampler), glossy and glass balls.
+    assert!(!check(&path_common::small_room()));
+    // Mirrors, glass, point lights.
+    assert!(!check(&irradia_scene::builtin::load("default").unwrap()));
+    // An environment.
+    assert!(!check(&path_common::white_sphere_in_environment(0.7)));
+}
