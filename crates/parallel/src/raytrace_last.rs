@@ -154,17 +154,7 @@ pub fn render_shaded<C: Comm>(
     root: usize,
     shading: Shading,
 ) -> Result<Option<Layer<[f32; 4]>>, CommError> {
-    comm.log().begin_stage("render");
-    let objects = block(scene.objects.len(), comm.rank(), comm.size());
-    let layer = if objects.is_empty() {
-        Layer::new(scene.settings.width, scene.settings.height)
-    } else {
-        let mine = sub_scene(scene, objects);
-        match shading {
-            Shading::Local => cast_layer(&mine),
-            Shading::WhittedOwnObjects => whitted_layer(&mine),
-        }
-    };
+    let layer = render_layer(comm, scene, shading);
     let opts = CompositeOptions {
         op: Operator::Depth,
         order: None,
@@ -176,6 +166,22 @@ pub fn render_shaded<C: Comm>(
         fill_background(l, scene.settings.background);
     }
     Ok(out)
+}
+
+/// The render step alone (stage "render"): this rank's block of the objects, ray cast
+/// with `shading`, as a layer to composite (background left clear: apply
+/// [`fill_background`] to the composited image).
+pub fn render_layer<C: Comm>(comm: &C, scene: &Scene, shading: Shading) -> Layer<[f32; 4]> {
+    comm.log().begin_stage("render");
+    let objects = block(scene.objects.len(), comm.rank(), comm.size());
+    if objects.is_empty() {
+        return Layer::new(scene.settings.width, scene.settings.height);
+    }
+    let mine = sub_scene(scene, objects);
+    match shading {
+        Shading::Local => cast_layer(&mine),
+        Shading::WhittedOwnObjects => whitted_layer(&mine),
+    }
 }
 
 /// Local shading at the nearest hit, no shadows: emission, ambient, and the lecture's

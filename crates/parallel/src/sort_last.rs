@@ -17,11 +17,18 @@ pub fn render<C: Comm>(
     strategy: Strategy,
     opts: &CompositeOptions,
 ) -> Result<Option<Layer<[u8; 4]>>, CommError> {
+    let layer = render_layer(comm, p, tris);
+    composite::composite(comm, strategy, layer, opts)
+}
+
+/// The render step alone (stage "render"): this rank's block of the triangles drawn
+/// over the whole screen, as a layer to composite (with [`composite::composite`], or
+/// onto a tiled display with [`crate::display_tiles::composite_to_tiles`]).
+pub fn render_layer<C: Comm>(comm: &C, p: &Pipeline, tris: &[Triangle]) -> Layer<[u8; 4]> {
     comm.log().begin_stage("render");
     let mine = &tris[block(tris.len(), comm.rank(), comm.size())];
     let mut fb = framebuffer(p);
     p.render_triangles(mine, &mut fb)
         .expect("framebuffer matches the pipeline");
-    let layer = to_layer(&fb);
-    composite::composite(comm, strategy, layer, opts)
+    to_layer(&fb)
 }

@@ -9,12 +9,13 @@ use crate::scene_arg::{load_scene, SceneArgs};
 use clap::{Args, ValueEnum};
 use irradia_core::{Image, Rgb};
 use irradia_parallel::comm::{run_local, Comm, CommError, LocalOptions};
-use irradia_parallel::composite::{Layer, Strategy};
+use irradia_parallel::composite::{CompositeOptions, Layer, Strategy};
+use irradia_parallel::display_tiles::{composite_to_tiles, DisplayLayout};
 use irradia_parallel::job::{self, Mode};
 use irradia_parallel::report::Report;
 use irradia_parallel::sort_first::{self, imbalance, Assign, TileLayout, Tiling};
 use irradia_parallel::workload::{scene_pipeline, scene_triangles, Workload};
-use irradia_parallel::{raytrace_first, raytrace_last};
+use irradia_parallel::{raytrace_first, raytrace_last, sort_last};
 use irradia_raster::{Pipeline, Triangle};
 use irradia_scene::Scene;
 use std::path::PathBuf;
@@ -26,6 +27,7 @@ const EXAMPLES: &str = "Examples:
   irradia parallel --mode sort-first --renderer raytrace --workload builtin:whitted -o w.png
   irradia parallel --mode sort-last --renderer raytrace --workload scene.toml --compositor radix-k
   mpirun -np 4 irradia parallel --comm mpi --mode sort-first --renderer raytrace --workload builtin:csg
+  irradia parallel --mode sort-last --ranks 6 --display-tiles 3x2 --display-overlap 16 -o wall.png
 
 Workloads: random-triangles, teapot, marching-cubes (with --triangles), a scene file
 (.toml or .json, as for `irradia render`), or builtin:NAME (see `irradia scenes`).
@@ -34,6 +36,9 @@ CSG and implicit surfaces are left out) or raytrace (scenes only): sort-first is
 Whitted ray tracer on screen tiles (the image equals `irradia render --integrator
 whitted`), sort-last ray casts each rank's objects with local shading and no shadows,
 reflection or refraction (those need the other ranks' objects), then depth-composites.
+Tiled displays (sort-last): --display-tiles CxR composites straight onto a grid of C x R
+displays driven by ranks 0..C*R-1 (row-major from the top left); each display rank
+receives only its tile and writes it as NAME-ROW-COL.png next to -o NAME.png.
 Exit codes: 0 done, 1 failure while working, 2 bad input.";
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -120,9 +125,52 @@ pub struct ParallelArgs {
     /// "balance" section: estimated work per rank for the regions used and for strips.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// Sort-last onto a tiled display: a grid of COLUMNSxROWS displays driven by ranks
+    /// 0, 1, ... (row-major from the top left); each display rank receives only its tile of
+    /// the composite and writes it (-o NAME.png gives NAME-ROW-COL.png). Needs at least
+    /// COLUMNS*ROWS ranks.
+    #[arg(long, value_name = "COLUMNSxROWS")]
+    pub display_tiles: Option<String>,
+    /// With --display-tiles: pixels by which each tile reaches into its neighbours (the
+    /// overlap of edge-blended projectors).
+    #[arg(long, default_value_t = 0)]
+    pub display_overlap: u32,
     /// Print nothing but errors.
     #[arg(long)]
     pub quiet: bool,
+}
+
+/// Parses `--display-tiles COLUMNSxROWS`.
+fn parse_grid(s: &str) -> Result<(u32, u32), CliError> {
+    let bad = || {
+        input(format!(
+            "--display-tiles {s:?}: expected COLUMNSxROWS, e.g. 3x2 (1 to 64 each)"
+        ))
+    };
+    let (c, r) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (c, r): (u32, u32) = (
+        c.trim().parse().map_err(|_| bad())?,
+        r.trim().parse().map_err(|_| bad())?,
+    );
+    if !(1..=64).contains(&c) || !(1..=64).contains(&r) {
+        return Err(bad());
+    }
+    Ok((c, r))
+}
+
+/// Where display tile `index` of a `columns`-wide grid is written, next to `output`:
+/// `NAME.png` gives `NAME-ROW-COL.png`.
+fn tile_path(output: &std::path::Path, columns: u32, index: usize) -> PathBuf {
+    let (row, col) = (index / columns as usize, index % columns as usize);
+    let stem = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "tile".into());
+    let name = match output.extension() {
+        Some(ext) => format!("{stem}-{row}-{col}.{}", ext.to_string_lossy()),
+        None => format!("{stem}-{row}-{col}"),
+    };
+    output.with_file_name(name)
 }
 
 fn input(m: String) -> CliError {
@@ -205,6 +253,8 @@ struct Job {
     renderer: Renderer,
     object_shading: raytrace_last::Shading,
     input: Input,
+    /// Sort-last onto a tiled display, and the grid's column count (for file names).
+    display: Option<(DisplayLayout, u32)>,
 }
 
 pub fn run(a: ParallelArgs) -> Result<(), CliError> {
@@ -255,6 +305,25 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
             "--object-shading belongs to sort-last ray tracing (--mode sort-last --renderer raytrace)".into(),
         ));
     }
+    let grid = a.display_tiles.as_deref().map(parse_grid).transpose()?;
+    if grid.is_none() && a.display_overlap > 0 {
+        return Err(input("--display-overlap belongs to --display-tiles".into()));
+    }
+    if grid.is_some() && mode != Mode::SortLast {
+        return Err(input(format!(
+            "--display-tiles composites sort-last images onto displays (the mode is {}); use --mode sort-last",
+            mode.name()
+        )));
+    }
+    if let (Some((c, r)), CommKind::Local) = (grid, a.comm) {
+        if (c * r) as usize > a.ranks {
+            return Err(input(format!(
+                "--display-tiles {c}x{r} needs one rank per display: at least {} ranks (--ranks is {})",
+                c * r,
+                a.ranks
+            )));
+        }
+    }
     let input_ = load_input(&a)?;
     let name = match &input_ {
         Input::Triangles { name, .. } | Input::Scene { name, .. } => name.clone(),
@@ -296,7 +365,20 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
             eprintln!("note: the parallel ray tracer is the Whitted tracer; the scene's `integrator = \"path\"` is not used (compare with `irradia render --integrator whitted`)");
         }
     }
+    let (width, height) = match &input_ {
+        Input::Triangles { pipeline, .. } => (pipeline.width, pipeline.height),
+        Input::Scene { scene, .. } => (scene.settings.width, scene.settings.height),
+    };
+    let display = match grid {
+        Some((c, r)) => Some((
+            DisplayLayout::grid(width, height, c, r, a.display_overlap)
+                .map_err(|e| input(format!("--display-tiles: {e}")))?,
+            c,
+        )),
+        None => None,
+    };
     let job = Job {
+        display,
         mode,
         strategy,
         tiling: Tiling {
@@ -327,8 +409,12 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
             let mut first = None;
             for (r, res) in out.into_iter().enumerate() {
                 match res.and_then(|x| x) {
-                    Ok(v) if r == 0 => first = Some(v),
-                    Ok(_) => {}
+                    Ok(mut v) => {
+                        write_tile(&job, &a, v.tile.take())?;
+                        if r == 0 {
+                            first = Some(v);
+                        }
+                    }
                     Err(e) => return Err(CliError::Failure(format!("rank {r}: {e}"))),
                 }
             }
@@ -337,24 +423,29 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
         CommKind::Mpi => mpi_frame(&job, timeout)?,
     };
     let Frame {
-        image: Some(image),
-        report: Some(report),
+        image,
+        report,
         balance,
-    } = frame
-    else {
+        tile,
+    } = frame;
+    write_tile(&job, &a, tile)?;
+    let Some(report) = report else {
         return Ok(()); // not rank 0
     };
-    let (width, height) = (image.width(), image.height());
     if !a.quiet {
         let what = match &job.input {
             Input::Triangles { tris, .. } => format!("{} triangles", tris.len()),
             Input::Scene { scene, .. } => format!("{} objects", scene.objects.len()),
         };
         eprintln!(
-            "{} ({:?}) of {name} ({what}) on {} ranks, {width}x{height}:",
+            "{} ({:?}) of {name} ({what}) on {} ranks, {width}x{height}{}:",
             mode.name(),
             job.renderer,
             report.ranks,
+            match &job.display {
+                Some((l, c)) => format!(" onto {} display tiles ({c} columns)", l.tiles.len()),
+                None => String::new(),
+            }
         );
         for s in &report.stages {
             eprintln!(
@@ -379,8 +470,8 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
             );
         }
     }
-    if let Some(path) = &a.output {
-        irradia_core::io::save(&image, path).map_err(|e| CliError::Failure(e.to_string()))?;
+    if let (Some(path), Some(image)) = (&a.output, &image) {
+        irradia_core::io::save(image, path).map_err(|e| CliError::Failure(e.to_string()))?;
     }
     if let Some(path) = &a.report {
         let mut json: serde_json::Value = serde_json::from_str(&report.to_json())
@@ -402,16 +493,93 @@ fn is_display_process(a: &ParallelArgs) -> bool {
     matches!(a.comm, CommKind::Local)
 }
 
-/// What rank 0 ends with (the others: all `None`).
+/// What rank 0 ends with (the others: all `None`, but for their display tile).
 struct Frame {
     image: Option<Image>,
     report: Option<Report>,
     balance: Option<serde_json::Value>,
+    /// With a tiled display: this rank's tile (its index in the layout, the image).
+    tile: Option<(usize, Image)>,
+}
+
+/// Writes a display rank's tile next to `-o` (nothing without `-o` or a tile).
+fn write_tile(job: &Job, a: &ParallelArgs, tile: Option<(usize, Image)>) -> Result<(), CliError> {
+    let (Some((index, image)), Some(output), Some((layout, columns))) =
+        (tile, &a.output, &job.display)
+    else {
+        return Ok(());
+    };
+    let path = tile_path(output, *columns, index);
+    irradia_core::io::save(&image, &path).map_err(|e| CliError::Failure(e.to_string()))?;
+    if !a.quiet {
+        let t = &layout.tiles[index];
+        eprintln!(
+            "  display {index} (rank {}): {}x{} at ({}, {}) -> {}",
+            t.rank,
+            t.width,
+            t.height,
+            t.x,
+            t.y,
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+/// Sort-last onto the tiled display: this rank's tile, background filled (raster).
+fn raster_tile<C: Comm>(
+    c: &C,
+    job: &Job,
+    layout: &DisplayLayout,
+    p: &Pipeline,
+    tris: &[Triangle],
+    background: Option<Rgb>,
+) -> Result<Option<(usize, Image)>, CommError> {
+    let layer = sort_last::render_layer(c, p, tris);
+    let tile = composite_to_tiles(c, job.strategy, layer, layout, &CompositeOptions::default())?;
+    Ok(tile.map(|l| (tile_index(layout, c.rank()), layer_image(&l, background))))
+}
+
+fn tile_index(layout: &DisplayLayout, rank: usize) -> usize {
+    layout
+        .tiles
+        .iter()
+        .position(|t| t.rank == rank)
+        .expect("composite_to_tiles returns a tile only to display ranks")
+}
+
+/// An RGBA8 layer as an image, with `background` where nothing was drawn.
+fn layer_image(l: &Layer<[u8; 4]>, background: Option<Rgb>) -> Image {
+    let mut im = to_image(l);
+    if let Some(bg) = background {
+        for (px, &d) in im.pixels_mut().iter_mut().zip(&l.depth) {
+            if d == irradia_parallel::composite::FAR {
+                *px = bg;
+            }
+        }
+    }
+    im
 }
 
 fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
     let n = c.size();
     let (image, balance) = match &job.input {
+        Input::Triangles {
+            tris,
+            pipeline: p,
+            background,
+            ..
+        } if job.display.is_some() => {
+            let (layout, _) = job.display.as_ref().expect("checked");
+            let tile = raster_tile(c, job, layout, p, tris, *background)?;
+            let report = Report::gather(c)?;
+            return Ok(Frame {
+                image: None,
+                report,
+                balance: None,
+                tile,
+            });
+        }
         Input::Triangles {
             tris,
             pipeline: p,
@@ -435,17 +603,7 @@ fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
                 }
                 _ => None,
             };
-            let image = img.as_ref().map(|l| {
-                let mut im = to_image(l);
-                if let Some(bg) = background {
-                    for (px, &d) in im.pixels_mut().iter_mut().zip(&l.depth) {
-                        if d == irradia_parallel::composite::FAR {
-                            *px = *bg;
-                        }
-                    }
-                }
-                im
-            });
+            let image = img.as_ref().map(|l| layer_image(l, *background));
             (image, balance)
         }
         Input::Scene { scene, .. } => match job.mode {
@@ -479,6 +637,23 @@ fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
                 });
                 (r.image.as_ref().map(raytrace_first::to_image), balance)
             }
+            _ if job.display.is_some() => {
+                let (layout, _) = job.display.as_ref().expect("checked");
+                let layer = raytrace_last::render_layer(c, scene, job.object_shading);
+                let opts = CompositeOptions::default();
+                let tile = composite_to_tiles(c, job.strategy, layer, layout, &opts)?;
+                let tile = tile.map(|mut l| {
+                    raytrace_last::fill_background(&mut l, scene.settings.background);
+                    (tile_index(layout, c.rank()), raytrace_first::to_image(&l))
+                });
+                let report = Report::gather(c)?;
+                return Ok(Frame {
+                    image: None,
+                    report,
+                    balance: None,
+                    tile,
+                });
+            }
             _ => {
                 let img =
                     raytrace_last::render_shaded(c, scene, job.strategy, 0, job.object_shading)?;
@@ -491,6 +666,7 @@ fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
         image,
         report,
         balance,
+        tile: None,
     })
 }
 
@@ -530,6 +706,19 @@ fn balance_json(
 fn mpi_frame(job: &Job, timeout: Duration) -> Result<Frame, CliError> {
     let comm = irradia_parallel::comm::MpiComm::init(timeout)
         .ok_or_else(|| CliError::Failure("MPI was already initialised".into()))?;
+    if let Some((layout, _)) = &job.display {
+        if let Err(e) = layout.validate(comm.size(), layout.width, layout.height) {
+            // Every rank sees the same count and exits 2; only rank 0 says why.
+            if comm.rank() != 0 {
+                drop(comm);
+                std::process::exit(2);
+            }
+            return Err(CliError::Input(format!(
+                "--display-tiles: {e} (start the job with `mpirun -np {}` or more)",
+                layout.tiles.len()
+            )));
+        }
+    }
     one_frame(&comm, job).map_err(|e| -> CliError { comm.fail(&e) })
 }
 
