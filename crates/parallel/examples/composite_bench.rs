@@ -9,18 +9,27 @@
 //!   into a ready buffer, MPI_Isend from the data in place); the bound is the sum over
 //!   the rounds of those exchange times, i.e. sum of bytes(round) / bandwidth(round);
 //! * binary swap (the reduce-scatter, without the final gather) of a dense image and of
-//!   a 10%-active one, with the time of each step (decide, header, encode, wait, blend).
+//!   a 10%-active one, with the time of each step (decide, header, encode, wait, blend);
+//!   the 10%-active image twice: once found by scanning the depth plane
+//!   (`active10`), once with the rectangle the renderer knows it drew into
+//!   (`active10rect`, `composite::reduce_bounded`, as IceT's bounding boxes);
+//! * the same dense and 10%-active images with direct send and radix-k (k = 4; at 4
+//!   ranks it has one round of 4 and is direct send; at 8, rounds of 4 and 2).
 //!
-//! Every repetition runs the round exchanges, the dense composite and the sparse one back
-//! to back, in a rotating order (so that all see the same machine load); the first
-//! repetition is a warm-up.
+//! The 10%-active image is one compact blob: a centred rectangle of 10% of the pixels
+//! (sqrt(0.1) of the width by sqrt(0.1) of the height), every pixel inside active with
+//! hashed depths, background outside, the same rectangle on every rank.
+//!
+//! Every repetition runs the round exchanges and every composite back to back, in a
+//! rotating order (so that all see the same machine load); the first repetition is a
+//! warm-up.
 //! Times are the slowest rank's, each started after a barrier; medians (and minima) over
 //! the repetitions. Rank 0 prints `RESULT key=value ...` and `PROFILE ...` lines (the
 //! median time of each step on each rank).
 
 use irradia_parallel::comm::{Comm, MpiComm};
 use irradia_parallel::composite::{
-    self, pairwise, profile, split_span, CompositeOptions, Layer, Strategy,
+    self, pairwise, profile, split_span, ActiveRect, CompositeOptions, Layer, Strategy,
 };
 use std::time::{Duration, Instant};
 
@@ -40,12 +49,24 @@ fn hash(i: u64) -> u32 {
     (z ^ (z >> 31)) as u32
 }
 
-/// A layer whose pixels are active inside a centred rectangle covering `fraction`.
-fn layer(w: u32, h: u32, rank: usize, fraction: f64) -> Layer<[u8; 4]> {
-    let mut l = Layer::<[u8; 4]>::new(w, h);
+/// The centred rectangle covering `fraction` of a `w` x `h` screen.
+fn blob(w: u32, h: u32, fraction: f64) -> ActiveRect {
     let s = fraction.sqrt();
     let (rw, rh) = ((w as f64 * s) as u32, (h as f64 * s) as u32);
     let (x0, y0) = ((w - rw) / 2, (h - rh) / 2);
+    ActiveRect {
+        x0,
+        y0,
+        x1: x0 + rw,
+        y1: y0 + rh,
+    }
+}
+
+/// A layer whose pixels are active inside a centred rectangle covering `fraction`.
+fn layer(w: u32, h: u32, rank: usize, fraction: f64) -> Layer<[u8; 4]> {
+    let mut l = Layer::<[u8; 4]>::new(w, h);
+    let ActiveRect { x0, y0, x1, y1 } = blob(w, h, fraction);
+    let (rw, rh) = (x1 - x0, y1 - y0);
     for y in y0..y0 + rh {
         for x in x0..x0 + rw {
             let i = (y * w + x) as usize;
@@ -115,6 +136,15 @@ fn round_give_pixels(n: usize, p: usize) -> Vec<usize> {
     most
 }
 
+/// One timed composite: a strategy, an image, and whether the renderer's rectangle is
+/// passed.
+struct Case {
+    name: &'static str,
+    strategy: Strategy,
+    fraction: f64,
+    rect: bool,
+}
+
 fn main() {
     let comm = MpiComm::init(Duration::from_secs(60)).expect("MPI initialises once");
     let (w, h, reps, pieces) = (
@@ -129,8 +159,6 @@ fn main() {
     let pixel_bytes = 8; // RGBA8 + f32 depth
     let ok = |r: Result<(), _>| r.unwrap_or_else(|e| comm.fail(&e));
 
-    // Each repetition measures, back to back, the exchange of every round (the bound),
-    // the dense composite and the 10%-active one, so that all three see the same load.
     let rounds = if p.is_power_of_two() {
         round_give_pixels(pixels, p)
     } else {
@@ -140,19 +168,57 @@ fn main() {
         .iter()
         .map(|g| (vec![0x5au8; g * pixel_bytes], vec![0u8; g * pixel_bytes]))
         .collect();
-    let cases = [("dense", 1.0), ("active10", 0.10)];
-    let bases: Vec<Layer<[u8; 4]>> = cases.iter().map(|c| layer(w, h, rank, c.1)).collect();
+    let bs = Strategy::BinarySwap;
+    let mut cases = vec![
+        Case {
+            name: "dense",
+            strategy: bs,
+            fraction: 1.0,
+            rect: false,
+        },
+        Case {
+            name: "active10",
+            strategy: bs,
+            fraction: 0.1,
+            rect: false,
+        },
+        Case {
+            name: "active10rect",
+            strategy: bs,
+            fraction: 0.1,
+            rect: true,
+        },
+    ];
+    if p > 1 {
+        for strategy in [Strategy::DirectSend, Strategy::RadixK(4)] {
+            cases.push(Case {
+                name: "dense",
+                strategy,
+                fraction: 1.0,
+                rect: false,
+            });
+            cases.push(Case {
+                name: "active10",
+                strategy,
+                fraction: 0.1,
+                rect: false,
+            });
+        }
+    }
+    let dense = layer(w, h, rank, 1.0);
+    let sparse = layer(w, h, rank, 0.1);
     let opts = CompositeOptions::default();
     let mut exchange_times = vec![Vec::new(); rounds.len()];
     let mut times = vec![Vec::new(); cases.len()];
     let mut steps = vec![Vec::new(); cases.len()];
-    // The three measurements take turns being first, so that none of them always runs
+    // Every measurement takes its turn at being first, so that none of them always runs
     // right after the longest one (on a loaded machine a rank that has just used its
     // time slice is the likeliest to be descheduled).
+    let m = cases.len() + 1;
     for rep in 0..reps + 1 {
         let keep = rep > 0; // the first repetition warms up
-        for k in 0..3 {
-            match (rep + k) % 3 {
+        for k in 0..m {
+            match (rep + k) % m {
                 0 => {
                     for (r, (send, recv)) in buffers.iter_mut().enumerate() {
                         ok(comm.barrier());
@@ -170,14 +236,25 @@ fn main() {
                         }
                     }
                 }
-                case => {
-                    let c = case - 1;
-                    let l = bases[c].clone();
+                c => {
+                    let c = c - 1;
+                    let case = &cases[c];
+                    let l = if case.fraction < 1.0 {
+                        sparse.clone()
+                    } else {
+                        dense.clone()
+                    };
+                    let rect = if case.rect {
+                        blob(w, h, case.fraction)
+                    } else {
+                        ActiveRect::full(w, h)
+                    };
                     ok(comm.barrier());
                     profile::take();
                     let t0 = Instant::now();
-                    let (out, span) = composite::reduce(&comm, Strategy::BinarySwap, l, &opts)
-                        .unwrap_or_else(|e| comm.fail(&e));
+                    let (out, span) =
+                        composite::reduce_bounded(&comm, case.strategy, l, rect, &opts)
+                            .unwrap_or_else(|e| comm.fail(&e));
                     let t = t0.elapsed().as_secs_f64();
                     let step = profile::take();
                     std::hint::black_box((out, span));
@@ -205,22 +282,15 @@ fn main() {
             fastest * 1e3
         ));
     }
-    let results: Vec<_> = cases
-        .iter()
-        .zip(&times)
-        .map(|(c, ts)| (c.0, median(ts.clone()), min(ts)))
-        .collect();
-    let profiles: Vec<_> = cases
-        .iter()
-        .zip(&steps)
-        .map(|(c, st)| (c.0, median_profile(st)))
-        .collect();
 
     // Per-rank step times (medians over the repetitions) to rank 0.
-    for (name, prof) in &profiles {
+    for (case, st) in cases.iter().zip(&steps) {
+        let prof = median_profile(st);
         let k = 1e-3;
         let line = format!(
-            "PROFILE np={p} case={name} rank={rank} swaps={} rle_swaps={} bytes_sent={} decide_ms={:.3} header_ms={:.3} encode_ms={:.3} wait_ms={:.3} blend_ms={:.3}",
+            "PROFILE np={p} strategy={} case={} rank={rank} swaps={} rle_swaps={} bytes_sent={} decide_ms={:.3} header_ms={:.3} encode_ms={:.3} wait_ms={:.3} blend_ms={:.3}",
+            case.strategy.name(),
+            case.name,
             prof.swaps,
             prof.rle_swaps,
             prof.bytes_sent,
@@ -248,17 +318,17 @@ fn main() {
             bound * 1e3,
             bound_min * 1e3
         );
-        for (name, t, fastest) in &results {
+        for (case, ts) in cases.iter().zip(&times) {
+            let (t, fastest) = (median(ts.clone()), min(ts));
             println!(
-                "RESULT np={p} case={name} median_ms={:.3} over_bound={:.2} min_ms={:.3} min_over_bound_min={:.2}",
+                "RESULT np={p} strategy={} case={} median_ms={:.3} over_bound={:.2} min_ms={:.3} min_over_bound_min={:.2}",
+                case.strategy.name(),
+                case.name,
                 t * 1e3,
                 t / bound,
                 fastest * 1e3,
                 fastest / bound_min
             );
         }
-        let dense = results[0].1;
-        let sparse = results[1].1;
-        println!("RESULT np={p} dense_over_active10={:.2}", dense / sparse);
     }
 }

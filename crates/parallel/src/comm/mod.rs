@@ -157,6 +157,16 @@ pub(crate) fn check_piece_len(
 /// index and the pieces received so far (`0..=index`).
 pub type PieceArrived<'a> = dyn FnMut(usize, &[&[u8]]) -> Result<(), CommError> + 'a;
 
+/// What [`Comm::exchange_pieces_many`] calls as each received piece is complete: the
+/// index of its source in `recvs`, the piece's index, and that source's pieces received
+/// so far (`0..=index`).
+pub type PiecesArrived<'a> = dyn FnMut(usize, usize, &[&[u8]]) -> Result<(), CommError> + 'a;
+
+/// Pieces to send to one rank: `(rank, pieces)`.
+pub type PiecesOut<'a> = (usize, Vec<&'a [u8]>);
+/// Buffers for the pieces of one rank: `(rank, buffers)`.
+pub type PiecesIn<'a> = (usize, Vec<&'a mut [u8]>);
+
 /// Tags below this are free for algorithms; the ones above are used by the defaults here.
 pub const TAG_BARRIER: u32 = 0x7fff_0000;
 pub const TAG_ALL_TO_ALL: u32 = 0x7fff_0001;
@@ -224,6 +234,44 @@ pub trait Comm {
             recvs[i].copy_from_slice(piece);
             let done: Vec<&[u8]> = recvs[..=i].iter().map(|r| &**r).collect();
             arrived(i, &done)?;
+        }
+        Ok(())
+    }
+
+    /// [`Comm::exchange_pieces`] with any number of partners, each way: sends the pieces
+    /// of every `sends` entry to its rank and receives every `recvs` entry's pieces from
+    /// its rank into its buffers (exact lengths), all with `tag`. The ranks sent to and
+    /// received from need not be the same (a one-way transfer has an empty side). Pieces
+    /// are taken in the order of `recvs` (all of the first source's, then the second's):
+    /// `arrived(j, i, pieces)` runs when piece i of source j is in, with that source's
+    /// pieces `0..=i`, while later pieces may still be in flight, so that a receiver can
+    /// composite its sources in a fixed visibility order.
+    ///
+    /// The default goes through [`Comm::exchange`] and copies; `MpiComm` receives in place.
+    fn exchange_pieces_many(
+        &self,
+        tag: u32,
+        sends: &[PiecesOut<'_>],
+        recvs: &mut [PiecesIn<'_>],
+        arrived: &mut PiecesArrived<'_>,
+    ) -> Result<(), CommError> {
+        let out: Vec<(usize, &[u8])> = sends
+            .iter()
+            .flat_map(|(d, ps)| ps.iter().map(move |p| (*d, *p)))
+            .collect();
+        let from: Vec<usize> = recvs
+            .iter()
+            .flat_map(|(s, ps)| std::iter::repeat_n(*s, ps.len()))
+            .collect();
+        let mut got = self.exchange(&out, &from, tag)?.into_iter();
+        for (j, (src, ps)) in recvs.iter_mut().enumerate() {
+            for i in 0..ps.len() {
+                let piece = got.next().expect("one message per expected piece");
+                check_piece_len(*src, i, piece.len(), ps[i].len())?;
+                ps[i].copy_from_slice(&piece);
+                let done: Vec<&[u8]> = ps[..=i].iter().map(|r| &**r).collect();
+                arrived(j, i, &done)?;
+            }
         }
         Ok(())
     }

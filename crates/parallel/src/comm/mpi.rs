@@ -7,7 +7,9 @@
 //! rank that dies outright (signal, exit without finalize) is noticed by `mpirun`
 //! itself, which then kills the remaining ranks and names the dead one.
 
-use super::{check_piece_len, Comm, CommError, MessageLog, PieceArrived};
+use super::{
+    check_piece_len, Comm, CommError, MessageLog, PieceArrived, PiecesArrived, PiecesIn, PiecesOut,
+};
 use mpi::datatype::Equivalence;
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::{Communicator, SimpleCommunicator};
@@ -254,6 +256,119 @@ impl Comm for MpiComm {
                     }
                     if Instant::now() >= deadline {
                         self.fail(&timed_out());
+                    }
+                    std::thread::yield_now();
+                }
+            }
+            Ok(())
+        })
+    }
+
+    /// As [`Comm::exchange_pieces`], with several partners: the receives of every
+    /// source's pieces are posted `window` pieces ahead in the order of `recvs`, every
+    /// send is posted at once straight from the caller's memory, and the receives are
+    /// tested in order.
+    fn exchange_pieces_many(
+        &self,
+        tag: u32,
+        sends: &[PiecesOut<'_>],
+        recvs: &mut [PiecesIn<'_>],
+        arrived: &mut PiecesArrived<'_>,
+    ) -> Result<(), CommError> {
+        for r in sends.iter().map(|s| s.0).chain(recvs.iter().map(|r| r.0)) {
+            self.check(r)?;
+        }
+        let me = self.rank();
+        let wants: Vec<usize> = recvs
+            .iter()
+            .flat_map(|(_, ps)| ps.iter().map(|p| p.len()))
+            .collect();
+        let deadline = Instant::now() + self.timeout;
+        let timed_out = |rank: usize| CommError::Timeout {
+            rank,
+            waiting_rank: me,
+            tag,
+            seconds: self.timeout.as_secs_f64(),
+        };
+        let window = piece_window();
+        let world = &self.world;
+        mpi::request::scope(|scope| {
+            let mut buffers = recvs.iter_mut().enumerate().flat_map(|(j, (src, ps))| {
+                let src = *src;
+                ps.iter_mut()
+                    .enumerate()
+                    .map(move |(i, b)| (j, i, src, &mut **b))
+            });
+            macro_rules! post {
+                ($x:expr) => {{
+                    let (j, i, src, b) = $x;
+                    let r = world
+                        .process_at_rank(src as i32)
+                        .immediate_receive_into_with_tag(scope, b, tag as i32);
+                    (j, i, src, r)
+                }};
+            }
+            let mut receives = VecDeque::with_capacity(wants.len());
+            for b in buffers.by_ref().take(window) {
+                receives.push_back(post!(b));
+            }
+            let sent: Vec<_> = sends
+                .iter()
+                .flat_map(|(d, ps)| ps.iter().map(move |b| (*d, *b)))
+                .map(|(d, b)| {
+                    self.log.record(me, d, b.len(), true);
+                    (
+                        d,
+                        world
+                            .process_at_rank(d as i32)
+                            .immediate_send_with_tag(scope, b, tag as i32),
+                    )
+                })
+                .collect();
+            let mut done: Vec<&[u8]> = Vec::new();
+            let mut source = usize::MAX;
+            for &want in &wants {
+                let (j, i, src, mut r) = receives.pop_front().expect("a receive is posted");
+                if j != source {
+                    done.clear();
+                    source = j;
+                }
+                let mut spins = 0u32;
+                let (status, data) = loop {
+                    match r.test_with_data() {
+                        Ok(x) => break x,
+                        Err(again) => r = again,
+                    }
+                    spins += 1;
+                    if spins > 64 {
+                        if Instant::now() >= deadline {
+                            self.fail(&timed_out(src));
+                        }
+                        std::thread::yield_now();
+                    }
+                };
+                let got = status.count(u8::equivalent_datatype()) as usize;
+                if let Err(e) = check_piece_len(src, i, got, want) {
+                    self.fail(&e);
+                }
+                self.log.record(src, me, got, false);
+                done.push(data);
+                if let Some(b) = buffers.next() {
+                    receives.push_back(post!(b));
+                }
+                // Outstanding requests cannot be abandoned: an error ends the job here.
+                if let Err(e) = arrived(j, i, &done) {
+                    self.fail(&e);
+                }
+            }
+            for (d, mut r) in sent {
+                loop {
+                    match r.test() {
+                        Ok(_) => break,
+                        Err(again) => r = again,
+                    }
+                    if Instant::now() >= deadline {
+                        self.fail(&timed_out(d));
                     }
                     std::thread::yield_now();
                 }

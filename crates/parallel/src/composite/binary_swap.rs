@@ -4,16 +4,19 @@
 //! one, leaving 2^m active ranks; then, in m rounds, partners v and v xor 2^i swap halves
 //! of their current span, each keeping and compositing one half. Every rank ends with
 //! 1/2^m of the image, having sent S(1 - 1/2^m) bytes: the reduce-scatter lower bound.
-//! Each round is a [`pairwise::swap`]: dense halves go straight from the layer's memory
-//! in pipelined pieces, sparse ones as run lengths.
+//! Each round is a [`pairwise::swap`] and the fold a one-way [`pairwise::transfer`]:
+//! dense spans go straight from the layer's memory in pipelined pieces into a reused
+//! buffer, sparse ones as run lengths.
 
-use super::{pairwise, rle, split_span, CompositeOptions, Layer, Order, Pixel, TAG_COMPOSITE};
+use super::pairwise::{self, Step};
+use super::{split_span, ActiveRect, CompositeOptions, Layer, Order, Pixel, TAG_COMPOSITE};
 use crate::comm::{Comm, CommError};
 use std::ops::Range;
 
 pub fn reduce<P: Pixel, C: Comm>(
     comm: &C,
     mut layer: Layer<P>,
+    mut rect: ActiveRect,
     opts: &CompositeOptions,
 ) -> Result<(Layer<P>, Range<usize>), CommError> {
     let n = comm.size();
@@ -28,25 +31,22 @@ pub fn reduce<P: Pixel, C: Comm>(
     let fold_tag = TAG_COMPOSITE;
     // Folding: positions 2i+1 < 2*extra hand their layer to 2i.
     let v = if me < 2 * extra {
+        let all = 0..layer.len();
+        let fold = |sends, recvs, keep| Step {
+            sends,
+            recvs,
+            keep,
+            tag: fold_tag,
+            op: opts.op,
+            rle: opts.rle,
+        };
         if me % 2 == 1 {
-            let msg = rle::encode(&layer, 0..layer.len(), opts.op, opts.rle);
-            comm.send(order.rank(me - 1), fold_tag, &msg)?;
+            let to = [(order.rank(me - 1), all)];
+            pairwise::transfer(comm, &mut layer, &mut rect, &fold(&to, &[], 0..0))?;
             return Ok((layer, 0..0));
         }
-        let from = order.rank(me + 1);
-        let buf = comm.recv(from, fold_tag)?;
-        rle::apply(
-            &mut layer,
-            &buf,
-            rle::Apply::Blend {
-                op: opts.op,
-                incoming_front: false,
-            },
-        )
-        .map_err(|message| CommError::Malformed {
-            rank: from,
-            message,
-        })?;
+        let from = [(order.rank(me + 1), false)];
+        pairwise::transfer(comm, &mut layer, &mut rect, &fold(&[], &from, all))?;
         me / 2
     } else {
         me - extra
@@ -68,6 +68,7 @@ pub fn reduce<P: Pixel, C: Comm>(
             comm,
             partner,
             &mut layer,
+            &mut rect,
             give,
             keep.clone(),
             TAG_COMPOSITE + round,

@@ -2,13 +2,15 @@
 //! sends each other rank the part it owns, in one round of p(p-1) messages. It is radix-k
 //! with a single factor p, and shares its round with [`super::radix_k`].
 
-use super::{radix_k::group_round, CompositeOptions, Layer, Order, Pixel, TAG_COMPOSITE};
+use super::TAG_COMPOSITE;
+use super::{radix_k::group_round, ActiveRect, CompositeOptions, Layer, Order, Pixel};
 use crate::comm::{Comm, CommError};
 use std::ops::Range;
 
 pub fn reduce<P: Pixel, C: Comm>(
     comm: &C,
     mut layer: Layer<P>,
+    mut rect: ActiveRect,
     opts: &CompositeOptions,
 ) -> Result<(Layer<P>, Range<usize>), CommError> {
     let n = comm.size();
@@ -20,6 +22,7 @@ pub fn reduce<P: Pixel, C: Comm>(
         comm,
         &order,
         &mut layer,
+        &mut rect,
         span,
         &members,
         me,

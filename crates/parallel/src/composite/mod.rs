@@ -7,9 +7,11 @@
 //! powers of two) and [`radix_k`]. Pixels travel as active-pixel run lengths ([`rle`]) so
 //! that background costs (almost) nothing. The per-pixel operators are [`depth`] (opaque,
 //! z-test) and [`over`] (ordered transparency, Porter-Duff "over" in a visibility order).
-//! Binary swap's rounds go through [`pairwise`], which sends dense spans in place and in
-//! pieces, chooses run lengths only when they pay ([`active`] finds the runs) and
-//! records where its time goes ([`profile`]).
+//! Every strategy's rounds (binary swap's swaps and fold, radix-k's and direct send's
+//! group rounds, the tree's transfers) go through [`pairwise::transfer`], which sends
+//! dense spans in place and in pieces into reused receive buffers, chooses run lengths
+//! only when they pay ([`active`] finds the runs, skipping what lies outside the
+//! layer's [`ActiveRect`]) and records where its time goes ([`profile`]).
 //!
 //! Ordering. Strategies work on *positions* 0..p, the ranks sorted in compositing order
 //! (identity for depth; front to back for "over"). Every group a strategy forms holds a
@@ -29,6 +31,8 @@ pub mod profile;
 pub mod radix_k;
 pub mod rle;
 pub mod tree;
+
+pub use active::ActiveRect;
 
 use crate::comm::{Comm, CommError};
 use std::ops::Range;
@@ -270,8 +274,22 @@ pub fn composite<P: Pixel, C: Comm>(
     layer: Layer<P>,
     opts: &CompositeOptions,
 ) -> Result<Option<Layer<P>>, CommError> {
+    let all = ActiveRect::full(layer.width, layer.height);
+    composite_bounded(comm, strategy, layer, all, opts)
+}
+
+/// [`composite`] of a layer whose active pixels all lie inside `rect` (the screen
+/// bounds of what this rank drew, as IceT's `icetBoundingBox` gives them; Moreland et
+/// al. 2011): nothing outside the rectangle is read when looking for active runs.
+pub fn composite_bounded<P: Pixel, C: Comm>(
+    comm: &C,
+    strategy: Strategy,
+    layer: Layer<P>,
+    rect: ActiveRect,
+    opts: &CompositeOptions,
+) -> Result<Option<Layer<P>>, CommError> {
     comm.log().begin_stage("composite");
-    let (layer, span) = reduce(comm, strategy, layer, opts)?;
+    let (layer, span) = reduce_bounded(comm, strategy, layer, rect, opts)?;
     comm.log().begin_stage("gather");
     let out = gather::gather(comm, &layer, span, opts)?;
     // Frame barrier: every rank learns whether the frame completed everywhere.
@@ -288,11 +306,30 @@ pub fn reduce<P: Pixel, C: Comm>(
     layer: Layer<P>,
     opts: &CompositeOptions,
 ) -> Result<(Layer<P>, Range<usize>), CommError> {
+    let all = ActiveRect::full(layer.width, layer.height);
+    reduce_bounded(comm, strategy, layer, all, opts)
+}
+
+/// [`reduce`] of a layer whose active pixels all lie inside `rect` (see
+/// [`composite_bounded`]).
+pub fn reduce_bounded<P: Pixel, C: Comm>(
+    comm: &C,
+    strategy: Strategy,
+    layer: Layer<P>,
+    rect: ActiveRect,
+    opts: &CompositeOptions,
+) -> Result<(Layer<P>, Range<usize>), CommError> {
+    assert!(
+        rect.fits(layer.width, layer.height),
+        "active rectangle {rect:?} off the {}x{} layer",
+        layer.width,
+        layer.height
+    );
     match strategy {
-        Strategy::DirectSend => direct_send::reduce(comm, layer, opts),
-        Strategy::Tree => tree::reduce(comm, layer, opts),
-        Strategy::BinarySwap => binary_swap::reduce(comm, layer, opts),
-        Strategy::RadixK(k) => radix_k::reduce(comm, layer, opts, k),
+        Strategy::DirectSend => direct_send::reduce(comm, layer, rect, opts),
+        Strategy::Tree => tree::reduce(comm, layer, rect, opts),
+        Strategy::BinarySwap => binary_swap::reduce(comm, layer, rect, opts),
+        Strategy::RadixK(k) => radix_k::reduce(comm, layer, rect, opts, k),
     }
 }
 

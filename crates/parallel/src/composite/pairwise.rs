@@ -17,8 +17,9 @@
 //!   expect and validates it (a malformed header names the sender).
 //! * The depth test is branch-free ([`super::depth::blend`]).
 
-use super::{active, depth, over, profile, rle, split_span, Layer, Operator, Pixel};
-use crate::comm::{Comm, CommError};
+use super::active::{self, ActiveRect};
+use super::{depth, over, profile, rle, split_span, Layer, Operator, Pixel};
+use crate::comm::{Comm, CommError, PiecesIn, PiecesOut};
 use std::cell::RefCell;
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -35,6 +36,9 @@ pub const SAMPLES: usize = 64;
 pub const MIN_PIECE_PIXELS: usize = 1024;
 /// Pieces carry the header's tag plus this.
 const PIECE_TAG: u32 = 0x4000;
+/// Words of a header before the run-length piece sizes: mode, span start and end,
+/// pieces, active rectangle.
+const HEADER_WORDS: usize = 8;
 /// Largest piece count a header may announce.
 const MAX_HEADER_PIECES: usize = 4096;
 
@@ -74,23 +78,38 @@ struct Plan {
     pieces: usize,
     /// Byte length of each run-length piece (empty for dense).
     lens: Vec<usize>,
+    /// The sender's active rectangle: the receiver's layer holds active pixels inside
+    /// it afterwards.
+    rect: ActiveRect,
 }
 
 impl Plan {
     fn header(&self) -> Vec<u8> {
+        let r = &self.rect;
         let mut w = vec![
             self.mode,
             self.span.start as u32,
             self.span.end as u32,
             self.pieces as u32,
+            r.x0,
+            r.y0,
+            r.x1,
+            r.y1,
         ];
         w.extend(self.lens.iter().map(|&l| l as u32));
         bytemuck::cast_slice(&w).to_vec()
     }
 
-    /// Parses and validates the partner's header: its span must lie inside `keep`.
-    fn parse(buf: &[u8], keep: &Range<usize>, pixel_bytes: usize) -> Result<Plan, String> {
-        if !buf.len().is_multiple_of(4) || buf.len() < 16 {
+    /// Parses and validates the partner's header: its span must lie inside `keep` and
+    /// its rectangle on the `width` x `height` screen.
+    fn parse(
+        buf: &[u8],
+        keep: &Range<usize>,
+        pixel_bytes: usize,
+        width: u32,
+        height: u32,
+    ) -> Result<Plan, String> {
+        if !buf.len().is_multiple_of(4) || buf.len() < 4 * HEADER_WORDS {
             return Err(format!("swap header of {} bytes", buf.len()));
         }
         let w: Vec<u32> = bytemuck::pod_collect_to_vec(buf);
@@ -101,7 +120,18 @@ impl Plan {
         if k > MAX_HEADER_PIECES || (k == 0) != (a == b) || k > b - a {
             return Err(format!("{k} pieces for span {a}..{b}"));
         }
-        let lens: Vec<usize> = w[4..].iter().map(|&l| l as usize).collect();
+        let rect = ActiveRect {
+            x0: w[4],
+            y0: w[5],
+            x1: w[6],
+            y1: w[7],
+        };
+        if !rect.fits(width, height) {
+            return Err(format!(
+                "active rectangle {rect:?} off a {width}x{height} screen"
+            ));
+        }
+        let lens: Vec<usize> = w[HEADER_WORDS..].iter().map(|&l| l as usize).collect();
         match mode {
             DENSE if lens.is_empty() => {}
             RLE if lens.len() == k => {
@@ -124,6 +154,7 @@ impl Plan {
             span: a..b,
             pieces: k,
             lens,
+            rect,
         })
     }
 
@@ -140,18 +171,26 @@ impl Plan {
 }
 
 /// Chooses how to send `give`: dense when `rle` is off; else trimmed to the active
-/// pixels, and run lengths when the sampled active fraction is below [`RLE_BELOW`].
-fn choose<P: Pixel>(layer: &Layer<P>, give: &Range<usize>, op: Operator, rle: bool) -> Plan {
+/// pixels (looking only inside `rect`), and run lengths when the sampled active fraction
+/// is below [`RLE_BELOW`].
+fn choose<P: Pixel>(
+    layer: &Layer<P>,
+    give: &Range<usize>,
+    op: Operator,
+    rle: bool,
+    rect: &ActiveRect,
+) -> Plan {
     let plan = |mode, span: Range<usize>| Plan {
         mode,
         pieces: piece_count(span.len()),
         span,
         lens: Vec::new(),
+        rect: *rect,
     };
     if !rle {
         return plan(DENSE, give.clone());
     }
-    let Range { start: a, end: b } = active::trim(layer, op, give);
+    let Range { start: a, end: b } = active::trim_in(layer, op, give, rect);
     let n = b - a;
     if n == 0 {
         return plan(DENSE, a..b);
@@ -167,31 +206,39 @@ fn choose<P: Pixel>(layer: &Layer<P>, give: &Range<usize>, op: Operator, rle: bo
     }
 }
 
-/// Splits `v` into the read-only `give` range and the writable `keep` range (disjoint).
-fn give_and_keep<'a, T>(
-    v: &'a mut [T],
-    give: &Range<usize>,
-    keep: &Range<usize>,
-) -> (&'a [T], &'a mut [T]) {
+/// Splits `v` around `keep`: the read-only pixels before it, `keep` itself (writable),
+/// and the read-only pixels after it.
+fn split_around<'a, T>(v: &'a mut [T], keep: &Range<usize>) -> (&'a [T], &'a mut [T], &'a [T]) {
+    let (lo, rest) = v.split_at_mut(keep.start);
+    let (keep, hi) = rest.split_at_mut(keep.len());
+    (lo, keep, hi)
+}
+
+/// The pixels `give` (which must not overlap `keep`) from the two sides of
+/// [`split_around`].
+fn outside<'a, T>(lo: &'a [T], hi: &'a [T], keep: &Range<usize>, give: &Range<usize>) -> &'a [T] {
     if give.end <= keep.start {
-        let (lo, hi) = v.split_at_mut(keep.start);
-        (&lo[give.clone()], &mut hi[..keep.len()])
+        &lo[give.clone()]
     } else {
-        assert!(keep.end <= give.start, "give and keep overlap");
-        let (lo, hi) = v.split_at_mut(give.start);
-        (&hi[..give.len()], &mut lo[keep.clone()])
+        assert!(
+            give.start >= keep.end,
+            "give {give:?} overlaps keep {keep:?}"
+        );
+        &hi[give.start - keep.end..give.end - keep.end]
     }
 }
 
 /// Swaps with `partner`: sends `give` of `layer`, receives the partner's `give` (our
 /// `keep`) and composites it into `layer` with `op`; `incoming_front` says whether the
 /// partner is in front in compositing order. `rle` allows run lengths; without it the
-/// whole of `give` is sent dense. Uses `tag` and `tag + 0x4000`.
+/// whole of `give` is sent dense. Uses `tag` and `tag + 0x4000`. `rect` holds every
+/// active pixel of `layer` and is widened by the partner's.
 #[allow(clippy::too_many_arguments)]
 pub fn swap<P: Pixel, C: Comm>(
     comm: &C,
     partner: usize,
     layer: &mut Layer<P>,
+    rect: &mut ActiveRect,
     give: Range<usize>,
     keep: Range<usize>,
     tag: u32,
@@ -199,81 +246,159 @@ pub fn swap<P: Pixel, C: Comm>(
     incoming_front: bool,
     rle: bool,
 ) -> Result<(), CommError> {
+    let step = Step {
+        sends: &[(partner, give)],
+        recvs: &[(partner, incoming_front)],
+        keep,
+        tag,
+        op,
+        rle,
+    };
+    transfer(comm, layer, rect, &step)
+}
+
+/// One step of a compositing strategy as seen by one rank: the spans it sends and to
+/// whom, the ranks it receives from, and the span `keep` it composites them into.
+#[derive(Clone, Debug)]
+pub struct Step<'a> {
+    /// `(rank, span)`: send these pixels of the layer to that rank (spans outside `keep`).
+    pub sends: &'a [(usize, Range<usize>)],
+    /// `(rank, incoming_front)`, in the order to composite them: for each source
+    /// whether it is in front of everything composited so far. For the bit-exact
+    /// result, sources in front come nearest first, then those behind, nearest first
+    /// (see [`super::radix_k::group_round`]).
+    pub recvs: &'a [(usize, bool)],
+    /// What this rank composites into; every received span must lie inside it.
+    pub keep: Range<usize>,
+    /// Headers use `tag`, pieces `tag + 0x4000`.
+    pub tag: u32,
+    pub op: Operator,
+    /// Allow run lengths (else every span is sent dense, untrimmed).
+    pub rle: bool,
+}
+
+/// Runs one [`Step`]: every send chooses dense or run lengths on its own, all headers are
+/// exchanged (one small message per partner and direction), then every piece of every
+/// send is posted at once while the pieces of each source are composited as they
+/// arrive, in the order of `step.recvs`. `rect` holds every active pixel of `layer` and
+/// is widened by each source's rectangle (sent in the header).
+pub fn transfer<P: Pixel, C: Comm>(
+    comm: &C,
+    layer: &mut Layer<P>,
+    rect: &mut ActiveRect,
+    step: &Step<'_>,
+) -> Result<(), CommError> {
+    let Step {
+        sends: give_to,
+        recvs: take_from,
+        keep,
+        tag,
+        op,
+        rle,
+    } = step.clone();
     let px = std::mem::size_of::<P>();
+    let (width, height) = (layer.width, layer.height);
     let mut t = Instant::now();
-    let mut mine = choose(layer, &give, op, rle);
+    let mut mine: Vec<Plan> = give_to
+        .iter()
+        .map(|(_, give)| choose(layer, give, op, rle, rect))
+        .collect();
     let decide_s = profile::lap(&mut t);
     SCRATCH.with(|scratch| {
         let mut scratch = scratch.borrow_mut();
         let Scratch { send, recv } = &mut *scratch;
         send.clear();
-        if mine.mode == RLE {
-            for part in split_span(&mine.span, mine.pieces) {
+        for plan in mine.iter_mut().filter(|p| p.mode == RLE) {
+            for part in split_span(&plan.span, plan.pieces) {
                 let at = send.len();
-                rle::encode_runs_into(send, layer, part, op);
-                mine.lens.push(send.len() - at);
+                rle::encode_runs_into(send, layer, part, op, rect);
+                plan.lens.push(send.len() - at);
             }
         }
         let encode_s = profile::lap(&mut t);
 
-        let malformed = |message: String| CommError::Malformed {
-            rank: partner,
-            message,
-        };
-        let got = comm.exchange(&[(partner, &mine.header())], &[partner], tag)?;
-        let theirs = Plan::parse(&got[0], &keep, px).map_err(malformed)?;
+        let headers: Vec<Vec<u8>> = mine.iter().map(|p| p.header()).collect();
+        let header_sends: Vec<(usize, &[u8])> = give_to
+            .iter()
+            .zip(&headers)
+            .map(|((d, _), h)| (*d, h.as_slice()))
+            .collect();
+        let sources: Vec<usize> = take_from.iter().map(|r| r.0).collect();
+        let got = comm.exchange(&header_sends, &sources, tag)?;
+        let mut theirs = Vec::with_capacity(got.len());
+        for (buf, &src) in got.iter().zip(&sources) {
+            let plan = Plan::parse(buf, &keep, px, width, height)
+                .map_err(|message| CommError::Malformed { rank: src, message })?;
+            theirs.push(plan);
+        }
         let header_s = profile::lap(&mut t);
 
-        // Receive buffers: one reused allocation, cut into the partner's pieces.
-        let in_lens = theirs.piece_lens(px);
-        let words: usize = in_lens.iter().map(|l| l / 4).sum();
+        // Receive buffers: one reused allocation, cut into every source's pieces.
+        let in_lens: Vec<Vec<usize>> = theirs.iter().map(|p| p.piece_lens(px)).collect();
+        let words: usize = in_lens.iter().flatten().map(|l| l / 4).sum();
         if recv.len() < words {
             recv.resize(words, 0);
         }
         let mut rest: &mut [u8] = bytemuck::cast_slice_mut(&mut recv[..words]);
-        let mut recvs: Vec<&mut [u8]> = Vec::with_capacity(in_lens.len());
-        for &l in &in_lens {
-            let (head, tail) = rest.split_at_mut(l);
-            recvs.push(head);
-            rest = tail;
+        let mut recvs: Vec<PiecesIn<'_>> = Vec::with_capacity(sources.len());
+        for (&src, lens) in sources.iter().zip(&in_lens) {
+            let mut bufs = Vec::with_capacity(lens.len());
+            for &l in lens {
+                let (head, tail) = std::mem::take(&mut rest).split_at_mut(l);
+                bufs.push(head);
+                rest = tail;
+            }
+            recvs.push((src, bufs));
         }
 
-        let (give_c, keep_c) = give_and_keep(&mut layer.color, &give, &keep);
-        let (give_d, keep_d) = give_and_keep(&mut layer.depth, &give, &keep);
-        let out_parts = split_span(&mine.span, mine.pieces);
-        let sends: Vec<&[u8]> = match mine.mode {
-            DENSE => out_parts
-                .iter()
-                .flat_map(|c| {
-                    let c = c.start - give.start..c.end - give.start;
-                    [
-                        bytemuck::cast_slice::<P, u8>(&give_c[c.clone()]),
-                        bytemuck::cast_slice::<f32, u8>(&give_d[c]),
-                    ]
-                })
-                .collect(),
-            _ => {
-                let mut at = 0;
-                mine.lens
-                    .iter()
-                    .map(|&l| {
-                        at += l;
-                        &send[at - l..at]
-                    })
-                    .collect()
-            }
-        };
+        let (lo_c, keep_c, hi_c) = split_around(&mut layer.color, &keep);
+        let (lo_d, keep_d, hi_d) = split_around(&mut layer.depth, &keep);
+        let mut at = 0;
+        let sends: Vec<PiecesOut<'_>> = give_to
+            .iter()
+            .zip(&mine)
+            .map(|((d, _), plan)| {
+                let pieces = match plan.mode {
+                    DENSE => split_span(&plan.span, plan.pieces)
+                        .iter()
+                        .flat_map(|c| {
+                            [
+                                bytemuck::cast_slice::<P, u8>(outside(lo_c, hi_c, &keep, c)),
+                                bytemuck::cast_slice::<f32, u8>(outside(lo_d, hi_d, &keep, c)),
+                            ]
+                        })
+                        .collect(),
+                    _ => plan
+                        .lens
+                        .iter()
+                        .map(|&l| {
+                            at += l;
+                            &send[at - l..at]
+                        })
+                        .collect(),
+                };
+                (*d, pieces)
+            })
+            .collect();
 
-        let in_parts = split_span(&theirs.span, theirs.pieces);
+        let in_parts: Vec<Vec<Range<usize>>> = theirs
+            .iter()
+            .map(|p| split_span(&p.span, p.pieces))
+            .collect();
         let mut blend_s = 0.0;
         let t_exchange = Instant::now();
-        let mut arrived = |i: usize, pieces: &[&[u8]]| -> Result<(), CommError> {
+        let mut arrived = |j: usize, i: usize, pieces: &[&[u8]]| -> Result<(), CommError> {
             let t0 = Instant::now();
-            if theirs.mode == DENSE {
+            let malformed = |message: String| CommError::Malformed {
+                rank: sources[j],
+                message,
+            };
+            let incoming_front = take_from[j].1;
+            if theirs[j].mode == DENSE {
                 if i.is_multiple_of(2) {
                     return Ok(()); // colour piece: wait for its depths
                 }
-                let part = &in_parts[i / 2];
+                let part = &in_parts[j][i / 2];
                 let colors: &[P] = bytemuck::try_cast_slice(pieces[i - 1])
                     .map_err(|e| malformed(format!("colour piece: {e}")))?;
                 let depths: &[f32] = bytemuck::try_cast_slice(pieces[i])
@@ -291,22 +416,25 @@ pub fn swap<P: Pixel, C: Comm>(
                 let how = rle::Apply::Blend { op, incoming_front };
                 let s = rle::apply_to(&mut keep_c[..], &mut keep_d[..], keep.start, pieces[i], how)
                     .map_err(malformed)?;
-                if s != in_parts[i] {
+                if s != in_parts[j][i] {
                     return Err(malformed(format!(
                         "run-length piece {i} covers {s:?}, announced {:?}",
-                        in_parts[i]
+                        in_parts[j][i]
                     )));
                 }
             }
             blend_s += t0.elapsed().as_secs_f64();
             Ok(())
         };
-        comm.exchange_pieces(partner, tag + PIECE_TAG, &sends, &mut recvs, &mut arrived)?;
+        comm.exchange_pieces_many(tag + PIECE_TAG, &sends, &mut recvs, &mut arrived)?;
         let exchange_s = t_exchange.elapsed().as_secs_f64();
-        let bytes: usize = sends.iter().map(|s| s.len()).sum();
+        let bytes: usize = sends.iter().flat_map(|s| &s.1).map(|s| s.len()).sum();
+        for plan in &theirs {
+            *rect = rect.union(&plan.rect);
+        }
         profile::add(|p| {
             p.swaps += 1;
-            p.rle_swaps += (mine.mode == RLE) as u32;
+            p.rle_swaps += mine.iter().filter(|p| p.mode == RLE).count() as u32;
             p.decide_s += decide_s;
             p.encode_s += encode_s;
             p.header_s += header_s;
@@ -345,45 +473,59 @@ mod tests {
             span: 120..180,
             pieces: 2,
             lens: vec![16, 40],
+            rect: ActiveRect {
+                x0: 1,
+                y0: 2,
+                x1: 30,
+                y1: 9,
+            },
         };
-        assert_eq!(Plan::parse(&p.header(), &keep, 4).unwrap(), p);
+        let parse = |h: &[u8]| Plan::parse(h, &keep, 4, 32, 10);
+        assert_eq!(parse(&p.header()).unwrap(), p);
+        let off_screen = Plan {
+            rect: ActiveRect::full(33, 10),
+            ..p.clone()
+        };
+        assert!(parse(&off_screen.header()).is_err());
         let outside = Plan {
             span: 90..180,
             ..p.clone()
         };
-        assert!(Plan::parse(&outside.header(), &keep, 4).is_err());
+        assert!(parse(&outside.header()).is_err());
         let odd_len = Plan {
             lens: vec![16, 41],
             ..p.clone()
         };
-        assert!(Plan::parse(&odd_len.header(), &keep, 4).is_err());
+        assert!(parse(&odd_len.header()).is_err());
         let dense_with_lens = Plan {
             mode: DENSE,
             ..p.clone()
         };
-        assert!(Plan::parse(&dense_with_lens.header(), &keep, 4).is_err());
-        assert!(Plan::parse(&p.header()[..12], &keep, 4).is_err());
+        assert!(parse(&dense_with_lens.header()).is_err());
+        assert!(parse(&p.header()[..28]).is_err());
     }
 
     #[test]
     fn dense_images_are_sent_dense_and_sparse_ones_as_runs() {
         let mut l = Layer::<[u8; 4]>::new(64, 64);
         l.depth.iter_mut().for_each(|d| *d = 0.5);
-        let dense = choose(&l, &(0..4096), Operator::Depth, true);
+        let all = ActiveRect::full(64, 64);
+        let dense = choose(&l, &(0..4096), Operator::Depth, true, &all);
         assert_eq!((dense.mode, dense.span), (DENSE, 0..4096));
         let mut s = Layer::<[u8; 4]>::new(64, 64);
         for i in (1000..3000).step_by(5) {
             s.depth[i] = 0.5;
         }
-        let sparse = choose(&s, &(0..4096), Operator::Depth, true);
+        let sparse = choose(&s, &(0..4096), Operator::Depth, true, &all);
         assert_eq!((sparse.mode, sparse.span), (RLE, 1000..2996));
-        let off = choose(&s, &(0..4096), Operator::Depth, false);
+        let off = choose(&s, &(0..4096), Operator::Depth, false, &all);
         assert_eq!((off.mode, off.span), (DENSE, 0..4096));
         let empty = choose(
             &Layer::<[u8; 4]>::new(8, 8),
             &(0..64),
             Operator::Depth,
             true,
+            &ActiveRect::full(8, 8),
         );
         assert_eq!((empty.span.len(), empty.pieces), (0, 0));
     }

@@ -6,7 +6,8 @@
 //! factor p is direct send. Any p works: a prime factor larger than k stays a round of
 //! its own.
 
-use super::{rle, split_span, CompositeOptions, Layer, Order, Pixel, TAG_COMPOSITE};
+use super::pairwise::{self, Step};
+use super::{split_span, ActiveRect, CompositeOptions, Layer, Order, Pixel, TAG_COMPOSITE};
 use crate::comm::{Comm, CommError};
 use std::ops::Range;
 
@@ -41,6 +42,7 @@ pub fn factors(n: usize, k: usize) -> Vec<usize> {
 pub fn reduce<P: Pixel, C: Comm>(
     comm: &C,
     mut layer: Layer<P>,
+    mut rect: ActiveRect,
     opts: &CompositeOptions,
     k: usize,
 ) -> Result<(Layer<P>, Range<usize>), CommError> {
@@ -57,6 +59,7 @@ pub fn reduce<P: Pixel, C: Comm>(
             comm,
             &order,
             &mut layer,
+            &mut rect,
             span,
             &members,
             digit,
@@ -70,12 +73,18 @@ pub fn reduce<P: Pixel, C: Comm>(
 
 /// One direct-send round among `members` (positions, front first; this rank is
 /// `members[me]`): the span is cut into one part per member, each part is sent to its
-/// owner, and the owner composites what it receives in order. Returns the part kept.
+/// owner, and the owner composites what it receives (one [`pairwise::transfer`]: dense
+/// parts in place, sparse ones as run lengths, every part posted at once). Sources are
+/// composited in front of the accumulated image nearest first (`me - 1` down to 0),
+/// then behind it nearest first (`me + 1` up): with the tie rule of [`super::depth`]
+/// that is the serial z-buffer's result bit for bit, and for "over" the visibility
+/// order. Returns the part kept; `rect` is widened by the sources' rectangles.
 #[allow(clippy::too_many_arguments)]
 pub fn group_round<P: Pixel, C: Comm>(
     comm: &C,
     order: &Order,
     layer: &mut Layer<P>,
+    rect: &mut ActiveRect,
     span: Range<usize>,
     members: &[usize],
     me: usize,
@@ -84,42 +93,22 @@ pub fn group_round<P: Pixel, C: Comm>(
 ) -> Result<Range<usize>, CommError> {
     let f = members.len();
     let parts = split_span(&span, f);
-    let others: Vec<usize> = (0..f).filter(|&d| d != me).collect();
-    let msgs: Vec<Vec<u8>> = others
-        .iter()
-        .map(|&d| rle::encode(layer, parts[d].clone(), opts.op, opts.rle))
+    let sends: Vec<(usize, Range<usize>)> = (0..f)
+        .filter(|&d| d != me)
+        .map(|d| (order.rank(members[d]), parts[d].clone()))
         .collect();
-    let sends: Vec<(usize, &[u8])> = others
-        .iter()
-        .zip(&msgs)
-        .map(|(&d, m)| (order.rank(members[d]), m.as_slice()))
-        .collect();
-    let sources: Vec<usize> = others.iter().map(|&d| order.rank(members[d])).collect();
-    let got = comm.exchange(&sends, &sources, tag)?;
-    let slot = |d: usize| if d < me { d } else { d - 1 };
-    let fronts = (0..me).rev().map(|d| (d, true));
-    let backs = (me + 1..f).map(|d| (d, false));
-    for (d, incoming_front) in fronts.chain(backs) {
-        let from = order.rank(members[d]);
-        let s = rle::apply(
-            layer,
-            &got[slot(d)],
-            rle::Apply::Blend {
-                op: opts.op,
-                incoming_front,
-            },
-        )
-        .map_err(|message| CommError::Malformed {
-            rank: from,
-            message,
-        })?;
-        if s != parts[me] {
-            return Err(CommError::Malformed {
-                rank: from,
-                message: format!("sent span {s:?}, expected {:?}", parts[me]),
-            });
-        }
-    }
+    let fronts = (0..me).rev().map(|d| (order.rank(members[d]), true));
+    let backs = (me + 1..f).map(|d| (order.rank(members[d]), false));
+    let recvs: Vec<(usize, bool)> = fronts.chain(backs).collect();
+    let step = Step {
+        sends: &sends,
+        recvs: &recvs,
+        keep: parts[me].clone(),
+        tag,
+        op: opts.op,
+        rle: opts.rle,
+    };
+    pairwise::transfer(comm, layer, rect, &step)?;
     Ok(parts[me].clone())
 }
 

@@ -7,7 +7,8 @@
 //! for `mode = RLE`, runs of `inactive, active, colour[active], depth[active]` until the
 //! span is covered. The receiver blends straight from the buffer, skipping inactive runs.
 
-use super::{active, Layer, Operator, Pixel};
+use super::active::{self, ActiveRect};
+use super::{Layer, Operator, Pixel};
 use std::borrow::Cow;
 use std::ops::Range;
 
@@ -30,23 +31,30 @@ pub fn encode<P: Pixel>(layer: &Layer<P>, span: Range<usize>, op: Operator, rle:
         return out;
     }
     let mut out = Vec::with_capacity(12 + 64);
-    encode_runs_into(&mut out, layer, span, op);
+    let all = ActiveRect::full(layer.width, layer.height);
+    encode_runs_into(&mut out, layer, span, op, &all);
     out
 }
 
 /// Appends the run-length message of `span` of `layer` to `out` (no allocation when
-/// `out` has room: the pairwise swap reuses one buffer for every round and frame).
+/// `out` has room: the pairwise exchange reuses one buffer for every round and frame).
+/// Only pixels inside `rect` are read ([`ActiveRect`]: everything outside it is
+/// background); pass [`ActiveRect::full`] when nothing is known. A span with no active
+/// pixel is one run of background.
 pub fn encode_runs_into<P: Pixel>(
     out: &mut Vec<u8>,
     layer: &Layer<P>,
     span: Range<usize>,
     op: Operator,
+    rect: &ActiveRect,
 ) {
     push_words(out, &[span.start as u32, span.end as u32, RLE]);
     let mut i = span.start;
     while i < span.end {
-        let a0 = active::run_end(layer, op, i, span.end, false);
-        let a1 = active::run_end(layer, op, a0, span.end, true);
+        let run = active::next_run(layer, op, i, span.end, rect);
+        let (a0, a1) = (run.start, run.end);
+        // one reservation per run: the three copies below then never reallocate
+        out.reserve(8 + (a1 - a0) * (std::mem::size_of::<P>() + 4));
         push_words(out, &[(a0 - i) as u32, (a1 - a0) as u32]);
         out.extend_from_slice(bytemuck::cast_slice(&layer.color[a0..a1]));
         out.extend_from_slice(bytemuck::cast_slice(&layer.depth[a0..a1]));
