@@ -58,8 +58,9 @@ pub fn serial(p: &Pipeline, tris: &[Triangle]) -> Layer<[u8; 4]> {
     to_layer(&fb)
 }
 
-/// Bytes of one triangle on the wire.
-pub const TRIANGLE_BYTES: usize = 3 * 12 * 4 + 4;
+/// Bytes of one triangle on the wire: three vertices of 12 floats, the id and the
+/// material index.
+pub const TRIANGLE_BYTES: usize = 3 * 12 * 4 + 8;
 
 pub fn write_triangle(t: &Triangle, out: &mut Vec<u8>) {
     for v in &t.v {
@@ -80,6 +81,7 @@ pub fn write_triangle(t: &Triangle, out: &mut Vec<u8>) {
         out.extend_from_slice(bytemuck::cast_slice(&f));
     }
     out.extend_from_slice(&t.id.to_le_bytes());
+    out.extend_from_slice(&t.material.to_le_bytes());
 }
 
 pub fn read_triangles(buf: &[u8]) -> Option<Vec<Triangle>> {
@@ -99,9 +101,11 @@ pub fn read_triangles(buf: &[u8]) -> Option<Vec<Triangle>> {
                         uv: glam::Vec2::new(f(b + 10), f(b + 11)),
                     }
                 };
+                let word = |at: usize| u32::from_le_bytes(c[at..at + 4].try_into().unwrap());
                 Triangle {
                     v: [v(0), v(1), v(2)],
-                    id: u32::from_le_bytes(c[TRIANGLE_BYTES - 4..].try_into().unwrap()),
+                    id: word(TRIANGLE_BYTES - 8),
+                    material: word(TRIANGLE_BYTES - 4),
                 }
             })
             .collect(),

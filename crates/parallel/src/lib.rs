@@ -19,5 +19,6 @@ pub mod sort_last;
 pub mod sort_middle;
 pub mod study;
 pub mod submission;
+pub mod tessellate;
 pub mod wall;
 pub mod workload;

@@ -5,7 +5,9 @@
 //! the lecture: "most of the gain ... is because Chromium and WireGL can group
 //! state-changing commands separately from rendering commands"). Servers replay the
 //! streams in client order, which is the serial draw order, so the image equals the
-//! serial render. The state tracked here is the current colour, as `glColor`.
+//! serial render. The state tracked here is the current colour, as `glColor`, and the
+//! current material (an index into the pipeline's material table, as a bound material
+//! or shader would be).
 
 use crate::comm::{Comm, CommError};
 use crate::composite::{gather::gather, CompositeOptions, Layer, Operator};
@@ -15,15 +17,20 @@ use crate::frame::{
 };
 use irradia_raster::{Pipeline, Triangle};
 
-/// One draw command of a client: set the colour state, then draw triangles with it.
+/// One draw command of a client: set the colour and material state, then draw
+/// triangles with it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Batch {
     pub color: [f32; 4],
+    /// Index into the pipeline's material table (`Pipeline::materials`).
+    pub material: u32,
     pub triangles: Vec<Triangle>,
 }
 
 const OP_STATE: u8 = 1;
 const OP_DRAW: u8 = 2;
+/// Bytes of a state command: the opcode, the colour, the material index.
+const STATE_BYTES: usize = 1 + 16 + 4;
 
 /// How many state bytes the lazy tracking sent, against broadcasting every change.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -43,21 +50,23 @@ pub fn encode_streams(
         .map(|r| region(p.width, p.height, r, servers))
         .collect();
     let mut out: Vec<Vec<u8>> = vec![Vec::new(); servers];
-    let mut seen: Vec<Option<[f32; 4]>> = vec![None; servers];
+    let mut seen: Vec<Option<([f32; 4], u32)>> = vec![None; servers];
     let mut stats = SubmissionStats::default();
     for b in batches {
-        stats.broadcast_state_bytes += (servers * 17) as u64;
+        stats.broadcast_state_bytes += (servers * STATE_BYTES) as u64;
+        let state = (b.color, b.material);
         for t in &b.triangles {
             let rows = screen_rows(p, t);
             for (s, reg) in regions.iter().enumerate() {
                 if !rows.map_or(true, |(lo, hi)| rows_meet(lo, hi, reg)) {
                     continue;
                 }
-                if seen[s] != Some(b.color) {
+                if seen[s] != Some(state) {
                     out[s].push(OP_STATE);
                     out[s].extend_from_slice(bytemuck::cast_slice(&b.color));
-                    seen[s] = Some(b.color);
-                    stats.state_bytes += 17;
+                    out[s].extend_from_slice(&b.material.to_le_bytes());
+                    seen[s] = Some(state);
+                    stats.state_bytes += STATE_BYTES as u64;
                 }
                 out[s].push(OP_DRAW);
                 write_triangle(t, &mut out[s]);
@@ -68,22 +77,26 @@ pub fn encode_streams(
     (out, stats)
 }
 
-/// Replays a stream: the triangles with their vertex colours set from the state.
+/// Replays a stream: the triangles with their vertex colours and material set from the
+/// state.
 pub fn decode_stream(buf: &[u8]) -> Option<Vec<Triangle>> {
     let mut color = [1.0f32; 4];
+    let mut material = 0u32;
     let mut tris = Vec::new();
     let mut i = 0;
     while i < buf.len() {
         match buf[i] {
-            OP_STATE if i + 17 <= buf.len() => {
+            OP_STATE if i + STATE_BYTES <= buf.len() => {
                 color = bytemuck::pod_read_unaligned(&buf[i + 1..i + 17]);
-                i += 17;
+                material = u32::from_le_bytes(buf[i + 17..i + 21].try_into().ok()?);
+                i += STATE_BYTES;
             }
             OP_DRAW if i + 1 + TRIANGLE_BYTES <= buf.len() => {
                 let mut t = read_triangles(&buf[i + 1..i + 1 + TRIANGLE_BYTES])?.pop()?;
                 for v in t.v.iter_mut() {
                     v.color = color;
                 }
+                t.material = material;
                 tris.push(t);
                 i += 1 + TRIANGLE_BYTES;
             }
@@ -93,7 +106,8 @@ pub fn decode_stream(buf: &[u8]) -> Option<Vec<Triangle>> {
     Some(tris)
 }
 
-/// The batches drawn with their colour as vertex colour (the serial meaning).
+/// The batches drawn with their colour as vertex colour and their material (the serial
+/// meaning).
 pub fn flatten(batches: &[Batch]) -> Vec<Triangle> {
     batches
         .iter()
@@ -103,6 +117,7 @@ pub fn flatten(batches: &[Batch]) -> Vec<Triangle> {
                 for v in t.v.iter_mut() {
                     v.color = b.color;
                 }
+                t.material = b.material;
                 t
             })
         })

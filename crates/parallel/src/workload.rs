@@ -2,13 +2,19 @@
 //! the Utah teapot, and a marching-cubes isosurface (the gyroid of PEERS.md). Triangle
 //! `i` keeps id `i`: the serial draw order every parallel mode must reproduce.
 
+use crate::tessellate::{
+    object_region, plane_of, plane_view, tessellate_plane, tessellate_solid, PlaneDetail,
+    Tessellation,
+};
 use glam::Vec3;
+use irradia_core::{Aabb, Rgb};
 use irradia_geometry::generators::random_triangles::{
     random_triangles, RandomTriangles, SizeDistribution,
 };
 use irradia_geometry::generators::{gyroid_mesh, MeshData};
 use irradia_geometry::shapes::bezier::{teapot_patches, tessellate};
-use irradia_raster::{Mesh, Pipeline, Triangle, ViewParams};
+use irradia_raster::{Mesh, Pipeline, Triangle, Vertex, ViewParams};
+use irradia_scene::{Material, Texture};
 
 /// A workload by name and size.
 #[derive(Clone, Debug, PartialEq)]
@@ -135,48 +141,96 @@ impl Workload {
 /// A scene's objects as raster triangles, for `irradia parallel --workload SCENE`.
 #[derive(Clone, Debug, Default)]
 pub struct SceneTriangles {
-    /// In object order (the serial draw order), ids `0..n`.
+    /// In object order (the serial draw order), ids `0..n`; each triangle's material is
+    /// its object's (or CSG leaf's) index into `Scene::materials`, the table of
+    /// [`scene_pipeline`].
     pub triangles: Vec<Triangle>,
-    /// Names of the objects that have no facets (unbounded planes, CSG, implicit
-    /// surfaces) and so are left out.
+    /// Names of the objects that could not be made into triangles (open surfaces
+    /// without facets, solids with no surface at the tessellation's resolution).
     pub skipped: Vec<String>,
 }
 
 /// Segments around a full turn when curved shapes are cut into facets.
 pub const SCENE_FACET_DETAIL: u32 = 48;
 
-/// The scene's objects cut into facets (`Shape::facets`), moved to world space, each
-/// vertex coloured by its object's material texture there.
+/// [`scene_triangles_with`] at the default resolution.
 pub fn scene_triangles(scene: &irradia_scene::Scene) -> SceneTriangles {
+    scene_triangles_with(scene, &Tessellation::default())
+}
+
+/// The scene's objects as world-space triangles, coloured by their material's texture:
+/// objects with facets (`Shape::facets`) as they are, planes cut to the view of
+/// [`scene_pipeline`], other solids (CSG, implicit surfaces, unbounded quadrics) by
+/// marching cubes (see [`crate::tessellate`]). Textured (checkered) surfaces take
+/// one colour per triangle (at its centre, or its plane cell's), others one per vertex.
+pub fn scene_triangles_with(scene: &irradia_scene::Scene, opts: &Tessellation) -> SceneTriangles {
+    let pipeline = scene_pipeline(scene);
+    let view = plane_view(pipeline.view.view, pipeline.view.proj, pipeline.height);
+    let detail = |m: &Material| PlaneDetail {
+        max_cell_px: opts.plane_cell_pixels(pipeline.height),
+        checker: match m.color {
+            Texture::Checker { scale, .. } => Some(scale),
+            _ => None,
+        },
+    };
+    let region = finite_region(scene);
     let mut out = SceneTriangles::default();
     for (obj, inst) in scene.objects.iter().zip(scene.accel.instances()) {
-        let Some(f) = inst.shape.facets(SCENE_FACET_DETAIL) else {
-            out.skipped.push(obj.name.clone());
-            continue;
-        };
-        let mut mesh = Mesh::from_facets(&f);
         let to_world = *inst.to_world();
         let normal_matrix = inst.to_object().matrix3.transpose();
-        for q in &mut mesh.positions {
-            *q = to_world.transform_point3(*q);
-        }
-        if mesh.normals.len() == mesh.positions.len() {
-            for n in &mut mesh.normals {
-                *n = (normal_matrix * *n).normalize_or_zero();
+        let mut mesh = WorldMesh::default();
+        if let Some(f) = inst.shape.facets(SCENE_FACET_DETAIL) {
+            let m = Mesh::from_facets(&f);
+            mesh.positions = m
+                .positions
+                .iter()
+                .map(|q| to_world.transform_point3(*q))
+                .collect();
+            if m.normals.len() == m.positions.len() {
+                mesh.normals = m
+                    .normals
+                    .iter()
+                    .map(|n| (normal_matrix * *n).normalize_or_zero())
+                    .collect();
             }
+            mesh.indices = m.indices;
+        } else if inst.shape.kind() == "plane" {
+            let Some((p, n)) = plane_of(inst.shape.as_ref()) else {
+                out.skipped.push(obj.name.clone());
+                continue;
+            };
+            let mat = &scene.materials[obj.material as usize];
+            let n = (normal_matrix * n).normalize_or_zero();
+            let pm = tessellate_plane(to_world.transform_point3(p), n, &view, detail(mat));
+            mesh.normals = vec![n; pm.positions.len()];
+            mesh.positions = pm.positions;
+            mesh.indices = pm.indices;
+            mesh.colour_points = pm.cell_centres;
         } else {
-            mesh.normals.clear(); // flat: face normals
+            let bounds = object_region(&inst.shape.bounds(), &region, inst.to_object());
+            let solid = tessellate_solid(inst.shape.as_ref(), &bounds, opts.resolution);
+            let Some(sm) = solid.filter(|m| !m.indices.is_empty()) else {
+                out.skipped.push(obj.name.clone());
+                continue;
+            };
+            mesh.positions = sm
+                .positions
+                .iter()
+                .map(|q| to_world.transform_point3(*q))
+                .collect();
+            mesh.normals = sm
+                .normals
+                .iter()
+                .map(|n| (normal_matrix * *n).normalize_or_zero())
+                .collect();
+            mesh.indices = sm.indices;
+            mesh.materials = sm
+                .leaves
+                .iter()
+                .map(|&l| obj.material_for_leaf(l))
+                .collect();
         }
-        let mat = &scene.materials[obj.material as usize];
-        mesh.colors = mesh
-            .positions
-            .iter()
-            .map(|q| {
-                let c = mat.color.eval(*q, glam::Vec2::ZERO) * mat.diffuse + mat.emission;
-                [c.r, c.g, c.b, 1.0]
-            })
-            .collect();
-        out.triangles.extend(mesh.to_triangles());
+        mesh.append_to(&mut out.triangles, scene, obj.material);
     }
     for (i, t) in out.triangles.iter_mut().enumerate() {
         t.id = i as u32;
@@ -184,39 +238,116 @@ pub fn scene_triangles(scene: &irradia_scene::Scene) -> SceneTriangles {
     out
 }
 
-/// A pipeline with the scene's camera, image size and lights (area lights as the
-/// rasterizer approximates them; no shadows), Phong shading per pixel.
+/// One object's triangles in world space before they become raster triangles.
+#[derive(Default)]
+struct WorldMesh {
+    positions: Vec<Vec3>,
+    /// Per vertex, or empty for face normals.
+    normals: Vec<Vec3>,
+    indices: Vec<[u32; 3]>,
+    /// Per triangle (CSG leaves), or empty for the object's material.
+    materials: Vec<u32>,
+    /// Per triangle, where its one colour is taken (plane cells), or empty.
+    colour_points: Vec<Vec3>,
+}
+
+impl WorldMesh {
+    fn append_to(&self, out: &mut Vec<Triangle>, scene: &irradia_scene::Scene, material: u32) {
+        for (k, idx) in self.indices.iter().enumerate() {
+            let p = idx.map(|i| self.positions[i as usize]);
+            let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            let m = self.materials.get(k).copied().unwrap_or(material);
+            let tex = &scene.materials[m as usize].color;
+            let rgba = |q: Vec3| {
+                let c = tex.eval(q, glam::Vec2::ZERO);
+                [c.r, c.g, c.b, 1.0]
+            };
+            // A texture that varies takes one colour per triangle, so that checks stay
+            // sharp-edged (along the triangle edges) instead of blending across them.
+            let flat = match self.colour_points.get(k) {
+                Some(c) => Some(rgba(*c)),
+                None if !matches!(tex, Texture::Solid(_)) => Some(rgba((p[0] + p[1] + p[2]) / 3.0)),
+                None => None,
+            };
+            let v = |j: usize| Vertex {
+                position: p[j],
+                normal: if self.normals.is_empty() {
+                    face
+                } else {
+                    self.normals[idx[j] as usize]
+                },
+                color: flat.unwrap_or_else(|| rgba(p[j])),
+                uv: glam::Vec2::ZERO,
+            };
+            out.push(Triangle {
+                v: [v(0), v(1), v(2)],
+                id: 0,
+                material: m,
+            });
+        }
+    }
+}
+
+/// The raster material of a scene material: the Whitted tracer's Phong model (`r·v`
+/// highlights, the material's ambient, diffuse and specular coefficients, emission;
+/// POV-Ray's finish model without distance falloff of point and spot lights). The
+/// texture colour comes in as the vertex colour.
+pub fn raster_material(m: &Material) -> irradia_raster::Material {
+    irradia_raster::Material {
+        diffuse: Rgb::splat(m.diffuse),
+        specular: Rgb::splat(m.specular),
+        shininess: m.shininess,
+        two_sided: true,
+        ambient: Some(Rgb::splat(m.ambient)),
+        emission: m.emission,
+        highlight: irradia_raster::lighting::Highlight::Phong,
+        distance_falloff: m.model != irradia_scene::ShadingModel::PovRay,
+    }
+}
+
+/// A pipeline with the scene's camera, image size, lights (area lights as the
+/// rasterizer approximates them; no shadows) and materials (one table entry per scene
+/// material, [`raster_material`]), Phong shading per pixel. With an unbounded object
+/// in the scene the far plane is pushed out to 1000 times the scene's size, so that
+/// planes reach almost to the horizon.
 pub fn scene_pipeline(scene: &irradia_scene::Scene) -> Pipeline {
     let (w, h) = (scene.settings.width, scene.settings.height);
     let mut p = Pipeline::new(w, h);
     let r = scene_radius(scene);
     let dist = (scene.camera.look_at - scene.camera.eye).length().max(1e-3);
+    let unbounded = scene
+        .accel
+        .instances()
+        .iter()
+        .any(|i| !i.bounds().is_finite());
+    let far = if unbounded {
+        1000.0 * (dist + r)
+    } else {
+        dist + 4.0 * r
+    };
     p.view = ViewParams::from_camera(
         &scene.camera,
         w,
         h,
         (dist * 1e-3).min(r * 1e-3).max(1e-4),
-        dist + 4.0 * r,
+        far,
     );
-    let used: Vec<f32> = scene
-        .objects
-        .iter()
-        .map(|o| scene.materials[o.material as usize].ambient)
-        .collect();
-    let ambient = used.iter().sum::<f32>() / used.len().max(1) as f32;
-    p.lights =
-        irradia_raster::Lights::from_scene(&scene.lights, scene.settings.ambient_light * ambient);
+    p.materials = scene.materials.iter().map(raster_material).collect();
+    p.lights = irradia_raster::Lights::from_scene(&scene.lights, scene.settings.ambient_light);
     if scene.lights.is_empty() {
         // Scenes lit only by emitting objects (for the path tracer): a headlight and a
         // dim ambient term, so that the rasterizer shows their shapes and colours.
         let forward = (scene.camera.look_at - scene.camera.eye).normalize_or_zero();
         p.lights = irradia_raster::Lights {
-            ambient: irradia_core::Rgb::splat(0.15),
+            ambient: Rgb::splat(0.15),
             lights: vec![irradia_raster::lighting::RasterLight::Directional {
                 direction: forward,
-                color: irradia_core::Rgb::splat(0.85),
+                color: Rgb::splat(0.85),
             }],
         };
+        for m in &mut p.materials {
+            m.ambient = None;
+        }
     }
     p.shading = irradia_raster::Shading::Phong;
     p
@@ -234,4 +365,18 @@ fn scene_radius(scene: &irradia_scene::Scene) -> f32 {
         }
     }
     r
+}
+
+/// Where unbounded solids other than planes are tessellated: the box around the finite
+/// objects, the eye and the camera's target, grown by half its size on every side.
+pub fn finite_region(scene: &irradia_scene::Scene) -> Aabb {
+    let mut b = Aabb::from_points([scene.camera.eye, scene.camera.look_at]);
+    for inst in scene.accel.instances() {
+        let ib = inst.bounds();
+        if ib.is_finite() {
+            b = b.union(ib);
+        }
+    }
+    let margin = Vec3::splat((0.5 * b.extent().max_element()).max(1.0));
+    Aabb::new(b.min - margin, b.max + margin)
 }

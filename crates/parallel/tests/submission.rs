@@ -21,6 +21,7 @@ fn parallel_submission_equals_serial_and_tracks_state() {
                 [0.2, 0.8, 0.3, 1.0],
                 [0.3, 0.4, 0.9, 1.0],
             ][i % 3],
+            material: 0,
             triangles: c.to_vec(),
         })
         .collect();

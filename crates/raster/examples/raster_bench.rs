@@ -190,6 +190,7 @@ fn pipeline(w: &Workload) -> Pipeline {
         specular: Rgb::BLACK,
         shininess: 1.0,
         two_sided: true,
+        ..Material::default()
     };
     p.shading = Shading::Gouraud;
     p

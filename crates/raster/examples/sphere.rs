@@ -31,6 +31,7 @@ fn main() {
         specular: Rgb::splat(0.6),
         shininess: 40.0,
         two_sided: false,
+        ..Material::default()
     };
     for (name, shading, format) in [
         ("gouraud", Shading::Gouraud, ColorFormat::Rgba8),

@@ -63,6 +63,7 @@ fn main() {
             specular: Rgb::splat(0.4),
             shininess: 30.0,
             two_sided: true,
+            ..Material::default()
         };
         p.shading = Shading::Phong;
         let mut fb = Framebuffer::new(w, h, ColorFormat::Rgba8).expect("framebuffer");

@@ -39,7 +39,7 @@ pub(crate) struct FragCoord {
 
 /// Computes a fragment's colour from perspective-correct weights.
 pub(crate) trait PixelShader: Sync {
-    fn color(&self, s: &Setup, w: [f32; 3], at: FragCoord) -> [f32; 4];
+    fn color(&self, tri: &ScreenTriangle, s: &Setup, w: [f32; 3], at: FragCoord) -> [f32; 4];
 }
 
 /// Gouraud and unlit: the interpolated vertex colour.
@@ -47,7 +47,7 @@ pub(crate) struct InterpolatedColor;
 
 impl PixelShader for InterpolatedColor {
     #[inline(always)]
-    fn color(&self, s: &Setup, w: [f32; 3], _at: FragCoord) -> [f32; 4] {
+    fn color(&self, _tri: &ScreenTriangle, s: &Setup, w: [f32; 3], _at: FragCoord) -> [f32; 4] {
         varyings::<4>(&s.v, w, varying::COLOR)
     }
 }
@@ -92,7 +92,7 @@ impl Unproject {
 
 /// Phong: lighting evaluated at every pixel with the interpolated, renormalised normal
 /// and the interpolated vertex colour as the diffuse base, at the eye-space point the
-/// pixel sees (recovered from its depth).
+/// pixel sees (recovered from its depth), with the triangle's material.
 pub(crate) struct PhongShader<'a> {
     pub lights: &'a EyeLights,
     pub unproject: Unproject,
@@ -100,11 +100,11 @@ pub(crate) struct PhongShader<'a> {
 
 impl PixelShader for PhongShader<'_> {
     #[inline(always)]
-    fn color(&self, s: &Setup, w: [f32; 3], at: FragCoord) -> [f32; 4] {
+    fn color(&self, tri: &ScreenTriangle, s: &Setup, w: [f32; 3], at: FragCoord) -> [f32; 4] {
         let n = Vec3::from(varyings::<3>(&s.v, w, varying::NORMAL)).normalize_or_zero();
         let base = Vec3::from(varyings::<3>(&s.v, w, varying::BASE_COLOR));
         let p = self.unproject.eye_point(at);
-        let c = self.lights.shade(p, n, base);
+        let c = self.lights.shade_with(tri.material, p, n, base);
         [c.x, c.y, c.z, 1.0]
     }
 }
@@ -128,13 +128,13 @@ impl ColorTarget for [[u8; 4]] {
     fn write<S: PixelShader>(
         &mut self,
         i: usize,
-        _t: &ScreenTriangle,
+        t: &ScreenTriangle,
         s: &Setup,
         l: [f32; 3],
         at: FragCoord,
         shader: &S,
     ) {
-        self[i] = to_rgba8(shader.color(s, perspective_weights(&s.v, l), at));
+        self[i] = to_rgba8(shader.color(t, s, perspective_weights(&s.v, l), at));
     }
 }
 
@@ -144,13 +144,13 @@ impl ColorTarget for [[f32; 4]] {
     fn write<S: PixelShader>(
         &mut self,
         i: usize,
-        _t: &ScreenTriangle,
+        t: &ScreenTriangle,
         s: &Setup,
         l: [f32; 3],
         at: FragCoord,
         shader: &S,
     ) {
-        self[i] = shader.color(s, perspective_weights(&s.v, l), at);
+        self[i] = shader.color(t, s, perspective_weights(&s.v, l), at);
     }
 }
 

@@ -68,9 +68,9 @@ impl<'a> GeometryStage<'a> {
         self
     }
 
-    /// Transforms and lights one vertex.
+    /// Transforms and lights one vertex (Gouraud: with material `material`).
     #[inline(always)]
-    fn vertex(&self, p: Vec3, n: Vec3, color: [f32; 4], uv: Vec2) -> ClipVertex {
+    fn vertex(&self, p: Vec3, n: Vec3, color: [f32; 4], uv: Vec2, material: u32) -> ClipVertex {
         let pos = self.view_proj * p.extend(1.0);
         let mut var = [0.0; VARYINGS];
         match self.shading {
@@ -78,9 +78,9 @@ impl<'a> GeometryStage<'a> {
             Shading::Gouraud => {
                 let pe = self.view.transform_point3(p);
                 let ne = (self.normal_matrix * n).normalize_or_zero();
-                let c = self
-                    .lights
-                    .shade(pe, ne, Vec3::new(color[0], color[1], color[2]));
+                let c =
+                    self.lights
+                        .shade_with(material, pe, ne, Vec3::new(color[0], color[1], color[2]));
                 var[..4].copy_from_slice(&[c.x, c.y, c.z, color[3]]);
             }
             Shading::Phong => {
@@ -124,7 +124,14 @@ impl<'a> GeometryStage<'a> {
     }
 
     #[inline(always)]
-    fn emit(&self, a: &ScreenVertex, b: &ScreenVertex, c: &ScreenVertex, id: u32, out: &mut Batch) {
+    fn emit(
+        &self,
+        a: &ScreenVertex,
+        b: &ScreenVertex,
+        c: &ScreenVertex,
+        (id, material): (u32, u32),
+        out: &mut Batch,
+    ) {
         // Cull before building the triangle: most rejected ones are never copied.
         if let Some((_, _, y0, y1)) = covered_bounds_of(a, b, c, self.cull, &self.screen) {
             if self.bin {
@@ -133,6 +140,7 @@ impl<'a> GeometryStage<'a> {
             out.tris.push(ScreenTriangle {
                 v: [*a, *b, *c],
                 id,
+                material,
             });
         }
     }
@@ -140,7 +148,7 @@ impl<'a> GeometryStage<'a> {
     /// Clips, projects and culls one triangle, appending what is left (one triangle, or
     /// a fan when clipping cut it into a polygon).
     #[inline(always)]
-    fn assemble(&self, t: [&Prepared; 3], id: u32, out: &mut Batch) {
+    fn assemble(&self, t: [&Prepared; 3], id: (u32, u32), out: &mut Batch) {
         let codes = [t[0].code, t[1].code, t[2].code];
         if codes[0] & codes[1] & codes[2] != 0 {
             return; // all outside one plane
@@ -192,9 +200,10 @@ impl<'a> GeometryStage<'a> {
             .map(|chunk| {
                 let mut out = self.new_batch(chunk.len());
                 for t in chunk {
-                    let v =
-                        t.v.map(|v| self.prepare(self.vertex(v.position, v.normal, v.color, v.uv)));
-                    self.assemble([&v[0], &v[1], &v[2]], t.id, &mut out);
+                    let v = t.v.map(|v| {
+                        self.prepare(self.vertex(v.position, v.normal, v.color, v.uv, t.material))
+                    });
+                    self.assemble([&v[0], &v[1], &v[2]], (t.id, t.material), &mut out);
                 }
                 out
             })
@@ -264,9 +273,10 @@ impl<'a> GeometryStage<'a> {
                             let v = [0, 1, 2].map(|j| {
                                 let i = idx[j] as usize;
                                 let n = if flat { face } else { mesh.normals[i] };
-                                self.prepare(self.vertex(p[j], n, color(i), uv(i)))
+                                self.prepare(self.vertex(p[j], n, color(i), uv(i), 0))
                             });
-                            self.assemble([&v[0], &v[1], &v[2]], mesh.id(c * BATCH + k), &mut out);
+                            let id = (mesh.id(c * BATCH + k), 0);
+                            self.assemble([&v[0], &v[1], &v[2]], id, &mut out);
                         }
                         out
                     })
@@ -285,7 +295,8 @@ impl<'a> GeometryStage<'a> {
                 .into_par_iter()
                 .with_min_len(4096)
                 .map(|i| {
-                    self.prepare(self.vertex(mesh.positions[i], mesh.normals[i], color(i), uv(i)))
+                    let n = mesh.normals[i];
+                    self.prepare(self.vertex(mesh.positions[i], n, color(i), uv(i), 0))
                 }),
         );
         for (g, part) in groups {
@@ -297,7 +308,7 @@ impl<'a> GeometryStage<'a> {
                     let mut out = self.new_batch(chunk.len());
                     for (k, idx) in chunk.iter().enumerate() {
                         let v = idx.map(|i| &verts[i as usize]);
-                        self.assemble(v, mesh.id(c * BATCH + k), &mut out);
+                        self.assemble(v, (mesh.id(c * BATCH + k), 0), &mut out);
                     }
                     out
                 })

@@ -100,17 +100,44 @@ impl Lights {
     }
 }
 
-/// Surface reflectance for the pipeline's lighting model.
+/// How the highlight is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Highlight {
+    /// Blinn-Phong: `(n·h)^s` with `h` halfway between the light and the eye (OpenGL's
+    /// fixed-function model).
+    #[default]
+    BlinnPhong,
+    /// Phong (1975), the lecture's and the Whitted tracer's: `(r·v)^s` with `r` the
+    /// light direction mirrored about the normal.
+    Phong,
+}
+
+/// Surface reflectance for the pipeline's lighting model. A pipeline holds a table of
+/// them (`Pipeline::materials`) and every triangle names its entry by index
+/// (`Triangle::material`).
+///
+/// The colour of a point with vertex colour `C`:
+/// `emission + C*ambient*A + Σ E (C*diffuse*cos + specular*highlight^shininess)`, with
+/// `A` the lights' ambient term and `E` each light's irradiance (no 1/π).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
-    /// Multiplies the vertex colour for the diffuse and ambient terms.
+    /// Multiplies the vertex colour for the diffuse term.
     pub diffuse: Rgb,
     pub specular: Rgb,
-    /// Blinn-Phong exponent.
+    /// Blinn-Phong or Phong exponent.
     pub shininess: f32,
     /// Light the side facing the eye (normals flipped towards the eye), for open
     /// surfaces such as isosurfaces.
     pub two_sided: bool,
+    /// Multiplies the vertex colour for the ambient term; `None` (the default) uses
+    /// `diffuse`, as the fixed-function pipeline's usual ambient = diffuse.
+    pub ambient: Option<Rgb>,
+    /// Added to the reflected colour (an emitting surface).
+    pub emission: Rgb,
+    pub highlight: Highlight,
+    /// Point and spot lights fade as 1/r² (off for POV-Ray's finish model, whose
+    /// lights do not fade by default, as in the Whitted tracer).
+    pub distance_falloff: bool,
 }
 
 impl Default for Material {
@@ -120,6 +147,10 @@ impl Default for Material {
             specular: Rgb::splat(0.0),
             shininess: 32.0,
             two_sided: true,
+            ambient: None,
+            emission: Rgb::BLACK,
+            highlight: Highlight::BlinnPhong,
+            distance_falloff: true,
         }
     }
 }
@@ -151,12 +182,14 @@ enum EyeLight {
     },
 }
 
-/// The frame's lights and material in eye space, ready to shade points.
+/// The frame's lights in eye space and its material table, ready to shade points.
 #[derive(Clone, Debug)]
 pub struct EyeLights {
     ambient: Vec3,
     lights: Vec<EyeLight>,
-    material: Material,
+    /// Material `i` for index `i`; indices past the end use `fallback`.
+    materials: Vec<Material>,
+    fallback: Material,
     orthographic: bool,
 }
 
@@ -165,7 +198,20 @@ fn v3(c: Rgb) -> Vec3 {
 }
 
 impl EyeLights {
+    /// One material for every triangle.
     pub fn new(lights: &Lights, material: &Material, view: Mat4, orthographic: bool) -> Self {
+        Self::with_materials(lights, &[], material, view, orthographic)
+    }
+
+    /// A material table: index `i` shades with `materials[i]`, indices past its end
+    /// with `fallback`.
+    pub fn with_materials(
+        lights: &Lights,
+        materials: &[Material],
+        fallback: &Material,
+        view: Mat4,
+        orthographic: bool,
+    ) -> Self {
         let eye_lights = lights
             .lights
             .iter()
@@ -205,16 +251,31 @@ impl EyeLights {
         Self {
             ambient: v3(lights.ambient),
             lights: eye_lights,
-            material: *material,
+            materials: materials.to_vec(),
+            fallback: *fallback,
             orthographic,
         }
     }
 
-    /// Reflected colour at eye-space point `p` with unit normal `n` and base colour
-    /// `base` (the vertex colour): `base*kd*(ambient + sum E cos) + ks * sum E (n.h)^s`.
+    /// The material of index `i`.
+    #[inline(always)]
+    pub fn material(&self, i: u32) -> &Material {
+        self.materials.get(i as usize).unwrap_or(&self.fallback)
+    }
+
+    /// [`EyeLights::shade_with`] material index 0.
     #[inline]
     pub fn shade(&self, p: Vec3, n: Vec3, base: Vec3) -> Vec3 {
-        let m = &self.material;
+        self.shade_with(0, p, n, base)
+    }
+
+    /// Colour at eye-space point `p` with unit normal `n` and base colour `base` (the
+    /// vertex colour), shaded with material `material`:
+    /// `em + base*ka*ambient + sum E (base*kd*cos + ks*highlight^s)`
+    /// (`base*kd*(ambient + sum E cos) + ...` when `ka` is `None`).
+    #[inline]
+    pub fn shade_with(&self, material: u32, p: Vec3, n: Vec3, base: Vec3) -> Vec3 {
+        let m = self.material(material);
         // The eye direction, unnormalised: only its sign matters unless there is a
         // specular term.
         let eye_dir = if self.orthographic { Vec3::Z } else { -p };
@@ -225,7 +286,11 @@ impl EyeLights {
         let kd = base * v3(m.diffuse);
         let ks = v3(m.specular);
         let specular = ks != Vec3::ZERO;
-        let mut diffuse_sum = self.ambient;
+        let fade = m.distance_falloff;
+        let (mut diffuse_sum, ambient) = match m.ambient {
+            None => (self.ambient, Vec3::ZERO),
+            Some(ka) => (Vec3::ZERO, base * v3(ka) * self.ambient),
+        };
         let mut specular_sum = Vec3::ZERO;
         for l in &self.lights {
             let (to_light, e) = match *l {
@@ -233,7 +298,7 @@ impl EyeLights {
                 EyeLight::Point { position, color } => {
                     let d = position - p;
                     let r2 = d.length_squared().max(1e-20);
-                    (d / r2.sqrt(), color / r2)
+                    (d / r2.sqrt(), if fade { color / r2 } else { color })
                 }
                 EyeLight::Spot {
                     position,
@@ -250,7 +315,7 @@ impl EyeLights {
                         continue;
                     }
                     let f = irradia_scene::spot_falloff(cos, cos_inner, cos_outer);
-                    (to_light, color * (f / r2))
+                    (to_light, color * if fade { f / r2 } else { f })
                 }
                 EyeLight::Emitter {
                     position,
@@ -271,12 +336,41 @@ impl EyeLights {
             if cos > 0.0 {
                 diffuse_sum += e * cos;
                 if specular {
-                    let h = (to_light + eye_dir.normalize_or_zero()).normalize_or_zero();
-                    specular_sum += e * n.dot(h).max(0.0).powf(m.shininess);
+                    let v = eye_dir.normalize_or_zero();
+                    match m.highlight {
+                        Highlight::BlinnPhong => {
+                            let h = (to_light + v).normalize_or_zero();
+                            specular_sum += e * n.dot(h).max(0.0).powf(m.shininess);
+                        }
+                        Highlight::Phong => {
+                            let rv = (2.0 * cos * n - to_light).dot(v);
+                            if rv > 0.0 {
+                                specular_sum += e * power(rv, m.shininess);
+                            }
+                        }
+                    }
                 }
             }
         }
-        kd * diffuse_sum + ks * specular_sum
+        m.emission_v3() + ambient + kd * diffuse_sum + ks * specular_sum
+    }
+}
+
+impl Material {
+    #[inline(always)]
+    fn emission_v3(&self) -> Vec3 {
+        v3(self.emission)
+    }
+}
+
+/// `x^s` for a highlight: by repeated squaring for whole exponents (as the Whitted
+/// tracer does, so both give the same highlights), `powf` otherwise.
+#[inline]
+fn power(x: f32, s: f32) -> f32 {
+    if s.fract() == 0.0 && (0.0..=4096.0).contains(&s) {
+        x.powi(s as i32)
+    } else {
+        x.powf(s)
     }
 }
 

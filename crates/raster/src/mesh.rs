@@ -15,11 +15,14 @@ pub struct Vertex {
     pub uv: Vec2,
 }
 
-/// An independent triangle with the item id written by the ID-buffer mode.
+/// An independent triangle with the item id written by the ID-buffer mode and the
+/// index of its material in the pipeline's table (`Pipeline::materials`; 0 unless
+/// set, and any index past the table's end means `Pipeline::material`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
     pub v: [Vertex; 3],
     pub id: u32,
+    pub material: u32,
 }
 
 impl Triangle {
@@ -36,6 +39,7 @@ impl Triangle {
         Self {
             v: [v(p[0]), v(p[1]), v(p[2])],
             id,
+            material: 0,
         }
     }
 }
@@ -219,6 +223,7 @@ impl Mesh {
                 Triangle {
                     v: [v(0), v(1), v(2)],
                     id: self.id(t),
+                    material: 0,
                 }
             })
             .collect()

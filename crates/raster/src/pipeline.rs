@@ -38,7 +38,12 @@ pub struct Pipeline {
     pub height: u32,
     pub view: ViewParams,
     pub lights: Lights,
+    /// The material of every triangle whose index has no entry in `materials` (all of
+    /// them when the table is empty, the default).
     pub material: Material,
+    /// Per-object materials: a triangle with `material == i` is shaded with
+    /// `materials[i]` (Gouraud at its vertices, Phong at its pixels).
+    pub materials: Vec<Material>,
     pub shading: Shading,
     pub cull: CullMode,
     pub depth_func: DepthFunc,
@@ -65,6 +70,7 @@ impl Pipeline {
             view,
             lights: Lights::default(),
             material: Material::default(),
+            materials: Vec::new(),
             shading: Shading::Gouraud,
             cull: CullMode::None,
             depth_func: DepthFunc::Less,
@@ -73,8 +79,9 @@ impl Pipeline {
     }
 
     fn eye_lights(&self) -> EyeLights {
-        EyeLights::new(
+        EyeLights::with_materials(
             &self.lights,
+            &self.materials,
             &self.material,
             self.view.view,
             self.view.is_orthographic(),

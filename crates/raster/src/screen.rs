@@ -46,16 +46,18 @@ pub struct ScreenVertex {
 }
 
 /// A lit, clipped, screen-space triangle with the caller's item id (written by the ID
-/// buffer mode, e.g. the patch number of a hemicube).
+/// buffer mode, e.g. the patch number of a hemicube) and its material index (per-pixel
+/// Phong shades with that entry of the pipeline's material table).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 #[repr(C)]
 pub struct ScreenTriangle {
     pub v: [ScreenVertex; 3],
     pub id: u32,
+    pub material: u32,
 }
 
 /// Bytes of one triangle in [`ScreenTriangle::write_bytes`].
-pub const SCREEN_TRIANGLE_BYTES: usize = 3 * (4 + VARYINGS) * 4 + 4;
+pub const SCREEN_TRIANGLE_BYTES: usize = 3 * (4 + VARYINGS) * 4 + 8;
 
 impl ScreenTriangle {
     /// Appends the little-endian encoding ([`SCREEN_TRIANGLE_BYTES`] bytes).
@@ -66,6 +68,7 @@ impl ScreenTriangle {
             }
         }
         out.extend_from_slice(&self.id.to_le_bytes());
+        out.extend_from_slice(&self.material.to_le_bytes());
     }
 
     /// Decodes one triangle written by [`ScreenTriangle::write_bytes`]; `None` when
@@ -87,11 +90,9 @@ impl ScreenTriangle {
                 v.var[j] = f(b + 4 + j);
             }
         }
-        t.id = u32::from_le_bytes(
-            bytes[SCREEN_TRIANGLE_BYTES - 4..SCREEN_TRIANGLE_BYTES]
-                .try_into()
-                .unwrap(),
-        );
+        let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+        t.id = word(SCREEN_TRIANGLE_BYTES - 8);
+        t.material = word(SCREEN_TRIANGLE_BYTES - 4);
         Some(t)
     }
 }
@@ -147,6 +148,7 @@ mod tests {
     fn bytes_round_trip() {
         let mut t = ScreenTriangle {
             id: 77,
+            material: 5,
             ..Default::default()
         };
         t.v[1].x = 3.5;

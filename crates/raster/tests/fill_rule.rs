@@ -20,7 +20,11 @@ fn tri(a: (f32, f32), b: (f32, f32), c: (f32, f32), flip: bool) -> ScreenTriangl
     } else {
         [sv(a.0, a.1), sv(b.0, b.1), sv(c.0, c.1)]
     };
-    ScreenTriangle { v, id: 0 }
+    ScreenTriangle {
+        v,
+        id: 0,
+        material: 0,
+    }
 }
 
 /// Writes per pixel of a `w` x `h` screen.

@@ -72,6 +72,7 @@ fn raster(lights: Lights, shading: Shading, mesh: &Mesh) -> Vec<f32> {
         specular: Rgb::BLACK,
         shininess: 1.0,
         two_sided: true,
+        ..Material::default()
     };
     let mut fb = Framebuffer::new(W, H, ColorFormat::Rgba32F).unwrap();
     p.render_mesh(mesh, &mut fb).unwrap();
