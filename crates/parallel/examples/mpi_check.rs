@@ -1,11 +1,13 @@
 //! The compositing tests over MPI: run under `mpirun -np N` (scripts/test-mpi.sh does it
 //! for N = 1..16). Every rank renders its share of a deterministic scene of rectangles,
 //! every strategy composites with `MpiComm`, and rank 0 compares with the serial render
-//! (bit for bit for opaque depth compositing; within 1e-5 for ordered "over"). Prints one
+//! (bit for bit for opaque depth compositing; within 1e-5 for ordered "over"); on a
+//! tiled display every display rank compares its tile. Prints one
 //! line per case and a closing `N passed, N failed`; exits 1 on any failure.
 
 use irradia_parallel::comm::{Comm, MpiComm};
 use irradia_parallel::composite::{self, CompositeOptions, Layer, Operator, Strategy};
+use irradia_parallel::display_tiles::{composite_to_tiles, DisplayLayout};
 use std::time::Duration;
 
 const W: u32 = 64;
@@ -138,6 +140,46 @@ fn main() {
                 } else {
                     failed += 1
                 }
+            }
+        }
+    }
+    // Tiled display: the largest grid of at most 2x2 that the ranks can drive, with
+    // overlap; every display rank checks its tile against the serial image.
+    let (cols, rows) = match p {
+        1 => (1, 1),
+        2 | 3 => (2, 1),
+        _ => (2, 2),
+    };
+    let layout = DisplayLayout::grid(W, H, cols, rows, 3).expect("grid fits");
+    for s in strategies {
+        let mine8 = render(&pick(&opaque, block(&opaque, rank)), to8, false);
+        let tile = composite_to_tiles(&comm, s, mine8, &layout, &CompositeOptions::default())
+            .unwrap_or_else(|e| comm.fail(&e));
+        let ok = match (layout.tile_of(rank), tile) {
+            (Some(t), Some(img)) => img == DisplayLayout::crop(&serial8, t),
+            (None, None) => true,
+            _ => false,
+        };
+        let all = comm
+            .gather(0, &[ok as u8])
+            .unwrap_or_else(|e| comm.fail(&e));
+        if rank == 0 {
+            let bad: Vec<usize> = (0..p).filter(|&r| all[r] != [1]).collect();
+            let ok = bad.is_empty();
+            println!(
+                "{} tiles {cols}x{rows} {} np={p}: {}",
+                if ok { "ok  " } else { "FAIL" },
+                s.name(),
+                if ok {
+                    "every display bit-exact".to_string()
+                } else {
+                    format!("ranks {bad:?} differ")
+                }
+            );
+            if ok {
+                passed += 1
+            } else {
+                failed += 1
             }
         }
     }
