@@ -145,6 +145,8 @@ pub struct SceneTriangles {
     /// its object's (or CSG leaf's) index into `Scene::materials`, the table of
     /// [`scene_pipeline`].
     pub triangles: Vec<Triangle>,
+    /// Per scene object, its triangles' range in `triangles` (empty when skipped).
+    pub objects: Vec<std::ops::Range<usize>>,
     /// Names of the objects that could not be made into triangles (open surfaces
     /// without facets, solids with no surface at the tessellation's resolution).
     pub skipped: Vec<String>,
@@ -176,6 +178,8 @@ pub fn scene_triangles_with(scene: &irradia_scene::Scene, opts: &Tessellation) -
     let region = finite_region(scene);
     let mut out = SceneTriangles::default();
     for (obj, inst) in scene.objects.iter().zip(scene.accel.instances()) {
+        let first = out.triangles.len();
+        out.objects.push(first..first);
         let to_world = *inst.to_world();
         let normal_matrix = inst.to_object().matrix3.transpose();
         let mut mesh = WorldMesh::default();
@@ -231,6 +235,9 @@ pub fn scene_triangles_with(scene: &irradia_scene::Scene, opts: &Tessellation) -
                 .collect();
         }
         mesh.append_to(&mut out.triangles, scene, obj.material);
+        if let Some(r) = out.objects.last_mut() {
+            r.end = out.triangles.len();
+        }
     }
     for (i, t) in out.triangles.iter_mut().enumerate() {
         t.id = i as u32;
