@@ -12,7 +12,7 @@ use irradia_geometry::Instance;
 use irradia_render::path::flat_scene::FlatScene;
 use irradia_render::path::integrator::{radiance_in, PathScene};
 use irradia_render::path::lights::LightSampler;
-use irradia_render::path::progressive::pixel_sample;
+use irradia_render::path::progressive::{pixel_sample, Kernel};
 use irradia_render::path::wide::WideScene;
 use irradia_render::path::{self, Film, PathCounters, PathParams, ProgressiveOptions};
 use irradia_scene::{Material, Object, Scene};
@@ -155,7 +155,6 @@ fn render(scene: &Scene, spp: u32, seed: u32, scalar_only: bool) -> Film {
     let opts = ProgressiveOptions {
         spp,
         seed,
-        scalar_only,
         checkpoint_interval: Duration::from_secs(3600),
         ..Default::default()
     };
@@ -164,7 +163,12 @@ fn render(scene: &Scene, spp: u32, seed: u32, scalar_only: bool) -> Film {
         rr_depth: 5,
     };
     let film = Film::new(scene.settings.width, scene.settings.height).unwrap();
-    path::render(scene, &params, &opts, film, |_, _| {})
+    let kernel = if scalar_only {
+        Kernel::Scalar
+    } else {
+        Kernel::Auto
+    };
+    path::progressive::render_with(scene, &params, &opts, kernel, film, |_, _| {})
         .unwrap()
         .film
 }

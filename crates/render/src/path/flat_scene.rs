@@ -330,6 +330,40 @@ impl FlatScene {
             .map(|b| b.stats())
     }
 
+    /// Every baked triangle as (corners, unit normal, instance, material) when the
+    /// whole scene is baked (no shape is left to its own test), for the 8-wide kernel
+    /// ([`super::wide`]); `None` otherwise.
+    pub(crate) fn all_triangles(&self) -> Option<Vec<([Vec3; 3], Vec3, u32, u32)>> {
+        if self.rest.is_some() {
+            return None;
+        }
+        let baked = self.baked.as_ref()?;
+        Some(
+            baked
+                .triangles
+                .iter()
+                .map(|t| (t.corners, t.normal, t.instance, t.material))
+                .collect(),
+        )
+    }
+
+    /// The nearest baked triangle along `o + t d` (`t > 0`): its index (as in
+    /// [`Self::all_triangles`]) and the hit.
+    #[inline]
+    pub(crate) fn nearest_triangle(&self, o: Vec3, d: Vec3) -> Option<(u32, PacketHit)> {
+        self.baked
+            .as_ref()?
+            .intersect(&Ray::new(o, d), f32::INFINITY)
+    }
+
+    /// Whether a baked triangle is hit with `0 < t < t_max`.
+    #[inline]
+    pub(crate) fn occluded_baked(&self, o: Vec3, d: Vec3, t_max: f32) -> bool {
+        self.baked
+            .as_ref()
+            .is_some_and(|b| b.occluded(&Ray::new(o, d), t_max))
+    }
+
     /// How many objects are intersected through their own shapes.
     pub fn generic_objects(&self) -> usize {
         self.rest.as_ref().map_or(0, |r| r.scene_index.len())

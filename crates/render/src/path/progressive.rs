@@ -35,9 +35,18 @@ pub struct ProgressiveOptions {
     pub checkpoint_interval: Duration,
     /// Selects an independent family of random streams (0 for the default image).
     pub seed: u32,
-    /// Always use the scalar estimator, even where the scene qualifies for the 8-wide
-    /// kernel ([`super::wide`]); for comparisons and measurements.
-    pub scalar_only: bool,
+}
+
+/// Which estimator code runs the samples (the same estimator either way).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Kernel {
+    /// The 8-wide kernel ([`super::wide`]) where the scene qualifies, otherwise the
+    /// scalar one; `IRRADIA_PATH_KERNEL=scalar` in the environment forces the scalar
+    /// one (for A/B timings of the command-line tool).
+    #[default]
+    Auto,
+    /// Always the scalar `radiance_in`.
+    Scalar,
 }
 
 /// Where a render stands, reported after every pass.
@@ -120,6 +129,18 @@ pub fn render(
     scene: &Scene,
     params: &PathParams,
     options: &ProgressiveOptions,
+    film: Film,
+    on_pass: impl FnMut(&PassReport, &Film),
+) -> std::io::Result<PathRender> {
+    render_with(scene, params, options, Kernel::Auto, film, on_pass)
+}
+
+/// [`render`] with a choice of the code that runs the samples.
+pub fn render_with(
+    scene: &Scene,
+    params: &PathParams,
+    options: &ProgressiveOptions,
+    kernel: Kernel,
     mut film: Film,
     mut on_pass: impl FnMut(&PassReport, &Film),
 ) -> std::io::Result<PathRender> {
@@ -128,8 +149,8 @@ pub fn render(
     let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
     // Eight paths at once where the scene qualifies; the same estimator either way.
     // IRRADIA_PATH_KERNEL=scalar turns it off from outside (for A/B timings).
-    let scalar_only =
-        options.scalar_only || std::env::var("IRRADIA_PATH_KERNEL").is_ok_and(|v| v == "scalar");
+    let scalar_only = kernel == Kernel::Scalar
+        || std::env::var("IRRADIA_PATH_KERNEL").is_ok_and(|v| v == "scalar");
     let wide = if scalar_only {
         None
     } else {

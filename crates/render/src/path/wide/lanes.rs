@@ -295,6 +295,10 @@ impl V3 {
     pub fn neg(self) -> V3 {
         V3::new(-self.x, -self.y, -self.z)
     }
+    #[inline(always)]
+    pub fn abs(self) -> V3 {
+        V3::new(self.x.abs(), self.y.abs(), self.z.abs())
+    }
     /// `glam`'s `normalize`: times the reciprocal of the length.
     #[inline(always)]
     pub fn normalize(self) -> V3 {
@@ -325,6 +329,19 @@ impl V3 {
     }
 }
 
+/// `table[idx[i]][at]` in every lane `i`.
+///
+/// # Safety
+/// Every index must address a row of `table` and `at < N`.
+#[inline(always)]
+pub unsafe fn gather<const N: usize>(table: &[[f32; N]], idx: &[u32; W], at: usize) -> F8 {
+    let base = table.as_ptr() as *const f32;
+    // SAFETY: in bounds by the caller's contract.
+    F8(std::array::from_fn(|i| unsafe {
+        *base.add(idx[i] as usize * N + at)
+    }))
+}
+
 /// Sine and cosine of `a` for `|a| <= π/4`: the minimax polynomials of Cephes'
 /// `sinf`/`cosf` (Moshier, "Methods and Programs for Mathematical Functions", 1989),
 /// the kernel Dr.Jit and SLEEF also use; within 2 ulp of the correctly rounded value
@@ -343,30 +360,41 @@ pub fn sin_cos_quarter_pi(a: F8) -> (F8, F8) {
 /// Robust Method for Avoiding Self-Intersection", Ray Tracing Gems, 2019), bit for bit.
 #[inline(always)]
 pub fn offset_ray_origin(p: V3, n: V3, extra_error: F8) -> V3 {
+    let p = p.add(n.scale(extra_error));
+    V3::new(
+        offset_axis(p.x, n.x),
+        offset_axis(p.y, n.y),
+        offset_axis(p.z, n.z),
+    )
+}
+
+/// One coordinate of [`offset_ray_origin`] (after the error offset).
+#[inline(always)]
+fn offset_axis(p: F8, n: F8) -> F8 {
     const ORIGIN: f32 = 1.0 / 32.0;
     const FLOAT_SCALE: f32 = 1.0 / 65536.0;
     const INT_SCALE: f32 = 256.0;
-    let p = p.add(n.scale(extra_error));
-    let axis = |p: F8, n: F8| {
-        let mut r = [0.0; W];
-        for i in 0..W {
-            let (pc, nc) = (p.0[i], n.0[i]);
-            let oi = (INT_SCALE * nc) as i32;
-            let bits = pc.to_bits() as i32;
-            let moved = if pc < 0.0 {
-                bits.wrapping_sub(oi)
-            } else {
-                bits.wrapping_add(oi)
-            };
-            r[i] = if pc.abs() < ORIGIN {
-                pc + FLOAT_SCALE * nc
-            } else {
-                f32::from_bits(moved as u32)
-            };
-        }
-        F8(r)
-    };
-    V3::new(axis(p.x, n.x), axis(p.y, n.y), axis(p.z, n.z))
+    let mut r = [0.0; W];
+    for i in 0..W {
+        let (pc, nc) = (p.0[i], n.0[i]);
+        // |n| <= 1, so the product fits an i32 and truncates as `as i32` would; the
+        // clamp (exact for every such value) keeps even a NaN lane defined, and lets
+        // the conversion be one vector instruction.
+        // SAFETY: the clamped product is finite and within ±256.
+        let oi = unsafe { (INT_SCALE * nc.max(-1.0).min(1.0)).to_int_unchecked::<i32>() };
+        let bits = pc.to_bits() as i32;
+        let moved = if pc < 0.0 {
+            bits.wrapping_sub(oi)
+        } else {
+            bits.wrapping_add(oi)
+        };
+        r[i] = if pc.abs() < ORIGIN {
+            pc + FLOAT_SCALE * nc
+        } else {
+            f32::from_bits(moved as u32)
+        };
+    }
+    F8(r)
 }
 
 #[cfg(test)]

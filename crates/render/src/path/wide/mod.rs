@@ -7,11 +7,12 @@
 //! "Megakernels Considered Harmful: Wavefront Path Tracing on GPUs", HPG 2013):
 //!
 //! 1. per lane: refill a finished lane with the next sample of the batch, find the
-//!    nearest hit (the scene's own [`Tracer`], so hits are the scalar estimator's, bit
-//!    for bit; Wald et al.'s SIMD triangle packets inside it) and draw the bounce's
-//!    random numbers from the lane's own stream;
+//!    nearest triangle (the [`FlatScene`]'s own query, so hits are the scalar
+//!    estimator's, bit for bit; Wald et al.'s SIMD triangle packets inside it) and
+//!    draw the bounce's random numbers from the lane's own stream;
 //! 2. all lanes at once ([`kernel`], 8-wide AVX2 + FMA chosen at run time, or the same
-//!    code in SSE): emission with MIS, the light sample, the BSDF value and density,
+//!    code in SSE): the hit point (triangle, material and light data gathered by
+//!    index), emission with MIS, the light sample, the BSDF value and density,
 //!    the cosine-weighted direction (with a polynomial sine and cosine), the new ray
 //!    and the Russian-roulette probability;
 //! 3. per lane: the shadow ray, the Russian-roulette draw, the end of paths.
@@ -28,97 +29,138 @@
 //! emissive; no mirror, gloss or glass; every emitter is an emissive object sampled by
 //! its world-space facets (polygons, boxes, polyhedra, emissive meshes); no point, spot,
 //! directional, rectangle or sphere lights and a black background (no environment). The
-//! Cornell box qualifies. Any geometry does (the hits come from the scalar tracer).
-//! Other scenes render with the scalar `radiance_in`.
+//! Cornell box qualifies. Every object must be baked into the [`FlatScene`]'s
+//! triangles (polygons, boxes, polyhedra, flat meshes: no spheres, quadrics, CSG or
+//! implicit surfaces). Other scenes render with the scalar `radiance_in`.
 
 pub mod kernel;
 pub mod lanes;
 
 use super::bsdf::Lobe;
+use super::flat_scene::FlatScene;
 use super::integrator::{PathCounters, PathParams, PathScene};
 use super::lights::FacetEmitter;
-use super::tracer::Tracer;
-use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
 
-/// A material as the kernel reads it.
+/// A material as the per-lane stage reads it.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct WideMaterial {
-    /// Lambertian albedo (only meaningful when `scatters`).
-    pub albedo: [f32; 3],
     /// Whether the BSDF has its lobe (otherwise paths end at the surface).
     pub scatters: bool,
-    pub emission: [f32; 3],
     pub emissive: bool,
-    pub two_sided: bool,
 }
 
-/// One world-space emitter triangle with what a light sample reads.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct LightFacet {
-    pub corners: [[f32; 3]; 3],
-    pub normal: [f32; 3],
-    pub pdf_area: f32,
-    pub radiance: [f32; 3],
-    pub two_sided: bool,
+/// Fields of a [`WideScene::triangles`] record.
+pub(crate) mod tri {
+    pub const P0: usize = 0;
+    pub const P1: usize = 3;
+    pub const P2: usize = 6;
+    pub const N: usize = 9;
+    pub const LEN: usize = 12;
+}
+/// Fields of a [`WideScene::shading`] record (flags are 0.0 or 1.0).
+pub(crate) mod mat {
+    pub const ALBEDO: usize = 0;
+    pub const EMISSION: usize = 3;
+    pub const TWO_SIDED: usize = 6;
+    pub const LEN: usize = 8;
+}
+/// Fields of a [`WideScene::facets`] record.
+pub(crate) mod facet {
+    pub const A: usize = 0;
+    pub const B: usize = 3;
+    pub const C: usize = 6;
+    pub const N: usize = 9;
+    pub const RADIANCE: usize = 12;
+    pub const PDF_AREA: usize = 15;
+    pub const TWO_SIDED: usize = 16;
+    pub const LEN: usize = 20;
 }
 
-/// A prepared scene that qualifies for the 8-wide kernel.
-pub struct WideScene<'s, 'a, T: Tracer> {
-    pub(crate) ps: &'s PathScene<'a, T>,
+/// A prepared scene that qualifies for the 8-wide kernel, with flat tables the vector
+/// stage gathers from by index (one record per triangle, material and emitter facet).
+pub struct WideScene<'s, 'a> {
+    pub(crate) ps: &'s PathScene<'a, FlatScene>,
+    /// Per baked triangle: corners and unit normal ([`tri`]).
+    pub(crate) triangles: Vec<[f32; tri::LEN]>,
+    /// Per baked triangle: its material and instance.
+    pub(crate) triangle_owner: Vec<(u32, u32)>,
     pub(crate) materials: Vec<WideMaterial>,
-    pub(crate) facets: Vec<LightFacet>,
+    /// Per material: albedo, emission, sidedness ([`mat`]).
+    pub(crate) shading: Vec<[f32; mat::LEN]>,
+    /// Every emitter's world-space triangles ([`facet`]); one zero record when there
+    /// are none, so that an index of 0 is always valid.
+    pub(crate) facets: Vec<[f32; facet::LEN]>,
     /// Index of each emitter's first facet in `facets`.
-    pub(crate) facet_start: Vec<usize>,
+    pub(crate) facet_start: Vec<u32>,
 }
 
-impl<'s, 'a, T: Tracer> WideScene<'s, 'a, T> {
+impl<'s, 'a> WideScene<'s, 'a> {
     /// The kernel's view of `ps`, or `None` when the scene does not qualify (see the
     /// module documentation).
-    pub fn new(ps: &'s PathScene<'a, T>) -> Option<Self> {
+    pub fn new(ps: &'s PathScene<'a, FlatScene>) -> Option<Self> {
         let scene = ps.scene;
         if !scene.settings.background.is_black() || scene.materials.is_empty() {
             return None;
         }
-        let materials = scene
-            .materials
-            .iter()
-            .enumerate()
-            .map(|(i, m)| {
-                let bsdf = ps.bsdfs.get(i).copied().flatten()?;
-                let mut lobes = bsdf.lobes();
-                let albedo = match (lobes.next(), lobes.next()) {
-                    (None, _) => None,
-                    (Some(Lobe::Lambert { albedo }), None) => Some(*albedo),
-                    _ => return None,
-                };
-                Some(WideMaterial {
-                    albedo: albedo.map_or([0.0; 3], |a| [a.r, a.g, a.b]),
-                    scatters: albedo.is_some(),
-                    emission: [m.emission.r, m.emission.g, m.emission.b],
-                    emissive: !m.emission.is_black(),
-                    two_sided: m.emission_two_sided,
-                })
-            })
-            .collect::<Option<Vec<_>>>()?;
+        let mut materials = Vec::new();
+        let mut shading = Vec::new();
+        for (i, m) in scene.materials.iter().enumerate() {
+            let bsdf = ps.bsdfs.get(i).copied().flatten()?;
+            let mut lobes = bsdf.lobes();
+            let albedo = match (lobes.next(), lobes.next()) {
+                (None, _) => None,
+                (Some(Lobe::Lambert { albedo }), None) => Some(*albedo),
+                _ => return None,
+            };
+            materials.push(WideMaterial {
+                scatters: albedo.is_some(),
+                emissive: !m.emission.is_black(),
+            });
+            let a = albedo.unwrap_or(Rgb::BLACK);
+            let e = m.emission;
+            let two = if m.emission_two_sided { 1.0 } else { 0.0 };
+            shading.push([a.r, a.g, a.b, e.r, e.g, e.b, two, 0.0]);
+        }
+        let mut triangles = Vec::new();
+        let mut triangle_owner = Vec::new();
+        for (c, n, instance, material) in ps.tracer.all_triangles()? {
+            let mut r = [0.0; tri::LEN];
+            for (k, v) in [c[0], c[1], c[2], n].iter().enumerate() {
+                r[3 * k..3 * k + 3].copy_from_slice(&v.to_array());
+            }
+            triangles.push(r);
+            triangle_owner.push((material, instance));
+        }
         let emitters: Vec<FacetEmitter<'_>> = ps.lights.facet_emitters()?;
         let mut facets = Vec::new();
         let mut facet_start = Vec::new();
         for e in &emitters {
-            facet_start.push(facets.len());
+            facet_start.push(facets.len() as u32);
             for (k, t) in e.triangles.iter().enumerate() {
-                facets.push(LightFacet {
-                    corners: t.map(|v: Vec3| v.to_array()),
-                    normal: e.normals[k].to_array(),
-                    pdf_area: e.pdf_area[k],
-                    radiance: [e.radiance.r, e.radiance.g, e.radiance.b],
-                    two_sided: e.two_sided,
-                });
+                let mut r = [0.0; facet::LEN];
+                for (j, v) in [t[0], t[1], t[2], e.normals[k]].iter().enumerate() {
+                    r[3 * j..3 * j + 3].copy_from_slice(&v.to_array());
+                }
+                r[facet::RADIANCE..facet::RADIANCE + 3].copy_from_slice(&[
+                    e.radiance.r,
+                    e.radiance.g,
+                    e.radiance.b,
+                ]);
+                r[facet::PDF_AREA] = e.pdf_area[k];
+                r[facet::TWO_SIDED] = if e.two_sided { 1.0 } else { 0.0 };
+                facets.push(r);
             }
+        }
+        if facets.is_empty() {
+            facets.push([0.0; facet::LEN]);
         }
         Some(Self {
             ps,
+            triangles,
+            triangle_owner,
             materials,
+            shading,
             facets,
             facet_start,
         })
