@@ -14,9 +14,10 @@
 //! product with a fixed coefficient, a sum, the rounding to f32 — is monotone in its
 //! argument), so no pixel of the block has a smaller computed depth than the
 //! smallest corner. The tile bounds only ever overestimate the stored depth: a pixel
-//! that passes `Less` or `LessEqual` only decreases, the bounds are recomputed from the
-//! buffer every [`DepthBounds::REFRESH`] triangles, and a NaN stored depth (which no
-//! fragment can pass) is ignored. Images are therefore identical with and without
+//! that passes `Less` or `LessEqual` only decreases, and the bounds are read from the
+//! buffer when a band starts and again after every [`DepthBounds::REFRESH`] drawn
+//! triangles; a NaN stored depth (which no fragment can
+//! pass) is ignored. Images are therefore identical with and without
 //! the test; only the work for hidden triangles goes away. `Always` does not use it.
 
 use crate::fragment::DepthFunc;
@@ -33,76 +34,121 @@ pub(crate) struct DepthBounds {
     max: Vec<f32>,
     /// Triangles drawn since the bounds were last computed.
     drawn: u32,
+    /// Blocks of eight pixels that the triangles asked about before the bounds were
+    /// computed would scan.
+    asked: i64,
+    /// Whether the warm-up and the probation apply (off only in tests, to test every
+    /// triangle).
+    adaptive: bool,
+    /// Whether `max` holds the bounds.
+    ready: bool,
+    /// Tests answered from the bounds, and how many of them found the triangle hidden.
+    tested: u32,
+    rejected: u32,
+    /// Whether the CPU has AVX (for [`DepthBounds::tile_avx`]).
+    avx: bool,
 }
 
 impl DepthBounds {
-    /// Triangles between recomputations of the bounds (a band's bounds cost about as
-    /// much to recompute as drawing a few dozen triangles).
+    /// Triangles drawn between recomputations of the bounds (which make them tight
+    /// again: the stored depths they bound only decrease).
     pub const REFRESH: u32 = 1024;
 
-    /// The bounds of `depth`, whole rows of `width` pixels starting at row `band_y0`.
+    /// Tests are answered "not hidden" without looking until the triangles asked about
+    /// would scan this many blocks of eight pixels in all: computing a band's bounds
+    /// (640 tiles of 8x8 for a band of 32 rows of 1280) costs about as much as
+    /// scanning that many blocks, so a band drawing little (or tiny triangles, as in
+    /// the gyroid workload) does not pay for reading its whole depth.
+    pub const WARM_UP_BLOCKS: i64 = 2048;
+
+    /// After this many tests, a band that found fewer than a quarter of its triangles
+    /// hidden (few layers of depth, as in the gyroid workload) stops testing.
+    pub const PROBATION: u32 = 64;
+
+    /// Bounds for the band `depth` (whole rows of `width` pixels starting at screen row
+    /// `band_y0`); computed once enough work has asked ([`Self::WARM_UP_BLOCKS`]).
     pub fn new(depth: &[f32], width: usize, band_y0: u32) -> Self {
         let tiles_x = width.div_ceil(TILE);
         let rows = depth.len() / width.max(1);
-        let mut b = Self {
+        #[cfg(target_arch = "x86_64")]
+        let avx = std::is_x86_feature_detected!("avx") && width % TILE == 0;
+        #[cfg(not(target_arch = "x86_64"))]
+        let avx = false;
+        Self {
             width,
             tiles_x,
             band_y0,
             max: vec![f32::NEG_INFINITY; tiles_x * rows.div_ceil(TILE)],
             drawn: 0,
-        };
-        b.recompute(depth);
-        b
+            asked: 0,
+            adaptive: true,
+            ready: false,
+            tested: 0,
+            rejected: 0,
+            avx,
+        }
+    }
+
+    /// Bounds that test every triangle asked about, from the first (for tests).
+    #[cfg(test)]
+    pub fn always_on(mut self) -> Self {
+        self.adaptive = false;
+        self
     }
 
     fn recompute(&mut self, depth: &[f32]) {
-        #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx") && self.width % TILE == 0 {
-            // SAFETY: AVX was detected just above.
-            unsafe { self.recompute_avx(depth) };
-            self.drawn = 0;
-            return;
-        }
-        self.max.fill(f32::NEG_INFINITY);
-        for (y, row) in depth.chunks_exact(self.width).enumerate() {
-            let tiles = &mut self.max[(y / TILE) * self.tiles_x..][..self.tiles_x];
-            for (m, span) in tiles.iter_mut().zip(row.chunks(TILE)) {
-                // `f32::max` ignores NaN (a pixel no fragment can pass).
-                *m = span.iter().fold(*m, |a, &z| a.max(z));
+        for ty in 0..self.max.len() / self.tiles_x {
+            for tx in 0..self.tiles_x {
+                self.max[ty * self.tiles_x + tx] = self.tile(depth, tx, ty);
             }
         }
         self.drawn = 0;
     }
 
-    /// [`Self::recompute`] eight pixels at a time (rows a multiple of 8 pixels wide):
-    /// the same maxima, since `max` is exact and `_mm256_max_ps(z, m)` keeps `m` when
-    /// `z` is NaN, as `f32::max` does.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    unsafe fn recompute_avx(&mut self, depth: &[f32]) {
-        use std::arch::x86_64::*;
+    /// The largest stored depth of tile (`tx`, `ty`) of the band `depth`, ignoring NaN
+    /// (a pixel no fragment can pass); negative infinity when all are NaN.
+    fn tile(&self, depth: &[f32], tx: usize, ty: usize) -> f32 {
         let rows = depth.len() / self.width;
-        for ty in 0..rows.div_ceil(TILE) {
-            let (r0, r1) = (ty * TILE, ((ty + 1) * TILE).min(rows));
-            for tx in 0..self.tiles_x {
-                let mut m = _mm256_set1_ps(f32::NEG_INFINITY);
-                for y in r0..r1 {
-                    let at = y * self.width + tx * TILE;
-                    m = _mm256_max_ps(_mm256_loadu_ps(depth[at..at + TILE].as_ptr()), m);
-                }
-                let mut lanes = [0f32; 8];
-                _mm256_storeu_ps(lanes.as_mut_ptr(), m);
-                self.max[ty * self.tiles_x + tx] =
-                    lanes.iter().fold(f32::NEG_INFINITY, |a, &z| a.max(z));
-            }
+        let (r0, r1) = (ty * TILE, ((ty + 1) * TILE).min(rows));
+        let (c0, c1) = (tx * TILE, ((tx + 1) * TILE).min(self.width));
+        #[cfg(target_arch = "x86_64")]
+        if self.avx {
+            // SAFETY: `avx` says the CPU has AVX; the tile is a whole 8-pixel span of
+            // rows r0..r1 (the width is a multiple of 8).
+            return unsafe { Self::tile_avx(depth, self.width, r0, r1, c0) };
         }
+        let mut m = f32::NEG_INFINITY;
+        for y in r0..r1 {
+            // `f32::max` ignores NaN.
+            m = depth[y * self.width + c0..y * self.width + c1]
+                .iter()
+                .fold(m, |a, &z| a.max(z));
+        }
+        m
     }
 
-    /// Counts a drawn triangle and recomputes the bounds every [`Self::REFRESH`].
+    /// [`Self::tile`] for a full 8-pixel-wide tile, eight pixels at a time: the same
+    /// value, since `max` is exact and `_mm256_max_ps(z, m)` keeps `m` when `z` is NaN.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn tile_avx(depth: &[f32], width: usize, r0: usize, r1: usize, c0: usize) -> f32 {
+        use std::arch::x86_64::*;
+        let mut m = _mm256_set1_ps(f32::NEG_INFINITY);
+        for y in r0..r1 {
+            let at = y * width + c0;
+            m = _mm256_max_ps(_mm256_loadu_ps(depth[at..at + TILE].as_ptr()), m);
+        }
+        let m = _mm_max_ps(_mm256_castps256_ps128(m), _mm256_extractf128_ps::<1>(m));
+        let m = _mm_max_ps(m, _mm_movehl_ps(m, m));
+        let m = _mm_max_ss(m, _mm_shuffle_ps::<1>(m, m));
+        _mm_cvtss_f32(m)
+    }
+
+    /// Counts a drawn triangle; every [`Self::REFRESH`] the bounds are recomputed.
     #[inline]
     pub fn count_drawn(&mut self, depth: &[f32]) {
         self.drawn += 1;
-        if self.drawn >= Self::REFRESH {
+        if self.ready && self.drawn >= Self::REFRESH {
             self.recompute(depth);
         }
     }
@@ -135,23 +181,48 @@ impl DepthBounds {
             .min(s.depth_in_row(r1, x1))
     }
 
-    /// Whether no pixel of the block can pass `func` (the triangle can be skipped).
-    /// Planes with a non-finite coefficient (where the monotonicity argument breaks
-    /// down at infinities) are never skipped.
+    /// Whether no pixel of the block `x0..=x1` x `y0..=y1` of `s` (`blocks` blocks of
+    /// eight pixels to scan) can pass `func` against the band `depth` (the triangle
+    /// can be skipped). Planes with a
+    /// non-finite coefficient (where the monotonicity argument breaks down at
+    /// infinities) are never skipped.
     #[inline]
-    pub fn hidden(&self, s: &Setup, func: DepthFunc, x0: i64, x1: i64, y0: i64, y1: i64) -> bool {
+    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments)]
+    pub fn hidden(
+        &mut self,
+        depth: &[f32],
+        s: &Setup,
+        func: DepthFunc,
+        x0: i64,
+        x1: i64,
+        y0: i64,
+        y1: i64,
+        blocks: i64,
+    ) -> bool {
+        if !self.ready {
+            self.asked += blocks;
+            if (self.adaptive && self.asked < Self::WARM_UP_BLOCKS) || func == DepthFunc::Always {
+                return false;
+            }
+            self.recompute(depth);
+            self.ready = true;
+        }
+        if self.adaptive && self.tested >= Self::PROBATION && self.rejected * 4 < self.tested {
+            return false;
+        }
         if !(s.zc.is_finite() && s.zx.is_finite() && s.zy.is_finite()) {
             return false;
         }
-        match func {
-            DepthFunc::Less => {
-                Self::triangle_min_depth(s, x0, x1, y0, y1) >= self.max_over(x0, x1, y0, y1)
-            }
-            DepthFunc::LessEqual => {
-                Self::triangle_min_depth(s, x0, x1, y0, y1) > self.max_over(x0, x1, y0, y1)
-            }
+        let z = || Self::triangle_min_depth(s, x0, x1, y0, y1);
+        let hidden = match func {
+            DepthFunc::Less => z() >= self.max_over(x0, x1, y0, y1),
+            DepthFunc::LessEqual => z() > self.max_over(x0, x1, y0, y1),
             DepthFunc::Always => false,
-        }
+        };
+        self.tested += 1;
+        self.rejected += hidden as u32;
+        hidden
     }
 }
 
@@ -167,7 +238,9 @@ mod tests {
             let mut depth: Vec<f32> = (0..w * rows).map(|i| (i % 37) as f32 / 37.0).collect();
             depth[3] = f32::NAN;
             depth[w * 9 + 17] = f32::NAN;
-            let b = DepthBounds::new(&depth, w, 64);
+            let mut b = DepthBounds::new(&depth, w, 64);
+            b.recompute(&depth);
+            b.ready = true;
             let tiles_x = w.div_ceil(8);
             for ty in 0..2 {
                 for tx in 0..tiles_x {
@@ -179,13 +252,20 @@ mod tests {
                             }
                         }
                     }
-                    assert_eq!(b.max[ty * tiles_x + tx], m, "width {w}, tile ({tx}, {ty})");
+                    let (x, y) = (tx as i64 * 8, 64 + ty as i64 * 8);
+                    assert_eq!(b.max_over(x, x, y, y), m, "width {w}, tile ({tx}, {ty})");
                 }
             }
             // Rows 64.. of the screen are rows 0.. of the band.
             let all = b.max.iter().fold(f32::NEG_INFINITY, |a, &m| a.max(m));
             assert_eq!(b.max_over(0, w as i64 - 1, 64, 74), all);
             assert_eq!(b.max_over(9, 9, 73, 73), b.max[tiles_x + 1]);
+            // Recomputed after REFRESH drawn triangles.
+            depth.iter_mut().for_each(|z| *z *= 0.5);
+            for _ in 0..DepthBounds::REFRESH {
+                b.count_drawn(&depth);
+            }
+            assert_eq!(b.max_over(0, w as i64 - 1, 64, 74), all * 0.5);
         }
     }
 }

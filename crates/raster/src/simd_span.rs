@@ -30,6 +30,9 @@ use crate::fragment::{draw, DepthFunc, InterpolatedColor};
 use crate::rasterizer::{Setup, HALF, ONE};
 use crate::screen::{varying, Rect, ScreenTriangle};
 
+/// Triangles scanning fewer blocks of eight pixels than this skip the depth-bound test.
+const MIN_BLOCKS_TESTED: i64 = 3;
+
 /// Whether this CPU runs [`draw_interpolated_rgba8`] (AVX2, detected at run time).
 #[inline]
 pub(crate) fn available() -> bool {
@@ -69,14 +72,20 @@ pub(crate) unsafe fn draw_interpolated_rgba8(
     let x1 = s.x1.min(clip.x1 as i64 - 1);
     let y0 = s.y0.max(clip.y0 as i64);
     let y1 = s.y1.min(clip.y1 as i64 - 1);
-    if x0 > x1 || y0 > y1 || bounds.hidden(&s, func, x0, x1, y0, y1) {
+    if x0 > x1 || y0 > y1 {
+        return;
+    }
+    let chunks = (x1 - x0) / 8 + 1;
+    // The depth-bound test costs about as much as scanning a few blocks of eight
+    // pixels: smaller triangles are not tested.
+    let blocks = (y1 - y0 + 1) * chunks;
+    if blocks >= MIN_BLOCKS_TESTED && bounds.hidden(depth_buf, &s, func, x0, x1, y0, y1, blocks) {
         return;
     }
     bounds.count_drawn(depth_buf);
     // The slices must hold rows y0..=y1 of the band (as the scalar path indexes them).
     let last = (y1 as usize - band_y0 as usize) * width + x1 as usize;
     assert!(last < depth_buf.len() && last < color.len());
-    let chunks = (x1 - x0) / 8 + 1;
     let x_end = x0 + chunks * 8 - 1; // the last lane's pixel
     let (px0, py0) = (x0 * ONE + HALF, y0 * ONE + HALF);
     let mut row: [i64; 3] = std::array::from_fn(|k| s.a[k] * px0 + s.b[k] * py0 + s.c[k]);
@@ -272,11 +281,15 @@ mod tests {
         w: u32,
         func: DepthFunc,
         simd: bool,
+        always_test: bool,
     ) -> (Vec<u32>, Vec<[u8; 4]>) {
         let n = (w * rows) as usize;
         let mut depth = vec![1.0f32; n];
         let mut color = vec![[7u8, 7, 7, 7]; n];
         let mut bounds = DepthBounds::new(&depth, w as usize, band_y0);
+        if always_test {
+            bounds = bounds.always_on();
+        }
         for t in tris {
             if simd {
                 unsafe {
@@ -324,15 +337,25 @@ mod tests {
         ];
         for func in [DepthFunc::Less, DepthFunc::LessEqual, DepthFunc::Always] {
             for &(clip, band_y0, rows) in &cases {
-                let scalar = render(&tris, clip, band_y0, rows, w, func, false);
-                let simd = render(&tris, clip, band_y0, rows, w, func, true);
+                let scalar = render(&tris, clip, band_y0, rows, w, func, false, false);
                 let written = scalar.1.iter().filter(|c| **c != [7, 7, 7, 7]).count();
                 assert!(
                     written > rows as usize * 5,
                     "too few pixels drawn to compare: {written}"
                 );
-                assert_eq!(scalar.0, simd.0, "depth differs ({func:?}, {clip:?})");
-                assert_eq!(scalar.1, simd.1, "colour differs ({func:?}, {clip:?})");
+                // As drawn (adaptive depth-bound tests), and with every triangle of
+                // three or more blocks tested against the depth bounds.
+                for always_test in [false, true] {
+                    let simd = render(&tris, clip, band_y0, rows, w, func, true, always_test);
+                    assert_eq!(
+                        scalar.0, simd.0,
+                        "depth differs ({func:?}, {clip:?}, {always_test})"
+                    );
+                    assert_eq!(
+                        scalar.1, simd.1,
+                        "colour differs ({func:?}, {clip:?}, {always_test})"
+                    );
+                }
             }
         }
     }
