@@ -29,7 +29,8 @@
 
 use irradia_parallel::comm::{Comm, MpiComm};
 use irradia_parallel::composite::{
-    self, pairwise, profile, split_span, ActiveRect, CompositeOptions, Layer, Strategy,
+    self, active, depth, pairwise, profile, rle, split_span, ActiveRect, CompositeOptions, Layer,
+    Operator, Strategy,
 };
 use std::time::{Duration, Instant};
 
@@ -145,7 +146,86 @@ struct Case {
     rect: bool,
 }
 
+/// Median and minimum seconds of `f` over `reps` calls (after one warm-up).
+fn time_it(reps: usize, mut f: impl FnMut()) -> (f64, f64) {
+    f();
+    let v: Vec<f64> = (0..reps)
+        .map(|_| {
+            let t = Instant::now();
+            f();
+            t.elapsed().as_secs_f64()
+        })
+        .collect();
+    (median(v.clone()), min(&v))
+}
+
+/// `--kernels`: the single-process cost of the compositing kernels on rank 0's images
+/// (no messages): the z-test of half a dense image, and preparing the sparse half
+/// (trim + run-length encoding) found by scanning or given the rectangle.
+fn kernels(w: u32, h: u32, reps: usize) {
+    let n = w as usize * h as usize;
+    let (half, other) = (n / 2..n, 0..n / 2);
+    let dense = layer(w, h, 0, 1.0);
+    let incoming = layer(w, h, 1, 1.0);
+    let mut acc = dense.clone();
+    let (c_in, d_in) = (
+        &incoming.color[other.clone()],
+        &incoming.depth[other.clone()],
+    );
+    let (t, tmin) = time_it(reps, || {
+        acc.color[..n / 2].copy_from_slice(&dense.color[..n / 2]);
+        acc.depth[..n / 2].copy_from_slice(&dense.depth[..n / 2]);
+    });
+    let (b, bmin) = time_it(reps, || {
+        acc.color[..n / 2].copy_from_slice(&dense.color[..n / 2]);
+        acc.depth[..n / 2].copy_from_slice(&dense.depth[..n / 2]);
+        depth::blend(
+            &mut acc.color[..n / 2],
+            &mut acc.depth[..n / 2],
+            c_in,
+            d_in,
+            false,
+        );
+    });
+    println!(
+        "KERNEL name=blend_half_dense pixels={} median_ms={:.3} min_ms={:.3} (copy-back subtracted: {:.3} / {:.3})",
+        n / 2,
+        b * 1e3,
+        bmin * 1e3,
+        t * 1e3,
+        tmin * 1e3
+    );
+    let sparse = layer(w, h, 0, 0.1);
+    let full = ActiveRect::full(w, h);
+    let rect = blob(w, h, 0.1);
+    let mut out = Vec::new();
+    for (name, r) in [("scan", full), ("rect", rect)] {
+        let (m, mn) = time_it(reps, || {
+            let t = active::trim_in(&sparse, Operator::Depth, &half, &r);
+            out.clear();
+            for part in split_span(&t, 4) {
+                rle::encode_runs_into(&mut out, &sparse, part, Operator::Depth, &r);
+            }
+            std::hint::black_box(&out);
+        });
+        println!(
+            "KERNEL name=prepare_sparse_half_{name} bytes={} median_ms={:.3} min_ms={:.3}",
+            out.len(),
+            m * 1e3,
+            mn * 1e3
+        );
+    }
+}
+
 fn main() {
+    if std::env::args().any(|a| a == "--kernels") {
+        let reps = arg("--reps", 201);
+        return kernels(
+            arg("--width", 1280) as u32,
+            arg("--height", 720) as u32,
+            reps,
+        );
+    }
     let comm = MpiComm::init(Duration::from_secs(60)).expect("MPI initialises once");
     let (w, h, reps, pieces) = (
         arg("--width", 1280) as u32,

@@ -290,8 +290,8 @@ fn trim_back<P: Pixel>(layer: &Layer<P>, op: Operator, a: usize, end: usize) -> 
 }
 
 /// [`trim`] knowing that every active pixel lies in `rect`: rows and columns outside it
-/// are not read (the front is found with [`next_run`]; the back scans back from the
-/// rectangle's last pixel).
+/// are not read (the front is found with [`first_active`]; the back scans back from the
+/// rectangle's last pixel). Constant time for a dense layer.
 pub fn trim_in<P: Pixel>(
     layer: &Layer<P>,
     op: Operator,
@@ -299,11 +299,11 @@ pub fn trim_in<P: Pixel>(
     rect: &ActiveRect,
 ) -> Range<usize> {
     let clip = rect.clip(layer.width, span);
-    let first = next_run(layer, op, clip.start, clip.end, rect);
-    if first.is_empty() {
+    let a = first_active(layer, op, clip.start, clip.end, rect);
+    if a == clip.end {
         return span.end..span.end;
     }
-    first.start..trim_back(layer, op, first.start, clip.end).max(first.end)
+    a..trim_back(layer, op, a, clip.end)
 }
 
 /// The next run of active pixels at or after `from` and before `end`, reading only
@@ -317,8 +317,29 @@ pub fn next_run<P: Pixel>(
     end: usize,
     rect: &ActiveRect,
 ) -> Range<usize> {
-    if rect.is_empty() {
+    let a = first_active(layer, op, from, end, rect);
+    if a == end {
         return end..end;
+    }
+    let w = layer.width as usize;
+    let run_limit = if rect.full_width(layer.width) {
+        rect.y1 as usize * w
+    } else {
+        (a / w) * w + rect.x1 as usize
+    };
+    a..run_end(layer, op, a, end.min(run_limit), true)
+}
+
+/// The first active pixel in `from..end` (or `end`), reading only pixels inside `rect`.
+pub fn first_active<P: Pixel>(
+    layer: &Layer<P>,
+    op: Operator,
+    from: usize,
+    end: usize,
+    rect: &ActiveRect,
+) -> usize {
+    if rect.is_empty() {
+        return end;
     }
     let w = layer.width as usize;
     let (x0, x1, y0, y1) = (
@@ -331,13 +352,10 @@ pub fn next_run<P: Pixel>(
         let lim = end.min(y1 * w);
         let from = from.max(y0 * w);
         if from >= lim {
-            return end..end;
+            return end;
         }
         let a = run_end(layer, op, from, lim, false);
-        if a == lim {
-            return end..end;
-        }
-        return a..run_end(layer, op, a, lim, true);
+        return if a == lim { end } else { a };
     }
     let mut i = from;
     while i < end {
@@ -355,12 +373,12 @@ pub fn next_run<P: Pixel>(
             let row_end = (y * w + x1).min(end);
             let a = run_end(layer, op, i, row_end, false);
             if a < row_end {
-                return a..run_end(layer, op, a, row_end, true);
+                return a;
             }
             i = (y + 1) * w + x0;
         }
     }
-    end..end
+    end
 }
 
 #[cfg(test)]
