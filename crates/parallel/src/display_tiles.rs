@@ -162,25 +162,31 @@ pub fn gather_tiles<P: Pixel, C: Comm>(
 ) -> Result<Option<Layer<P>>, CommError> {
     let me = comm.rank();
     let mut local: Option<Vec<u8>> = None;
+    let mut outgoing = Vec::new();
     for tile in &layout.tiles {
         let msg = encode_tile_part(layer, &span, tile, opts);
         if tile.rank == me {
             local = Some(msg);
         } else {
-            comm.send(tile.rank, TAG_TILES, &msg)?;
+            outgoing.push((tile.rank, msg));
         }
     }
-    let Some(tile) = layout.tile_of(me) else {
+    let tile = layout.tile_of(me);
+    // Display ranks send to each other as well as receive: one exchange, which never
+    // deadlocks (blocking sends both ways would, once messages pass MPI's eager limit).
+    let sources: Vec<usize> = match tile {
+        Some(_) => (0..comm.size()).filter(|&r| r != me).collect(),
+        None => Vec::new(),
+    };
+    let sends: Vec<(usize, &[u8])> = outgoing.iter().map(|(r, m)| (*r, m.as_slice())).collect();
+    let received = comm.exchange(&sends, &sources, TAG_TILES)?;
+    let Some(tile) = tile else {
         return Ok(None);
     };
     let mut out = Layer::new(tile.width, tile.height);
-    for r in 0..comm.size() {
-        let buf = if r == me {
-            local.take().unwrap_or_default()
-        } else {
-            comm.recv(r, TAG_TILES)?
-        };
-        paste(&mut out, tile, layout.width, &buf)
+    let local = local.unwrap_or_default();
+    for (r, buf) in std::iter::once((me, &local)).chain(sources.iter().copied().zip(&received)) {
+        paste(&mut out, tile, layout.width, buf)
             .map_err(|message| CommError::Malformed { rank: r, message })?;
     }
     Ok(Some(out))
