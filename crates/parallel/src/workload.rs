@@ -210,6 +210,7 @@ pub fn scene_triangles_with(scene: &irradia_scene::Scene, opts: &Tessellation) -
             mesh.positions = pm.positions;
             mesh.indices = pm.indices;
             mesh.colour_points = pm.cell_centres;
+            mesh.colour_sizes = pm.cell_sizes;
         } else {
             let bounds = object_region(&inst.shape.bounds(), &region, inst.to_object());
             let solid = tessellate_solid(inst.shape.as_ref(), &bounds, opts.resolution);
@@ -256,6 +257,8 @@ struct WorldMesh {
     materials: Vec<u32>,
     /// Per triangle, where its one colour is taken (plane cells), or empty.
     colour_points: Vec<Vec3>,
+    /// Per triangle with a colour point, the side of the cell it stands for.
+    colour_sizes: Vec<f32>,
 }
 
 impl WorldMesh {
@@ -271,10 +274,18 @@ impl WorldMesh {
             };
             // A texture that varies takes one colour per triangle, so that checks stay
             // sharp-edged (along the triangle edges) instead of blending across them.
-            let flat = match self.colour_points.get(k) {
-                Some(c) => Some(rgba(*c)),
-                None if !matches!(tex, Texture::Solid(_)) => Some(rgba((p[0] + p[1] + p[2]) / 3.0)),
-                None => None,
+            let flat = match (self.colour_points.get(k), tex) {
+                // A cell larger than a check covers as much of either colour: their
+                // mean (what the checks average to once they are smaller than pixels).
+                (Some(_), Texture::Checker { a, b, scale })
+                    if self.colour_sizes.get(k).is_some_and(|s| *s > 1.01 * scale) =>
+                {
+                    let c = (*a + *b) * 0.5;
+                    Some([c.r, c.g, c.b, 1.0])
+                }
+                (Some(c), _) => Some(rgba(*c)),
+                (None, Texture::Solid(_)) => None,
+                (None, _) => Some(rgba((p[0] + p[1] + p[2]) / 3.0)),
             };
             let v = |j: usize| Vertex {
                 position: p[j],

@@ -8,8 +8,9 @@
 //!   vertex is ever made that a neighbour does not share).
 //! - Detail: a cell is split while it covers more than `max_cell_px` pixels, measured
 //!   at its nearest point to the eye, and, on a checkered material, while it is larger
-//!   than a check and still more than a pixel and a half wide; splitting stops level by
-//!   level once the cell budget would be passed.
+//!   than a check and still more than a pixel and a half wide. Cells are split largest
+//!   on screen first until the budget ([`MAX_PLANE_CELLS`]) is spent, so a budget cut
+//!   leaves the far cells whole.
 //! - No cracks: cells of different sizes meet with T-junctions, which a rasterizer can
 //!   leave pinholes at; each cell is drawn as a fan from its centre through every
 //!   vertex on its edges, its neighbours' corners included.
@@ -47,16 +48,17 @@ pub struct PlaneDetail {
 }
 
 /// The cells as triangles (vertices not shared between cells), each triangle with the
-/// centre of its cell (where its colour is taken).
+/// centre and side of its cell (where and over what its colour is taken).
 #[derive(Clone, Debug, Default)]
 pub struct PlaneMesh {
     pub positions: Vec<Vec3>,
     pub indices: Vec<[u32; 3]>,
     pub cell_centres: Vec<Vec3>,
+    pub cell_sizes: Vec<f32>,
 }
 
 /// A square cell: corner and side in quadtree units, its level.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 struct Cell {
     x: u32,
     y: u32,
@@ -143,43 +145,39 @@ pub fn tessellate_plane(
         let x0 = lo + DVec2::new(c.x as f64, c.y as f64) * unit;
         square_meets_convex(x0, cell_world(c), &hull)
     };
-    // Breadth first, so that a budget cut leaves the cells even.
+    // Largest on screen first, so that when the budget runs out the cells left whole
+    // are the smallest on screen (the far ones).
     let root = Cell {
         x: 0,
         y: 0,
         size: 1 << MAX_LEVEL,
         level: 0,
     };
+    let key = |c: &Cell| (pixels(c).max(0.0).to_bits(), c.x, c.y);
     let mut leaves = Vec::new();
-    let mut frontier = if meets(&root) { vec![root] } else { vec![] };
-    while !frontier.is_empty() {
-        let mut next = Vec::new();
-        let mut kept = Vec::new();
-        for c in &frontier {
-            if split(c) {
-                let h = c.size / 2;
-                for (dx, dy) in [(0, 0), (h, 0), (0, h), (h, h)] {
-                    let k = Cell {
-                        x: c.x + dx,
-                        y: c.y + dy,
-                        size: h,
-                        level: c.level + 1,
-                    };
-                    if meets(&k) {
-                        next.push(k);
-                    }
-                }
-            } else {
-                kept.push(*c);
-            }
-        }
-        if leaves.len() + kept.len() + next.len() > MAX_PLANE_CELLS {
-            leaves.extend(frontier);
-            break;
-        }
-        leaves.extend(kept);
-        frontier = next;
+    let mut queue = std::collections::BinaryHeap::new();
+    if meets(&root) {
+        queue.push((key(&root), root));
     }
+    while let Some((_, c)) = queue.pop() {
+        if split(&c) && leaves.len() + queue.len() + 4 <= MAX_PLANE_CELLS {
+            let h = c.size / 2;
+            for (dx, dy) in [(0, 0), (h, 0), (0, h), (h, h)] {
+                let k = Cell {
+                    x: c.x + dx,
+                    y: c.y + dy,
+                    size: h,
+                    level: c.level + 1,
+                };
+                if meets(&k) {
+                    queue.push((key(&k), k));
+                }
+            }
+        } else {
+            leaves.push(c);
+        }
+    }
+    leaves.sort_by_key(|c| (c.y, c.x));
     let corners: HashSet<(u32, u32)> = leaves
         .iter()
         .flat_map(|c| {
@@ -204,12 +202,14 @@ pub fn tessellate_plane(
         let half = c.size as f64 / 2.0;
         let centre = world(c.x as f64 + half, c.y as f64 + half);
         let base = out.positions.len() as u32;
+        let size = cell_world(c) as f32;
         out.positions
             .extend(ring.iter().map(|&(x, y)| world(x as f64, y as f64)));
         if ring.len() == 4 {
             out.indices.push([base, base + 1, base + 2]);
             out.indices.push([base, base + 2, base + 3]);
             out.cell_centres.extend([centre, centre]);
+            out.cell_sizes.extend([size, size]);
         } else {
             let mid = out.positions.len() as u32;
             out.positions.push(centre);
@@ -217,6 +217,7 @@ pub fn tessellate_plane(
             for i in 0..k {
                 out.indices.push([mid, base + i, base + (i + 1) % k]);
                 out.cell_centres.push(centre);
+                out.cell_sizes.push(size);
             }
         }
     }
