@@ -14,7 +14,8 @@ use irradia_parallel::display_tiles::{composite_to_tiles, DisplayLayout};
 use irradia_parallel::job::{self, Mode};
 use irradia_parallel::report::Report;
 use irradia_parallel::sort_first::{self, imbalance, Assign, TileLayout, Tiling};
-use irradia_parallel::workload::{scene_pipeline, scene_triangles, Workload};
+use irradia_parallel::tessellate::{solid::MAX_CELLS, Tessellation};
+use irradia_parallel::workload::{scene_pipeline, scene_triangles_with, Workload};
 use irradia_parallel::{raytrace_first, raytrace_last, sort_last};
 use irradia_raster::{Pipeline, Triangle};
 use irradia_scene::Scene;
@@ -31,11 +32,14 @@ const EXAMPLES: &str = "Examples:
 
 Workloads: random-triangles, teapot, marching-cubes (with --triangles), a scene file
 (.toml or .json, as for `irradia render`), or builtin:NAME (see `irradia scenes`).
-Renderers: raster (the software pipeline; a scene's objects are cut into facets, planes,
-CSG and implicit surfaces are left out) or raytrace (scenes only): sort-first is the
-Whitted ray tracer on screen tiles (the image equals `irradia render --integrator
-whitted`), sort-last ray casts each rank's objects with local shading and no shadows,
-reflection or refraction (those need the other ranks' objects), then depth-composites.
+Renderers: raster (the software pipeline, per-object materials, no shadows or
+reflections; a scene's objects are cut into facets, planes into cells out to the far
+plane, CSG, implicit surfaces and other solids by marching cubes at --tessellation cells
+per object; objects that cannot be tessellated are left out, with a warning naming them)
+or raytrace (scenes only): sort-first is the Whitted ray tracer on screen tiles (the
+image equals `irradia render --integrator whitted`), sort-last ray casts each rank's
+objects with local shading and no shadows, reflection or refraction (those need the
+other ranks' objects), then depth-composites.
 Tiled displays (sort-last): --display-tiles CxR composites straight onto a grid of C x R
 displays driven by ranks 0..C*R-1 (row-major from the top left); each display rank
 receives only its tile and writes it as NAME-ROW-COL.png next to -o NAME.png.
@@ -88,6 +92,11 @@ pub struct ParallelArgs {
     /// Workload: random-triangles, teapot, marching-cubes, a scene file (.toml/.json) or builtin:NAME.
     #[arg(long, default_value = "teapot")]
     pub workload: String,
+    /// Raster scene workloads: marching-cubes cells along the longest side of each CSG,
+    /// implicit or other solid without facets (1 to 1024); plane cells cover at most
+    /// 4*height/N pixels.
+    #[arg(long, default_value_t = irradia_parallel::tessellate::DEFAULT_RESOLUTION)]
+    pub tessellation: u32,
     /// About how many triangles a generator workload should have.
     #[arg(long, default_value_t = 20_000)]
     pub triangles: usize,
@@ -335,16 +344,28 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
             )))
         }
         (Renderer::Raster, Input::Scene { name, scene }) => {
-            let st = scene_triangles(&scene);
+            if a.tessellation == 0 || a.tessellation > MAX_CELLS {
+                return Err(input(format!(
+                    "--tessellation {}: expected 1 to {MAX_CELLS} cells",
+                    a.tessellation
+                )));
+            }
+            let opts = Tessellation {
+                resolution: a.tessellation,
+            };
+            let st = scene_triangles_with(&scene, &opts);
             if st.triangles.is_empty() {
                 return Err(input(format!(
-                    "--workload {name}: none of the scene's objects can be cut into facets for the rasterizer (planes, CSG and implicit surfaces cannot); use --renderer raytrace"
+                    "--workload {name}: none of the scene's objects could be made into triangles for the rasterizer ({} left out: open surfaces without facets, or solids with no surface at --tessellation {}); use --renderer raytrace",
+                    st.skipped.join(", "),
+                    a.tessellation
                 )));
             }
             if !st.skipped.is_empty() && !a.quiet && is_display_process(&a) {
                 eprintln!(
-                    "note: {} object(s) without facets left out of the raster image: {}",
+                    "warning: {} object(s) could not be made into triangles and are left out of the raster image (open surfaces without facets, or no surface found at --tessellation {}): {}",
                     st.skipped.len(),
+                    a.tessellation,
                     st.skipped.join(", ")
                 );
             }
