@@ -4,12 +4,15 @@
 //! `photo.png` (the simulated photograph) and `photo-uncorrected.png` (the same wall
 //! driven naively, for comparison). Ranks are threads (`--comm local`) or MPI processes
 //! (`mpirun -np DISPLAYS irradia wall --comm mpi ...`); both write the same files.
+//! `--render sort-last` splits the objects over the ranks instead and composites their
+//! layers onto the displays' tiles (`--compositor`).
 
 use super::parallel::CommKind;
 use crate::error::CliError;
-use clap::Args;
+use clap::{Args, ValueEnum};
 use irradia_parallel::comm::{run_local, LocalOptions};
-use irradia_parallel::wall::{job, WallConfig, WallSource};
+use irradia_parallel::composite::Strategy;
+use irradia_parallel::wall::{job, WallConfig, WallRendering, WallSource};
 use irradia_parallel::workload::Workload;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -36,6 +39,22 @@ pub struct WallArgs {
     /// Seconds a rank waits for another before ending the job with an error naming it.
     #[arg(long, default_value_t = 30.0)]
     pub timeout: f64,
+    /// How the displays' images are made: every display renders every object through its
+    /// own frustum (`per-display`), or every rank renders its share of the objects over
+    /// the whole wall and the layers are composited onto the displays (`sort-last`).
+    #[arg(long, value_enum, default_value = "per-display")]
+    pub render: WallRenderArg,
+    /// Compositor for `--render sort-last`: direct-send, tree, binary-swap, radix-k or radix-N.
+    #[arg(long, default_value = "binary-swap")]
+    pub compositor: String,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum WallRenderArg {
+    /// One off-axis frustum per display, all objects on every rank.
+    PerDisplay,
+    /// Objects split over the ranks, depth-composited onto the displays' tiles.
+    SortLast,
 }
 
 pub fn run(a: WallArgs) -> Result<(), CliError> {
@@ -56,6 +75,16 @@ pub fn run(a: WallArgs) -> Result<(), CliError> {
             a.timeout
         )));
     }
+    let strategy = Strategy::parse(&a.compositor).ok_or_else(|| {
+        CliError::Input(format!(
+            "--compositor {:?}: expected direct-send, tree, binary-swap, radix-k or radix-N (N >= 2)",
+            a.compositor
+        ))
+    })?;
+    let rendering = match a.render {
+        WallRenderArg::PerDisplay => WallRendering::PerDisplay,
+        WallRenderArg::SortLast => WallRendering::SortLast(strategy),
+    };
     let timeout = Duration::from_secs_f64(a.timeout);
     std::fs::create_dir_all(&a.output)
         .map_err(|e| CliError::Failure(format!("{}: {e}", a.output.display())))?;
@@ -67,7 +96,7 @@ pub fn run(a: WallArgs) -> Result<(), CliError> {
                     timeout,
                     delay: None,
                 },
-                |comm| job::run(comm, &c, &src, &a.output),
+                |comm| job::run_with(comm, &c, &src, &a.output, rendering),
             );
             for (r, res) in out.into_iter().enumerate() {
                 match res {
@@ -78,7 +107,7 @@ pub fn run(a: WallArgs) -> Result<(), CliError> {
             }
             true
         }
-        CommKind::Mpi => mpi_run(&c, &src, &a.config, &a.output, timeout)?,
+        CommKind::Mpi => mpi_run(&c, &src, &a.config, &a.output, timeout, rendering)?,
     };
     if wrote_all {
         eprintln!(
@@ -98,6 +127,7 @@ fn mpi_run(
     config: &Path,
     dir: &Path,
     timeout: Duration,
+    rendering: WallRendering,
 ) -> Result<bool, CliError> {
     use irradia_parallel::comm::{Comm, CommError, MpiComm};
     let comm = MpiComm::init(timeout)
@@ -120,7 +150,7 @@ fn mpi_run(
         }
         return Err(CliError::Input(msg));
     }
-    match job::run(&comm, c, src, dir) {
+    match job::run_with(&comm, c, src, dir, rendering) {
         Ok(_) => Ok(comm.rank() == 0),
         Err(job::WallError::Comm(e)) => comm.fail(&e),
         // A rank that cannot write its image ends the job on every rank, naming itself.
@@ -135,6 +165,7 @@ fn mpi_run(
     _: &Path,
     _: &Path,
     _: Duration,
+    _: WallRendering,
 ) -> Result<bool, CliError> {
     Err(CliError::Input(
         "--comm mpi: this irradia was built without MPI; rebuild with `cargo build --release -p irradia --features mpi`".into(),

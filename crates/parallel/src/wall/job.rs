@@ -9,7 +9,7 @@
 //! [`WallError`] naming it; under MPI the caller then ends the whole job (the other
 //! ranks would otherwise wait for it at the next frame).
 
-use super::{frame_and_own, WallConfig, WallSource};
+use super::{frame_and_own_with, WallConfig, WallRendering, WallSource};
 use crate::comm::{Comm, CommError};
 use glam::Vec3;
 use irradia_core::{Image, Rgb};
@@ -74,6 +74,17 @@ pub fn run<C: Comm>(
     src: &WallSource,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, WallError> {
+    run_with(comm, c, src, dir, WallRendering::PerDisplay)
+}
+
+/// [`run`] with a choice of how the displays' images are rendered.
+pub fn run_with<C: Comm>(
+    comm: &C,
+    c: &WallConfig,
+    src: &WallSource,
+    dir: &Path,
+    rendering: WallRendering,
+) -> Result<Vec<PathBuf>, WallError> {
     let rank = comm.rank();
     let write = |name: &str, w: u32, h: u32, px: &[Vec3], drive: bool| {
         let path = dir.join(name);
@@ -83,7 +94,7 @@ pub fn run<C: Comm>(
     let (ww, wh) = c.wall_size();
     let mut written = Vec::new();
     for corrected in [true, false] {
-        let (own, gathered) = frame_and_own(comm, c, src, corrected)?;
+        let (own, gathered) = frame_and_own_with(comm, c, src, corrected, rendering)?;
         if corrected {
             written.push(write(
                 &display_file(c, rank),

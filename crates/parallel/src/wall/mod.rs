@@ -4,15 +4,19 @@
 //! colour response ([`color`]), waits at a frame barrier, and sends its frame to rank 0,
 //! which makes a simulated photograph ([`photo`]). [`job`] is the whole job as
 //! `irradia wall` runs it, on threads or under `mpirun`: every rank writes its own
-//! display's image, rank 0 the photographs.
+//! display's image, rank 0 the photographs. The displays' images are rendered per
+//! display or sort-last ([`sort_last`]: objects split over the ranks, composited onto
+//! the displays' tiles).
 
 pub mod blend;
 pub mod color;
 pub mod config;
 pub mod job;
 pub mod photo;
+pub mod sort_last;
 
 pub use config::{Projector, WallConfig};
+pub use sort_last::WallRendering;
 
 use crate::comm::{Comm, CommError};
 use crate::workload::Workload;
@@ -89,7 +93,12 @@ pub struct WallFrame {
 /// The drive values of display `i` in [0, 1] (row-major): its part of the wall's image,
 /// blended and colour-corrected, or (`corrected = false`) gamma-encoded naively.
 pub fn display_frame(c: &WallConfig, src: &WallSource, i: usize, corrected: bool) -> Vec<Vec3> {
-    let want = render_display(c, src, i);
+    drive_values(c, i, render_display(c, src, i), corrected)
+}
+
+/// The drive values of display `i` for the linear colour `want` it should show: blended
+/// and colour-corrected, or (`corrected = false`) gamma-encoded naively.
+pub fn drive_values(c: &WallConfig, i: usize, want: Vec<Vec3>, corrected: bool) -> Vec<Vec3> {
     if !corrected {
         return want
             .iter()
@@ -125,6 +134,17 @@ pub fn frame_and_own<C: Comm>(
     src: &WallSource,
     corrected: bool,
 ) -> Result<(Vec<Vec3>, Option<WallFrame>), CommError> {
+    frame_and_own_with(comm, c, src, corrected, WallRendering::PerDisplay)
+}
+
+/// [`frame_and_own`] with a choice of how the displays' images are rendered.
+pub fn frame_and_own_with<C: Comm>(
+    comm: &C,
+    c: &WallConfig,
+    src: &WallSource,
+    corrected: bool,
+    rendering: WallRendering,
+) -> Result<(Vec<Vec3>, Option<WallFrame>), CommError> {
     if comm.size() != c.displays() {
         return Err(CommError::Aborted(format!(
             "a wall of {} displays needs one rank per display, not {}",
@@ -134,7 +154,11 @@ pub fn frame_and_own<C: Comm>(
     }
     let i = comm.rank();
     comm.log().begin_stage("render");
-    let drive = display_frame(c, src, i, corrected);
+    let want = match rendering {
+        WallRendering::PerDisplay => render_display(c, src, i),
+        WallRendering::SortLast(strategy) => sort_last::render_tile(comm, c, src, strategy)?,
+    };
+    let drive = drive_values(c, i, want, corrected);
     // Frame barrier: no display swaps before every display has its frame.
     comm.log().begin_stage("swap-barrier");
     comm.barrier()?;
