@@ -206,6 +206,10 @@ pub(crate) struct FacetEmitter<'a> {
     pub triangles: &'a [[Vec3; 3]],
     pub normals: &'a [Vec3],
     pub pdf_area: &'a [f32],
+    /// Cumulative area of the triangles (the table `sample` searches).
+    pub cdf: &'a [f32],
+    /// The probability of choosing this emitter.
+    pub probability: f32,
 }
 
 /// The emitters of a scene with a discrete distribution proportional to power.
@@ -561,7 +565,8 @@ impl LightSampler {
         }
         self.emitters
             .iter()
-            .map(|e| match e {
+            .zip(&self.probability)
+            .map(|(e, &probability)| match e {
                 Emitter::Object {
                     radiance,
                     two_sided,
@@ -573,10 +578,17 @@ impl LightSampler {
                     triangles: &w.triangles,
                     normals: &w.normals,
                     pdf_area: &w.pdf_area,
+                    cdf: &w.cdf,
+                    probability,
                 }),
                 _ => None,
             })
             .collect()
+    }
+
+    /// The cumulative emitter probabilities `sample` searches with `u_pick`.
+    pub(crate) fn emitter_cdf(&self) -> &[f32] {
+        &self.cdf
     }
 
     /// The choice `sample` makes for `(u_pick, u)` in a scene of facet emitters only:

@@ -10,7 +10,7 @@
 //! order, with masks where the scalar code branches.
 
 use super::lanes::{gather, offset_ray_origin, sin_cos_quarter_pi, F8, M8, V3, W};
-use super::{facet, mat, tri, WideScene};
+use super::{facet, mat, tri, LightPick, WideScene};
 use crate::path::integrator::{PathCounters, PathParams};
 use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
@@ -60,6 +60,61 @@ struct Bounce {
     facet: [u32; W],
     pick: F8,
     u_light: [F8; 2],
+    /// The number that chooses the emitter (when the vector stage chooses).
+    u_pick: F8,
+}
+
+/// `table[idx[i]]` in every lane (indices checked).
+#[inline(always)]
+fn lookup(table: &[u32], idx: &[u32; W]) -> [u32; W] {
+    std::array::from_fn(|i| table[idx[i] as usize])
+}
+
+/// `LightSampler::pick_facet` in every lane of `active`: the lanes that got a facet,
+/// the facet (index into `WideScene::facets`), the probability of its emitter and the
+/// point of the square to warp into the triangle.
+#[inline(always)]
+fn pick_lights(lp: &LightPick, u_pick: F8, u: [F8; 2], active: M8) -> (M8, [u32; W], F8, [F8; 2]) {
+    let count_le = |count: &mut [u32; W], m: M8| {
+        for i in 0..W {
+            count[i] = count[i].wrapping_sub(m.0[i] as u32);
+        }
+    };
+    let total = lp.emitter_cdf[lp.emitter_cdf.len() - 1];
+    let x = u_pick * total;
+    let mut emitter = [0u32; W];
+    for &c in &lp.emitter_cdf {
+        count_le(&mut emitter, F8::splat(c).le(x));
+    }
+    let last = lp.emitter_cdf.len() as u32 - 1;
+    let emitter: [u32; W] = std::array::from_fn(|i| emitter[i].min(last));
+    checked(&lp.probability, &emitter);
+    let pick = field(&lp.probability, &emitter, 0);
+    let total_w = field(&lp.total, &emitter, 0);
+    let (start, len) = (lookup(&lp.start, &emitter), lookup(&lp.len, &emitter));
+    let x2 = u[0] * total_w;
+    let mut k = [0u32; W];
+    for j in 0..lp.max_len as u32 {
+        let at: [u32; W] = std::array::from_fn(|i| start[i] + j.min(len[i] - 1));
+        checked(&lp.facet_cdf, &at);
+        let inside = M8::from_fn(|i| j < len[i]);
+        count_le(&mut k, inside & field(&lp.facet_cdf, &at, 0).le(x2));
+    }
+    let k: [u32; W] = std::array::from_fn(|i| k[i].min(len[i] - 1));
+    let at_lo: [u32; W] = std::array::from_fn(|i| start[i] + k[i].max(1) - 1);
+    let at_hi: [u32; W] = std::array::from_fn(|i| start[i] + k[i]);
+    checked(&lp.facet_cdf, &at_lo);
+    checked(&lp.facet_cdf, &at_hi);
+    let first = M8::from_fn(|i| k[i] == 0);
+    let lo = first.select(F8::ZERO, field(&lp.facet_cdf, &at_lo, 0));
+    let hi = field(&lp.facet_cdf, &at_hi, 0);
+    // `f32::clamp(0, 1 - ε)`.
+    let r = (x2 - lo) / (hi - lo);
+    let r = r.lt(0.0).select(F8::ZERO, r);
+    let r = r
+        .gt(1.0 - f32::EPSILON)
+        .select(F8::splat(1.0 - f32::EPSILON), r);
+    (active & pick.gt(0.0), at_hi, pick, [r, u[1]])
 }
 
 /// One record field of `table` in every lane, rows `idx` (checked by [`checked`]).
@@ -150,7 +205,11 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     // The hit: `TriangleHit::point_and_error` on the gathered corners.
     checked(&ws.triangles, &b.triangle);
     checked(&ws.shading, &b.material);
-    checked(&ws.facets, &b.facet);
+    let (light, facet_index, pick, u_light) = match &ws.pick {
+        Some(lp) => pick_lights(lp, b.u_pick, b.u_light, b.scatter),
+        None => (b.light, b.facet, b.pick, b.u_light),
+    };
+    checked(&ws.facets, &facet_index);
     let t = &ws.triangles;
     let (p0, p1, p2) = (
         field3(t, &b.triangle, tri::P0),
@@ -168,14 +227,14 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let emission_two_sided = field(&ws.shading, &b.material, mat::TWO_SIDED).ne(0.0);
     let f = &ws.facets;
     let (la, lb, lc, ln) = (
-        field3(f, &b.facet, facet::A),
-        field3(f, &b.facet, facet::B),
-        field3(f, &b.facet, facet::C),
-        field3(f, &b.facet, facet::N),
+        field3(f, &facet_index, facet::A),
+        field3(f, &facet_index, facet::B),
+        field3(f, &facet_index, facet::C),
+        field3(f, &facet_index, facet::N),
     );
-    let lradiance = field3(f, &b.facet, facet::RADIANCE);
-    let pdf_area = field(f, &b.facet, facet::PDF_AREA);
-    let ltwo_sided = field(f, &b.facet, facet::TWO_SIDED).ne(0.0);
+    let lradiance = field3(f, &facet_index, facet::RADIANCE);
+    let pdf_area = field(f, &facet_index, facet::PDF_AREA);
+    let ltwo_sided = field(f, &facet_index, facet::TWO_SIDED).ne(0.0);
 
     // Emission, weighted against light sampling from the previous vertex.
     let wo_world = paths.dir.normalize().neg();
@@ -196,18 +255,18 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let f = albedo.scale(F8::splat(FRAC_1_PI));
 
     // Next-event estimation: a point on the chosen facet.
-    let s = b.u_light[0].sqrt();
-    let (b1, b2) = (1.0 - s, b.u_light[1] * s);
+    let s = u_light[0].sqrt();
+    let (b1, b2) = (1.0 - s, u_light[1] * s);
     let q = la.scale(1.0 - b1 - b2).add(lb.scale(b1)).add(lc.scale(b2));
     let d = q.sub(p);
     let dist2 = d.dot(d);
     let wi = d.div(dist2.sqrt());
     let l_facing = -wi.dot(ln);
     let cos_l = ltwo_sided.select(l_facing.abs(), l_facing);
-    let light_ok = sc & b.light & cos_l.gt(0.0) & pdf_area.gt(0.0);
+    let light_ok = sc & light & cos_l.gt(0.0) & pdf_area.gt(0.0);
     let l_side = V3::select(l_facing.gt(0.0), ln, ln.neg());
     let target = offset_ray_origin(q, l_side, F8::ZERO);
-    let l_pdf = b.pick * pdf_area * dist2 / cos_l;
+    let l_pdf = pick * pdf_area * dist2 / cos_l;
     let wi_local = to_local(wi, fs, ft, ns);
     let same_side = (wo.z * wi_local.z).gt(0.0);
     let f_nonzero = same_side & !f.is_zero();
@@ -350,6 +409,13 @@ fn run(
             let u_bsdf = rng.next_2d();
             b.u_bsdf[0].0[lane] = u_bsdf.x;
             b.u_bsdf[1].0[lane] = u_bsdf.y;
+            if ws.pick.is_some() {
+                // Chosen in the vector stage.
+                b.u_pick.0[lane] = u_pick;
+                b.u_light[0].0[lane] = u_light.x;
+                b.u_light[1].0[lane] = u_light.y;
+                continue;
+            }
             match ps.lights.pick_facet(u_pick, u_light) {
                 Some((emitter, pick, facet, u)) => {
                     b.light.set(lane, true);
@@ -453,6 +519,45 @@ mod tests {
         }
         // A few ulps, more where z = sqrt(1 - r²) amplifies them near the horizon.
         assert!(worst < 5e-6, "worst component difference {worst}");
+    }
+
+    #[test]
+    fn vector_light_choice_equals_the_scalar_one() {
+        use crate::path::flat_scene::FlatScene;
+        use crate::path::integrator::PathScene;
+        use crate::path::lights::LightSampler;
+        let scene = irradia_scene::builtin::load("cornell").unwrap();
+        let lights = LightSampler::new(&scene);
+        let ps = PathScene::new(&scene, FlatScene::new(&scene), &lights);
+        let ws = WideScene::new(&ps).unwrap();
+        let lp = ws.pick.as_ref().expect("one emitter of two facets");
+        let mut rng = Rng::new(1, 2);
+        let edge = [0.0, 0.5, 1.0 - f32::EPSILON / 2.0];
+        for round in 0..400 {
+            let (mut up, mut u) = (F8::ZERO, [F8::ZERO; 2]);
+            for l in 0..W {
+                up.0[l] = rng.next_f32();
+                u[0].0[l] = if round < 3 {
+                    edge[round]
+                } else {
+                    rng.next_f32()
+                };
+                u[1].0[l] = rng.next_f32();
+            }
+            let (m, facet, pick, uu) = pick_lights(lp, up, u, M8::TRUE);
+            for l in 0..W {
+                let v = glam::Vec2::new(u[0].0[l], u[1].0[l]);
+                match lights.pick_facet(up.0[l], v) {
+                    Some((e, p, t, w)) => {
+                        assert!(m.get(l));
+                        assert_eq!(facet[l], ws.facet_start[e] + t as u32);
+                        assert_eq!(pick.0[l], p);
+                        assert_eq!((uu[0].0[l], uu[1].0[l]), (w.x, w.y));
+                    }
+                    None => assert!(!m.get(l)),
+                }
+            }
+        }
     }
 
     #[test]

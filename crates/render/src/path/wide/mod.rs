@@ -93,7 +93,32 @@ pub struct WideScene<'s, 'a> {
     pub(crate) facets: Vec<[f32; facet::LEN]>,
     /// Index of each emitter's first facet in `facets`.
     pub(crate) facet_start: Vec<u32>,
+    /// The light choice's tables, when it is small enough to make in the vector
+    /// stage; otherwise each lane makes it with `LightSampler::pick_facet`.
+    pub(crate) pick: Option<LightPick>,
 }
+
+/// What choosing a light facet reads (`LightSampler::pick_facet`, lane by lane): the
+/// emitters' cumulative probabilities, then within the chosen emitter its facets'
+/// cumulative areas. Both are searched by counting the entries `<= x`, which equals
+/// the scalar code's binary search on these sorted tables.
+pub(crate) struct LightPick {
+    pub emitter_cdf: Vec<f32>,
+    /// Per emitter: probability of choosing it and its total facet area.
+    pub probability: Vec<[f32; 1]>,
+    pub total: Vec<[f32; 1]>,
+    /// Per emitter: its first facet (in `WideScene::facets` and `facet_cdf`) and
+    /// how many it has.
+    pub start: Vec<u32>,
+    pub len: Vec<u32>,
+    /// The cumulative areas, aligned with `WideScene::facets`.
+    pub facet_cdf: Vec<[f32; 1]>,
+    /// The most facets of one emitter.
+    pub max_len: usize,
+}
+
+/// At most this many emitters, and facets per emitter, for the vector light choice.
+const VECTOR_PICK_MAX: usize = 16;
 
 impl<'s, 'a> WideScene<'s, 'a> {
     /// The kernel's view of `ps`, or `None` when the scene does not qualify (see the
@@ -152,6 +177,26 @@ impl<'s, 'a> WideScene<'s, 'a> {
                 facets.push(r);
             }
         }
+        let emitter_cdf = ps.lights.emitter_cdf();
+        let small = emitters.len() <= VECTOR_PICK_MAX
+            && emitters
+                .iter()
+                .all(|e| !e.cdf.is_empty() && e.cdf.len() <= VECTOR_PICK_MAX);
+        let pick =
+            (small && !ps.lights.is_empty() && emitter_cdf.len() == emitters.len()).then(|| {
+                LightPick {
+                    emitter_cdf: emitter_cdf.to_vec(),
+                    probability: emitters.iter().map(|e| [e.probability]).collect(),
+                    total: emitters.iter().map(|e| [*e.cdf.last().unwrap()]).collect(),
+                    start: facet_start.clone(),
+                    len: emitters.iter().map(|e| e.cdf.len() as u32).collect(),
+                    facet_cdf: emitters
+                        .iter()
+                        .flat_map(|e| e.cdf.iter().map(|&c| [c]))
+                        .collect(),
+                    max_len: emitters.iter().map(|e| e.cdf.len()).max().unwrap_or(0),
+                }
+            });
         if facets.is_empty() {
             facets.push([0.0; facet::LEN]);
         }
@@ -163,6 +208,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             shading,
             facets,
             facet_start,
+            pick,
         })
     }
 
