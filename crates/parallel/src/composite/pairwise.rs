@@ -1,6 +1,9 @@
-//! One pairwise swap of binary swap (Ma, Painter, Hansen, Krogh 1994) made cheap enough to
-//! run at the bandwidth bound: each partner gives one half of its span and composites the
-//! other half with what it receives.
+//! The exchange step every compositing strategy is made of, cheap enough to run near the
+//! bandwidth bound: [`transfer`] sends spans of the layer to some ranks and composites
+//! what others send into the span it keeps. A pairwise swap of binary swap (Ma, Painter,
+//! Hansen, Krogh 1994; [`swap`]) gives one half and keeps the other; a radix-k round
+//! (Peterka et al. 2009) sends one part to each group member; direct send is one such
+//! round of all ranks; binary swap's fold and the tree send a whole layer one way.
 //!
 //! * Dense spans are sent straight from the layer's memory: the colour plane and the
 //!   depth plane of each piece are two messages read in place (no packing copy), and
@@ -16,6 +19,9 @@
 //!   small header that each side sends before its pieces, so the receiver knows what to
 //!   expect and validates it (a malformed header names the sender).
 //! * The depth test is branch-free ([`super::depth::blend`]).
+//! * The sender's [`ActiveRect`] travels in the header: nothing outside it is read when
+//!   trimming or encoding, and the receiver's rectangle grows by it (IceT's bounding
+//!   boxes, Moreland et al. 2011).
 
 use super::active::{self, ActiveRect};
 use super::{depth, over, profile, rle, split_span, Layer, Operator, Pixel};
