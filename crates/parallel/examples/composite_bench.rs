@@ -159,6 +159,86 @@ fn time_it(reps: usize, mut f: impl FnMut()) -> (f64, f64) {
     (median(v.clone()), min(&v))
 }
 
+/// Session 2's run search, kept here only to compare with [`active`]: blocks of 64
+/// depths are tested by counting the infinite ones, and the block where a run ends is
+/// walked pixel by pixel.
+mod session2_scan {
+    const FAR_BITS: u32 = f32::INFINITY.to_bits();
+    const BLOCK: usize = 64;
+
+    #[inline(always)]
+    fn far_count(d: &[f32]) -> u32 {
+        d.iter()
+            .fold(0u32, |n, &x| n + (x.to_bits() == FAR_BITS) as u32)
+    }
+
+    #[inline(always)]
+    fn run_end_impl(d: &[f32], from: usize, end: usize, active: bool) -> usize {
+        let uniform = if active { 0 } else { BLOCK as u32 };
+        let mut i = from;
+        while i + BLOCK <= end && far_count(&d[i..i + BLOCK]) == uniform {
+            i += BLOCK;
+        }
+        while i < end && (d[i].to_bits() != FAR_BITS) == active {
+            i += 1;
+        }
+        i
+    }
+
+    #[inline(always)]
+    fn trim_back_impl(d: &[f32], a: usize, end: usize) -> usize {
+        let mut b = end;
+        while b >= a + BLOCK && far_count(&d[b - BLOCK..b]) == BLOCK as u32 {
+            b -= BLOCK;
+        }
+        while b > a && d[b - 1].to_bits() == FAR_BITS {
+            b -= 1;
+        }
+        b
+    }
+
+    #[inline(always)]
+    fn prepare_impl(d: &[f32], c: &[[u8; 4]], span: std::ops::Range<usize>, out: &mut Vec<u8>) {
+        let a = run_end_impl(d, span.start, span.end, false);
+        let b = if a == span.end {
+            a
+        } else {
+            trim_back_impl(d, a, span.end)
+        };
+        let n = b - a;
+        for k in 0..4 {
+            let (s, e) = (a + n * k / 4, a + n * (k + 1) / 4);
+            out.extend_from_slice(bytemuck::cast_slice(&[s as u32, e as u32, 1u32]));
+            let mut i = s;
+            while i < e {
+                let a0 = run_end_impl(d, i, e, false);
+                let a1 = run_end_impl(d, a0, e, true);
+                out.extend_from_slice(bytemuck::cast_slice(&[(a0 - i) as u32, (a1 - a0) as u32]));
+                out.extend_from_slice(bytemuck::cast_slice(&c[a0..a1]));
+                out.extend_from_slice(bytemuck::cast_slice(&d[a0..a1]));
+                i = a1;
+            }
+        }
+    }
+
+    #[target_feature(enable = "avx2")]
+    unsafe fn prepare_avx2(
+        d: &[f32],
+        c: &[[u8; 4]],
+        span: std::ops::Range<usize>,
+        out: &mut Vec<u8>,
+    ) {
+        prepare_impl(d, c, span, out)
+    }
+
+    /// Trim + 4 run-length pieces of `span`, as session 2 did it.
+    pub fn prepare(d: &[f32], c: &[[u8; 4]], span: std::ops::Range<usize>, out: &mut Vec<u8>) {
+        assert!(std::arch::is_x86_feature_detected!("avx2"));
+        // SAFETY: AVX2 is present (asserted).
+        unsafe { prepare_avx2(d, c, span, out) }
+    }
+}
+
 /// `--kernels`: the single-process cost of the compositing kernels on rank 0's images
 /// (no messages): the z-test of half a dense image, and preparing the sparse half
 /// (trim + run-length encoding) found by scanning or given the rectangle.
@@ -199,6 +279,17 @@ fn kernels(w: u32, h: u32, reps: usize) {
     let full = ActiveRect::full(w, h);
     let rect = blob(w, h, 0.1);
     let mut out = Vec::new();
+    let (m, mn) = time_it(reps, || {
+        out.clear();
+        session2_scan::prepare(&sparse.depth, &sparse.color, half.clone(), &mut out);
+        std::hint::black_box(&out);
+    });
+    println!(
+        "KERNEL name=prepare_sparse_half_session2_scan bytes={} median_ms={:.3} min_ms={:.3}",
+        out.len(),
+        m * 1e3,
+        mn * 1e3
+    );
     for (name, r) in [("scan", full), ("rect", rect)] {
         let (m, mn) = time_it(reps, || {
             let t = active::trim_in(&sparse, Operator::Depth, &half, &r);
