@@ -349,3 +349,45 @@ fn an_empty_active_rectangle_sends_nothing_and_still_composites() {
         assert!(img == serial, "{} differs", s.name());
     }
 }
+
+#[test]
+fn ordered_over_with_active_rectangles_equals_the_unbounded_composite() {
+    use irradia_parallel::comm::Comm;
+    use irradia_parallel::composite::ActiveRect;
+    let (rects, centroids) = transparent_scene();
+    for ranks in [2, 3, 5, 8] {
+        let split = SpatialSplit::build(&centroids, ranks);
+        let order = split.order(Vec3::new(32.0, 24.0, -1.0e6));
+        let layers: Vec<Layer<[f32; 4]>> = (0..ranks)
+            .map(|r| {
+                let mine: Vec<&Rect> = rects
+                    .iter()
+                    .enumerate()
+                    .filter(|(i, _)| split.owner[*i] == r)
+                    .map(|(_, x)| x)
+                    .collect();
+                render_transparent(&mine, false)
+            })
+            .collect();
+        let opts = CompositeOptions {
+            op: Operator::Over,
+            order: Some(order.clone()),
+            ..Default::default()
+        };
+        for s in STRATEGIES {
+            let out = run_local(ranks, LocalOptions::default(), |c| {
+                let l = layers[c.rank()].clone();
+                let rect = ActiveRect::of_layer(&l, Operator::Over);
+                let bounded = composite::composite_bounded(c, s, l.clone(), rect, &opts).unwrap();
+                let plain = composite::composite(c, s, l, &opts).unwrap();
+                (bounded, plain)
+            });
+            let (bounded, plain) = out.into_iter().next().unwrap().unwrap();
+            assert!(
+                bounded.unwrap() == plain.unwrap(),
+                "{} with {ranks} ranks: the rectangles changed the image",
+                s.name()
+            );
+        }
+    }
+}
