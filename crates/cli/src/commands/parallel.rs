@@ -93,7 +93,7 @@ pub struct ParallelArgs {
     #[arg(long, default_value = "teapot")]
     pub workload: String,
     /// Raster scene workloads: marching-cubes cells along the longest side of each CSG,
-    /// implicit or other solid without facets (1 to 1024); plane cells cover at most
+    /// implicit or other solid without facets (1 to 512); plane cells cover at most
     /// 4*height/N pixels.
     #[arg(long, default_value_t = irradia_parallel::tessellate::DEFAULT_RESOLUTION)]
     pub tessellation: u32,

@@ -36,9 +36,9 @@ pub struct SolidMesh {
     pub leaves: Vec<u32>,
 }
 
-/// Grid points along the longest axis are at most this many (a bound on memory and
-/// time: 3 n² rays and n³ grid values).
-pub const MAX_CELLS: u32 = 1024;
+/// Cells along the longest axis are at most this many (a bound on memory and time:
+/// about n³ grid values, 0.55 GB at 512, and 3 n² rays).
+pub const MAX_CELLS: u32 = 512;
 
 /// A crossing of the surface on a grid edge: the parameter along the edge's line (in
 /// grid steps), the outward normal and the CSG leaf.
