@@ -507,12 +507,8 @@ mod tests {
                         got[r.clone()].iter_mut().for_each(|g| *g = true);
                         i = r.end;
                     }
-                    for p in 0..l.len() {
-                        assert_eq!(
-                            got[p],
-                            span.contains(&p) && op.active(&l, p),
-                            "{rect:?} {p}"
-                        );
+                    for (p, &g) in got.iter().enumerate() {
+                        assert_eq!(g, span.contains(&p) && op.active(&l, p), "{rect:?} {p}");
                     }
                     let r = next_run(&l, op, span.start, span.end, &full);
                     let first = span.clone().find(|&p| op.active(&l, p));
