@@ -347,6 +347,19 @@ impl FlatScene {
         )
     }
 
+    /// The baked triangles in the order the packets hold them (the order in which a
+    /// ray tests them), as indices of [`Self::all_triangles`].
+    pub(crate) fn packet_order(&self) -> Vec<u32> {
+        self.baked.as_ref().map_or(Vec::new(), |b| {
+            b.lanes
+                .iter()
+                .flatten()
+                .copied()
+                .filter(|&t| t != u32::MAX)
+                .collect()
+        })
+    }
+
     /// The nearest baked triangle along `o + t d` (`t > 0`): its index (as in
     /// [`Self::all_triangles`]) and the hit.
     #[inline]

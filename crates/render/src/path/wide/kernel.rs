@@ -10,8 +10,10 @@
 //! order, with masks where the scalar code branches.
 
 use super::lanes::{gather, offset_ray_origin, sin_cos_quarter_pi, F8, M8, V3, W};
+use super::trace::LaneHits;
 use super::{facet, mat, tri, LightPick, WideScene};
 use crate::path::integrator::{PathCounters, PathParams};
+use crate::path::triangle_packet::PacketHit;
 use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::bvh::node::gamma;
@@ -317,7 +319,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
 
 /// The whole loop, compiled twice (AVX2 + FMA and portable) by the callers below.
 #[inline(always)]
-fn run(
+fn run<const FMA: bool>(
     ws: &WideScene<'_, '_>,
     params: &PathParams,
     mut start: impl FnMut(usize) -> (Ray, Rng),
@@ -341,7 +343,7 @@ fn run(
     let mut b = Bounce::default();
     loop {
         // Stage 1, per lane: refill, trace, draw.
-        let mut live = 0u32;
+        let mut live = M8::FALSE;
         for lane in 0..W {
             if paths.sample[lane] == IDLE {
                 if next == out.len() {
@@ -361,14 +363,52 @@ fn run(
                 paths.has_prev.set(lane, false);
                 counters.paths += 1;
             }
-            live += 1;
+            live.set(lane, true);
+        }
+        if !live.any() {
+            break;
+        }
+        // The nearest hits: eight rays at once, or lane by lane.
+        let hits = match &ws.rays {
+            Some(rays) => rays.nearest::<FMA>(paths.origin, paths.dir, live),
+            None => {
+                let mut h = LaneHits {
+                    hit: M8::FALSE,
+                    triangle: [0; W],
+                    t: F8::ZERO,
+                    b1: F8::ZERO,
+                    b2: F8::ZERO,
+                };
+                for lane in (0..W).filter(|&l| live.get(l)) {
+                    let (o, d) = (paths.origin.lane(lane), paths.dir.lane(lane));
+                    if let Some((t, ph)) = ps.tracer.nearest_triangle(o, d) {
+                        h.hit.set(lane, true);
+                        h.triangle[lane] = t;
+                        h.t.0[lane] = ph.t;
+                        h.b1.0[lane] = ph.b1;
+                        h.b2.0[lane] = ph.b2;
+                    }
+                }
+                h
+            }
+        };
+        for lane in 0..W {
+            if !live.get(lane) {
+                continue;
+            }
             counters.rays += 1;
-            let (o, d) = (paths.origin.lane(lane), paths.dir.lane(lane));
-            let Some((t, h)) = ps.tracer.nearest_triangle(o, d) else {
+            if !hits.hit.get(lane) {
                 // Black background: the path ends with what it has.
                 b.hit.set(lane, false);
                 b.scatter.set(lane, false);
                 continue;
+            }
+            let t = hits.triangle[lane];
+            let h = PacketHit {
+                lane: 0,
+                t: hits.t.0[lane],
+                b1: hits.b1.0[lane],
+                b2: hits.b2.0[lane],
             };
             let (material, instance) = ws.triangle_owner[t as usize];
             let m = &ws.materials[material as usize];
@@ -427,22 +467,31 @@ fn run(
                 None => b.light.set(lane, false),
             }
         }
-        if live == 0 {
-            break;
-        }
 
         // Stage 2, all lanes.
         let s = scatter(ws, &mut paths, &b);
 
         // Stage 3, per lane: shadow rays, Russian roulette, finished paths.
+        let blocked = match &ws.rays {
+            Some(rays) => {
+                rays.occluded::<FMA>(s.shadow_origin, s.shadow_dir, F8::splat(1.0), s.nee)
+            }
+            None => M8::from_fn(|lane| {
+                s.nee.get(lane)
+                    && ps.tracer.occluded_baked(
+                        s.shadow_origin.lane(lane),
+                        s.shadow_dir.lane(lane),
+                        1.0,
+                    )
+            }),
+        };
         for lane in 0..W {
             if paths.sample[lane] == IDLE {
                 continue;
             }
             if s.nee.get(lane) {
                 counters.shadow_rays += 1;
-                let ray = Ray::new(s.shadow_origin.lane(lane), s.shadow_dir.lane(lane));
-                if !ps.tracer.occluded_baked(ray.origin, ray.dir, 1.0) {
+                if !blocked.get(lane) {
                     let l = paths.radiance.lane(lane) + s.nee_value.lane(lane);
                     paths.radiance.set_lane(lane, l);
                 }
@@ -481,7 +530,7 @@ pub(super) unsafe fn run_avx2(
     out: &mut [Rgb],
     counters: &mut PathCounters,
 ) {
-    run(ws, params, start, out, counters)
+    run::<true>(ws, params, start, out, counters)
 }
 
 /// The loop for any CPU (SSE2 on x86_64).
@@ -492,7 +541,7 @@ pub(super) fn run_portable(
     out: &mut [Rgb],
     counters: &mut PathCounters,
 ) {
-    run(ws, params, start, out, counters)
+    run::<false>(ws, params, start, out, counters)
 }
 
 #[cfg(test)]

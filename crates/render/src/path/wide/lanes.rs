@@ -139,6 +139,26 @@ impl F8 {
     pub fn sign_one(self) -> F8 {
         self.map(|x| 1.0f32.copysign(x))
     }
+    /// `self * b + c` with one rounding (`f32::mul_add`: one FMA instruction where
+    /// the FMA feature is enabled).
+    #[inline(always)]
+    pub fn mul_add(self, b: F8, c: F8) -> F8 {
+        let mut r = [0.0; W];
+        for i in 0..W {
+            r[i] = self.0[i].mul_add(b.0[i], c.0[i]);
+        }
+        F8(r)
+    }
+    /// The sign bit of every lane (as the bits of an `f32`: `-0.0` or `0.0`).
+    #[inline(always)]
+    pub fn sign_bit(self) -> F8 {
+        self.map(|x| f32::from_bits(x.to_bits() & 0x8000_0000))
+    }
+    /// The bits of `self` exclusive-or those of `m`.
+    #[inline(always)]
+    pub fn xor_bits(self, m: F8) -> F8 {
+        self.zip(m, |x, y| f32::from_bits(x.to_bits() ^ y.to_bits()))
+    }
     /// True in lanes holding neither an infinity nor a NaN.
     #[inline(always)]
     pub fn finite(self) -> M8 {

@@ -35,6 +35,7 @@
 
 pub mod kernel;
 pub mod lanes;
+pub mod trace;
 
 use super::bsdf::Lobe;
 use super::flat_scene::FlatScene;
@@ -96,6 +97,9 @@ pub struct WideScene<'s, 'a> {
     /// The light choice's tables, when it is small enough to make in the vector
     /// stage; otherwise each lane makes it with `LightSampler::pick_facet`.
     pub(crate) pick: Option<LightPick>,
+    /// The triangles for tracing eight rays at once (small scenes); otherwise each
+    /// lane walks the flat scene's hierarchy.
+    pub(crate) rays: Option<trace::RayLaneTriangles>,
 }
 
 /// What choosing a light facet reads (`LightSampler::pick_facet`, lane by lane): the
@@ -149,7 +153,10 @@ impl<'s, 'a> WideScene<'s, 'a> {
         }
         let mut triangles = Vec::new();
         let mut triangle_owner = Vec::new();
-        for (c, n, instance, material) in ps.tracer.all_triangles()? {
+        let baked = ps.tracer.all_triangles()?;
+        let corners: Vec<_> = baked.iter().map(|t| t.0).collect();
+        let rays = trace::RayLaneTriangles::new(&corners, &ps.tracer.packet_order());
+        for (c, n, instance, material) in baked {
             let mut r = [0.0; tri::LEN];
             for (k, v) in [c[0], c[1], c[2], n].iter().enumerate() {
                 r[3 * k..3 * k + 3].copy_from_slice(&v.to_array());
@@ -209,6 +216,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             facets,
             facet_start,
             pick,
+            rays,
         })
     }
 
