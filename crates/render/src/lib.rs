@@ -101,8 +101,9 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, Re
 }
 
 /// The ray tree of sample `sample` of pixel (x, y) (x right, y down from the top left),
-/// traced by the Whitted integrator exactly as [`render`] traces it. Returns the tree
-/// and the sample's radiance.
+/// traced by the scene's integrator exactly as [`render`] traces it (Whitted: the ray
+/// tree; path: the path's segments and shadow rays, [`path::trace_sample`]). Returns
+/// the tree and the sample's radiance.
 pub fn trace_pixel(
     scene: &Scene,
     x: u32,
@@ -117,6 +118,9 @@ pub fn trace_pixel(
             width: s.width,
             height: s.height,
         });
+    }
+    if s.integrator == Method::Path {
+        return Ok(path::trace_sample::trace_sample(scene, x, y, sample));
     }
     let cam = scene.camera.rays(s.width, s.height);
     let spp = if s.adaptive_threshold.is_some() {

@@ -10,6 +10,7 @@ use super::bsdf::Bsdf;
 use super::lights::LightSampler;
 use super::material_map::bsdf_for;
 use super::tracer::{AccelTracer, Tracer};
+use crate::raytree::{Blocker, NoRecorder, RayKind, Recorder};
 use glam::{Vec2, Vec3};
 use irradia_core::{offset_ray_origin, Frame, Ray, Rgb, Rng};
 use irradia_scene::{Scene, Texture};
@@ -111,22 +112,48 @@ pub fn radiance(
 
 /// One sample of the radiance arriving along `ray`, in a prepared scene (with the
 /// [`FlatScene`](super::flat_scene::FlatScene) as its tracer in renders).
+#[inline]
 pub fn radiance_in<T: Tracer>(
+    ps: &PathScene<'_, T>,
+    params: &PathParams,
+    ray: Ray,
+    rng: &mut Rng,
+    counters: &mut PathCounters,
+) -> Rgb {
+    radiance_recorded(ps, params, ray, rng, counters, &mut NoRecorder)
+}
+
+/// [`radiance_in`] reporting the path to `rec` as a ray tree (`irradia trace-pixel`):
+/// each segment is a node (kind `camera`, then `reflected` or `refracted`) whose
+/// children are its shadow ray and the next segment; a node's `local` is the radiance
+/// added at its hit (emission and next-event estimation, MIS-weighted), its `radiance`
+/// what the rest of the path returns, and a path ended by Russian roulette or the depth
+/// limit ends in a cut child. With [`NoRecorder`] this is `radiance_in`, instruction for
+/// instruction (every recording call compiles away).
+pub fn radiance_recorded<T: Tracer, R: Recorder>(
     ps: &PathScene<'_, T>,
     params: &PathParams,
     mut ray: Ray,
     rng: &mut Rng,
     counters: &mut PathCounters,
+    rec: &mut R,
 ) -> Rgb {
     let (scene, tracer, lights) = (ps.scene, &ps.tracer, ps.lights);
     counters.paths += 1;
     let mut l = Rgb::BLACK;
     let mut beta = Rgb::WHITE;
+    // Recording only: per open segment, its weight and `l` when it began.
+    let mut open: Vec<(Rgb, Rgb)> = Vec::new();
+    let mut kind = RayKind::Camera;
     // The previous scattering vertex and its BSDF density, for MIS on emitter hits.
     let mut prev: Option<(Vec3, f32)> = None;
     let background = scene.settings.background;
     for depth in 1..=params.max_depth {
         counters.rays += 1;
+        if R::RECORDS {
+            rec.begin(kind, depth - 1, &ray, beta);
+            open.push((beta, l));
+        }
         let Some(sh) = tracer.intersect(&ray, f32::INFINITY) else {
             if !background.is_black() {
                 let w = match prev {
@@ -141,6 +168,10 @@ pub fn radiance_in<T: Tracer>(
         let material = &scene.materials[sh.material as usize];
         let wo_world = -ray.dir.normalize();
         let n = hit.normal;
+        if R::RECORDS {
+            let name = &scene.objects[sh.instance as usize].name;
+            rec.hit(sh.instance, name, hit.point, n);
+        }
 
         if !material.emission.is_black() && (material.emission_two_sided || n.dot(wo_world) > 0.0) {
             let w = match prev {
@@ -150,6 +181,9 @@ pub fn radiance_in<T: Tracer>(
             l += beta * material.emission * w;
         }
         if depth == params.max_depth {
+            if R::RECORDS {
+                rec.cut(RayKind::Reflected, depth, beta, "depth");
+            }
             break;
         }
         let bsdf: Bsdf = match ps.bsdfs.get(sh.material as usize) {
@@ -177,10 +211,11 @@ pub fn radiance_in<T: Tracer>(
                     let side = if ls.wi.dot(n) > 0.0 { n } else { -n };
                     let origin = offset_ray_origin(hit.point, side, hit.error);
                     counters.shadow_rays += 1;
-                    let visible = match ls.target {
-                        Some(t) => !tracer.occluded(&Ray::new(origin, t - origin), 1.0),
-                        None => !tracer.occluded(&Ray::new(origin, ls.wi), f32::INFINITY),
+                    let (shadow, t_max) = match ls.target {
+                        Some(t) => (Ray::new(origin, t - origin), 1.0),
+                        None => (Ray::new(origin, ls.wi), f32::INFINITY),
                     };
+                    let visible = !tracer.occluded(&shadow, t_max);
                     if visible {
                         let w = if ls.delta {
                             1.0
@@ -188,6 +223,19 @@ pub fn radiance_in<T: Tracer>(
                             mis(ls.pdf, bsdf.pdf(wo, wi))
                         };
                         l += beta * f * ls.li * (wi.z.abs() * w / ls.pdf);
+                    }
+                    if R::RECORDS {
+                        let blocker = (!visible)
+                            .then(|| tracer.intersect(&shadow, t_max))
+                            .flatten();
+                        let blocker = blocker.as_ref().map(|b| Blocker {
+                            object: b.instance,
+                            name: &scene.objects[b.instance as usize].name,
+                            point: b.hit.point,
+                            normal: b.hit.normal,
+                        });
+                        let through = if visible { Rgb::WHITE } else { Rgb::BLACK };
+                        rec.shadow(&shadow, depth - 1, blocker, through);
                     }
                 }
             }
@@ -219,13 +267,40 @@ pub fn radiance_in<T: Tracer>(
         let side = if wi_world.dot(n) > 0.0 { n } else { -n };
         ray = Ray::new(offset_ray_origin(hit.point, side, hit.error), wi_world);
 
+        kind = if s.wi.z < 0.0 {
+            RayKind::Refracted
+        } else {
+            RayKind::Reflected
+        };
         if depth + 1 >= params.rr_depth {
             let q = beta.max_component().min(0.95);
             if rng.next_f32() >= q {
+                if R::RECORDS {
+                    rec.cut(kind, depth, beta, "roulette");
+                }
                 break;
             }
             beta = beta / q;
         }
     }
+    if R::RECORDS {
+        close_segments(rec, &open, l);
+    }
     l
+}
+
+/// Closes the recorded segments (weight, pixel radiance when each began), innermost
+/// first: each gets the radiance added at its own hit (`local`) and returns what it and
+/// every later segment added (`end`), both divided by its weight; `total` is the sample.
+fn close_segments<R: Recorder>(rec: &mut R, open: &[(Rgb, Rgb)], total: Rgb) {
+    let unweight = |v: Rgb, w: Rgb| {
+        let d = |a: f32, b: f32| if b > 0.0 { a / b } else { 0.0 };
+        Rgb::new(d(v.r, w.r), d(v.g, w.g), d(v.b, w.b))
+    };
+    let mut next_start = total;
+    for &(weight, start) in open.iter().rev() {
+        rec.local(unweight(next_start - start, weight));
+        rec.end(unweight(total - start, weight));
+        next_start = start;
+    }
 }

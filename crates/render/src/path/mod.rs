@@ -9,7 +9,8 @@
 //! - [`integrator`]: next-event estimation + BSDF sampling with MIS, Russian roulette;
 //! - [`wide`]: the same estimator over eight paths at once in SIMD lanes, for scenes
 //!   of Lambertian surfaces and facet emitters (the Cornell box);
-//! - [`film`] and [`progressive`]: sample/time/error budgets, checkpoints and resume.
+//! - [`film`] and [`progressive`]: sample/time/error budgets, checkpoints and resume;
+//! - [`trace_sample`]: one sample's path as a ray tree (`irradia trace-pixel`).
 
 pub mod bsdf;
 pub mod film;
@@ -20,6 +21,7 @@ pub mod material_map;
 pub mod output;
 pub mod packet_bounds;
 pub mod progressive;
+pub mod trace_sample;
 pub mod tracer;
 pub mod triangle_packet;
 pub mod wide;
