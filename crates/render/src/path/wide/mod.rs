@@ -220,6 +220,29 @@ impl<'s, 'a> WideScene<'s, 'a> {
         })
     }
 
+    /// The same kernel with its per-lane variants only: each lane walks the flat
+    /// scene's hierarchy and chooses its light with `LightSampler::pick_facet` (what
+    /// scenes of more than 64 triangles or 16 emitters use); for tests.
+    #[doc(hidden)]
+    pub fn lane_by_lane(mut self) -> Self {
+        self.rays = None;
+        self.pick = None;
+        self
+    }
+
+    /// [`Self::radiance_batch`] with the portable build of the kernel (no AVX2, no
+    /// FMA), whatever the CPU; for tests.
+    #[doc(hidden)]
+    pub fn radiance_batch_portable(
+        &self,
+        params: &PathParams,
+        start: impl FnMut(usize) -> (Ray, Rng),
+        out: &mut [Rgb],
+        counters: &mut PathCounters,
+    ) {
+        kernel::run_portable(self, params, start, out, counters);
+    }
+
     /// Radiance samples `0..out.len()`: sample `k` starts from `start(k)` (its camera
     /// ray and its random stream, already advanced past the pixel jitter) and its
     /// estimate is written to `out[k]`. Equivalent to calling `radiance_in` on each.
