@@ -71,7 +71,7 @@ impl DepthBounds {
         let tiles_x = width.div_ceil(TILE);
         let rows = depth.len() / width.max(1);
         #[cfg(target_arch = "x86_64")]
-        let avx = std::is_x86_feature_detected!("avx") && width % TILE == 0;
+        let avx = std::is_x86_feature_detected!("avx") && width.is_multiple_of(TILE);
         #[cfg(not(target_arch = "x86_64"))]
         let avx = false;
         Self {

@@ -12,8 +12,13 @@
 //! Larrabee" (Dr. Dobb's, 2009): no branch per pixel, so the unpredictable
 //! enter/leave branches of small triangles disappear. Depth (a plane in f64, as in
 //! [`Setup::depth_in_row`]) is tested on the eight lanes at once, and the covered,
-//! passing lanes are written with masked stores; the perspective-correct colour
-//! (Heckbert and Moreton 1991; see `interpolate`) is computed for all eight lanes.
+//! passing lanes are written with masked stores; when any lane passes, the
+//! perspective-correct colour is computed for all eight from the edge values themselves, which are the
+//! unnormalised barycentric weights (Olano and Greer, "Triangle Scan Conversion using
+//! 2D Homogeneous Coordinates", 1997; Heckbert and Moreton 1991; see `interpolate`).
+//!
+//! Triangles that cannot pass the depth test anywhere are skipped before scanning
+//! (`depth_bounds`).
 //!
 //! Exactness: every float operation is the scalar one, in the same order, lane by
 //! lane (IEEE add, mul, div and conversions round identically in SSE/AVX lanes; no
@@ -120,8 +125,9 @@ pub(crate) unsafe fn draw_interpolated_rgba8(
     let bias: [__m256i; 3] = std::array::from_fn(|k| _mm256_set1_epi32(s.bias[k] as i32));
     let inv_area = _mm256_set1_ps(s.inv_area);
     let inv_w: [__m256; 3] = std::array::from_fn(|k| _mm256_set1_ps(s.v[k].inv_w));
-    let rgba: [[__m256; 4]; 3] = std::array::from_fn(|k| {
-        std::array::from_fn(|ch| _mm256_set1_ps(s.v[k].var[varying::COLOR + ch]))
+    // By channel, then vertex.
+    let rgba: [[__m256; 3]; 4] = std::array::from_fn(|ch| {
+        std::array::from_fn(|k| _mm256_set1_ps(s.v[k].var[varying::COLOR + ch]))
     });
     let zx = _mm256_set1_pd(s.zx);
     let (zero, one) = (_mm256_setzero_ps(), _mm256_set1_ps(1.0));
@@ -179,13 +185,13 @@ pub(crate) unsafe fn draw_interpolated_rgba8(
                         _mm256_div_ps(one, _mm256_add_ps(_mm256_add_ps(p[0], p[1]), p[2]));
                     let w: [__m256; 3] = std::array::from_fn(|k| _mm256_mul_ps(p[k], inv_sum));
                     let mut packed = _mm256_setzero_si256();
-                    for ch in 0..4 {
+                    for (ch, by_vertex) in rgba.iter().enumerate() {
                         let c = _mm256_add_ps(
                             _mm256_add_ps(
-                                _mm256_mul_ps(w[0], rgba[0][ch]),
-                                _mm256_mul_ps(w[1], rgba[1][ch]),
+                                _mm256_mul_ps(w[0], by_vertex[0]),
+                                _mm256_mul_ps(w[1], by_vertex[1]),
                             ),
-                            _mm256_mul_ps(w[2], rgba[2][ch]),
+                            _mm256_mul_ps(w[2], by_vertex[2]),
                         );
                         // to_rgba8: clamp (NaN gives 0, as `NaN as u8` does), scale, round.
                         let c = _mm256_min_ps(_mm256_max_ps(c, zero), one);
@@ -254,7 +260,7 @@ mod tests {
             match r.next() % 4 {
                 0 => p = p.map(|(x, y)| (x.floor() + 0.5, y.floor() + 0.5)), // pixel centres
                 1 => p = p.map(|(x, y)| ((x * 256.0).round() / 256.0, (y * 256.0).round() / 256.0)),
-                2 if r.next() % 8 == 0 => p[0] = (cx * 3000.0 - 1e5, cy * 2000.0), // guard band
+                2 if r.next().is_multiple_of(8) => p[0] = (cx * 3000.0 - 1e5, cy * 2000.0), // guard band
                 _ => {}
             }
             let v = p.map(|(x, y)| vertex(r, x, y));
@@ -273,6 +279,7 @@ mod tests {
         out
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn render(
         tris: &[ScreenTriangle],
         clip: Rect,
