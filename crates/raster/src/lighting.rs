@@ -400,4 +400,59 @@ mod tests {
         let e = EyeLights::new(&lights, &one_sided, Mat4::IDENTITY, false);
         assert_eq!(e.shade(p, -n, Vec3::ONE).x, 0.0);
     }
+
+    #[test]
+    fn material_table_phong_ambient_emission_and_falloff() {
+        // Eye at the origin, a surface facing up at (0, 0, -2), a light 2 up and 2 back.
+        let light = Vec3::new(0.0, 2.0, -4.0);
+        let lights = Lights {
+            ambient: Rgb::splat(0.5),
+            lights: vec![RasterLight::Point {
+                position: light,
+                color: Rgb::splat(8.0),
+            }],
+        };
+        let shiny = Material {
+            diffuse: Rgb::splat(0.6),
+            specular: Rgb::splat(0.8),
+            shininess: 10.0,
+            ambient: Some(Rgb::splat(0.2)),
+            emission: Rgb::new(0.1, 0.0, 0.0),
+            highlight: Highlight::Phong,
+            ..Material::default()
+        };
+        let no_fade = Material {
+            distance_falloff: false,
+            ..shiny
+        };
+        let e = EyeLights::with_materials(
+            &lights,
+            &[Material::default(), shiny, no_fade],
+            &Material::default(),
+            Mat4::IDENTITY,
+            false,
+        );
+        let (p, n, base) = (Vec3::new(0.0, 0.0, -2.0), Vec3::Y, Vec3::splat(0.5));
+        let l = (light - p).normalize();
+        let cos = n.dot(l);
+        let rv = (2.0 * cos * n - l).dot(Vec3::Z);
+        assert!(rv > 0.7);
+        // em + C k_a A + E (C k_d cos + k_s (r.v)^n), green channel (no emission).
+        let expect = |e: f32| 0.5 * 0.2 * 0.5 + e * (0.5 * 0.6 * cos + 0.8 * rv.powi(10));
+        let got = e.shade_with(1, p, n, base);
+        assert!(
+            (got.y - expect(1.0)).abs() < 1e-5,
+            "{got} vs {}",
+            expect(1.0)
+        );
+        assert!((got.x - got.y - 0.1).abs() < 1e-5, "emission: {got}");
+        let got = e.shade_with(2, p, n, base);
+        assert!((got.y - expect(8.0)).abs() < 1e-4, "no falloff: {got}");
+        // Index 0 and any index past the table: the default material (no specular):
+        // C (A + E cos).
+        for i in [0, 7] {
+            let got = e.shade_with(i, p, n, base);
+            assert!((got.y - 0.5 * (0.5 + cos)).abs() < 1e-5, "{i}: {got}");
+        }
+    }
 }
