@@ -2,7 +2,7 @@
 //! same triangles bit for bit, for the three workloads and several rank counts.
 
 use irradia_parallel::comm::{run_local, LocalOptions};
-use irradia_parallel::composite::{CompositeOptions, Operator, Strategy};
+use irradia_parallel::composite::{self, CompositeOptions, Operator, Strategy};
 use irradia_parallel::workload::Workload;
 use irradia_parallel::{frame, sort_first, sort_last, sort_middle};
 
@@ -159,4 +159,39 @@ fn tiles_meeting_a_box_are_the_tiles_the_box_meets() {
             assert_eq!(fast, slow, "{b:?}");
         }
     }
+}
+
+#[test]
+fn the_active_rectangle_holds_every_drawn_pixel() {
+    let mut smaller = 0;
+    for w in workloads() {
+        let tris = w.triangles();
+        let p = w.pipeline(W, H);
+        for ranks in [1, 3, 8] {
+            for rank in 0..ranks {
+                let mine = &tris[frame::block(tris.len(), rank, ranks)];
+                let layer = frame::serial(&p, mine);
+                let r = sort_last::active_rect(&p, mine);
+                for y in 0..H {
+                    for x in 0..W {
+                        let drawn = layer.depth[(y * W + x) as usize] != composite::FAR;
+                        let inside = x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1;
+                        assert!(
+                            !drawn || inside,
+                            "{} rank {rank}/{ranks}: pixel ({x}, {y}) drawn outside {r:?}",
+                            w.name()
+                        );
+                    }
+                }
+                smaller += ((r.x1 - r.x0) * (r.y1 - r.y0) < W * H / 2) as u32;
+            }
+        }
+    }
+    // Blocks of the teapot and of the isosurface cover part of the screen only.
+    assert!(
+        smaller >= 4,
+        "only {smaller} rectangles are less than half the screen"
+    );
+    let p = workloads()[0].pipeline(W, H);
+    assert!(sort_last::active_rect(&p, &[]).is_empty());
 }
