@@ -6,6 +6,7 @@
 //! line per case and a closing `N passed, N failed`; exits 1 on any failure.
 
 use irradia_parallel::comm::{Comm, MpiComm};
+use irradia_parallel::composite::active::ActiveRect;
 use irradia_parallel::composite::{self, CompositeOptions, Layer, Operator, Strategy};
 use irradia_parallel::display_tiles::{composite_to_tiles, DisplayLayout};
 use std::time::Duration;
@@ -140,6 +141,41 @@ fn main() {
                 } else {
                     failed += 1
                 }
+            }
+        }
+    }
+    // Each rank's active rectangle (the union of its rectangles) handed to the
+    // compositor: pixels outside it are never read.
+    for s in strategies {
+        let mine = pick(&opaque, block(&opaque, rank));
+        let rect = mine.iter().fold(ActiveRect::EMPTY, |acc, r| {
+            acc.union(&ActiveRect {
+                x0: r.x0,
+                y0: r.y0,
+                x1: r.x1,
+                y1: r.y1,
+            })
+        });
+        let got = composite::composite_bounded(
+            &comm,
+            s,
+            render(&mine, to8, false),
+            rect,
+            &CompositeOptions::default(),
+        )
+        .unwrap_or_else(|e| comm.fail(&e));
+        if rank == 0 {
+            let ok = got.as_ref() == Some(&serial8);
+            println!(
+                "{} bounded {} np={p}: {}",
+                if ok { "ok  " } else { "FAIL" },
+                s.name(),
+                if ok { "bit-exact" } else { "differs" }
+            );
+            if ok {
+                passed += 1
+            } else {
+                failed += 1
             }
         }
     }
