@@ -104,7 +104,7 @@ impl Grid {
     fn new(region: &Aabb, cells: u32) -> Option<Self> {
         let ext = region.extent();
         let longest = ext.max_element();
-        if !(longest > 0.0) || !region.is_finite() {
+        if longest.is_nan() || longest <= 0.0 || !region.is_finite() {
             return None;
         }
         let h = longest / cells.clamp(1, MAX_CELLS) as f32;
