@@ -90,6 +90,24 @@ fn render<P: composite::Pixel>(
     l
 }
 
+/// Counts and prints the checks (on rank 0).
+#[derive(Default)]
+struct Tally {
+    passed: usize,
+    failed: usize,
+}
+
+impl Tally {
+    fn record(&mut self, ok: bool, line: String) {
+        println!("{} {line}", if ok { "ok  " } else { "FAIL" });
+        if ok {
+            self.passed += 1;
+        } else {
+            self.failed += 1;
+        }
+    }
+}
+
 fn to8(c: [f32; 4]) -> [u8; 4] {
     c.map(|v| (v * 255.0).round() as u8)
 }
@@ -97,7 +115,7 @@ fn to8(c: [f32; 4]) -> [u8; 4] {
 fn main() {
     let comm = MpiComm::init(Duration::from_secs(20)).expect("MPI initialises once");
     let (rank, p) = (comm.rank(), comm.size());
-    let (mut passed, mut failed) = (0, 0);
+    let mut tally = Tally::default();
     let opaque = rects(40, 1.0);
     let transparent = rects(48, 0.55);
     let block =
@@ -130,17 +148,14 @@ fn main() {
                 composite::composite(&comm, s, mine32, &opts).unwrap_or_else(|e| comm.fail(&e));
             if rank == 0 {
                 let ok = got8.as_ref() == Some(&serial8) && got32.as_ref() == Some(&serial32);
-                println!(
-                    "{} opaque {} rle={rle} np={p}: {}",
-                    if ok { "ok  " } else { "FAIL" },
-                    s.name(),
-                    if ok { "bit-exact" } else { "differs" }
+                tally.record(
+                    ok,
+                    format!(
+                        "opaque {} rle={rle} np={p}: {}",
+                        s.name(),
+                        if ok { "bit-exact" } else { "differs" }
+                    ),
                 );
-                if ok {
-                    passed += 1
-                } else {
-                    failed += 1
-                }
             }
         }
     }
@@ -166,17 +181,14 @@ fn main() {
         .unwrap_or_else(|e| comm.fail(&e));
         if rank == 0 {
             let ok = got.as_ref() == Some(&serial8);
-            println!(
-                "{} bounded {} np={p}: {}",
-                if ok { "ok  " } else { "FAIL" },
-                s.name(),
-                if ok { "bit-exact" } else { "differs" }
+            tally.record(
+                ok,
+                format!(
+                    "bounded {} np={p}: {}",
+                    s.name(),
+                    if ok { "bit-exact" } else { "differs" }
+                ),
             );
-            if ok {
-                passed += 1
-            } else {
-                failed += 1
-            }
         }
     }
     // Tiled display: the largest grid of at most 2x2 that the ranks can drive, with
@@ -202,21 +214,18 @@ fn main() {
         if rank == 0 {
             let bad: Vec<usize> = (0..p).filter(|&r| all[r] != [1]).collect();
             let ok = bad.is_empty();
-            println!(
-                "{} tiles {cols}x{rows} {} np={p}: {}",
-                if ok { "ok  " } else { "FAIL" },
-                s.name(),
-                if ok {
-                    "every display bit-exact".to_string()
-                } else {
-                    format!("ranks {bad:?} differ")
-                }
+            tally.record(
+                ok,
+                format!(
+                    "tiles {cols}x{rows} {} np={p}: {}",
+                    s.name(),
+                    if ok {
+                        "every display bit-exact".to_string()
+                    } else {
+                        format!("ranks {bad:?} differ")
+                    }
+                ),
             );
-            if ok {
-                passed += 1
-            } else {
-                failed += 1
-            }
         }
     }
     // Transparent: objects sorted by depth, dealt out in blocks, so the visibility order
@@ -253,22 +262,19 @@ fn main() {
                     .flat_map(|(a, b)| (0..4).map(move |k| (a[k] - b[k]).abs()))
                     .fold(0f32, f32::max);
                 let ok = d < 1e-5;
-                println!(
-                    "{} over {} behind={from_behind} np={p}: max diff {d:.2e}",
-                    if ok { "ok  " } else { "FAIL" },
-                    s.name()
+                tally.record(
+                    ok,
+                    format!(
+                        "over {} behind={from_behind} np={p}: max diff {d:.2e}",
+                        s.name()
+                    ),
                 );
-                if ok {
-                    passed += 1
-                } else {
-                    failed += 1
-                }
             }
         }
     }
     if rank == 0 {
-        println!("np={p}: {passed} passed, {failed} failed");
-        if failed > 0 {
+        println!("np={p}: {} passed, {} failed", tally.passed, tally.failed);
+        if tally.failed > 0 {
             std::process::exit(1);
         }
     }
