@@ -342,7 +342,7 @@ mod tests {
     }
 
     #[test]
-    fn cells_are_flat_facing_up_and_closed_across_t_junctions() {
+    fn cells_are_flat_face_up_follow_the_checks_and_have_no_t_junctions() {
         let m = tessellate_plane(
             Vec3::ZERO,
             Vec3::Y,
@@ -362,6 +362,27 @@ mod tests {
             area += n.y as f64 / 2.0;
         }
         assert!(area > 100.0, "{area}");
+        // No T-junction: no vertex lies at the midpoint of another triangle's edge
+        // (where a smaller neighbour's corner would sit).
+        let q = |p: Vec3| ((p.x * 1e3).round() as i64, (p.z * 1e3).round() as i64);
+        let verts: HashSet<(i64, i64)> = m.positions.iter().map(|p| q(*p)).collect();
+        let mut edges = 0;
+        for t in &m.indices {
+            for k in 0..3 {
+                let (a, b) = (
+                    m.positions[t[k] as usize],
+                    m.positions[t[(k + 1) % 3] as usize],
+                );
+                if (a - b).length() < 0.05 {
+                    continue;
+                }
+                edges += 1;
+                let (mx, mz) = q((a + b) * 0.5);
+                let hit = (-1..=1).any(|dx| (-1..=1).any(|dz| verts.contains(&(mx + dx, mz + dz))));
+                assert!(!hit, "a vertex sits inside the edge {a} - {b}");
+            }
+        }
+        assert!(edges > 100);
         // Every cell no larger than a check lies inside one check.
         for (t, c) in m.indices.iter().zip(&m.cell_centres) {
             for &k in t {
