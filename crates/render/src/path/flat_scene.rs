@@ -3,7 +3,8 @@
 //! like it are traced without a top-level hierarchy, instance transforms or per-shape
 //! virtual calls.
 //!
-//! At setup every object whose shape reports [`Shape::facets_exact`] (polygons, boxes,
+//! At setup every object whose shape reports
+//! [`Shape::facets_exact`](irradia_geometry::Shape::facets_exact) (polygons, boxes,
 //! convex polyhedra: planar, convex faces that *are* the surface) has its faces
 //! fan-triangulated and carried to world space by its instance transform. Each
 //! triangle keeps its object, material and geometric normal (the shape's own face

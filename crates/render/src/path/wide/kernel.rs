@@ -1,11 +1,12 @@
 //! The bounce loop of the 8-wide path kernel (see [`super`] for the stages and the
 //! sources). A lane holds one path; when it ends, its estimate is written to the
 //! output slot of its sample and the lane takes the next sample of the batch, so the
-//! vector stays full until the batch runs out (Laine, Karras, Aila 2013, sec. 4:
+//! vector stays full until the batch runs out (Laine, Karras, Aila 2013:
 //! regenerating paths in place of finished ones).
 //!
-//! The per-lane stages call exactly the scalar estimator's code (the tracer, the
-//! random stream, the light choice); the vector stage repeats the scalar arithmetic of
+//! The per-lane stages call exactly the scalar estimator's code (the random stream,
+//! the light choice when the vector stage does not make it, the flat scene's queries
+//! for large scenes); the vector stage repeats the scalar arithmetic of
 //! [`radiance_in`](crate::path::integrator::radiance_in) lane by lane and in the same
 //! order, with masks where the scalar code branches.
 
@@ -342,7 +343,7 @@ fn run<const FMA: bool>(
     let mut next = 0usize;
     let mut b = Bounce::default();
     loop {
-        // Stage 1, per lane: refill, trace, draw.
+        // Stage 1, per lane: refill; then the nearest hits; then per lane the draws.
         let mut live = M8::FALSE;
         for lane in 0..W {
             if paths.sample[lane] == IDLE {

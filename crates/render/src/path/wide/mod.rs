@@ -6,23 +6,26 @@
 //! stages as a wavefront path tracer splits its kernels (Laine, Karras, Aila,
 //! "Megakernels Considered Harmful: Wavefront Path Tracing on GPUs", HPG 2013):
 //!
-//! 1. per lane: refill a finished lane with the next sample of the batch, find the
-//!    nearest triangle (the [`FlatScene`]'s own query, so hits are the scalar
-//!    estimator's, bit for bit; Wald et al.'s SIMD triangle packets inside it) and
-//!    draw the bounce's random numbers from the lane's own stream;
+//! 1. per lane: refill a finished lane with the next sample of the batch and draw
+//!    the bounce's random numbers from the lane's own stream;
 //! 2. all lanes at once ([`kernel`], 8-wide AVX2 + FMA chosen at run time, or the same
-//!    code in SSE): the hit point (triangle, material and light data gathered by
-//!    index), emission with MIS, the light sample, the BSDF value and density,
-//!    the cosine-weighted direction (with a polynomial sine and cosine), the new ray
-//!    and the Russian-roulette probability;
-//! 3. per lane: the shadow ray, the Russian-roulette draw, the end of paths.
+//!    code in SSE): the nearest hits ([`trace`]: eight rays against every triangle of
+//!    a small scene; larger scenes walk the [`FlatScene`]'s hierarchy lane by lane,
+//!    with Wald et al.'s SIMD triangle packets), the hit points (triangle, material
+//!    and light data gathered by index), emission with MIS, the light choice and
+//!    sample, the BSDF value and density, the cosine-weighted direction (with a
+//!    polynomial sine and cosine), the new rays, the Russian-roulette probability and
+//!    the shadow rays;
+//! 3. per lane: the Russian-roulette draw and the end of finished paths.
 //!
 //! It is the same estimator as [`radiance_in`](super::integrator::radiance_in): NEE +
 //! BSDF sampling with the power heuristic, Russian roulette from `rr_depth`, Mitsuba's
 //! depth convention, the same random numbers in the same order from the same per-sample
 //! stream. Every operation of a lane is the scalar code's, in the same order, except the
-//! sine and cosine of the disk warp (a few ulps apart), so most samples come out
-//! bit-identical and the rest differ by rounding (tests/path_wide.rs checks both).
+//! sine and cosine of the disk warp (a few ulps apart) and the order of a comparison at
+//! a tie between triangles, so samples differ from the scalar ones by rounding only
+//! (tests/path_wide.rs checks that every sample agrees to 1e-4 and that the
+//! comparison would catch a different stream).
 //!
 //! **What qualifies a scene** ([`WideScene::new`]): every material is a solid-coloured
 //! Lambertian (albedo `diffuse * color`, possibly black, i.e. no lobe), optionally
