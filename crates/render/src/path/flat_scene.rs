@@ -48,6 +48,10 @@ struct FlatTriangle {
     face: u32,
 }
 
+/// A baked triangle as the 8-wide kernel reads it: corners, unit normal, instance,
+/// material.
+pub(crate) type BakedTriangle = ([Vec3; 3], Vec3, u32, u32);
+
 /// The scene as the path tracer traces it: baked triangles plus the remaining shapes.
 #[derive(Debug)]
 pub struct FlatScene {
@@ -334,7 +338,7 @@ impl FlatScene {
     /// Every baked triangle as (corners, unit normal, instance, material) when the
     /// whole scene is baked (no shape is left to its own test), for the 8-wide kernel
     /// ([`super::wide`]); `None` otherwise.
-    pub(crate) fn all_triangles(&self) -> Option<Vec<([Vec3; 3], Vec3, u32, u32)>> {
+    pub(crate) fn all_triangles(&self) -> Option<Vec<BakedTriangle>> {
         if self.rest.is_some() {
             return None;
         }

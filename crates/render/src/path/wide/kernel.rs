@@ -10,6 +10,9 @@
 //! [`radiance_in`](crate::path::integrator::radiance_in) lane by lane and in the same
 //! order, with masks where the scalar code branches.
 
+// Lane loops index several arrays by the lane on purpose.
+#![allow(clippy::needless_range_loop)]
+
 use super::lanes::{gather, offset_ray_origin, sin_cos_quarter_pi, F8, M8, V3, W};
 use super::trace::LaneHits;
 use super::{facet, mat, tri, LightPick, WideScene};

@@ -13,6 +13,10 @@
 //!
 //! Masks are `i32` lanes holding `-1` (true) or `0`, the form vector compares produce.
 
+// Lane loops index several arrays by the lane on purpose (LLVM vectorises them), and
+// `V3`'s arithmetic methods are by-value helpers, not operator traits.
+#![allow(clippy::needless_range_loop, clippy::should_implement_trait)]
+
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 /// Lanes of the kernel.
@@ -401,6 +405,8 @@ fn offset_axis(p: F8, n: F8) -> F8 {
         // clamp (exact for every such value) keeps even a NaN lane defined, and lets
         // the conversion be one vector instruction.
         // SAFETY: the clamped product is finite and within ±256.
+        // (`clamp` would keep a NaN.)
+        #[allow(clippy::manual_clamp)]
         let oi = unsafe { (INT_SCALE * nc.max(-1.0).min(1.0)).to_int_unchecked::<i32>() };
         let bits = pc.to_bits() as i32;
         let moved = if pc < 0.0 {
