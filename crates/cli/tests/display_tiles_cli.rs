@@ -60,7 +60,10 @@ fn check_tiles(workload_args: &[&str], ext: &str, d: &Path) {
     ]);
     let log = run_ok(&tiled, d);
     assert!(log.contains("display 3 (rank 3)"), "{log}");
-    assert!(!d.join(&wall).exists(), "no whole image is written with tiles");
+    assert!(
+        !d.join(&wall).exists(),
+        "no whole image is written with tiles"
+    );
     let image = irradia_core::io::load(&d.join(&whole)).unwrap();
     // 64 x 48 cut in 2 x 2, each tile widened by 3 pixels into its neighbours.
     let rects = [

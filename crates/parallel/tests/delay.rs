@@ -148,7 +148,10 @@ fn binary_swap_under_the_delay_mode_matches_the_model_of_its_messages() {
     // Each rank gives away 3/4 of a 64x48 RGBA8 + depth image, plus a 32-byte header
     // in each of its 2 rounds.
     let payload = p * (w * h) as usize * 8 * 3 / 4;
-    assert!(sent >= payload && sent <= payload + 2 * 32 * p, "sent {sent}");
+    assert!(
+        sent >= payload && sent <= payload + 2 * 32 * p,
+        "sent {sent}"
+    );
     let measured = span_of(&times);
     let predicted = model.stage_time(&records, "swap", p);
     // The two rounds are sequential and each needs the partner's header and pieces, so

@@ -78,9 +78,12 @@ impl<'a> GeometryStage<'a> {
             Shading::Gouraud => {
                 let pe = self.view.transform_point3(p);
                 let ne = (self.normal_matrix * n).normalize_or_zero();
-                let c =
-                    self.lights
-                        .shade_with(material, pe, ne, Vec3::new(color[0], color[1], color[2]));
+                let c = self.lights.shade_with(
+                    material,
+                    pe,
+                    ne,
+                    Vec3::new(color[0], color[1], color[2]),
+                );
                 var[..4].copy_from_slice(&[c.x, c.y, c.z, color[3]]);
             }
             Shading::Phong => {

@@ -131,7 +131,11 @@ fn wide_samples_equal_scalar_samples_up_to_rounding() {
     for (name, scene, variant) in [
         ("cornell", cornell(40, 40), Variant::Default),
         ("furnace box", furnace_box(0.6, 1.0), Variant::Default),
-        ("cornell, lane by lane", cornell(24, 24), Variant::LaneByLane),
+        (
+            "cornell, lane by lane",
+            cornell(24, 24),
+            Variant::LaneByLane,
+        ),
         ("cornell, portable", cornell(24, 24), Variant::Portable),
     ] {
         let (scalar, wide) = both_estimates(&scene, 2, &params, 0, variant);
