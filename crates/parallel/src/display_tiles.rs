@@ -16,6 +16,7 @@
 //! followed by an [`rle`] span message, whose span names the image pixels it covers.
 
 use crate::comm::{Comm, CommError};
+use crate::composite::active::ActiveRect;
 use crate::composite::{self, rle, CompositeOptions, Layer, Pixel, Strategy};
 use std::ops::Range;
 
@@ -269,8 +270,22 @@ pub fn composite_to_tiles<P: Pixel, C: Comm>(
     layout: &DisplayLayout,
     opts: &CompositeOptions,
 ) -> Result<Option<Layer<P>>, CommError> {
+    let all = ActiveRect::full(layer.width, layer.height);
+    composite_to_tiles_bounded(comm, strategy, layer, all, layout, opts)
+}
+
+/// [`composite_to_tiles`] of a layer whose active pixels all lie inside `rect` (see
+/// [`composite::composite_bounded`]).
+pub fn composite_to_tiles_bounded<P: Pixel, C: Comm>(
+    comm: &C,
+    strategy: Strategy,
+    layer: Layer<P>,
+    rect: ActiveRect,
+    layout: &DisplayLayout,
+    opts: &CompositeOptions,
+) -> Result<Option<Layer<P>>, CommError> {
     comm.log().begin_stage("composite");
-    let (layer, span) = composite::reduce(comm, strategy, layer, opts)?;
+    let (layer, span) = composite::reduce_bounded(comm, strategy, layer, rect, opts)?;
     comm.log().begin_stage("gather");
     let out = gather_tiles(comm, &layer, span, layout, opts)?;
     comm.barrier()?;

@@ -21,8 +21,7 @@ pub fn render<C: Comm>(
     strategy: Strategy,
     opts: &CompositeOptions,
 ) -> Result<Option<Layer<[u8; 4]>>, CommError> {
-    let layer = render_layer(comm, p, tris);
-    let rect = active_rect(p, &tris[block(tris.len(), comm.rank(), comm.size())]);
+    let (layer, rect) = render_layer(comm, p, tris);
     composite::composite_bounded(comm, strategy, layer, rect, opts)
 }
 
@@ -81,13 +80,18 @@ pub fn active_rect(p: &Pipeline, tris: &[Triangle]) -> ActiveRect {
 }
 
 /// The render step alone (stage "render"): this rank's block of the triangles drawn
-/// over the whole screen, as a layer to composite (with [`composite::composite`], or
-/// onto a tiled display with [`crate::display_tiles::composite_to_tiles`]).
-pub fn render_layer<C: Comm>(comm: &C, p: &Pipeline, tris: &[Triangle]) -> Layer<[u8; 4]> {
+/// over the whole screen, as a layer to composite, and the [`active_rect`] it lies in
+/// (for [`composite::composite_bounded`], or onto a tiled display with
+/// [`crate::display_tiles::composite_to_tiles_bounded`]).
+pub fn render_layer<C: Comm>(
+    comm: &C,
+    p: &Pipeline,
+    tris: &[Triangle],
+) -> (Layer<[u8; 4]>, ActiveRect) {
     comm.log().begin_stage("render");
     let mine = &tris[block(tris.len(), comm.rank(), comm.size())];
     let mut fb = framebuffer(p);
     p.render_triangles(mine, &mut fb)
         .expect("framebuffer matches the pipeline");
-    to_layer(&fb)
+    (to_layer(&fb), active_rect(p, mine))
 }

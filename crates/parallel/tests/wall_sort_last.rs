@@ -34,7 +34,7 @@ fn sort_last_tiles_equal_the_serial_wall_render() {
     for text in [OVERLAP, BEZEL] {
         let c = WallConfig::parse(text).unwrap();
         let whole = run_local(1, LocalOptions::default(), |comm| {
-            sort_last::wall_layer(comm, &c, &w)
+            sort_last::wall_layer(comm, &c, &w).0
         })
         .pop()
         .unwrap()

@@ -10,7 +10,9 @@ use clap::{Args, ValueEnum};
 use irradia_core::{Image, Rgb};
 use irradia_parallel::comm::{run_local, Comm, CommError, LocalOptions};
 use irradia_parallel::composite::{CompositeOptions, Layer, Strategy};
-use irradia_parallel::display_tiles::{composite_to_tiles, DisplayLayout};
+use irradia_parallel::display_tiles::{
+    composite_to_tiles, composite_to_tiles_bounded, DisplayLayout,
+};
 use irradia_parallel::job::{self, Mode};
 use irradia_parallel::report::Report;
 use irradia_parallel::sort_first::{self, imbalance, Assign, TileLayout, Tiling};
@@ -556,9 +558,20 @@ fn raster_tile<C: Comm>(
     tris: &[Triangle],
     background: Option<Rgb>,
 ) -> Result<Option<(usize, Image)>, CommError> {
-    let layer = sort_last::render_layer(c, p, tris);
-    let tile = composite_to_tiles(c, job.strategy, layer, layout, &CompositeOptions::default())?;
+    let (layer, rect) = sort_last::render_layer(c, p, tris);
+    let opts = CompositeOptions::default();
+    let tile = composite_to_tiles_bounded(c, job.strategy, layer, rect, layout, &opts)?;
     Ok(tile.map(|l| (tile_index(layout, c.rank()), layer_image(&l, background))))
+}
+
+/// The frame of a tiled-display run: this rank's tile and (rank 0) the report.
+fn tile_frame<C: Comm>(c: &C, tile: Option<(usize, Image)>) -> Result<Frame, CommError> {
+    Ok(Frame {
+        image: None,
+        report: Report::gather(c)?,
+        balance: None,
+        tile,
+    })
 }
 
 fn tile_index(layout: &DisplayLayout, rank: usize) -> usize {
@@ -593,13 +606,7 @@ fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
         } if job.display.is_some() => {
             let (layout, _) = job.display.as_ref().expect("checked");
             let tile = raster_tile(c, job, layout, p, tris, *background)?;
-            let report = Report::gather(c)?;
-            return Ok(Frame {
-                image: None,
-                report,
-                balance: None,
-                tile,
-            });
+            return tile_frame(c, tile);
         }
         Input::Triangles {
             tris,
@@ -667,13 +674,7 @@ fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
                     raytrace_last::fill_background(&mut l, scene.settings.background);
                     (tile_index(layout, c.rank()), raytrace_first::to_image(&l))
                 });
-                let report = Report::gather(c)?;
-                return Ok(Frame {
-                    image: None,
-                    report,
-                    balance: None,
-                    tile,
-                });
+                return tile_frame(c, tile);
             }
             _ => {
                 let img =

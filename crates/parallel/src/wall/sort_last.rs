@@ -11,8 +11,9 @@
 
 use super::{WallConfig, WallSource};
 use crate::comm::{Comm, CommError};
+use crate::composite::active::ActiveRect;
 use crate::composite::{CompositeOptions, Layer, Strategy, FAR};
-use crate::display_tiles::{composite_to_tiles, DisplayLayout, DisplayTile};
+use crate::display_tiles::{composite_to_tiles_bounded, DisplayLayout, DisplayTile};
 use crate::frame::block;
 use crate::workload::Workload;
 use glam::Vec3;
@@ -49,19 +50,25 @@ pub fn layout(c: &WallConfig) -> DisplayLayout {
 }
 
 /// This rank's block of `w`'s triangles rendered over the whole wall (linear RGBA32F and
-/// depth, background clear at depth [`FAR`]).
-pub fn wall_layer<C: Comm>(comm: &C, c: &WallConfig, w: &Workload) -> Layer<[f32; 4]> {
+/// depth, background clear at depth [`FAR`]), and the screen rectangle it lies in
+/// ([`crate::sort_last::active_rect`]).
+pub fn wall_layer<C: Comm>(
+    comm: &C,
+    c: &WallConfig,
+    w: &Workload,
+) -> (Layer<[f32; 4]>, ActiveRect) {
     let (ww, wh) = c.wall_size();
     let p = w.pipeline(ww, wh);
     let tris = w.triangles();
     let mine = &tris[block(tris.len(), comm.rank(), comm.size())];
+    let rect = crate::sort_last::active_rect(&p, mine);
     let mut fb = Framebuffer::new(ww, wh, ColorFormat::Rgba32F).expect("checked wall size");
     p.render_triangles(mine, &mut fb)
         .expect("framebuffer matches the pipeline");
     let ColorBuffer::Rgba32F(color) = fb.color else {
         unreachable!("asked for RGBA32F")
     };
-    Layer {
+    let layer = Layer {
         width: ww,
         height: wh,
         color,
@@ -70,7 +77,8 @@ pub fn wall_layer<C: Comm>(comm: &C, c: &WallConfig, w: &Workload) -> Layer<[f32
             .iter()
             .map(|&d| if d >= 1.0 { FAR } else { d })
             .collect(),
-    }
+    };
+    (layer, rect)
 }
 
 /// The linear colour this rank's display should show, composited sort-last with
@@ -86,9 +94,9 @@ pub fn render_tile<C: Comm>(
         WallSource::Uniform(_) => return Ok(super::render_display(c, src, comm.rank())),
         WallSource::Workload(w) => w,
     };
-    let layer = wall_layer(comm, c, w);
+    let (layer, rect) = wall_layer(comm, c, w);
     let opts = CompositeOptions::default();
-    let tile = composite_to_tiles(comm, strategy, layer, &layout(c), &opts)?
+    let tile = composite_to_tiles_bounded(comm, strategy, layer, rect, &layout(c), &opts)?
         .ok_or_else(|| CommError::Aborted(format!("rank {} drives no display", comm.rank())))?;
     Ok(tile
         .color
