@@ -10,12 +10,14 @@
 
 use crate::depth_bounds::DepthBounds;
 use crate::fragment::{
-    draw, ColorTarget, DepthFunc, InterpolatedColor, PhongShader, PixelShader, Unproject,
+    draw, draw_blended, BlendTarget, ColorTarget, DepthFunc, InterpolatedColor, MaterialColor,
+    PhongShader, PixelShader, Unproject,
 };
 use crate::framebuffer::{ColorBuffer, Framebuffer};
 use crate::lighting::{EyeLights, Shading};
 use crate::rasterizer::row_range;
 use crate::screen::{Rect, ScreenTriangle};
+use crate::texture::Texture;
 use rayon::prelude::*;
 
 /// Rows per band (tile height).
@@ -30,6 +32,11 @@ pub(crate) struct FragmentState<'a> {
     pub depth_func: DepthFunc,
     /// For Phong: pixel and depth back to eye space.
     pub unproject: Unproject,
+    /// The pipeline's texture table (materials name entries).
+    pub textures: &'a [Texture],
+    /// Draw the triangles as transparent: blended over the colour buffer, depth
+    /// tested but not written ([`crate::transparency`]). Ignored by ID buffers.
+    pub blend: bool,
 }
 
 /// Draws the triangles of `batches` (in order: batch by batch, each in order) into
@@ -92,10 +99,29 @@ pub(crate) fn rasterize_binned(
     let phong = PhongShader {
         lights: state.lights,
         unproject: state.unproject,
+        textures: state.textures,
     };
+    let by_material = MaterialColor {
+        lights: state.lights,
+        textures: state.textures,
+    };
+    if state.blend {
+        match (&mut fb.color, state.shading) {
+            (ColorBuffer::Id(_), _) => {}
+            (ColorBuffer::Rgba8(c), Shading::Phong) => job.run_blended(c, depth, &phong),
+            (ColorBuffer::Rgba8(c), _) => job.run_blended(c, depth, &by_material),
+            (ColorBuffer::Rgba32F(c), Shading::Phong) => job.run_blended(c, depth, &phong),
+            (ColorBuffer::Rgba32F(c), _) => job.run_blended(c, depth, &by_material),
+        }
+        return;
+    }
+    let plain = !state.lights.needs_material_fragments();
     match (&mut fb.color, state.shading) {
         (ColorBuffer::Id(c), _) => job.run(c, depth, &InterpolatedColor),
         (ColorBuffer::Rgba8(c), Shading::Phong) => job.run(c, depth, &phong),
+        (ColorBuffer::Rgba32F(c), Shading::Phong) => job.run(c, depth, &phong),
+        (ColorBuffer::Rgba8(c), _) if !plain => job.run(c, depth, &by_material),
+        (ColorBuffer::Rgba32F(c), _) if !plain => job.run(c, depth, &by_material),
         #[cfg(target_arch = "x86_64")]
         (ColorBuffer::Rgba8(c), _) if crate::simd_span::available() => {
             let (func, width) = (state.depth_func, job.width);
@@ -114,7 +140,6 @@ pub(crate) fn rasterize_binned(
             )
         }
         (ColorBuffer::Rgba8(c), _) => job.run(c, depth, &InterpolatedColor),
-        (ColorBuffer::Rgba32F(c), Shading::Phong) => job.run(c, depth, &phong),
         (ColorBuffer::Rgba32F(c), _) => job.run(c, depth, &InterpolatedColor),
     }
 }
@@ -157,6 +182,21 @@ impl Job<'_> {
             depth,
             |_, _| (),
             |_, t, clip, y0, d, c| draw(t, clip, width, y0, d, c, shader, depth_func),
+        )
+    }
+
+    /// Draws transparent triangles: blended, depth tested, depth not written.
+    fn run_blended<T: Send, S: PixelShader>(&self, color: &mut [T], depth: &mut [f32], shader: &S)
+    where
+        [T]: BlendTarget,
+    {
+        let depth_func = self.depth_func;
+        let width = self.width;
+        self.run_with(
+            color,
+            depth,
+            |_, _| (),
+            |_, t, clip, y0, d, c| draw_blended(t, clip, width, y0, d, c, shader, depth_func),
         )
     }
 

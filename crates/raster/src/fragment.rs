@@ -1,12 +1,16 @@
 //! Per-fragment work: the depth test, the pixel shader (interpolated Gouraud colour or
-//! per-pixel Phong lighting) and the write to the colour buffer's format.
+//! per-pixel Phong lighting, with the material's image texture looked up at the
+//! perspective-correct texture coordinate) and the write to the colour buffer's format:
+//! replaced (opaque triangles) or blended over what is there (transparent triangles,
+//! drawn by [`draw_blended`] with the depth test on and depth writes off).
 
 use crate::framebuffer::to_rgba8;
 use crate::interpolate::{perspective_weights, varyings};
 use crate::lighting::EyeLights;
 use crate::rasterizer::Setup;
 use crate::screen::{varying, Rect, ScreenTriangle};
-use glam::{Mat4, Vec3, Vec4};
+use crate::texture::Texture;
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// The depth comparison (the fragment passes when `new OP stored`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -40,6 +44,68 @@ pub(crate) struct FragCoord {
 /// Computes a fragment's colour from perspective-correct weights.
 pub(crate) trait PixelShader: Sync {
     fn color(&self, tri: &ScreenTriangle, s: &Setup, w: [f32; 3], at: FragCoord) -> [f32; 4];
+
+    /// A fragment of a transparent triangle: the colour it adds and, per channel, the
+    /// fraction of the colour behind it that shows through (none unless a shader
+    /// knows the materials).
+    #[inline(always)]
+    fn layer(
+        &self,
+        tri: &ScreenTriangle,
+        s: &Setup,
+        w: [f32; 3],
+        at: FragCoord,
+    ) -> ([f32; 4], [f32; 3]) {
+        (self.color(tri, s, w, at), [0.0; 3])
+    }
+}
+
+/// The texel of `tri`'s material at the fragment, or white without a texture.
+#[inline(always)]
+fn texel(
+    lights: &EyeLights,
+    textures: &[Texture],
+    tri: &ScreenTriangle,
+    s: &Setup,
+    w: [f32; 3],
+) -> Vec3 {
+    match lights
+        .material(tri.material)
+        .texture
+        .and_then(|i| textures.get(i as usize))
+    {
+        Some(t) => t.sample(Vec2::from(varyings::<2>(&s.v, w, varying::UV))),
+        None => Vec3::ONE,
+    }
+}
+
+/// Gouraud and unlit with materials that have textures or let light through: the
+/// interpolated vertex colour times the texel (OpenGL's `GL_MODULATE`); a transparent
+/// material's filter is its own, or the texel (the vertex colour is already lit).
+pub(crate) struct MaterialColor<'a> {
+    pub lights: &'a EyeLights,
+    pub textures: &'a [Texture],
+}
+
+impl PixelShader for MaterialColor<'_> {
+    #[inline(always)]
+    fn color(&self, tri: &ScreenTriangle, s: &Setup, w: [f32; 3], at: FragCoord) -> [f32; 4] {
+        self.layer(tri, s, w, at).0
+    }
+
+    #[inline(always)]
+    fn layer(
+        &self,
+        tri: &ScreenTriangle,
+        s: &Setup,
+        w: [f32; 3],
+        _at: FragCoord,
+    ) -> ([f32; 4], [f32; 3]) {
+        let c = varyings::<4>(&s.v, w, varying::COLOR);
+        let t = texel(self.lights, self.textures, tri, s, w);
+        let tr = self.lights.material(tri.material).transmittance(t);
+        ([c[0] * t.x, c[1] * t.y, c[2] * t.z, c[3]], tr.to_array())
+    }
 }
 
 /// Gouraud and unlit: the interpolated vertex colour.
@@ -91,21 +157,46 @@ impl Unproject {
 }
 
 /// Phong: lighting evaluated at every pixel with the interpolated, renormalised normal
-/// and the interpolated vertex colour as the diffuse base, at the eye-space point the
-/// pixel sees (recovered from its depth), with the triangle's material.
+/// and the interpolated vertex colour (times the material's texel) as the diffuse base,
+/// at the eye-space point the pixel sees (recovered from its depth), with the
+/// triangle's material.
 pub(crate) struct PhongShader<'a> {
     pub lights: &'a EyeLights,
     pub unproject: Unproject,
+    pub textures: &'a [Texture],
+}
+
+impl PhongShader<'_> {
+    #[inline(always)]
+    fn shade(&self, tri: &ScreenTriangle, s: &Setup, w: [f32; 3], at: FragCoord) -> (Vec3, Vec3) {
+        let n = Vec3::from(varyings::<3>(&s.v, w, varying::NORMAL)).normalize_or_zero();
+        let mut base = Vec3::from(varyings::<3>(&s.v, w, varying::BASE_COLOR));
+        if !self.textures.is_empty() {
+            base *= texel(self.lights, self.textures, tri, s, w);
+        }
+        let p = self.unproject.eye_point(at);
+        (self.lights.shade_with(tri.material, p, n, base), base)
+    }
 }
 
 impl PixelShader for PhongShader<'_> {
     #[inline(always)]
     fn color(&self, tri: &ScreenTriangle, s: &Setup, w: [f32; 3], at: FragCoord) -> [f32; 4] {
-        let n = Vec3::from(varyings::<3>(&s.v, w, varying::NORMAL)).normalize_or_zero();
-        let base = Vec3::from(varyings::<3>(&s.v, w, varying::BASE_COLOR));
-        let p = self.unproject.eye_point(at);
-        let c = self.lights.shade_with(tri.material, p, n, base);
+        let (c, _) = self.shade(tri, s, w, at);
         [c.x, c.y, c.z, 1.0]
+    }
+
+    #[inline(always)]
+    fn layer(
+        &self,
+        tri: &ScreenTriangle,
+        s: &Setup,
+        w: [f32; 3],
+        at: FragCoord,
+    ) -> ([f32; 4], [f32; 3]) {
+        let (c, base) = self.shade(tri, s, w, at);
+        let tr = self.lights.material(tri.material).transmittance(base);
+        ([c.x, c.y, c.z, 1.0], tr.to_array())
     }
 }
 
@@ -199,6 +290,76 @@ pub(crate) fn draw<C: ColorTarget + ?Sized, S: PixelShader>(
         if func.pass(z, depth_buf[i]) {
             depth_buf[i] = z;
             target.write(i, tri, &s, s.lambda(e), FragCoord { x, y, z }, shader);
+        }
+    });
+}
+
+/// Where transparent fragments go: blended over the stored colour.
+pub(crate) trait BlendTarget {
+    /// `dst = colour + transmittance * dst` per channel; alpha becomes
+    /// `1 - (1 - dst alpha) * mean(transmittance)` (coverage: an opaque pixel stays
+    /// opaque, empty background behind a clear surface stays mostly empty).
+    fn blend(&mut self, i: usize, colour: [f32; 4], transmittance: [f32; 3]);
+}
+
+#[inline(always)]
+fn over(c: [f32; 4], t: [f32; 3], d: [f32; 4]) -> [f32; 4] {
+    let mean = (t[0] + t[1] + t[2]) * (1.0 / 3.0);
+    [
+        c[0] + t[0] * d[0],
+        c[1] + t[1] * d[1],
+        c[2] + t[2] * d[2],
+        1.0 - (1.0 - d[3]) * mean,
+    ]
+}
+
+impl BlendTarget for [[u8; 4]] {
+    #[inline(always)]
+    fn blend(&mut self, i: usize, c: [f32; 4], t: [f32; 3]) {
+        let d = self[i].map(|v| v as f32 * (1.0 / 255.0));
+        self[i] = to_rgba8(over(c, t, d));
+    }
+}
+
+impl BlendTarget for [[f32; 4]] {
+    #[inline(always)]
+    fn blend(&mut self, i: usize, c: [f32; 4], t: [f32; 3]) {
+        self[i] = over(c, t, self[i]);
+    }
+}
+
+/// [`draw`] for a transparent triangle: fragments that pass the depth test are blended
+/// over the colour buffer ([`BlendTarget`]) and leave the depth buffer as it is, so
+/// the opaque surfaces drawn before still hide what lies behind them and transparent
+/// surfaces do not hide each other (drawn back to front by the caller).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn draw_blended<C: BlendTarget + ?Sized, S: PixelShader>(
+    tri: &ScreenTriangle,
+    clip: &Rect,
+    width: usize,
+    band_y0: u32,
+    depth_buf: &[f32],
+    target: &mut C,
+    shader: &S,
+    func: DepthFunc,
+) {
+    let Some(s) = Setup::new(tri) else { return };
+    let mut row_y = u32::MAX;
+    let mut row_z = 0.0;
+    let mut row_i = 0;
+    s.scan(clip, |x, y, e| {
+        if y != row_y {
+            row_y = y;
+            row_z = s.depth_row(y);
+            row_i = (y - band_y0) as usize * width;
+        }
+        let i = row_i + x as usize;
+        let z = s.depth_in_row(row_z, x);
+        if func.pass(z, depth_buf[i]) {
+            let w = perspective_weights(&s.v, s.lambda(e));
+            let (c, t) = shader.layer(tri, &s, w, FragCoord { x, y, z });
+            target.blend(i, c, t);
         }
     });
 }

@@ -255,10 +255,13 @@ impl<'a> GeometryStage<'a> {
             }
         };
         // Flat meshes, and meshes that share few vertices (a triangle soup), are done
-        // triangle by triangle: no per-vertex array to write and read back.
+        // triangle by triangle: no per-vertex array to write and read back. So are
+        // meshes with per-face materials under Gouraud shading, whose shared vertices
+        // are lit once per material of the faces around them.
         let flat = mesh.normals.is_empty();
+        let per_face_lighting = !mesh.materials.is_empty() && self.shading == Shading::Gouraud;
         let groups = mesh.indices.chunks(group.saturating_mul(BATCH)).enumerate();
-        if flat || mesh.positions.len() >= 2 * mesh.indices.len() {
+        if flat || per_face_lighting || mesh.positions.len() >= 2 * mesh.indices.len() {
             for (g, part) in groups {
                 let batches = part
                     .par_chunks(BATCH)
@@ -273,12 +276,14 @@ impl<'a> GeometryStage<'a> {
                             } else {
                                 Vec3::ZERO
                             };
+                            let t = c * BATCH + k;
+                            let material = mesh.material(t);
                             let v = [0, 1, 2].map(|j| {
                                 let i = idx[j] as usize;
                                 let n = if flat { face } else { mesh.normals[i] };
-                                self.prepare(self.vertex(p[j], n, color(i), uv(i), 0))
+                                self.prepare(self.vertex(p[j], n, color(i), uv(i), material))
                             });
-                            let id = (mesh.id(c * BATCH + k), 0);
+                            let id = (mesh.id(t), material);
                             self.assemble([&v[0], &v[1], &v[2]], id, &mut out);
                         }
                         out
@@ -311,7 +316,8 @@ impl<'a> GeometryStage<'a> {
                     let mut out = self.new_batch(chunk.len());
                     for (k, idx) in chunk.iter().enumerate() {
                         let v = idx.map(|i| &verts[i as usize]);
-                        self.assemble(v, (mesh.id(c * BATCH + k), 0), &mut out);
+                        let t = c * BATCH + k;
+                        self.assemble(v, (mesh.id(t), mesh.material(t)), &mut out);
                     }
                     out
                 })

@@ -35,6 +35,8 @@ pub mod pipeline;
 pub mod rasterizer;
 pub mod screen;
 mod simd_span;
+pub mod texture;
+pub mod transparency;
 pub mod view;
 
 pub use fragment::DepthFunc;
@@ -44,4 +46,5 @@ pub use mesh::{Mesh, MeshError, Triangle, Vertex};
 pub use pipeline::{Pipeline, RasterError};
 pub use rasterizer::{for_each_fragment, CullMode};
 pub use screen::{varying, Rect, ScreenTriangle, ScreenVertex, SCREEN_TRIANGLE_BYTES, VARYINGS};
+pub use texture::Texture;
 pub use view::ViewParams;

@@ -138,6 +138,16 @@ pub struct Material {
     /// Point and spot lights fade as 1/r² (off for POV-Ray's finish model, whose
     /// lights do not fade by default, as in the Whitted tracer).
     pub distance_falloff: bool,
+    /// Entry of the pipeline's texture table (`Pipeline::textures`) that multiplies
+    /// the base colour at every fragment, or `None`.
+    pub texture: Option<u32>,
+    /// Fraction of the light behind the surface that passes through it (0: opaque).
+    /// A transparent surface is drawn after the opaque ones, back to front, as
+    /// `dst = colour + transmission * filter * dst` (see [`crate::transparency`]).
+    pub transmission: f32,
+    /// The colour the light passing through is filtered by; `None` means the
+    /// fragment's base colour (the Whitted tracer's default).
+    pub filter: Option<Rgb>,
 }
 
 impl Default for Material {
@@ -151,6 +161,9 @@ impl Default for Material {
             emission: Rgb::BLACK,
             highlight: Highlight::BlinnPhong,
             distance_falloff: true,
+            texture: None,
+            transmission: 0.0,
+            filter: None,
         }
     }
 }
@@ -263,6 +276,15 @@ impl EyeLights {
         self.materials.get(i as usize).unwrap_or(&self.fallback)
     }
 
+    /// Whether any material (the table's or the fallback) has a texture or lets
+    /// light through: the fragment stage then needs the per-material shaders.
+    pub fn needs_material_fragments(&self) -> bool {
+        self.materials
+            .iter()
+            .chain(std::iter::once(&self.fallback))
+            .any(|m| m.texture.is_some() || m.is_transparent())
+    }
+
     /// [`EyeLights::shade_with`] material index 0.
     #[inline]
     pub fn shade(&self, p: Vec3, n: Vec3, base: Vec3) -> Vec3 {
@@ -360,6 +382,20 @@ impl Material {
     #[inline(always)]
     fn emission_v3(&self) -> Vec3 {
         v3(self.emission)
+    }
+
+    /// Whether the material lets light through (drawn in the transparent pass).
+    #[inline]
+    pub fn is_transparent(&self) -> bool {
+        self.transmission > 0.0
+    }
+
+    /// Per channel, the fraction of the colour behind that shows through a fragment
+    /// of base colour `base`: `transmission * filter` (clamped to [0, 1]).
+    #[inline]
+    pub fn transmittance(&self, base: Vec3) -> Vec3 {
+        let f = self.filter.map(v3).unwrap_or(base);
+        (f * self.transmission).clamp(Vec3::ZERO, Vec3::ONE)
     }
 }
 

@@ -61,11 +61,18 @@ pub enum MeshError {
     },
     #[error("the mesh has {triangles} triangles but {count} ids; give one per triangle or none")]
     IdCount { count: usize, triangles: usize },
+    #[error(
+        "the mesh has {triangles} triangles but {count} material indices; give one per triangle or none"
+    )]
+    MaterialCount { count: usize, triangles: usize },
 }
 
 /// An indexed triangle mesh. Attribute arrays are either empty or one entry per vertex:
 /// no normals means flat shading with face normals, no colours means white, no
 /// texture coordinates means (0, 0); no ids means each triangle's id is its index.
+/// `materials` is empty (every triangle uses material 0) or one index into the
+/// pipeline's material table per triangle (an OBJ's `usemtl` groups, a PLY's face
+/// property).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
     pub positions: Vec<Vec3>,
@@ -74,6 +81,7 @@ pub struct Mesh {
     pub uvs: Vec<Vec2>,
     pub indices: Vec<[u32; 3]>,
     pub ids: Vec<u32>,
+    pub materials: Vec<u32>,
 }
 
 impl Mesh {
@@ -108,6 +116,12 @@ impl Mesh {
         if !self.ids.is_empty() && self.ids.len() != self.indices.len() {
             return Err(MeshError::IdCount {
                 count: self.ids.len(),
+                triangles: self.indices.len(),
+            });
+        }
+        if !self.materials.is_empty() && self.materials.len() != self.indices.len() {
+            return Err(MeshError::MaterialCount {
+                count: self.materials.len(),
                 triangles: self.indices.len(),
             });
         }
@@ -191,6 +205,12 @@ impl Mesh {
         }
     }
 
+    /// The material index of triangle `t`.
+    #[inline]
+    pub fn material(&self, t: usize) -> u32 {
+        self.materials.get(t).copied().unwrap_or(0)
+    }
+
     /// The mesh as independent triangles.
     pub fn to_triangles(&self) -> Vec<Triangle> {
         self.indices
@@ -223,7 +243,7 @@ impl Mesh {
                 Triangle {
                     v: [v(0), v(1), v(2)],
                     id: self.id(t),
-                    material: 0,
+                    material: self.material(t),
                 }
             })
             .collect()

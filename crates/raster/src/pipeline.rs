@@ -10,6 +10,8 @@ use crate::lighting::{EyeLights, Lights, Material, Shading};
 use crate::mesh::{Mesh, MeshError, Triangle};
 use crate::rasterizer::CullMode;
 use crate::screen::{Rect, ScreenTriangle};
+use crate::texture::Texture;
+use crate::transparency::split_transparent;
 use crate::view::ViewParams;
 use std::sync::Arc;
 use thiserror::Error;
@@ -42,8 +44,12 @@ pub struct Pipeline {
     /// them when the table is empty, the default).
     pub material: Material,
     /// Per-object materials: a triangle with `material == i` is shaded with
-    /// `materials[i]` (Gouraud at its vertices, Phong at its pixels).
+    /// `materials[i]` (Gouraud at its vertices, Phong at its pixels). Materials that
+    /// let light through (`transmission > 0`) are drawn after the opaque ones, back to
+    /// front, blended ([`crate::transparency`]).
     pub materials: Vec<Material>,
+    /// Image textures, named by `Material::texture` and looked up at every fragment.
+    pub textures: Vec<Texture>,
     pub shading: Shading,
     pub cull: CullMode,
     pub depth_func: DepthFunc,
@@ -71,6 +77,7 @@ impl Pipeline {
             lights: Lights::default(),
             material: Material::default(),
             materials: Vec::new(),
+            textures: Vec::new(),
             shading: Shading::Gouraud,
             cull: CullMode::None,
             depth_func: DepthFunc::Less,
@@ -101,13 +108,26 @@ impl Pipeline {
         )
     }
 
-    fn fragment_state<'a>(&self, lights: &'a EyeLights) -> FragmentState<'a> {
+    fn fragment_state<'a>(&'a self, lights: &'a EyeLights) -> FragmentState<'a> {
         FragmentState {
             shading: self.shading,
             lights,
             depth_func: self.depth_func,
             unproject: Unproject::new(self.view.proj, self.width, self.height),
+            textures: &self.textures,
+            blend: false,
         }
+    }
+
+    /// Whether some material lets light through, so that a colour buffer is drawn in
+    /// two passes (opaque, then transparent back to front).
+    pub fn has_transparency(&self) -> bool {
+        self.material.is_transparent() || self.materials.iter().any(|m| m.is_transparent())
+    }
+
+    /// Whether `fb` needs the two passes.
+    fn two_pass(&self, fb: &Framebuffer) -> bool {
+        self.has_transparency() && !matches!(fb.color, crate::framebuffer::ColorBuffer::Id(_))
     }
 
     /// The geometry stage on independent triangles: transformed, lit, clipped,
@@ -125,7 +145,10 @@ impl Pipeline {
     }
 
     /// The rasterizer: draws `tris` in order into `fb`, touching only pixels inside
-    /// `region` (the whole screen when `None`).
+    /// `region` (the whole screen when `None`). With transparent materials the opaque
+    /// triangles are drawn first, in order, then the transparent ones back to front
+    /// (an order that does not depend on which other triangles are given, so region
+    /// servers holding part of the triangles draw the serial image's pixels).
     pub fn rasterize(
         &self,
         tris: &[ScreenTriangle],
@@ -135,7 +158,18 @@ impl Pipeline {
         self.check(fb)?;
         let lights = self.eye_lights();
         let region = region.unwrap_or(Rect::full(self.width, self.height));
-        rasterize_batches(&[tris], fb, region, &self.fragment_state(&lights));
+        let state = self.fragment_state(&lights);
+        if !self.two_pass(fb) {
+            rasterize_batches(&[tris], fb, region, &state);
+            return Ok(());
+        }
+        let (opaque, clear) = split_transparent(tris, &lights);
+        rasterize_batches(&[&opaque], fb, region, &state);
+        let blend = FragmentState {
+            blend: true,
+            ..state
+        };
+        rasterize_batches(&[&clear], fb, region, &blend);
         Ok(())
     }
 
@@ -143,6 +177,10 @@ impl Pipeline {
     pub fn render_mesh(&self, mesh: &Mesh, fb: &mut Framebuffer) -> Result<(), RasterError> {
         self.check(fb)?;
         mesh.validate()?;
+        if self.two_pass(fb) {
+            let st = self.transform_mesh(mesh)?;
+            return self.rasterize(&st, fb, None);
+        }
         let lights = self.eye_lights();
         self.stage(&lights, true)
             .with_pool(&self.scratch)
@@ -160,6 +198,10 @@ impl Pipeline {
         fb: &mut Framebuffer,
     ) -> Result<(), RasterError> {
         self.check(fb)?;
+        if self.two_pass(fb) {
+            let st = self.transform_and_light(tris);
+            return self.rasterize(&st, fb, None);
+        }
         let lights = self.eye_lights();
         self.stage(&lights, true)
             .with_pool(&self.scratch)
