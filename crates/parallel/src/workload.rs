@@ -2,6 +2,7 @@
 //! the Utah teapot, and a marching-cubes isosurface (the gyroid of PEERS.md). Triangle
 //! `i` keeps id `i`: the serial draw order every parallel mode must reproduce.
 
+use crate::tessellate::uv::triangle_uvs;
 use crate::tessellate::{
     object_region, plane_of, plane_view, tessellate_plane, tessellate_solid, PlaneDetail,
     Tessellation,
@@ -13,6 +14,7 @@ use irradia_geometry::generators::random_triangles::{
 };
 use irradia_geometry::generators::{gyroid_mesh, MeshData};
 use irradia_geometry::shapes::bezier::{teapot_patches, tessellate};
+use irradia_geometry::Instance;
 use irradia_raster::{Mesh, Pipeline, Triangle, Vertex, ViewParams};
 use irradia_scene::{Material, Texture};
 
@@ -152,6 +154,21 @@ pub struct SceneTriangles {
     pub skipped: Vec<String>,
 }
 
+impl SceneTriangles {
+    /// Whether some triangle's material (in `pipeline`'s table) lets light through,
+    /// so that the image depends on the order of the transparent surfaces (sort-last
+    /// depth compositing cannot draw it).
+    pub fn has_transparency(&self, pipeline: &Pipeline) -> bool {
+        self.triangles.iter().any(|t| {
+            pipeline
+                .materials
+                .get(t.material as usize)
+                .unwrap_or(&pipeline.material)
+                .is_transparent()
+        })
+    }
+}
+
 /// Segments around a full turn when curved shapes are cut into facets.
 pub const SCENE_FACET_DETAIL: u32 = 48;
 
@@ -163,8 +180,11 @@ pub fn scene_triangles(scene: &irradia_scene::Scene) -> SceneTriangles {
 /// The scene's objects as world-space triangles, coloured by their material's texture:
 /// objects with facets (`Shape::facets`) as they are, planes cut to the view of
 /// [`scene_pipeline`], other solids (CSG, implicit surfaces, unbounded quadrics) by
-/// marching cubes (see [`crate::tessellate`]). Textured (checkered) surfaces take
-/// one colour per triangle (at its centre, or its plane cell's), others one per vertex.
+/// marching cubes (see [`crate::tessellate`]). Checkered surfaces take one colour per
+/// triangle (at its centre, or its plane cell's), solid colours one per vertex; image
+/// textures take white vertices and, at every corner, the shape's own texture
+/// coordinates ([`crate::tessellate::uv`]), and the pipeline looks the image up per
+/// fragment (its texture table, [`scene_pipeline`]).
 pub fn scene_triangles_with(scene: &irradia_scene::Scene, opts: &Tessellation) -> SceneTriangles {
     let pipeline = scene_pipeline(scene);
     let view = plane_view(pipeline.view.view, pipeline.view.proj, pipeline.height);
@@ -235,7 +255,7 @@ pub fn scene_triangles_with(scene: &irradia_scene::Scene, opts: &Tessellation) -
                 .map(|&l| obj.material_for_leaf(l))
                 .collect();
         }
-        mesh.append_to(&mut out.triangles, scene, obj.material);
+        mesh.append_to(&mut out.triangles, scene, obj.material, inst);
         if let Some(r) = out.objects.last_mut() {
             r.end = out.triangles.len();
         }
@@ -262,12 +282,26 @@ struct WorldMesh {
 }
 
 impl WorldMesh {
-    fn append_to(&self, out: &mut Vec<Triangle>, scene: &irradia_scene::Scene, material: u32) {
+    fn append_to(
+        &self,
+        out: &mut Vec<Triangle>,
+        scene: &irradia_scene::Scene,
+        material: u32,
+        instance: &Instance,
+    ) {
         for (k, idx) in self.indices.iter().enumerate() {
             let p = idx.map(|i| self.positions[i as usize]);
             let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
             let m = self.materials.get(k).copied().unwrap_or(material);
             let tex = &scene.materials[m as usize].color;
+            // An image is looked up per fragment by the pipeline: white vertices with
+            // the surface's texture coordinates.
+            let uvs = match tex {
+                Texture::Image { .. } => {
+                    Some(triangle_uvs(instance, p).unwrap_or([glam::Vec2::ZERO; 3]))
+                }
+                _ => None,
+            };
             let rgba = |q: Vec3| {
                 let c = tex.eval(q, glam::Vec2::ZERO);
                 [c.r, c.g, c.b, 1.0]
@@ -283,6 +317,7 @@ impl WorldMesh {
                     let c = (*a + *b) * 0.5;
                     Some([c.r, c.g, c.b, 1.0])
                 }
+                (_, Texture::Image { .. }) => Some([1.0; 4]),
                 (Some(c), _) => Some(rgba(*c)),
                 (None, Texture::Solid(_)) => None,
                 (None, _) => Some(rgba((p[0] + p[1] + p[2]) / 3.0)),
@@ -295,7 +330,7 @@ impl WorldMesh {
                     self.normals[idx[j] as usize]
                 },
                 color: flat.unwrap_or_else(|| rgba(p[j])),
-                uv: glam::Vec2::ZERO,
+                uv: uvs.map_or(glam::Vec2::ZERO, |u| u[j]),
             };
             out.push(Triangle {
                 v: [v(0), v(1), v(2)],
@@ -309,23 +344,50 @@ impl WorldMesh {
 /// The raster material of a scene material: the Whitted tracer's Phong model (`r·v`
 /// highlights, the material's ambient, diffuse and specular coefficients, emission;
 /// POV-Ray's finish model without distance falloff of point and spot lights). The
-/// texture colour comes in as the vertex colour.
+/// texture colour comes in as the vertex colour (image textures: through the
+/// pipeline's texture table, set by [`scene_pipeline`]).
+///
+/// Transmission maps to the pipeline's transparent pass: `dst = local + k_t * filter *
+/// dst`, the tracer's `local + k_t * filter * (refracted ray)` without refraction's
+/// bending (or Fresnel's angle dependence); the filter is the material's
+/// `filter_color`, or the surface colour at the fragment. POV-Ray materials scale
+/// their ambient and diffuse terms by the opacity `1 - luminance(k_t * filter)` as the
+/// tracer does (with the texture's mean colour when the filter is the surface's).
 pub fn raster_material(m: &Material) -> irradia_raster::Material {
+    let opacity = if m.model == irradia_scene::ShadingModel::PovRay && m.transmission > 0.0 {
+        let filter = m.filter_color.unwrap_or_else(|| mean_colour(&m.color));
+        (1.0 - (filter * m.transmission).luminance()).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
     irradia_raster::Material {
-        diffuse: Rgb::splat(m.diffuse),
+        diffuse: Rgb::splat(m.diffuse * opacity),
         specular: Rgb::splat(m.specular),
         shininess: m.shininess,
         two_sided: true,
-        ambient: Some(Rgb::splat(m.ambient)),
+        ambient: Some(Rgb::splat(m.ambient * opacity)),
         emission: m.emission,
         highlight: irradia_raster::lighting::Highlight::Phong,
         distance_falloff: m.model != irradia_scene::ShadingModel::PovRay,
+        texture: None,
+        transmission: m.transmission.max(0.0),
+        filter: m.filter_color,
+    }
+}
+
+/// A texture's average colour.
+fn mean_colour(t: &Texture) -> Rgb {
+    match t {
+        Texture::Solid(c) => *c,
+        Texture::Checker { a, b, .. } => (*a + *b) * 0.5,
+        Texture::Image { image, .. } => image.mean(),
     }
 }
 
 /// A pipeline with the scene's camera, image size, lights (area lights as the
-/// rasterizer approximates them; no shadows) and materials (one table entry per scene
-/// material, [`raster_material`]), Phong shading per pixel. With an unbounded object
+/// rasterizer approximates them; no shadows), materials (one table entry per scene
+/// material, [`raster_material`]) and image textures (one table entry per material
+/// with an image), Phong shading per pixel. With an unbounded object
 /// in the scene the far plane is pushed out to 1000 times the scene's size, so that
 /// planes reach almost to the horizon.
 pub fn scene_pipeline(scene: &irradia_scene::Scene) -> Pipeline {
@@ -351,6 +413,13 @@ pub fn scene_pipeline(scene: &irradia_scene::Scene) -> Pipeline {
         far,
     );
     p.materials = scene.materials.iter().map(raster_material).collect();
+    for (m, sm) in p.materials.iter_mut().zip(&scene.materials) {
+        if let Texture::Image { image, scale } = &sm.color {
+            m.texture = Some(p.textures.len() as u32);
+            p.textures
+                .push(irradia_raster::Texture::new(image.clone(), *scale));
+        }
+    }
     p.lights = irradia_raster::Lights::from_scene(&scene.lights, scene.settings.ambient_light);
     if scene.lights.is_empty() {
         // Scenes lit only by emitting objects (for the path tracer): a headlight and a

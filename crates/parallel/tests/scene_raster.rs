@@ -5,6 +5,7 @@
 //! materials equal to the serial render bit for bit.
 
 use glam::Vec3;
+use irradia_core::{Image, Rgb};
 use irradia_core::{Ray, Rng};
 use irradia_parallel::comm::{run_local, LocalOptions};
 use irradia_parallel::composite::{CompositeOptions, Strategy};
@@ -12,9 +13,12 @@ use irradia_parallel::submission::{self, Batch};
 use irradia_parallel::tessellate::Tessellation;
 use irradia_parallel::workload::{scene_pipeline, scene_triangles_with, SceneTriangles};
 use irradia_parallel::{frame, sort_first, sort_last, sort_middle};
-use irradia_raster::{ColorBuffer, ColorFormat, Framebuffer, Pipeline, Shading};
+use irradia_raster::{
+    ColorBuffer, ColorFormat, Framebuffer, Lights, Material, Mesh, MeshError, Pipeline,
+    RasterLight, Shading, Triangle, ViewParams,
+};
 use irradia_render::{AovSample, Integrator, Stats, Whitted};
-use irradia_scene::{Format, Scene};
+use irradia_scene::{Format, Scene, Texture};
 use std::path::Path;
 
 fn scene(body: &str) -> Scene {
@@ -265,10 +269,8 @@ material = "shiny"
     assert!(worst < 0.1, "largest relative difference {worst}");
 }
 
-/// A scene with several materials (plane, spheres, CSG with per-leaf materials).
-fn many_materials() -> Scene {
-    scene(
-        r#"
+/// The objects of [`many_materials`].
+const MANY_MATERIALS: &str = r#"
 [materials.floor]
 color = { type = "checker", colors = [0.8, 0.3], scale = 0.5 }
 [materials.red]
@@ -313,8 +315,11 @@ children = [
   { type = "sphere", center = [0, 2, -2], radius = 0.2 },
   { type = "sphere", center = [0, 2, -2], radius = 0.3 },
 ]
-"#,
-    )
+"#;
+
+/// A scene with several materials (plane, spheres, CSG with per-leaf materials).
+fn many_materials() -> Scene {
+    scene(MANY_MATERIALS)
 }
 
 #[test]
@@ -383,4 +388,370 @@ fn submission_carries_material_changes_as_state() {
     assert_eq!(stats.state_bytes, 2 * 21);
     assert_eq!(tris[0].material, 0);
     assert_eq!(tris.last().unwrap().material, 1);
+}
+
+/// The Whitted tracer's colour through the centre of every pixel.
+fn whitted_image(s: &Scene) -> Vec<Rgb> {
+    let (w, h) = (s.settings.width, s.settings.height);
+    let tracer = Whitted::new(s);
+    let rays = s.camera.rays(w, h);
+    (0..w * h)
+        .map(|i| {
+            let ray: Ray = rays.ray((i % w) as f32 + 0.5, (i / w) as f32 + 0.5);
+            let mut rng = Rng::new(i as u64, 0);
+            tracer.sample(
+                &ray,
+                &mut rng,
+                &mut Stats::default(),
+                &mut AovSample::default(),
+            )
+        })
+        .collect()
+}
+
+/// The scene drawn serially into a float framebuffer.
+fn raster_rgb(s: &Scene, resolution: u32) -> Vec<[f32; 4]> {
+    let st = tessellate(s, resolution);
+    let p = scene_pipeline(s);
+    let mut fb = Framebuffer::new(p.width, p.height, ColorFormat::Rgba32F).unwrap();
+    p.render_triangles(&st.triangles, &mut fb).unwrap();
+    let ColorBuffer::Rgba32F(px) = fb.color else {
+        unreachable!()
+    };
+    px
+}
+
+fn max_diff(a: [f32; 4], b: Rgb) -> f32 {
+    (a[0] - b.r)
+        .abs()
+        .max((a[1] - b.g).abs())
+        .max((a[2] - b.b).abs())
+}
+
+/// An 8 x 8 texture of distinct colours, written as a PNG into `dir`.
+fn texture_png(dir: &Path) -> std::path::PathBuf {
+    let px = (0..64)
+        .map(|i| {
+            let (x, y) = (i % 8, i / 8);
+            Rgb::new(
+                0.1 + 0.8 * x as f32 / 7.0,
+                0.1 + 0.8 * y as f32 / 7.0,
+                if (x + y) % 2 == 0 { 0.9 } else { 0.2 },
+            )
+        })
+        .collect();
+    let path = dir.join("texture.png");
+    irradia_core::io::save(&Image::from_pixels(8, 8, px), &path).unwrap();
+    path
+}
+
+#[test]
+fn image_textures_are_looked_up_per_fragment_as_the_ray_tracer_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = texture_png(dir.path());
+    // A floor quad seen at a slant (perspective-correct uv matters) and a sphere.
+    let body = format!(
+        r#"
+[materials.picture]
+color = {{ type = "image", path = "{}", scale = [1, 1] }}
+[[objects]]
+type = "polygon"
+vertices = [[-1.6, 0, -1.2], [1.6, 0, -1.2], [1.6, 0, 1.6], [-1.6, 0, 1.6]]
+material = "picture"
+[[objects]]
+type = "sphere"
+center = [0.9, 0.9, -0.6]
+radius = 0.55
+material = "picture"
+"#,
+        png.display()
+    );
+    let s = scene(&body);
+    assert!(matches!(s.materials[0].color, Texture::Image { .. }));
+    let got = raster_rgb(&s, 32);
+    let want = whitted_image(&s);
+    let cast = ray_cast(&s);
+    let pixels = interior(&cast, (64, 48), 1, 0.9);
+    for object in [0, 1] {
+        let mine: Vec<usize> = pixels
+            .iter()
+            .copied()
+            .filter(|&i| cast[i].unwrap().0 == object)
+            .collect();
+        assert!(mine.len() > 60, "object {object}: {} pixels", mine.len());
+        let close = mine
+            .iter()
+            .filter(|&&i| max_diff(got[i], want[i]) < 0.02)
+            .count();
+        // Exact on the quad (uv is affine on it) but where a pixel centre falls
+        // within rounding of a texel edge; on the sphere the facets' affine uv is
+        // a chord's, so texel edges can move by a fraction of a pixel.
+        let need = if object == 0 { 0.95 } else { 0.9 };
+        assert!(
+            close as f32 >= need * mine.len() as f32,
+            "object {object}: {close} of {} pixels match the Whitted tracer",
+            mine.len()
+        );
+    }
+    // The old behaviour, the texture's colour at uv = 0 everywhere, misses most of
+    // them: the test sees the texture.
+    let mut flat = scene(&body);
+    let uv0 = flat.materials[0].color.eval(Vec3::ZERO, glam::Vec2::ZERO);
+    flat.materials[0].color = Texture::Solid(uv0);
+    let old = raster_rgb(&flat, 32);
+    let quad: Vec<usize> = pixels
+        .iter()
+        .copied()
+        .filter(|&i| cast[i].unwrap().0 == 0)
+        .collect();
+    let wrong = quad
+        .iter()
+        .filter(|&&i| max_diff(old[i], want[i]) > 0.05)
+        .count();
+    assert!(wrong * 2 > quad.len(), "{wrong} of {}", quad.len());
+}
+
+/// A pipeline looking down -z at the unit square, unlit (colours as given) or lit by
+/// one light along the view axis.
+fn square_view(shading: Shading) -> Pipeline {
+    let mut p = Pipeline::new(64, 48);
+    p.view = ViewParams::look_at_perspective(
+        Vec3::new(0.0, 0.0, 3.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        45.0,
+        64.0 / 48.0,
+        0.1,
+        10.0,
+    );
+    p.shading = shading;
+    p.lights = Lights {
+        ambient: Rgb::BLACK,
+        lights: vec![RasterLight::Directional {
+            direction: -Vec3::Z,
+            color: Rgb::WHITE,
+        }],
+    };
+    p
+}
+
+fn rgba32(p: &Pipeline, f: impl FnOnce(&Pipeline, &mut Framebuffer)) -> Vec<[f32; 4]> {
+    let mut fb = Framebuffer::new(p.width, p.height, ColorFormat::Rgba32F).unwrap();
+    f(p, &mut fb);
+    let ColorBuffer::Rgba32F(px) = fb.color else {
+        unreachable!()
+    };
+    px
+}
+
+#[test]
+fn each_face_of_an_indexed_mesh_takes_its_own_material() {
+    // A square of two triangles, split along its diagonal from (-1,-1) to (1,1):
+    // the lower right triangle red, the upper left green.
+    let mut mesh = Mesh::new(
+        vec![
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+        ],
+        vec![[0, 1, 2], [0, 2, 3]],
+    );
+    mesh.materials = vec![1, 2];
+    let colour = |c: Rgb| Material {
+        diffuse: c,
+        ambient: Some(Rgb::BLACK),
+        ..Material::default()
+    };
+    let red = Rgb::new(0.9, 0.1, 0.1);
+    let green = Rgb::new(0.1, 0.8, 0.2);
+    let lower_right = (44u32, 34u32);
+    let upper_left = (20u32, 14u32);
+    for shading in [Shading::Gouraud, Shading::Phong] {
+        for normals in [false, true] {
+            let mut m = mesh.clone();
+            if normals {
+                m.compute_vertex_normals();
+            }
+            let mut p = square_view(shading);
+            p.materials = vec![Material::default(), colour(red), colour(green)];
+            let px = rgba32(&p, |p, fb| p.render_mesh(&m, fb).unwrap());
+            let at = |(x, y): (u32, u32)| px[(y * 64 + x) as usize];
+            for ((x, y), c) in [(lower_right, red), (upper_left, green)] {
+                assert!(
+                    max_diff(at((x, y)), c) < 1e-5,
+                    "{shading:?} normals {normals}: pixel ({x}, {y}) {:?}, want {c:?}",
+                    at((x, y))
+                );
+            }
+            // The same through independent triangles.
+            let tris = px.clone();
+            let again = rgba32(&p, |p, fb| {
+                p.render_triangles(&m.to_triangles(), fb).unwrap()
+            });
+            assert_eq!(tris, again);
+        }
+    }
+    let mut bad = mesh.clone();
+    bad.materials = vec![1];
+    assert!(matches!(
+        square_view(Shading::Phong).render_mesh(
+            &bad,
+            &mut Framebuffer::new(64, 48, ColorFormat::Rgba8).unwrap()
+        ),
+        Err(irradia_raster::RasterError::Mesh(
+            MeshError::MaterialCount {
+                count: 1,
+                triangles: 2
+            }
+        ))
+    ));
+}
+
+/// A flat unlit square of colour `c` at depth `z`, corners `lo`..`hi` in x and y.
+fn square(lo: f32, hi: f32, z: f32, c: [f32; 4], id: u32, material: u32) -> [Triangle; 2] {
+    let p = |x: f32, y: f32| Vec3::new(x, y, z);
+    let mut a = Triangle::flat([p(lo, lo), p(hi, lo), p(hi, hi)], c, id);
+    let mut b = Triangle::flat([p(lo, lo), p(hi, hi), p(lo, hi)], c, id + 1);
+    a.material = material;
+    b.material = material;
+    [a, b]
+}
+
+#[test]
+fn a_transparent_square_is_blended_over_the_opaque_one_behind_it() {
+    let mut p = square_view(Shading::Unlit);
+    let clear = |t: f32| Material {
+        transmission: t,
+        filter: Some(Rgb::WHITE),
+        ..Material::default()
+    };
+    p.materials = vec![Material::default(), clear(0.6), clear(0.3)];
+    let back = [0.2, 0.4, 0.8, 1.0];
+    let front = [0.3, 0.1, 0.05, 1.0];
+    let behind = square(-1.4, 1.4, -0.5, back, 0, 0);
+    let glass = square(-0.6, 0.6, 0.2, front, 2, 1);
+    // Submitted first, the transparent square is still drawn after the opaque one.
+    let tris: Vec<Triangle> = glass.iter().chain(&behind).copied().collect();
+    let px = rgba32(&p, |p, fb| p.render_triangles(&tris, fb).unwrap());
+    let centre = px[24 * 64 + 32];
+    // Premultiplied "over": front + transmission * back.
+    for k in 0..3 {
+        let want = front[k] + 0.6 * back[k];
+        assert!(
+            (centre[k] - want).abs() < 1e-6,
+            "channel {k}: {} vs {want}",
+            centre[k]
+        );
+    }
+    assert!((centre[3] - 1.0).abs() < 1e-6);
+    // Outside the glass, the opaque square alone; the glass writes no depth.
+    let outside = px[24 * 64 + 12];
+    assert!(
+        (0..4).all(|k| (outside[k] - back[k]).abs() < 1e-6),
+        "{outside:?}"
+    );
+    // Two transparent squares overlapping (0.6 behind, 0.3 in front): whichever
+    // order they come in, the far one is blended first.
+    let near = square(-0.3, 0.8, 0.5, [0.05, 0.3, 0.1, 1.0], 4, 2);
+    let orders: Vec<Vec<Triangle>> = vec![
+        behind.iter().chain(&glass).chain(&near).copied().collect(),
+        near.iter().chain(&behind).chain(&glass).copied().collect(),
+    ];
+    let images: Vec<Vec<[f32; 4]>> = orders
+        .iter()
+        .map(|t| rgba32(&p, |p, fb| p.render_triangles(t, fb).unwrap()))
+        .collect();
+    assert_eq!(images[0], images[1]);
+    let both = images[0][22 * 64 + 34];
+    for k in 0..3 {
+        let near_colour = [0.05, 0.3, 0.1][k];
+        let far_first = near_colour + 0.3 * (front[k] + 0.6 * back[k]);
+        assert!(
+            (both[k] - far_first).abs() < 1e-6,
+            "channel {k}: {} vs {far_first}",
+            both[k]
+        );
+        // Drawn near first (no sorting), the result would differ.
+        let near_first = front[k] + 0.6 * (near_colour + 0.3 * back[k]);
+        assert!((near_first - far_first).abs() > 0.01 || k == 2);
+    }
+    // Over the empty background: the colour, and alpha = 1 - transmission.
+    let only_glass = rgba32(&p, |p, fb| p.render_triangles(&glass, fb).unwrap());
+    let c = only_glass[24 * 64 + 32];
+    assert!(
+        (c[0] - front[0]).abs() < 1e-6 && (c[3] - 0.4).abs() < 1e-6,
+        "{c:?}"
+    );
+}
+
+/// [`many_materials`] with a glass box and a tinted glass sphere in front.
+fn with_glass() -> Scene {
+    scene(&format!(
+        "{MANY_MATERIALS}{}",
+        r#"
+[materials.glass]
+color = [0.9, 0.95, 1.0]
+transmission = 0.7
+[materials.tint]
+color = [0.2, 0.8, 0.3]
+transmission = 0.5
+model = "povray"
+specular = 0.6
+shininess = 40
+[[objects]]
+type = "box"
+min = [-1.4, 0.1, 0.6]
+max = [0.2, 0.9, 1.0]
+material = "glass"
+[[objects]]
+type = "sphere"
+center = [0.7, 0.8, 0.9]
+radius = 0.45
+material = "tint"
+"#
+    ))
+}
+
+#[test]
+fn with_transparency_sort_first_and_sort_middle_equal_the_serial_render() {
+    let s = with_glass();
+    let st = tessellate(&s, 16);
+    let p = scene_pipeline(&s);
+    assert!(st.has_transparency(&p));
+    let tris = &st.triangles;
+    let serial = frame::serial(&p, tris);
+    // WireGL-style submission: runs of one material, one colour per batch.
+    let batches: Vec<Batch> = tris
+        .chunk_by(|a, b| a.material == b.material)
+        .flat_map(|run| run.chunks(40))
+        .map(|c| Batch {
+            color: [0.8, 0.8, 0.8, 1.0],
+            material: c[0].material,
+            triangles: c.to_vec(),
+        })
+        .collect();
+    let submitted = frame::serial(&p, &submission::flatten(&batches));
+    for ranks in [1, 3, 4] {
+        for mode in ["sort-first", "sort-middle", "submission"] {
+            let out = run_local(ranks, LocalOptions::default(), |c| match mode {
+                "sort-first" => sort_first::render(c, &p, tris, 0).unwrap(),
+                "sort-middle" => sort_middle::render(c, &p, tris, 0).unwrap(),
+                _ => submission::render(c, &p, &batches, 0).unwrap().0,
+            });
+            let img = out.into_iter().next().unwrap().unwrap().unwrap();
+            let want = if mode == "submission" {
+                &submitted
+            } else {
+                &serial
+            };
+            assert!(img == *want, "{mode} with {ranks} ranks differs");
+        }
+    }
+    // The glass shows what lies behind it: drawn opaque, the image changes.
+    let mut opaque = p.clone();
+    for m in &mut opaque.materials {
+        m.transmission = 0.0;
+    }
+    assert!(frame::serial(&opaque, tris) != serial);
 }

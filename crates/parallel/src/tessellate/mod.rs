@@ -13,6 +13,7 @@
 
 pub mod plane;
 pub mod solid;
+pub mod uv;
 
 use glam::{Mat4, Vec3, Vec4};
 use irradia_core::{Aabb, Ray};
