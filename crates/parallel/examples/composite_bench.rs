@@ -427,6 +427,10 @@ fn main() {
                         composite::reduce_bounded(&comm, case.strategy, l, rect, &opts)
                             .unwrap_or_else(|e| comm.fail(&e));
                     let t = t0.elapsed().as_secs_f64();
+                    // Nobody starts the next case's set-up (a 7 MB layer copy) while a
+                    // slower rank is still compositing: with more ranks than cores that
+                    // copy would take the slower rank's core and be timed as its work.
+                    ok(comm.barrier());
                     let step = profile::take();
                     std::hint::black_box((out, span));
                     let t = slowest(&comm, t);

@@ -7,7 +7,7 @@
 
 use irradia_parallel::comm::{Comm, MpiComm};
 use irradia_parallel::composite::active::ActiveRect;
-use irradia_parallel::composite::{self, CompositeOptions, Layer, Operator, Strategy};
+use irradia_parallel::composite::{self, pairwise, CompositeOptions, Layer, Operator, Strategy};
 use irradia_parallel::display_tiles::{composite_to_tiles, DisplayLayout};
 use std::time::Duration;
 
@@ -134,8 +134,16 @@ fn main() {
     // Opaque, RGBA8 and RGBA32F, against the serial z-buffer of all objects in order.
     let serial8 = render(&opaque, to8, false);
     let serial32 = render(&opaque, |c| c, false);
+    // Run lengths inline with their headers (the default), run lengths as pieces after
+    // the header, and no run lengths.
+    let encodings = [
+        (true, pairwise::INLINE_MAX, "inline"),
+        (true, 0, "pieces"),
+        (false, 0, "off"),
+    ];
     for s in strategies {
-        for rle in [true, false] {
+        for (rle, inline_max, how) in encodings {
+            pairwise::set_inline_max(inline_max);
             let opts = CompositeOptions {
                 rle,
                 ..Default::default()
@@ -151,7 +159,7 @@ fn main() {
                 tally.record(
                     ok,
                     format!(
-                        "opaque {} rle={rle} np={p}: {}",
+                        "opaque {} rle={how} np={p}: {}",
                         s.name(),
                         if ok { "bit-exact" } else { "differs" }
                     ),
@@ -159,6 +167,7 @@ fn main() {
             }
         }
     }
+    pairwise::set_inline_max(pairwise::INLINE_MAX);
     // Each rank's active rectangle (the union of its rectangles) handed to the
     // compositor: pixels outside it are never read.
     for s in strategies {

@@ -267,6 +267,58 @@ fn binary_swap_mixes_dense_pieces_and_run_lengths_and_equals_serial() {
     }
 }
 
+/// Even ranks dense (hashed, quantised depths: ties happen), odd ranks sparse (every
+/// fifth pixel): in a direct-send or radix-k round a rank receives dense spans from some
+/// sources and run lengths from others, which must still be composited in order.
+fn alternating_layer(rank: usize) -> Layer<[u8; 4]> {
+    let mut l = Layer::<[u8; 4]>::new(96, 40);
+    for i in 0..l.len() {
+        let v = (i as u64 ^ ((rank as u64) << 32)).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 40;
+        if rank.is_multiple_of(2) || (i + rank).is_multiple_of(5) {
+            l.color[i] = [(v & 255) as u8, (v >> 8) as u8, rank as u8, 255];
+            l.depth[i] = ((v >> 16) % 8) as f32 * 0.5;
+        }
+    }
+    l
+}
+
+#[test]
+fn dense_sources_and_run_lengths_inline_or_in_pieces_composite_in_order() {
+    use irradia_parallel::comm::Comm;
+    use irradia_parallel::composite::{pairwise, profile};
+    for ranks in 2..=7 {
+        let layers: Vec<_> = (0..ranks).map(alternating_layer).collect();
+        let serial = composite::serial(&layers, Operator::Depth, None);
+        for strategy in [
+            Strategy::DirectSend,
+            Strategy::RadixK(3),
+            Strategy::RadixK(4),
+            Strategy::BinarySwap,
+            Strategy::Tree,
+        ] {
+            // Run lengths inline with the header (the default), or all sent as pieces.
+            for inline_max in [pairwise::INLINE_MAX, 0] {
+                let out = run_local(ranks, LocalOptions::default(), |c| {
+                    pairwise::set_inline_max(inline_max);
+                    profile::take();
+                    let l = alternating_layer(c.rank());
+                    let img = composite::composite(c, strategy, l, &Default::default()).unwrap();
+                    (img, profile::take())
+                });
+                let out: Vec<_> = out.into_iter().map(|o| o.unwrap()).collect();
+                assert!(
+                    out[0].0.as_ref().unwrap() == &serial,
+                    "{ranks} ranks, {strategy:?}, inline up to {inline_max} bytes: differs from serial"
+                );
+                // The odd ranks' sparse spans went as run lengths (the even ranks' are
+                // dense by construction).
+                let runs: u32 = out.iter().map(|o| o.1.rle_swaps).sum();
+                assert!(runs > 0, "{ranks} ranks {strategy:?}: no run lengths sent");
+            }
+        }
+    }
+}
+
 /// A 256x64 layer whose active pixels lie in a rank-dependent rectangle: solid rows
 /// (runs that cross the pairwise pieces' boundaries and the parts of every strategy)
 /// with hashed, quantised depths (ties happen), and every fifth pixel of its lower part.

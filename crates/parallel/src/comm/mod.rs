@@ -212,12 +212,8 @@ pub trait Comm {
     /// partner's pieces into `recvs` (piece i must arrive with exactly `recvs[i].len()`
     /// bytes), all with `tag`. As soon as piece i and every earlier one are in, calls
     /// `arrived(i, pieces)` with the received pieces `0..=i`, while later pieces may still
-    /// be in flight. Pieces from one sender arrive in order.
-    ///
-    /// The default goes through [`Comm::exchange`] and copies into `recvs`;
-    /// `MpiComm` posts non-blocking receives straight into `recvs` and sends straight
-    /// from `sends`, so nothing is copied or allocated. An error from `arrived` ends the
-    /// exchange (under MPI it ends the job, since posted requests cannot be abandoned).
+    /// be in flight. Pieces from one sender arrive in order. It is
+    /// [`Comm::exchange_pieces_many`] with one partner each way.
     fn exchange_pieces(
         &self,
         partner: usize,
@@ -226,16 +222,9 @@ pub trait Comm {
         recvs: &mut [&mut [u8]],
         arrived: &mut PieceArrived<'_>,
     ) -> Result<(), CommError> {
-        let out: Vec<(usize, &[u8])> = sends.iter().map(|s| (partner, *s)).collect();
-        let from = vec![partner; recvs.len()];
-        let got = self.exchange(&out, &from, tag)?;
-        for (i, piece) in got.iter().enumerate() {
-            check_piece_len(partner, i, piece.len(), recvs[i].len())?;
-            recvs[i].copy_from_slice(piece);
-            let done: Vec<&[u8]> = recvs[..=i].iter().map(|r| &**r).collect();
-            arrived(i, &done)?;
-        }
-        Ok(())
+        let out = [(partner, sends.to_vec())];
+        let mut into = [(partner, recvs.iter_mut().map(|r| &mut **r).collect())];
+        self.exchange_pieces_many(tag, &out, &mut into, &mut |_, i, done| arrived(i, done))
     }
 
     /// [`Comm::exchange_pieces`] with any number of partners, each way: sends the pieces

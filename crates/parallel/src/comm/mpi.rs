@@ -7,9 +7,7 @@
 //! rank that dies outright (signal, exit without finalize) is noticed by `mpirun`
 //! itself, which then kills the remaining ranks and names the dead one.
 
-use super::{
-    check_piece_len, Comm, CommError, MessageLog, PieceArrived, PiecesArrived, PiecesIn, PiecesOut,
-};
+use super::{check_piece_len, Comm, CommError, MessageLog, PiecesArrived, PiecesIn, PiecesOut};
 use mpi::datatype::Equivalence;
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::{Communicator, SimpleCommunicator};
@@ -17,7 +15,7 @@ use std::collections::VecDeque;
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
-/// How many pieces of an [`Comm::exchange_pieces`] have receives posted at once
+/// How many pieces of an [`Comm::exchange_pieces_many`] have receives posted at once
 /// (`IRRADIA_MPI_PIECE_WINDOW`, default 2; 0 = all).
 fn piece_window() -> usize {
     static W: OnceLock<usize> = OnceLock::new();
@@ -63,6 +61,60 @@ impl MpiComm {
         self.world.abort(3)
     }
 
+    /// Calls `poll` until it returns something: a few quick polls, then the processor
+    /// is yielded between polls (so that with more ranks than cores the rank being
+    /// waited for can run). Past `deadline` it gives up with a timeout naming
+    /// `culprit`, the rank waited for.
+    fn poll_until<T>(
+        &self,
+        culprit: usize,
+        tag: u32,
+        deadline: Instant,
+        mut poll: impl FnMut() -> Option<T>,
+    ) -> Result<T, CommError> {
+        let mut spins = 0u32;
+        loop {
+            if let Some(x) = poll() {
+                return Ok(x);
+            }
+            spins += 1;
+            if spins > 64 {
+                if Instant::now() >= deadline {
+                    return Err(CommError::Timeout {
+                        rank: culprit,
+                        waiting_rank: self.rank(),
+                        tag,
+                        seconds: self.timeout.as_secs_f64(),
+                    });
+                }
+                std::thread::yield_now();
+            }
+        }
+    }
+
+    /// Waits for a posted request (`test` is its `MPI_Test`). Posted requests cannot be
+    /// abandoned, so a timeout ends the whole job here.
+    fn wait_request<R, T>(
+        &self,
+        culprit: usize,
+        tag: u32,
+        deadline: Instant,
+        request: R,
+        test: impl Fn(R) -> Result<T, R>,
+    ) -> T {
+        let mut pending = Some(request);
+        let waited = self.poll_until(culprit, tag, deadline, || {
+            match test(pending.take().expect("request still pending")) {
+                Ok(x) => Some(x),
+                Err(again) => {
+                    pending = Some(again);
+                    None
+                }
+            }
+        });
+        waited.unwrap_or_else(|e| self.fail(&e))
+    }
+
     fn check(&self, rank: usize) -> Result<(), CommError> {
         if rank >= self.size() {
             return Err(CommError::BadRank {
@@ -101,26 +153,12 @@ impl Comm for MpiComm {
         self.check(src)?;
         let p = self.world.process_at_rank(src as i32);
         let deadline = Instant::now() + self.timeout;
-        let mut spins = 0u32;
-        loop {
-            if let Some(m) = p.immediate_matched_probe_with_tag(tag as i32) {
-                let (v, _) = m.matched_receive_vec::<u8>();
-                self.log.record(src, self.rank(), v.len(), false);
-                return Ok(v);
-            }
-            spins += 1;
-            if spins > 64 {
-                if Instant::now() >= deadline {
-                    return Err(CommError::Timeout {
-                        rank: src,
-                        waiting_rank: self.rank(),
-                        tag,
-                        seconds: self.timeout.as_secs_f64(),
-                    });
-                }
-                std::thread::yield_now();
-            }
-        }
+        let m = self.poll_until(src, tag, deadline, || {
+            p.immediate_matched_probe_with_tag(tag as i32)
+        })?;
+        let (v, _) = m.matched_receive_vec::<u8>();
+        self.log.record(src, self.rank(), v.len(), false);
+        Ok(v)
     }
 
     /// Non-blocking sends, then probed receives: no deadlock whatever the pattern.
@@ -152,122 +190,20 @@ impl Comm for MpiComm {
                 }
             }
             let deadline = Instant::now() + self.timeout;
-            for (mut r, &(d, _)) in requests.into_iter().zip(sends) {
-                loop {
-                    match r.test() {
-                        Ok(_) => break,
-                        Err(again) => r = again,
-                    }
-                    if Instant::now() >= deadline {
-                        self.fail(&CommError::Timeout {
-                            rank: d,
-                            waiting_rank: self.rank(),
-                            tag,
-                            seconds: self.timeout.as_secs_f64(),
-                        });
-                    }
-                    std::thread::yield_now();
-                }
+            for (r, &(d, _)) in requests.into_iter().zip(sends) {
+                self.wait_request(d, tag, deadline, r, |r| r.test());
             }
             Ok(out)
         })
     }
 
-    /// Non-blocking receives posted straight into `recvs` before non-blocking sends
-    /// straight from `sends` (the sender's memory is read in place: with shared memory,
-    /// OpenMPI's single-copy CMA path moves each piece once); then the receives are
-    /// tested in order and `arrived` runs on each piece while the later ones travel.
-    fn exchange_pieces(
-        &self,
-        partner: usize,
-        tag: u32,
-        sends: &[&[u8]],
-        recvs: &mut [&mut [u8]],
-        arrived: &mut PieceArrived<'_>,
-    ) -> Result<(), CommError> {
-        self.check(partner)?;
-        let me = self.rank();
-        let process = self.world.process_at_rank(partner as i32);
-        let wants: Vec<usize> = recvs.iter().map(|r| r.len()).collect();
-        let deadline = Instant::now() + self.timeout;
-        let timed_out = || CommError::Timeout {
-            rank: partner,
-            waiting_rank: me,
-            tag,
-            seconds: self.timeout.as_secs_f64(),
-        };
-        let window = piece_window();
-        mpi::request::scope(|scope| {
-            // Receives are posted `window` pieces ahead of the one being worked on, so
-            // the single-copy transfer of a piece (done by the receiver's CPU when it
-            // polls) lands just before that piece is used, while it is still in cache.
-            let mut buffers = recvs.iter_mut();
-            let mut receives = VecDeque::with_capacity(wants.len());
-            for b in buffers.by_ref().take(window) {
-                receives.push_back(
-                    process.immediate_receive_into_with_tag(scope, &mut **b, tag as i32),
-                );
-            }
-            let sent: Vec<_> = sends
-                .iter()
-                .map(|b| {
-                    self.log.record(me, partner, b.len(), true);
-                    process.immediate_send_with_tag(scope, *b, tag as i32)
-                })
-                .collect();
-            let mut done: Vec<&[u8]> = Vec::with_capacity(wants.len());
-            for (i, &want) in wants.iter().enumerate() {
-                let mut r = receives.pop_front().expect("a receive is posted");
-                let mut spins = 0u32;
-                let (status, data) = loop {
-                    match r.test_with_data() {
-                        Ok(x) => break x,
-                        Err(again) => r = again,
-                    }
-                    spins += 1;
-                    if spins > 64 {
-                        if Instant::now() >= deadline {
-                            self.fail(&timed_out());
-                        }
-                        std::thread::yield_now();
-                    }
-                };
-                let got = status.count(u8::equivalent_datatype()) as usize;
-                if let Err(e) = check_piece_len(partner, i, got, want) {
-                    self.fail(&e);
-                }
-                self.log.record(partner, me, got, false);
-                done.push(data);
-                if let Some(b) = buffers.next() {
-                    receives.push_back(
-                        process.immediate_receive_into_with_tag(scope, &mut **b, tag as i32),
-                    );
-                }
-                // Outstanding requests cannot be abandoned: an error ends the job here.
-                if let Err(e) = arrived(i, &done) {
-                    self.fail(&e);
-                }
-            }
-            for mut r in sent {
-                loop {
-                    match r.test() {
-                        Ok(_) => break,
-                        Err(again) => r = again,
-                    }
-                    if Instant::now() >= deadline {
-                        self.fail(&timed_out());
-                    }
-                    std::thread::yield_now();
-                }
-            }
-            Ok(())
-        })
-    }
-
-    /// As [`Comm::exchange_pieces`], with several partners: the receives of every
-    /// source's pieces are posted `window` pieces ahead in the order of `recvs`, every
-    /// send is posted at once straight from the caller's memory, and the receives are
-    /// tested in order.
+    /// Non-blocking receives posted straight into the caller's buffers, `window` pieces
+    /// ahead in the order of `recvs` (so that the single-copy transfer of a piece, done
+    /// by the receiver's CPU when it polls, lands just before that piece is used, while
+    /// it is still in cache), and every send posted at once straight from the caller's
+    /// memory (with shared memory, OpenMPI's single-copy CMA path moves each piece
+    /// once); the receives are tested in order and `arrived` runs on each piece while
+    /// the later ones travel.
     fn exchange_pieces_many(
         &self,
         tag: u32,
@@ -284,12 +220,6 @@ impl Comm for MpiComm {
             .flat_map(|(_, ps)| ps.iter().map(|p| p.len()))
             .collect();
         let deadline = Instant::now() + self.timeout;
-        let timed_out = |rank: usize| CommError::Timeout {
-            rank,
-            waiting_rank: me,
-            tag,
-            seconds: self.timeout.as_secs_f64(),
-        };
         let window = piece_window();
         let world = &self.world;
         mpi::request::scope(|scope| {
@@ -328,25 +258,13 @@ impl Comm for MpiComm {
             let mut done: Vec<&[u8]> = Vec::new();
             let mut source = usize::MAX;
             for &want in &wants {
-                let (j, i, src, mut r) = receives.pop_front().expect("a receive is posted");
+                let (j, i, src, r) = receives.pop_front().expect("a receive is posted");
                 if j != source {
                     done.clear();
                     source = j;
                 }
-                let mut spins = 0u32;
-                let (status, data) = loop {
-                    match r.test_with_data() {
-                        Ok(x) => break x,
-                        Err(again) => r = again,
-                    }
-                    spins += 1;
-                    if spins > 64 {
-                        if Instant::now() >= deadline {
-                            self.fail(&timed_out(src));
-                        }
-                        std::thread::yield_now();
-                    }
-                };
+                let (status, data) =
+                    self.wait_request(src, tag, deadline, r, |r| r.test_with_data());
                 let got = status.count(u8::equivalent_datatype()) as usize;
                 if let Err(e) = check_piece_len(src, i, got, want) {
                     self.fail(&e);
@@ -361,17 +279,8 @@ impl Comm for MpiComm {
                     self.fail(&e);
                 }
             }
-            for (d, mut r) in sent {
-                loop {
-                    match r.test() {
-                        Ok(_) => break,
-                        Err(again) => r = again,
-                    }
-                    if Instant::now() >= deadline {
-                        self.fail(&timed_out(d));
-                    }
-                    std::thread::yield_now();
-                }
+            for (d, r) in sent {
+                self.wait_request(d, tag, deadline, r, |r| r.test());
             }
             Ok(())
         })

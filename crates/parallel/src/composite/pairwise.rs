@@ -18,6 +18,11 @@
 //!   active it sends run lengths, else the trimmed span dense. The decision travels in a
 //!   small header that each side sends before its pieces, so the receiver knows what to
 //!   expect and validates it (a malformed header names the sender).
+//! * Run lengths of at most [`INLINE_MAX`] bytes travel inside the header message
+//!   itself: a sparse span costs one message per partner and direction instead of a
+//!   header and then its pieces, i.e. one rendezvous per round instead of two. Where
+//!   latency dominates (sparse images, or more ranks than cores) that is most of the
+//!   time of a round.
 //! * The depth test is branch-free ([`super::depth::blend`]).
 //! * The sender's [`ActiveRect`] travels in the header: nothing outside it is read when
 //!   trimming or encoding, and the receiver's rectangle grows by it (IceT's bounding
@@ -33,6 +38,12 @@ use std::time::Instant;
 
 const DENSE: u32 = 0;
 const RLE: u32 = 1;
+/// Run lengths carried in the header message, after the piece sizes.
+const RLE_INLINE: u32 = 2;
+/// Run-length messages up to this many bytes are sent inside the header message (the
+/// receiver learns the size by probing); larger ones go as pieces, pipelined with the
+/// blending on the receiver. [`set_inline_max`] changes it for one rank's thread.
+pub const INLINE_MAX: usize = 1 << 20;
 /// Run lengths are sent when fewer than this fraction of the sampled pixels are active
 /// (dense bytes scale with the trimmed span, run-length bytes with the active pixels).
 pub const RLE_BELOW: f64 = 0.5;
@@ -54,6 +65,17 @@ static MAX_PIECES: AtomicUsize = AtomicUsize::new(4);
 /// benchmark sweeps it; both sides of a swap need not agree (the header says).
 pub fn set_max_pieces(n: usize) {
     MAX_PIECES.store(n.max(1), Ordering::Relaxed);
+}
+
+thread_local! {
+    static INLINE_MAX_HERE: std::cell::Cell<usize> = const { std::cell::Cell::new(INLINE_MAX) };
+}
+
+/// Sets the largest run-length message sent inline with its header, for the calling
+/// thread (one rank; 0 sends every run-length span as pieces after its header). Only
+/// speed depends on it: the receiver reads the mode from the header.
+pub fn set_inline_max(bytes: usize) {
+    INLINE_MAX_HERE.with(|m| m.set(bytes));
 }
 
 /// The number of pieces for a span of `n` pixels.
@@ -106,19 +128,25 @@ impl Plan {
         bytemuck::cast_slice(&w).to_vec()
     }
 
-    /// Parses and validates the partner's header: its span must lie inside `keep` and
-    /// its rectangle on the `width` x `height` screen.
-    fn parse(
-        buf: &[u8],
+    /// Bytes of this plan's header (the inline run lengths follow it).
+    fn header_len(&self) -> usize {
+        4 * (HEADER_WORDS + if self.mode == DENSE { 0 } else { self.pieces })
+    }
+
+    /// Parses and validates the partner's header message: its span must lie inside
+    /// `keep` and its rectangle on the `width` x `height` screen. Returns the plan and
+    /// the inline run lengths (empty unless the mode is inline).
+    fn parse<'b>(
+        buf: &'b [u8],
         keep: &Range<usize>,
         pixel_bytes: usize,
         width: u32,
         height: u32,
-    ) -> Result<Plan, String> {
+    ) -> Result<(Plan, &'b [u8]), String> {
         if !buf.len().is_multiple_of(4) || buf.len() < 4 * HEADER_WORDS {
             return Err(format!("swap header of {} bytes", buf.len()));
         }
-        let w: Vec<u32> = bytemuck::pod_collect_to_vec(buf);
+        let w: Vec<u32> = bytemuck::pod_collect_to_vec(&buf[..4 * HEADER_WORDS]);
         let (mode, a, b, k) = (w[0], w[1] as usize, w[2] as usize, w[3] as usize);
         if a > b || a < keep.start || b > keep.end {
             return Err(format!("sent span {a}..{b}, expected inside {keep:?}"));
@@ -137,31 +165,44 @@ impl Plan {
                 "active rectangle {rect:?} off a {width}x{height} screen"
             ));
         }
-        let lens: Vec<usize> = w[HEADER_WORDS..].iter().map(|&l| l as usize).collect();
-        match mode {
-            DENSE if lens.is_empty() => {}
-            RLE if lens.len() == k => {
+        let (lens, inline): (Vec<usize>, &[u8]) = match mode {
+            DENSE if buf.len() == 4 * HEADER_WORDS => (Vec::new(), &[]),
+            RLE | RLE_INLINE if buf.len() >= 4 * (HEADER_WORDS + k) => {
+                let (head, body) = buf.split_at(4 * (HEADER_WORDS + k));
+                let lens: Vec<usize> = bytemuck::pod_collect_to_vec::<u8, u32>(head)
+                    [HEADER_WORDS..]
+                    .iter()
+                    .map(|&l| l as usize)
+                    .collect();
                 let most = 12 * k + (b - a) * (pixel_bytes + 8);
-                if lens.iter().any(|&l| !l.is_multiple_of(4) || l < 12)
-                    || lens.iter().sum::<usize>() > most
-                {
+                let total: usize = lens.iter().sum();
+                if lens.iter().any(|&l| !l.is_multiple_of(4) || l < 12) || total > most {
                     return Err(format!("run-length piece sizes {lens:?} for span {a}..{b}"));
                 }
+                let body_len = if mode == RLE_INLINE { total } else { 0 };
+                if body.len() != body_len {
+                    return Err(format!(
+                        "swap message carries {} bytes after its header, announced {body_len}",
+                        body.len()
+                    ));
+                }
+                (lens, body)
             }
             _ => {
                 return Err(format!(
-                    "swap header mode {mode} with {} lengths",
-                    lens.len()
+                    "swap header mode {mode} with {} bytes for {k} pieces",
+                    buf.len()
                 ))
             }
-        }
-        Ok(Plan {
+        };
+        let plan = Plan {
             mode,
             span: a..b,
             pieces: k,
             lens,
             rect,
-        })
+        };
+        Ok((plan, inline))
     }
 
     /// Byte length of each piece this plan sends (dense: colour, depth per part).
@@ -171,7 +212,8 @@ impl Plan {
                 .iter()
                 .flat_map(|c| [c.len() * pixel_bytes, c.len() * 4])
                 .collect(),
-            _ => self.lens.clone(),
+            RLE => self.lens.clone(),
+            _ => Vec::new(), // inline: nothing follows the header message
         }
     }
 }
@@ -314,28 +356,58 @@ pub fn transfer<P: Pixel, C: Comm>(
         let mut scratch = scratch.borrow_mut();
         let Scratch { send, recv } = &mut *scratch;
         send.clear();
-        for plan in mine.iter_mut().filter(|p| p.mode == RLE) {
+        // Each run-length plan's bytes in `send`: a slot for its header, then its pieces.
+        // Small ones become inline (header and runs are one message), the others send
+        // the header on its own and the pieces from `send[body]`.
+        let mut bodies = vec![0..0; mine.len()];
+        for (plan, body) in mine.iter_mut().zip(&mut bodies) {
+            if plan.mode != RLE {
+                continue;
+            }
+            let slot = send.len();
+            send.resize(slot + plan.header_len(), 0);
             for part in split_span(&plan.span, plan.pieces) {
                 let at = send.len();
                 rle::encode_runs_into(send, layer, part, op, rect);
                 plan.lens.push(send.len() - at);
             }
+            if send.len() - slot - plan.header_len() <= INLINE_MAX_HERE.with(|m| m.get()) {
+                plan.mode = RLE_INLINE;
+                send[slot..slot + plan.header_len()].copy_from_slice(&plan.header());
+                *body = slot..send.len();
+            } else {
+                *body = slot + plan.header_len()..send.len();
+            }
         }
         let encode_s = profile::lap(&mut t);
 
-        let headers: Vec<Vec<u8>> = mine.iter().map(|p| p.header()).collect();
+        let headers: Vec<Vec<u8>> = mine
+            .iter()
+            .map(|p| {
+                if p.mode == RLE_INLINE {
+                    Vec::new()
+                } else {
+                    p.header()
+                }
+            })
+            .collect();
         let header_sends: Vec<(usize, &[u8])> = give_to
             .iter()
-            .zip(&headers)
-            .map(|((d, _), h)| (*d, h.as_slice()))
+            .zip(mine.iter().zip(&headers).zip(&bodies))
+            .map(|((d, _), ((plan, h), body))| match plan.mode {
+                RLE_INLINE => (*d, &send[body.clone()]),
+                _ => (*d, h.as_slice()),
+            })
             .collect();
         let sources: Vec<usize> = take_from.iter().map(|r| r.0).collect();
         let got = comm.exchange(&header_sends, &sources, tag)?;
         let mut theirs = Vec::with_capacity(got.len());
+        let mut inline = Vec::with_capacity(got.len());
         for (buf, &src) in got.iter().zip(&sources) {
-            let plan = Plan::parse(buf, &keep, px, width, height)
+            let (plan, runs) = Plan::parse(buf, &keep, px, width, height)
                 .map_err(|message| CommError::Malformed { rank: src, message })?;
             theirs.push(plan);
+            inline.push(runs);
         }
         let header_s = profile::lap(&mut t);
 
@@ -359,11 +431,10 @@ pub fn transfer<P: Pixel, C: Comm>(
 
         let (lo_c, keep_c, hi_c) = split_around(&mut layer.color, &keep);
         let (lo_d, keep_d, hi_d) = split_around(&mut layer.depth, &keep);
-        let mut at = 0;
         let sends: Vec<PiecesOut<'_>> = give_to
             .iter()
-            .zip(&mine)
-            .map(|((d, _), plan)| {
+            .zip(mine.iter().zip(&bodies))
+            .map(|((d, _), (plan, body))| {
                 let pieces = match plan.mode {
                     DENSE => split_span(&plan.span, plan.pieces)
                         .iter()
@@ -374,14 +445,17 @@ pub fn transfer<P: Pixel, C: Comm>(
                             ]
                         })
                         .collect(),
-                    _ => plan
-                        .lens
-                        .iter()
-                        .map(|&l| {
-                            at += l;
-                            &send[at - l..at]
-                        })
-                        .collect(),
+                    RLE => {
+                        let mut at = body.start;
+                        plan.lens
+                            .iter()
+                            .map(|&l| {
+                                at += l;
+                                &send[at - l..at]
+                            })
+                            .collect()
+                    }
+                    _ => Vec::new(), // inline: already sent with the header
                 };
                 (*d, pieces)
             })
@@ -393,6 +467,51 @@ pub fn transfer<P: Pixel, C: Comm>(
             .collect();
         let mut blend_s = 0.0;
         let t_exchange = Instant::now();
+        // Applies one source's run-length piece `i` (from its pieces or inline).
+        let apply_runs = |keep_c: &mut [P],
+                          keep_d: &mut [f32],
+                          j: usize,
+                          i: usize,
+                          piece: &[u8]|
+         -> Result<(), CommError> {
+            let malformed = |message: String| CommError::Malformed {
+                rank: sources[j],
+                message,
+            };
+            let how = rle::Apply::Blend {
+                op,
+                incoming_front: take_from[j].1,
+            };
+            let s = rle::apply_to(keep_c, keep_d, keep.start, piece, how).map_err(malformed)?;
+            if s != in_parts[j][i] {
+                return Err(malformed(format!(
+                    "run-length piece {i} covers {s:?}, announced {:?}",
+                    in_parts[j][i]
+                )));
+            }
+            Ok(())
+        };
+        // Sources are composited in the order of `take_from`: an inline source is
+        // blended when every earlier source is done, i.e. before the first piece of the
+        // next source that sends pieces, or after the exchange. `blend_inline(upto)`
+        // blends the inline sources before `upto` not blended yet (sources that send
+        // pieces are blended as their pieces arrive).
+        let mut inline_next = 0;
+        let mut blend_inline =
+            |upto: usize, keep_c: &mut [P], keep_d: &mut [f32]| -> Result<(), CommError> {
+                while inline_next < upto {
+                    let j = inline_next;
+                    if theirs[j].mode == RLE_INLINE {
+                        let mut at = 0;
+                        for (i, &l) in theirs[j].lens.iter().enumerate() {
+                            apply_runs(keep_c, keep_d, j, i, &inline[j][at..at + l])?;
+                            at += l;
+                        }
+                    }
+                    inline_next += 1;
+                }
+                Ok(())
+            };
         let mut arrived = |j: usize, i: usize, pieces: &[&[u8]]| -> Result<(), CommError> {
             let t0 = Instant::now();
             let malformed = |message: String| CommError::Malformed {
@@ -400,6 +519,9 @@ pub fn transfer<P: Pixel, C: Comm>(
                 message,
             };
             let incoming_front = take_from[j].1;
+            if i == 0 {
+                blend_inline(j, &mut *keep_c, &mut *keep_d)?;
+            }
             if theirs[j].mode == DENSE {
                 if i.is_multiple_of(2) {
                     return Ok(()); // colour piece: wait for its depths
@@ -419,28 +541,35 @@ pub fn transfer<P: Pixel, C: Comm>(
                     incoming_front,
                 );
             } else {
-                let how = rle::Apply::Blend { op, incoming_front };
-                let s = rle::apply_to(&mut keep_c[..], &mut keep_d[..], keep.start, pieces[i], how)
-                    .map_err(malformed)?;
-                if s != in_parts[j][i] {
-                    return Err(malformed(format!(
-                        "run-length piece {i} covers {s:?}, announced {:?}",
-                        in_parts[j][i]
-                    )));
-                }
+                apply_runs(keep_c, keep_d, j, i, pieces[i])?;
             }
             blend_s += t0.elapsed().as_secs_f64();
             Ok(())
         };
-        comm.exchange_pieces_many(tag + PIECE_TAG, &sends, &mut recvs, &mut arrived)?;
+        let pieces_out = sends.iter().any(|s| !s.1.is_empty());
+        let pieces_in = recvs.iter().any(|r| !r.1.is_empty());
+        if pieces_out || pieces_in {
+            comm.exchange_pieces_many(tag + PIECE_TAG, &sends, &mut recvs, &mut arrived)?;
+        }
+        let t0 = Instant::now();
+        blend_inline(theirs.len(), keep_c, keep_d)?;
+        blend_s += t0.elapsed().as_secs_f64();
         let exchange_s = t_exchange.elapsed().as_secs_f64();
-        let bytes: usize = sends.iter().flat_map(|s| &s.1).map(|s| s.len()).sum();
+        let bytes: usize = sends
+            .iter()
+            .flat_map(|s| &s.1)
+            .map(|s| s.len())
+            .sum::<usize>()
+            + (mine.iter().zip(&bodies))
+                .filter(|(p, _)| p.mode == RLE_INLINE)
+                .map(|(_, b)| b.len())
+                .sum::<usize>();
         for plan in &theirs {
             *rect = rect.union(&plan.rect);
         }
         profile::add(|p| {
             p.swaps += 1;
-            p.rle_swaps += mine.iter().filter(|p| p.mode == RLE).count() as u32;
+            p.rle_swaps += mine.iter().filter(|p| p.mode != DENSE).count() as u32;
             p.decide_s += decide_s;
             p.encode_s += encode_s;
             p.header_s += header_s;
@@ -486,8 +615,28 @@ mod tests {
                 y1: 9,
             },
         };
-        let parse = |h: &[u8]| Plan::parse(h, &keep, 4, 32, 10);
+        let parse = |h: &[u8]| Plan::parse(h, &keep, 4, 32, 10).map(|(plan, _)| plan);
         assert_eq!(parse(&p.header()).unwrap(), p);
+        // Inline: the runs follow the header, exactly as many bytes as announced.
+        let inline = Plan {
+            mode: RLE_INLINE,
+            ..p.clone()
+        };
+        let mut msg = inline.header();
+        msg.extend((0..56u8).collect::<Vec<_>>());
+        let (back, runs) = Plan::parse(&msg, &keep, 4, 32, 10).unwrap();
+        assert_eq!(
+            (back, runs.len(), runs[0], runs[55]),
+            (inline.clone(), 56, 0, 55)
+        );
+        assert!(parse(&msg[..msg.len() - 4]).is_err());
+        assert!(parse(&inline.header()).is_err());
+        msg.extend([0u8; 4]);
+        assert!(parse(&msg).is_err());
+        // Run lengths sent as pieces carry nothing after the header.
+        let mut trailing = p.header();
+        trailing.extend([0u8; 4]);
+        assert!(parse(&trailing).is_err());
         let off_screen = Plan {
             rect: ActiveRect::full(33, 10),
             ..p.clone()

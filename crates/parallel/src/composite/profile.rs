@@ -14,7 +14,8 @@ pub struct SwapProfile {
     pub swaps: u32,
     /// Trimming the span to its active pixels and sampling the active fraction.
     pub decide_s: f64,
-    /// The header exchange (also where a rank waits for a slower partner to arrive).
+    /// The header exchange (also where a rank waits for a slower partner to arrive, and
+    /// where small run-length spans travel, inline with their header).
     pub header_s: f64,
     /// Encoding run lengths (zero for dense spans, which are sent in place).
     pub encode_s: f64,
@@ -22,9 +23,9 @@ pub struct SwapProfile {
     pub wait_s: f64,
     /// Blending arrived pieces into the local layer.
     pub blend_s: f64,
-    /// Payload bytes sent (headers excluded).
+    /// Payload bytes sent (headers excluded, except those of inline run lengths).
     pub bytes_sent: u64,
-    /// Swaps that sent run lengths rather than a dense span.
+    /// Spans sent as run lengths rather than dense (one per destination and step).
     pub rle_swaps: u32,
 }
 
