@@ -12,6 +12,7 @@ pub mod frame;
 pub mod job;
 pub mod netmodel;
 pub mod raytrace_first;
+pub mod raytrace_forward;
 pub mod raytrace_last;
 pub mod report;
 pub mod sort_first;

@@ -16,8 +16,12 @@
 //! slide lists exactly these three.
 //!
 //! The tracer is generic over a [`Recorder`]: rendering passes the empty one,
-//! `trace-pixel` one that builds the ray tree, so both run this same code.
+//! `trace-pixel` one that builds the ray tree, so both run this same code. It is also
+//! generic over where its geometry answers come from ([`Geometry`]): the scene's own
+//! objects ([`SceneGeometry`]) or, for object-parallel rendering, answers forwarded
+//! from the processes that own the objects (`irradia_parallel::raytrace_forward`).
 
+pub mod geometry;
 pub(crate) mod lights;
 pub(crate) mod media;
 mod query;
@@ -28,69 +32,28 @@ use crate::integrator::{AovSample, Integrator};
 use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::raytree::{NoRecorder, RayKind, Recorder};
 use crate::stats::Stats;
+use geometry::object_transmits;
+pub use geometry::{Geometry, ObjectSet, SceneGeometry};
 use glam::Vec3;
 use irradia_core::{offset_ray_origin, Ray, Rgb, Rng};
 use irradia_geometry::SceneHit;
 use irradia_scene::{Scene, ShadingModel};
 use lights::PreparedLight;
 use media::MediaStack;
-use query::Query;
 
-/// The Whitted integrator over one scene, with its lights prepared.
-pub struct Whitted<'s> {
+/// The Whitted integrator over one scene, with its lights prepared, asking `G` for
+/// its geometry answers (the scene's own objects unless told otherwise).
+pub struct Whitted<'s, G = SceneGeometry<'s>> {
     scene: &'s Scene,
     lights: Vec<PreparedLight>,
     max_depth: u32,
     min_weight: f32,
     background: Rgb,
     ambient_light: Rgb,
-    /// A linear scan over every object when there are only a handful; `None` uses the
-    /// scene's own hierarchy.
-    all: Option<Query>,
-    /// Objects split by whether light can pass through them, for shadow rays: an
-    /// any-hit query against the opaque ones, then a walk through the clear ones.
-    shadow_sets: Option<ShadowSets>,
-}
-
-/// Two queries over the scene's objects: those no light passes (an any-hit test
-/// suffices) and those that filter it. `*_ids` map tree slots back to objects.
-pub(crate) struct ShadowSets {
-    pub opaque: Query,
-    pub opaque_ids: Vec<u32>,
-    pub clear: Query,
-    pub clear_ids: Vec<u32>,
-}
-
-impl ShadowSets {
-    /// `None` when no object transmits light (then the scene's own structure serves).
-    fn build(scene: &Scene) -> Option<Self> {
-        let transmits = |m: u32| scene.materials[m as usize].transmission > 0.0;
-        let clear_object: Vec<bool> = scene
-            .objects
-            .iter()
-            .map(|o| transmits(o.material) || o.leaf_materials.iter().any(|&m| transmits(m)))
-            .collect();
-        if !clear_object.iter().any(|&c| c) {
-            return None;
-        }
-        let (mut opaque, mut opaque_ids, mut clear, mut clear_ids) =
-            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        for (i, inst) in scene.accel.instances().iter().enumerate() {
-            if clear_object[i] {
-                clear.push(inst.clone());
-                clear_ids.push(i as u32);
-            } else {
-                opaque.push(inst.clone());
-                opaque_ids.push(i as u32);
-            }
-        }
-        Some(Self {
-            opaque: Query::new(opaque, opaque_ids.clone()),
-            opaque_ids,
-            clear: Query::new(clear, clear_ids.clone()),
-            clear_ids,
-        })
-    }
+    geometry: G,
+    /// Whether any object lets light through: then shadow rays ask the opaque and the
+    /// clear objects apart and filter the light through the clear ones.
+    any_clear: bool,
 }
 
 /// Per-sample state threaded through the recursion.
@@ -104,6 +67,14 @@ pub(crate) struct Ctx<'c, R: Recorder> {
 
 impl<'s> Whitted<'s> {
     pub fn new(scene: &'s Scene) -> Self {
+        Self::with_geometry(scene, SceneGeometry::new(scene))
+    }
+}
+
+impl<'s, G: Geometry> Whitted<'s, G> {
+    /// The tracer over `scene`'s camera, lights, materials and settings, asking
+    /// `geometry` where rays hit (its object indices are `scene.objects`').
+    pub fn with_geometry(scene: &'s Scene, geometry: G) -> Self {
         let s = &scene.settings;
         Self {
             scene,
@@ -112,30 +83,31 @@ impl<'s> Whitted<'s> {
             min_weight: s.min_weight.max(0.0),
             background: s.background,
             ambient_light: s.ambient_light,
-            all: (scene.accel.instances().len() <= query::LINEAR_MAX).then(|| {
-                let n = scene.accel.instances().len() as u32;
-                Query::new(scene.accel.instances().to_vec(), (0..n).collect())
-            }),
-            shadow_sets: ShadowSets::build(scene),
+            geometry,
+            any_clear: (0..scene.objects.len()).any(|i| object_transmits(scene, i)),
         }
+    }
+
+    /// Where the geometry answers come from.
+    pub fn geometry(&self) -> &G {
+        &self.geometry
+    }
+
+    /// The geometry back (e.g. to read what it recorded).
+    pub fn into_geometry(self) -> G {
+        self.geometry
     }
 
     /// Nearest hit among all objects.
     #[inline]
     pub(crate) fn intersect_all(&self, ray: &Ray, t_max: f32) -> Option<SceneHit> {
-        match &self.all {
-            Some(q) => q.intersect(ray, t_max, None),
-            None => self.scene.accel.intersect(ray, t_max),
-        }
+        self.geometry.intersect(ObjectSet::All, ray, t_max)
     }
 
     /// Whether any object is hit.
     #[inline]
     pub(crate) fn occluded_all(&self, ray: &Ray, t_max: f32) -> bool {
-        match &self.all {
-            Some(q) => q.occluded(ray, t_max),
-            None => self.scene.accel.occluded(ray, t_max),
-        }
+        self.geometry.occluded(ObjectSet::All, ray, t_max)
     }
 
     /// Traces one camera ray with a recorder (the ray-tree hook); returns the radiance.
@@ -225,9 +197,7 @@ impl<'s> Whitted<'s> {
 
         // Coefficients of the reflected and transmitted rays.
         let (mut kr, mut kt) = (mat.reflection, filter);
-        let solid = scene.accel.instances()[sh.instance as usize]
-            .shape
-            .is_solid();
+        let solid = self.geometry.is_solid(sh.instance);
         let (eta, far_media) = if mat.transmission > 0.0 && solid {
             media.cross(sh.instance, mat.ior, entering)
         } else {
@@ -330,7 +300,7 @@ fn mirror(d: Vec3, ns: Vec3, ng: Vec3) -> Vec3 {
     }
 }
 
-impl Integrator for Whitted<'_> {
+impl<G: Geometry + Sync> Integrator for Whitted<'_, G> {
     #[inline]
     fn sample(&self, ray: &Ray, rng: &mut Rng, stats: &mut Stats, aov: &mut AovSample) -> Rgb {
         self.sample_recorded(ray, rng, stats, aov, &mut NoRecorder)

@@ -4,7 +4,7 @@
 //! (`transmission * filter colour`; POV-Ray's `Trace::ComputeShadowColour`). Shadow
 //! rays go straight through (no refraction: no caustics, as in POV-Ray without photons).
 
-use super::{Ctx, Whitted};
+use super::{Ctx, Geometry, ObjectSet, Whitted};
 use crate::raytree::{Blocker, Recorder};
 use glam::Vec3;
 use irradia_core::{offset_ray_origin, Ray, Rgb};
@@ -13,7 +13,7 @@ use irradia_geometry::SceneHit;
 /// Most transparent surfaces one shadow ray walks through before giving up (dark).
 const MAX_CROSSINGS: u32 = 64;
 
-impl Whitted<'_> {
+impl<G: Geometry> Whitted<'_, G> {
     /// Fraction of a light's colour that arrives at `origin` from direction `dir`
     /// (unit) over distance `dist`. Counts the shadow ray and records it.
     pub(super) fn shadow_transmittance<R: Recorder>(
@@ -39,7 +39,7 @@ impl Whitted<'_> {
             point: h.hit.point,
             normal: h.hit.normal,
         };
-        let Some(sets) = &self.shadow_sets else {
+        if !self.any_clear {
             // Nothing in the scene lets light through: an any-hit query decides.
             if self.occluded_all(&first, t_max) {
                 cx.stats.shadow_blocked += 1;
@@ -51,20 +51,18 @@ impl Whitted<'_> {
             }
             cx.rec.shadow(&first, depth, None, Rgb::WHITE);
             return Rgb::WHITE;
-        };
+        }
         // Most shadow rays reach their light: one any-hit query over everything
         // settles those.
         if !self.occluded_all(&first, t_max) {
             cx.rec.shadow(&first, depth, None, Rgb::WHITE);
             return Rgb::WHITE;
         }
-        if sets.opaque.occluded(&first, t_max) {
+        let geo = &self.geometry;
+        if geo.occluded(ObjectSet::Opaque, &first, t_max) {
             cx.stats.shadow_blocked += 1;
             if R::RECORDS {
-                let b = sets
-                    .opaque
-                    .intersect(&first, t_max, Some(&sets.opaque_ids))
-                    .map(blocker);
+                let b = geo.intersect(ObjectSet::Opaque, &first, t_max).map(blocker);
                 cx.rec.shadow(&first, depth, b, Rgb::BLACK);
             }
             return Rgb::BLACK;
@@ -77,7 +75,7 @@ impl Whitted<'_> {
         let mut tr = Rgb::WHITE;
         let mut first_blocker = None;
         for _ in 0..MAX_CROSSINGS {
-            let Some(h) = sets.clear.intersect(&ray, limit, Some(&sets.clear_ids)) else {
+            let Some(h) = geo.intersect(ObjectSet::Clear, &ray, limit) else {
                 break;
             };
             let id = h.instance;
