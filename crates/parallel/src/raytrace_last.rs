@@ -22,7 +22,7 @@
 //! colours of different objects inside a pixel, which a depth composite cannot undo).
 
 use crate::comm::{Comm, CommError};
-use crate::composite::{self, CompositeOptions, Layer, Operator, Strategy, FAR};
+use crate::composite::{self, ActiveRect, CompositeOptions, Layer, Operator, Strategy, FAR};
 use crate::frame::block;
 use glam::Vec3;
 use irradia_core::{Ray, Rgb};
@@ -48,6 +48,11 @@ pub fn sub_scene(scene: &Scene, objects: Range<usize>) -> Scene {
 /// Ray casts `scene` through every pixel centre: colour (linear RGB, alpha 1) and
 /// distance to the nearest hit; pixels that hit nothing are clear at depth [`FAR`].
 pub fn cast_layer(scene: &Scene) -> Layer<[f32; 4]> {
+    cast_rows(scene).0
+}
+
+/// [`cast_layer`] and the rectangle of the pixels that hit something.
+fn cast_rows(scene: &Scene) -> (Layer<[f32; 4]>, ActiveRect) {
     let (w, h) = (scene.settings.width, scene.settings.height);
     let cam = scene.camera.rays(w, h);
     let rows: Vec<Vec<([f32; 4], f32)>> = (0..h)
@@ -67,12 +72,36 @@ pub fn cast_layer(scene: &Scene) -> Layer<[f32; 4]> {
                 .collect()
         })
         .collect();
+    assemble(rows, w, h)
+}
+
+/// The layer of per-row `(colour, depth)` results, and the rectangle of its pixels that
+/// hit something (found while filling the layer, so the compositor need not scan for
+/// it).
+fn assemble(rows: Vec<Vec<([f32; 4], f32)>>, w: u32, h: u32) -> (Layer<[f32; 4]>, ActiveRect) {
     let mut l = Layer::new(w, h);
-    for (i, (c, d)) in rows.into_iter().flatten().enumerate() {
-        l.color[i] = c;
-        l.depth[i] = d;
+    let mut rect = ActiveRect::EMPTY;
+    for (y, row) in rows.into_iter().enumerate() {
+        let at = y * w as usize;
+        let mut hit = None::<(usize, usize)>;
+        for (x, (c, d)) in row.into_iter().enumerate() {
+            l.color[at + x] = c;
+            l.depth[at + x] = d;
+            if d != FAR {
+                hit = Some((hit.map_or(x, |h| h.0), x));
+            }
+        }
+        if let Some((x0, x1)) = hit {
+            let row_rect = ActiveRect {
+                x0: x0 as u32,
+                y0: y as u32,
+                x1: x1 as u32 + 1,
+                y1: y as u32 + 1,
+            };
+            rect = rect.union(&row_rect);
+        }
     }
-    l
+    (l, rect)
 }
 
 /// Paints the pixels nothing covers with the scene's background colour.
@@ -106,6 +135,11 @@ pub enum Shading {
 /// The Whitted tracer through every pixel centre of `scene`: colour and distance to the
 /// first hit (one ray per pixel; misses are clear at depth [`FAR`]).
 pub fn whitted_layer(scene: &Scene) -> Layer<[f32; 4]> {
+    whitted_rows(scene).0
+}
+
+/// [`whitted_layer`] and the rectangle of the pixels that hit something.
+fn whitted_rows(scene: &Scene) -> (Layer<[f32; 4]>, ActiveRect) {
     let (w, h) = (scene.settings.width, scene.settings.height);
     let cam = scene.camera.rays(w, h);
     let tracer = Whitted::new(scene);
@@ -127,12 +161,7 @@ pub fn whitted_layer(scene: &Scene) -> Layer<[f32; 4]> {
                 .collect()
         })
         .collect();
-    let mut l = Layer::new(w, h);
-    for (i, (c, d)) in rows.into_iter().flatten().enumerate() {
-        l.color[i] = c;
-        l.depth[i] = d;
-    }
-    l
+    assemble(rows, w, h)
 }
 
 /// Renders object-parallel with local shading and composites with `strategy`; the
@@ -154,14 +183,14 @@ pub fn render_shaded<C: Comm>(
     root: usize,
     shading: Shading,
 ) -> Result<Option<Layer<[f32; 4]>>, CommError> {
-    let layer = render_layer(comm, scene, shading);
+    let (layer, rect) = render_layer_bounded(comm, scene, shading);
     let opts = CompositeOptions {
         op: Operator::Depth,
         order: None,
         rle: true,
         root,
     };
-    let mut out = composite::composite(comm, strategy, layer, &opts)?;
+    let mut out = composite::composite_bounded(comm, strategy, layer, rect, &opts)?;
     if let Some(l) = out.as_mut() {
         fill_background(l, scene.settings.background);
     }
@@ -172,15 +201,27 @@ pub fn render_shaded<C: Comm>(
 /// with `shading`, as a layer to composite (background left clear: apply
 /// [`fill_background`] to the composited image).
 pub fn render_layer<C: Comm>(comm: &C, scene: &Scene, shading: Shading) -> Layer<[f32; 4]> {
+    render_layer_bounded(comm, scene, shading).0
+}
+
+/// [`render_layer`] and the rectangle of the pixels where this rank's objects were hit
+/// (known from the rays themselves, for any camera), for
+/// [`composite::composite_bounded`]: background outside it is never scanned.
+pub fn render_layer_bounded<C: Comm>(
+    comm: &C,
+    scene: &Scene,
+    shading: Shading,
+) -> (Layer<[f32; 4]>, ActiveRect) {
     comm.log().begin_stage("render");
     let objects = block(scene.objects.len(), comm.rank(), comm.size());
     if objects.is_empty() {
-        return Layer::new(scene.settings.width, scene.settings.height);
+        let (w, h) = (scene.settings.width, scene.settings.height);
+        return (Layer::new(w, h), ActiveRect::EMPTY);
     }
     let mine = sub_scene(scene, objects);
     match shading {
-        Shading::Local => cast_layer(&mine),
-        Shading::WhittedOwnObjects => whitted_layer(&mine),
+        Shading::Local => cast_rows(&mine),
+        Shading::WhittedOwnObjects => whitted_rows(&mine),
     }
 }
 

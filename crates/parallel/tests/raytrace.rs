@@ -131,6 +131,38 @@ fn object_parallel_ray_casting_equals_the_serial_ray_cast() {
 }
 
 #[test]
+fn each_ranks_active_rectangle_is_the_box_of_its_hit_pixels() {
+    use irradia_parallel::composite::{ActiveRect, FAR};
+    let s = scene("quadrics");
+    for ranks in [2, 3] {
+        let out = run_local(ranks, LocalOptions::default(), |c| {
+            raytrace_last::render_layer_bounded(c, &s, raytrace_last::Shading::Local)
+        });
+        let mut non_empty = 0;
+        for (rank, o) in out.into_iter().enumerate() {
+            let (layer, rect) = o.unwrap();
+            // The box of the hit pixels, found by scanning the whole layer.
+            let mut scanned = ActiveRect::EMPTY;
+            for (i, &d) in layer.depth.iter().enumerate() {
+                if d != FAR {
+                    let (x, y) = ((i % 64) as u32, (i / 64) as u32);
+                    let px = ActiveRect {
+                        x0: x,
+                        y0: y,
+                        x1: x + 1,
+                        y1: y + 1,
+                    };
+                    scanned = scanned.union(&px);
+                }
+            }
+            assert_eq!(rect, scanned, "{ranks} ranks, rank {rank}");
+            non_empty += usize::from(!rect.is_empty() && rect != ActiveRect::full(64, 48));
+        }
+        assert!(non_empty > 0, "{ranks} ranks: every rectangle empty or full");
+    }
+}
+
+#[test]
 fn object_parallel_casting_has_no_shadows_or_mirrors() {
     // The Whitted scene's mirror and glass spheres and shadows need other ranks'
     // objects: the local ray cast must differ from the Whitted image there.
