@@ -400,18 +400,34 @@ pub fn scene_pipeline(scene: &irradia_scene::Scene) -> Pipeline {
         .instances()
         .iter()
         .any(|i| !i.bounds().is_finite());
-    let far = if unbounded {
+    let mut far = if unbounded {
         1000.0 * (dist + r)
     } else {
         dist + 4.0 * r
     };
-    p.view = ViewParams::from_camera(
-        &scene.camera,
-        w,
-        h,
-        (dist * 1e-3).min(r * 1e-3).max(1e-4),
-        far,
-    );
+    let mut near = (dist * 1e-3).min(r * 1e-3).max(1e-4);
+    if unbounded {
+        // A plane at height `h` below the eye ends `h / far` radians short of its
+        // horizon: far enough out that this is under a quarter of a pixel.
+        let probe = ViewParams::from_camera(&scene.camera, w, h, near, far);
+        let pixel = 2.0 / (probe.proj.y_axis.y.abs().max(1e-12) * h.max(1) as f32);
+        for inst in scene.accel.instances() {
+            if inst.shape.kind() != "plane" {
+                continue;
+            }
+            if let Some((q, n)) = plane_of(inst.shape.as_ref()) {
+                let q = inst.to_world().transform_point3(q);
+                let n = (inst.to_object().matrix3.transpose() * n).normalize_or_zero();
+                let height = (scene.camera.eye - q).dot(Vec3::from(n)).abs();
+                far = far.max(height / (0.25 * pixel));
+            }
+        }
+        // An f32 depth buffer tells depths apart near the far plane only while far /
+        // near stays below about 1e6 (z = 1 - near / d in front of the clear value 1):
+        // beyond that the far part of a plane rounds to z = 1 and fails the depth test.
+        near = near.max(far * 1e-6);
+    }
+    p.view = ViewParams::from_camera(&scene.camera, w, h, near, far);
     p.materials = scene.materials.iter().map(raster_material).collect();
     for (m, sm) in p.materials.iter_mut().zip(&scene.materials) {
         if let Texture::Image { image, scale } = &sm.color {

@@ -755,3 +755,56 @@ fn with_transparency_sort_first_and_sort_middle_equal_the_serial_render() {
     }
     assert!(frame::serial(&opaque, tris) != serial);
 }
+
+#[test]
+fn a_floor_far_below_a_large_scene_reaches_the_horizon() {
+    // The eye 3.6 above the floor, the scene 100 wide: far / near of the old choice
+    // (1000 x the scene's size, 1e-3 x the eye's distance) was 5e7, beyond what an f32
+    // inverse projection and depth buffer resolve, and the floor vanished.
+    let s = irradia_scene::load_str(
+        r#"
+[image]
+width = 64
+height = 48
+[camera]
+eye = [0, 0.6, 2]
+look_at = [0, 0.5, 0]
+fov = 60
+[[lights]]
+type = "directional"
+direction = [-0.3, -1, -0.5]
+irradiance = 1
+[[objects]]
+type = "plane"
+normal = [0, 1, 0]
+offset = -3
+[[objects]]
+type = "sphere"
+center = [0, 0.5, 0]
+radius = 0.3
+[[objects]]
+type = "sphere"
+center = [60, 0.5, -80]
+radius = 1
+"#,
+        Format::Toml,
+        Path::new("horizon.toml"),
+    )
+    .unwrap();
+    let st = tessellate(&s, 32);
+    assert!(!st.objects[0].is_empty());
+    let (ids, _, p) = raster_ids(&s, &st);
+    // far / near of a 0..1 depth projection: z_axis.z = f / (n - f).
+    let zz = p.view.proj.z_axis.z as f64;
+    let ratio = zz / (zz + 1.0);
+    assert!(ratio > 1e3 && ratio < 1.2e6, "far / near = {ratio}");
+    let cast = ray_cast(&s);
+    let floor = cast.iter().filter(|c| matches!(c, Some((0, ..)))).count();
+    assert!(floor > 64 * 20, "{floor}");
+    // Pixel by pixel the same floor as the ray caster: the floor ends within a
+    // quarter pixel of the horizon, so at most one row of pixel centres differs.
+    let differ = (0..64 * 48)
+        .filter(|&i| (cast[i].map(|c| c.0) == Some(0)) != (ids[i] == Some(0)))
+        .count();
+    assert!(differ <= 64, "{differ} pixels differ");
+}

@@ -18,7 +18,7 @@ use irradia_parallel::report::Report;
 use irradia_parallel::sort_first::{self, imbalance, Assign, TileLayout, Tiling};
 use irradia_parallel::tessellate::{solid::MAX_CELLS, Tessellation};
 use irradia_parallel::workload::{scene_pipeline, scene_triangles_with, Workload};
-use irradia_parallel::{raytrace_first, raytrace_last, sort_last};
+use irradia_parallel::{raytrace_first, raytrace_forward, raytrace_last, sort_last};
 use irradia_raster::{Pipeline, Triangle};
 use irradia_scene::Scene;
 use std::path::PathBuf;
@@ -41,7 +41,9 @@ per object; objects that cannot be tessellated are left out, with a warning nami
 or raytrace (scenes only): sort-first is the Whitted ray tracer on screen tiles (the
 image equals `irradia render --integrator whitted`), sort-last ray casts each rank's
 objects with local shading and no shadows, reflection or refraction (those need the
-other ranks' objects), then depth-composites.
+other ranks' objects), then depth-composites; with --object-shading forward, sort-last
+is the full Whitted tracer over the distributed objects, the rays forwarded to the
+ranks owning them (the image equals `irradia render --integrator whitted`).
 Tiled displays (sort-last): --display-tiles CxR composites straight onto a grid of C x R
 displays driven by ranks 0..C*R-1 (row-major from the top left); each display rank
 receives only its tile and writes it as NAME-ROW-COL.png next to -o NAME.png.
@@ -77,6 +79,8 @@ pub enum ObjectShadingArg {
     Local,
     /// Whitted over each rank's own objects only: shows what object-parallel ray tracing loses.
     WhittedOwnObjects,
+    /// The full Whitted tracer with ray forwarding: each rank shades its screen regions and sends its shadow, reflected and refracted rays to the ranks owning the objects, in generations (equals `irradia render`).
+    Forward,
 }
 
 #[derive(Args, Debug)]
@@ -263,6 +267,8 @@ struct Job {
     tiling: Tiling,
     renderer: Renderer,
     object_shading: raytrace_last::Shading,
+    /// Sort-last ray tracing with ray forwarding (`--object-shading forward`).
+    forward: bool,
     input: Input,
     /// Sort-last onto a tiled display, and the grid's column count (for file names).
     display: Option<(DisplayLayout, u32)>,
@@ -317,6 +323,11 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
         ));
     }
     let grid = a.display_tiles.as_deref().map(parse_grid).transpose()?;
+    if grid.is_some() && a.object_shading == ObjectShadingArg::Forward {
+        return Err(input(
+            "--object-shading forward gathers screen regions instead of compositing layers, so it cannot drive --display-tiles; use --object-shading local".into(),
+        ));
+    }
     if grid.is_none() && a.display_overlap > 0 {
         return Err(input("--display-overlap belongs to --display-tiles".into()));
     }
@@ -371,9 +382,15 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
                     st.skipped.join(", ")
                 );
             }
+            let pipeline = scene_pipeline(&scene);
+            if mode == Mode::SortLast && st.has_transparency(&pipeline) {
+                return Err(input(format!(
+                    "--workload {name}: the scene has transparent (`transmission`) materials, which the rasterizer draws back to front over the opaque surfaces; sort-last depth compositing of separately drawn objects cannot order them; use --mode sort-first or sort-middle, or --renderer raytrace"
+                )));
+            }
             Input::Triangles {
                 name,
-                pipeline: scene_pipeline(&scene),
+                pipeline,
                 tris: st.triangles,
                 background: Some(scene.settings.background),
             }
@@ -415,7 +432,9 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
         object_shading: match a.object_shading {
             ObjectShadingArg::Local => raytrace_last::Shading::Local,
             ObjectShadingArg::WhittedOwnObjects => raytrace_last::Shading::WhittedOwnObjects,
+            ObjectShadingArg::Forward => raytrace_last::Shading::Local,
         },
+        forward: a.object_shading == ObjectShadingArg::Forward,
         input: input_,
     };
     let timeout = Duration::from_secs_f64(a.timeout);
@@ -479,7 +498,23 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
                 s.load_imbalance
             );
         }
-        if let Some(b) = &balance {
+        if let Some(f) = balance.as_ref().and_then(|b| b.get("forwarding")) {
+            eprintln!(
+                "  ray forwarding: {} generations, {} exchanges of queries",
+                f["generations"], f["exchanges"]
+            );
+            for (i, g) in f["per_generation"].as_array().into_iter().flatten().enumerate() {
+                eprintln!(
+                    "    generation {}: {} pixels traced, {} finished, {} rays, {} queries, {} bytes sent",
+                    i + 1,
+                    g["pixels_traced"],
+                    g["pixels_finished"],
+                    g["rays"],
+                    g["queries"],
+                    g["bytes"]
+                );
+            }
+        } else if let Some(b) = &balance {
             eprintln!(
                 "  regions: {} ({} tiles); estimated work imbalance {:.3} (strips {:.3}){}",
                 b["regions"].as_str().unwrap_or(""),
@@ -582,13 +617,15 @@ fn tile_index(layout: &DisplayLayout, rank: usize) -> usize {
         .expect("composite_to_tiles returns a tile only to display ranks")
 }
 
-/// An RGBA8 layer as an image, with `background` where nothing was drawn.
+/// An RGBA8 layer as an image, with `background` where nothing opaque was drawn
+/// (behind transparent surfaces, which leave the depth at the far plane: their
+/// colour plus the background times what they let through, `1 - alpha`).
 fn layer_image(l: &Layer<[u8; 4]>, background: Option<Rgb>) -> Image {
     let mut im = to_image(l);
     if let Some(bg) = background {
-        for (px, &d) in im.pixels_mut().iter_mut().zip(&l.depth) {
+        for ((px, &d), c) in im.pixels_mut().iter_mut().zip(&l.depth).zip(&l.color) {
             if d == irradia_parallel::composite::FAR {
-                *px = bg;
+                *px = *px + bg * (1.0 - c[3] as f32 / 255.0);
             }
         }
     }
@@ -665,6 +702,13 @@ fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
                 });
                 (r.image.as_ref().map(raytrace_first::to_image), balance)
             }
+            _ if job.forward => {
+                let r = raytrace_forward::render(c, scene, job.tiling, 0)?;
+                c.log().begin_stage("balance");
+                let forwarding = forward_json(c, &r)?;
+                c.log().end_stage();
+                (r.image.as_ref().map(raytrace_first::to_image), forwarding)
+            }
             _ if job.display.is_some() => {
                 let (layout, _) = job.display.as_ref().expect("checked");
                 let layer = raytrace_last::render_layer(c, scene, job.object_shading);
@@ -690,6 +734,55 @@ fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
         balance,
         tile: None,
     })
+}
+
+/// The "forwarding" section of the report (root only): per generation, the pixels
+/// traced and finished, the queries asked by all ranks, and the bytes and rays summed
+/// over the ranks; and the ranks' cache sizes.
+fn forward_json<C: Comm>(
+    c: &C,
+    r: &raytrace_forward::ForwardResult,
+) -> Result<Option<serde_json::Value>, CommError> {
+    let mine: Vec<u8> = r
+        .generations
+        .iter()
+        .flat_map(|g| [g.traced, g.finished, g.rays, g.traffic.bytes_sent])
+        .chain([r.cached as u64])
+        .flat_map(u64::to_le_bytes)
+        .collect();
+    let all = c.gather(0, &mine)?;
+    if all.is_empty() {
+        return Ok(None);
+    }
+    let words = |b: &[u8]| -> Vec<u64> {
+        b.chunks_exact(8)
+            .map(|w| u64::from_le_bytes(w.try_into().expect("8 bytes")))
+            .collect()
+    };
+    let ranks: Vec<Vec<u64>> = all.iter().map(|b| words(b)).collect();
+    let generations: Vec<serde_json::Value> = r
+        .generations
+        .iter()
+        .enumerate()
+        .map(|(i, g)| {
+            let sum = |k: usize| ranks.iter().map(|w| w.get(4 * i + k).copied().unwrap_or(0)).sum::<u64>();
+            serde_json::json!({
+                "pixels_traced": sum(0),
+                "pixels_finished": sum(1),
+                "rays": sum(2),
+                "queries": g.traffic.queries_total,
+                "bytes": sum(3),
+            })
+        })
+        .collect();
+    Ok(Some(serde_json::json!({
+        "forwarding": {
+            "generations": generations.len(),
+            "exchanges": r.exchanges(),
+            "per_generation": generations,
+            "cache_entries_per_rank": ranks.iter().map(|w| w.last().copied().unwrap_or(0)).collect::<Vec<_>>(),
+        }
+    })))
 }
 
 /// The "balance" section of the report: estimated work per rank for the regions used

@@ -15,7 +15,7 @@ pub mod plane;
 pub mod solid;
 pub mod uv;
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{DVec4, Mat4, Vec3};
 use irradia_core::{Aabb, Ray};
 use irradia_geometry::Shape;
 
@@ -51,17 +51,22 @@ impl Tessellation {
 
 /// The frustum of a view (`view_proj` = projection * view) for [`tessellate_plane`]:
 /// its eight corners (near and far planes), the eye and the size of a pixel.
+///
+/// The matrices are inverted in f64: with the far plane a million times farther than
+/// the near one, an f32 inverse puts the far corners tens of percent off (or at
+/// infinity), and the plane would stop short of the horizon or vanish. The f64
+/// inverse of the f32 matrices is the frustum the pipeline's clipper really uses.
 pub fn plane_view(view: Mat4, proj: Mat4, height: u32) -> PlaneView {
-    let inv = (proj * view).inverse();
+    let inv = (proj.as_dmat4() * view.as_dmat4()).inverse();
     let corners = std::array::from_fn(|k| {
-        let ndc = Vec4::new(
+        let ndc = DVec4::new(
             if k & 1 == 0 { -1.0 } else { 1.0 },
             if k & 2 == 0 { -1.0 } else { 1.0 },
             if k & 4 == 0 { 0.0 } else { 1.0 },
             1.0,
         );
         let h = inv * ndc;
-        h.truncate() / h.w
+        (h.truncate() / h.w).as_vec3()
     });
     let orthographic = proj.w_axis.w != 0.0 && proj.z_axis.w == 0.0;
     PlaneView {
