@@ -503,7 +503,12 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
                 "  ray forwarding: {} generations, {} exchanges of queries",
                 f["generations"], f["exchanges"]
             );
-            for (i, g) in f["per_generation"].as_array().into_iter().flatten().enumerate() {
+            for (i, g) in f["per_generation"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .enumerate()
+            {
                 eprintln!(
                     "    generation {}: {} pixels traced, {} finished, {} rays, {} queries, {} bytes sent",
                     i + 1,
@@ -765,7 +770,12 @@ fn forward_json<C: Comm>(
         .iter()
         .enumerate()
         .map(|(i, g)| {
-            let sum = |k: usize| ranks.iter().map(|w| w.get(4 * i + k).copied().unwrap_or(0)).sum::<u64>();
+            let sum = |k: usize| {
+                ranks
+                    .iter()
+                    .map(|w| w.get(4 * i + k).copied().unwrap_or(0))
+                    .sum::<u64>()
+            };
             serde_json::json!({
                 "pixels_traced": sum(0),
                 "pixels_finished": sum(1),
