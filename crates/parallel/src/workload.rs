@@ -418,7 +418,7 @@ pub fn scene_pipeline(scene: &irradia_scene::Scene) -> Pipeline {
             if let Some((q, n)) = plane_of(inst.shape.as_ref()) {
                 let q = inst.to_world().transform_point3(q);
                 let n = (inst.to_object().matrix3.transpose() * n).normalize_or_zero();
-                let height = (scene.camera.eye - q).dot(Vec3::from(n)).abs();
+                let height = (scene.camera.eye - q).dot(n).abs();
                 far = far.max(height / (0.25 * pixel));
             }
         }

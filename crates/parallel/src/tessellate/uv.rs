@@ -30,7 +30,7 @@ pub fn triangle_uvs(instance: &Instance, p: [Vec3; 3]) -> Option<[Vec2; 3]> {
         .length()
         .max((p[2] - p[1]).length())
         .max((p[0] - p[2]).length());
-    if n == Vec3::ZERO || !(size > 0.0) {
+    if n == Vec3::ZERO || size.is_nan() || size <= 0.0 {
         return None;
     }
     let other = (1.0 - PROBE) / 2.0;
