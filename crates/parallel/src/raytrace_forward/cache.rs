@@ -19,7 +19,8 @@ use std::hash::{BuildHasherDefault, Hasher};
 use std::sync::Mutex;
 
 /// A multiply-rotate hasher for the cache's fixed-size bit keys (the FxHash of the Rust
-/// compiler): much cheaper than SipHash, and the keys are not chosen by an adversary.
+/// compiler, with a final mix): much cheaper than SipHash, and the keys are not chosen
+/// by an adversary.
 #[derive(Default, Clone, Copy)]
 pub struct BitsHasher(u64);
 
@@ -46,9 +47,16 @@ impl Hasher for BitsHasher {
     fn write_usize(&mut self, i: usize) {
         self.write_u64(i as u64);
     }
+    /// With a final mix (MurmurHash3's fmix64), so that the low bits hashbrown
+    /// indexes buckets by depend on every bit of the key.
     #[inline]
     fn finish(&self) -> u64 {
-        self.0
+        let mut h = self.0;
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+        h ^ h >> 33
     }
 }
 

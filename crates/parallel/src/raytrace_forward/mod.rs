@@ -47,6 +47,7 @@
 //! serial tracer is the distributed one.
 
 pub mod cache;
+pub mod domain;
 pub mod resolve;
 pub mod wire;
 
@@ -57,6 +58,7 @@ use crate::raytrace_first;
 use crate::raytrace_last::sub_scene;
 use crate::sort_first::{gather_tiles, Tiling};
 use cache::{Cache, Replay};
+use domain::Domain;
 use irradia_render::whitted::{Geometry, SceneGeometry};
 use irradia_render::{film, Whitted};
 use irradia_scene::Scene;
@@ -113,6 +115,26 @@ fn solid_table<C: Comm>(comm: &C, owned: &Owned<'_>, count: usize) -> Result<Vec
     Ok(all.concat().into_iter().map(|b| b == 1).collect())
 }
 
+/// Every rank's [`Domain`], each rank telling the others its own.
+fn domain_table<C: Comm>(
+    comm: &C,
+    scene: &Scene,
+    objects: std::ops::Range<usize>,
+) -> Result<Vec<Domain>, CommError> {
+    let mut mine = Vec::with_capacity(domain::DOMAIN_BYTES);
+    Domain::of(scene, objects).encode(&mut mine);
+    let all = comm.all_to_all(&vec![mine; comm.size()])?;
+    all.iter()
+        .enumerate()
+        .map(|(rank, b)| {
+            Domain::decode(b).ok_or_else(|| CommError::Malformed {
+                rank,
+                message: format!("{} bytes are not a domain", b.len()),
+            })
+        })
+        .collect()
+}
+
 /// Renders `scene` with the Whitted tracer, each rank owning a block of the objects and
 /// shading the pixels of its regions of `tiling`; rays are forwarded as queries. The
 /// image (linear RGB, alpha 1) arrives at `root`. Collective over `comm`.
@@ -131,6 +153,7 @@ pub fn render<C: Comm>(
         first: objects.start as u32,
     };
     let solid = solid_table(comm, &owned, objects.len())?;
+    let domains = domain_table(comm, scene, objects)?;
 
     let (w, h) = (scene.settings.width, scene.settings.height);
     let layout = raytrace_first::layout(scene, p, tiling);
@@ -172,7 +195,7 @@ pub fn render<C: Comm>(
 
         comm.log().begin_stage("forward");
         let start = Instant::now();
-        g.traffic = resolve(comm, &owned, &misses, &mut cache)?;
+        g.traffic = resolve(comm, &owned, &domains, &misses, &mut cache)?;
         g.exchange_seconds = start.elapsed().as_secs_f64();
         generations.push(g);
         if g.traffic.queries_total == 0 {

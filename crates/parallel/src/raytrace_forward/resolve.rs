@@ -6,14 +6,20 @@
 //! This is the "data-parallel" ray forwarding of Reinhard and Jansen (1997) and of
 //! Navrátil et al. (2014, "Exploring the spectrum of dynamic scheduling algorithms for
 //! scalable distributed-memory ray tracing") reduced to its simplest schedule: a ray is
-//! not routed to the owners of the cells it crosses in turn but offered to all owners
-//! at once (two personalised all-to-all exchanges), which needs no spatial
-//! decomposition of the objects (ranks own any blocks of objects, as in sort-last
-//! rendering) and keeps the answer exactly the serial one: each owner's nearest hit
-//! among its objects is the serial tracer's hit test on those objects, and the nearest
-//! of them is the scene's.
+//! not routed to the owners of the cells it crosses in turn but offered at once to
+//! every owner whose domain (the bounding box of its objects, [`super::domain`]) the
+//! ray's segment crosses, in two personalised all-to-all exchanges. That needs no
+//! spatial decomposition of the objects (ranks own any blocks of objects, as in
+//! sort-last rendering) and keeps the answer exactly the serial one: each owner's
+//! nearest hit among its objects is the serial tracer's hit test on those objects, and
+//! the nearest of them is the scene's.
+//!
+//! Messages: queries are `[u64 count of all the sender's queries][30-byte queries]`
+//! (the count, seen by every rank, tells all of them together when nobody asks
+//! anything); answers are the receiver's answers in the order of the queries it got.
 
 use super::cache::Cache;
+use super::domain::Domain;
 use super::wire::{Answer, Kind, Query};
 use crate::comm::{Comm, CommError};
 use irradia_render::whitted::{Geometry, SceneGeometry};
@@ -63,29 +69,61 @@ pub struct Traffic {
 /// empty list when it has nothing to ask. Returns the traffic; `queries_total == 0`
 /// means no rank asked anything (every rank sees the same), and then nothing more is
 /// sent.
+/// `domains` holds every rank's [`Domain`]: a query goes only to the ranks whose
+/// domain its segment may cross.
 pub fn resolve<C: Comm>(
     comm: &C,
     owned: &Owned<'_>,
+    domains: &[Domain],
     mine: &[Query],
     cache: &mut Cache,
 ) -> Result<Traffic, CommError> {
     let (me, p) = (comm.rank(), comm.size());
-    let mut ask = Vec::with_capacity(mine.len() * super::wire::QUERY_BYTES);
-    mine.iter().for_each(|q| q.encode(&mut ask));
-    let asked = comm.all_to_all(&vec![ask; p])?;
+    // Which ranks each query goes to, one bit per rank (at most 64 ranks get a bit;
+    // beyond that every query goes everywhere).
+    let targets: Vec<u64> = mine
+        .par_iter()
+        .map(|q| {
+            let (ray, t_max) = (q.ray(), q.t_max());
+            domains
+                .iter()
+                .take(64)
+                .enumerate()
+                .filter(|(_, d)| d.may_hit(&ray, t_max))
+                .fold(0u64, |m, (r, _)| m | 1 << r)
+        })
+        .collect();
+    let sent_to = |i: usize, rank: usize| rank >= 64 || targets[i] >> rank & 1 == 1;
+    let asks: Vec<Vec<u8>> = (0..p)
+        .map(|rank| {
+            let mut out = (mine.len() as u64).to_le_bytes().to_vec();
+            for (i, q) in mine.iter().enumerate() {
+                if sent_to(i, rank) {
+                    q.encode(&mut out);
+                }
+            }
+            out
+        })
+        .collect();
+    let asked = comm.all_to_all(&asks)?;
     let mut traffic = Traffic {
         queries_mine: mine.len() as u64,
         ..Traffic::default()
     };
     let mut lists = Vec::with_capacity(p);
     for (rank, bytes) in asked.iter().enumerate() {
-        let list = Query::decode_all(bytes).ok_or_else(|| CommError::Malformed {
+        let malformed = || CommError::Malformed {
             rank,
             message: format!("{} bytes are not a list of ray queries", bytes.len()),
-        })?;
-        traffic.queries_total += list.len() as u64;
+        };
+        let count = bytes
+            .get(..8)
+            .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")))
+            .ok_or_else(malformed)?;
+        let list = Query::decode_all(&bytes[8..]).ok_or_else(malformed)?;
+        traffic.queries_total += count;
         if rank != me {
-            traffic.bytes_sent += (mine.len() * super::wire::QUERY_BYTES) as u64;
+            traffic.bytes_sent += asks[rank].len() as u64;
             traffic.bytes_received += bytes.len() as u64;
         }
         lists.push(list);
@@ -118,9 +156,12 @@ pub fn resolve<C: Comm>(
 
     // Merge the ranks' answers to this rank's queries, in rank order.
     let mut at = vec![0usize; p];
-    for q in mine {
+    for (i, q) in mine.iter().enumerate() {
         let mut merged = None::<Answer>;
         for (rank, bytes) in answers.iter().enumerate() {
+            if !sent_to(i, rank) {
+                continue;
+            }
             let a = Answer::decode(q.kind(), bytes, &mut at[rank]).ok_or_else(|| {
                 CommError::Malformed {
                     rank,
@@ -136,7 +177,11 @@ pub fn resolve<C: Comm>(
                 Some(m) => m.merge(a),
             }
         }
-        cache.insert(*q, merged.expect("at least one rank answers"));
+        let nobody = match q.kind() {
+            Kind::Nearest => Answer::Nearest(None),
+            Kind::Any => Answer::Any(false),
+        };
+        cache.insert(*q, merged.unwrap_or(nobody));
     }
     for (rank, bytes) in answers.iter().enumerate() {
         if rank != me {

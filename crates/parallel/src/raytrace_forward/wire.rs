@@ -34,7 +34,7 @@ pub enum Kind {
 }
 
 /// One geometry query, as bits (also the cache key).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Query {
     kind: Kind,
     set: u8,
@@ -68,6 +68,18 @@ fn set_code(set: ObjectSet) -> u8 {
         ObjectSet::All => 0,
         ObjectSet::Opaque => 1,
         ObjectSet::Clear => 2,
+    }
+}
+
+impl std::hash::Hash for Query {
+    /// Four 64-bit words (the derived hash would feed the hasher byte by byte).
+    #[inline]
+    fn hash<H: std::hash::Hasher>(&self, h: &mut H) {
+        let b = self.bits.map(u64::from);
+        h.write_u64(b[0] | b[1] << 32);
+        h.write_u64(b[2] | b[3] << 32);
+        h.write_u64(b[4] | b[5] << 32);
+        h.write_u64(b[6] | (self.kind as u64) << 32 | (self.set as u64) << 40);
     }
 }
 
