@@ -453,6 +453,7 @@ pub fn scene_pipeline(scene: &irradia_scene::Scene) -> Pipeline {
         }
     }
     p.shading = irradia_raster::Shading::Phong;
+    p.background = Some(scene.settings.background);
     p
 }
 

@@ -37,6 +37,8 @@ pub(crate) struct FragmentState<'a> {
     /// Draw the triangles as transparent: blended over the colour buffer, depth
     /// tested but not written ([`crate::transparency`]). Ignored by ID buffers.
     pub blend: bool,
+    /// What transparent fragments are blended over where nothing was drawn.
+    pub background: Option<[f32; 4]>,
 }
 
 /// Draws the triangles of `batches` (in order: batch by batch, each in order) into
@@ -106,12 +108,13 @@ pub(crate) fn rasterize_binned(
         textures: state.textures,
     };
     if state.blend {
+        let bg = state.background;
         match (&mut fb.color, state.shading) {
             (ColorBuffer::Id(_), _) => {}
-            (ColorBuffer::Rgba8(c), Shading::Phong) => job.run_blended(c, depth, &phong),
-            (ColorBuffer::Rgba8(c), _) => job.run_blended(c, depth, &by_material),
-            (ColorBuffer::Rgba32F(c), Shading::Phong) => job.run_blended(c, depth, &phong),
-            (ColorBuffer::Rgba32F(c), _) => job.run_blended(c, depth, &by_material),
+            (ColorBuffer::Rgba8(c), Shading::Phong) => job.run_blended(c, depth, &phong, bg),
+            (ColorBuffer::Rgba8(c), _) => job.run_blended(c, depth, &by_material, bg),
+            (ColorBuffer::Rgba32F(c), Shading::Phong) => job.run_blended(c, depth, &phong, bg),
+            (ColorBuffer::Rgba32F(c), _) => job.run_blended(c, depth, &by_material, bg),
         }
         return;
     }
@@ -186,8 +189,13 @@ impl Job<'_> {
     }
 
     /// Draws transparent triangles: blended, depth tested, depth not written.
-    fn run_blended<T: Send, S: PixelShader>(&self, color: &mut [T], depth: &mut [f32], shader: &S)
-    where
+    fn run_blended<T: Send, S: PixelShader>(
+        &self,
+        color: &mut [T],
+        depth: &mut [f32],
+        shader: &S,
+        background: Option<[f32; 4]>,
+    ) where
         [T]: BlendTarget,
     {
         let depth_func = self.depth_func;
@@ -196,7 +204,9 @@ impl Job<'_> {
             color,
             depth,
             |_, _| (),
-            |_, t, clip, y0, d, c| draw_blended(t, clip, width, y0, d, c, shader, depth_func),
+            |_, t, clip, y0, d, c| {
+                draw_blended(t, clip, width, y0, d, c, shader, depth_func, background)
+            },
         )
     }
 

@@ -298,12 +298,24 @@ pub(crate) fn draw<C: ColorTarget + ?Sized, S: PixelShader>(
 pub(crate) trait BlendTarget {
     /// `dst = colour + transmittance * dst` per channel; alpha becomes
     /// `1 - (1 - dst alpha) * mean(transmittance)` (coverage: an opaque pixel stays
-    /// opaque, empty background behind a clear surface stays mostly empty).
-    fn blend(&mut self, i: usize, colour: [f32; 4], transmittance: [f32; 3]);
+    /// opaque, empty background behind a clear surface stays mostly empty). A pixel
+    /// nothing was drawn into yet (alpha 0) holds `background` when there is one, which
+    /// then makes it opaque.
+    fn blend(
+        &mut self,
+        i: usize,
+        colour: [f32; 4],
+        transmittance: [f32; 3],
+        background: Option<[f32; 4]>,
+    );
 }
 
 #[inline(always)]
-fn over(c: [f32; 4], t: [f32; 3], d: [f32; 4]) -> [f32; 4] {
+fn over(c: [f32; 4], t: [f32; 3], d: [f32; 4], background: Option<[f32; 4]>) -> [f32; 4] {
+    let d = match background {
+        Some(bg) if d[3] == 0.0 => bg,
+        _ => d,
+    };
     let mean = (t[0] + t[1] + t[2]) * (1.0 / 3.0);
     [
         c[0] + t[0] * d[0],
@@ -315,16 +327,16 @@ fn over(c: [f32; 4], t: [f32; 3], d: [f32; 4]) -> [f32; 4] {
 
 impl BlendTarget for [[u8; 4]] {
     #[inline(always)]
-    fn blend(&mut self, i: usize, c: [f32; 4], t: [f32; 3]) {
+    fn blend(&mut self, i: usize, c: [f32; 4], t: [f32; 3], bg: Option<[f32; 4]>) {
         let d = self[i].map(|v| v as f32 * (1.0 / 255.0));
-        self[i] = to_rgba8(over(c, t, d));
+        self[i] = to_rgba8(over(c, t, d, bg));
     }
 }
 
 impl BlendTarget for [[f32; 4]] {
     #[inline(always)]
-    fn blend(&mut self, i: usize, c: [f32; 4], t: [f32; 3]) {
-        self[i] = over(c, t, self[i]);
+    fn blend(&mut self, i: usize, c: [f32; 4], t: [f32; 3], bg: Option<[f32; 4]>) {
+        self[i] = over(c, t, self[i], bg);
     }
 }
 
@@ -343,6 +355,7 @@ pub(crate) fn draw_blended<C: BlendTarget + ?Sized, S: PixelShader>(
     target: &mut C,
     shader: &S,
     func: DepthFunc,
+    background: Option<[f32; 4]>,
 ) {
     let Some(s) = Setup::new(tri) else { return };
     let mut row_y = u32::MAX;
@@ -359,7 +372,7 @@ pub(crate) fn draw_blended<C: BlendTarget + ?Sized, S: PixelShader>(
         if func.pass(z, depth_buf[i]) {
             let w = perspective_weights(&s.v, s.lambda(e));
             let (c, t) = shader.layer(tri, &s, w, FragCoord { x, y, z });
-            target.blend(i, c, t);
+            target.blend(i, c, t, background);
         }
     });
 }

@@ -50,6 +50,10 @@ pub struct Pipeline {
     pub materials: Vec<Material>,
     /// Image textures, named by `Material::texture` and looked up at every fragment.
     pub textures: Vec<Texture>,
+    /// The colour behind everything (a scene's background), blended under transparent
+    /// surfaces where nothing opaque was drawn; `None` (the default) blends them over
+    /// transparent black, leaving the coverage in alpha for a later composite.
+    pub background: Option<irradia_core::Rgb>,
     pub shading: Shading,
     pub cull: CullMode,
     pub depth_func: DepthFunc,
@@ -78,6 +82,7 @@ impl Pipeline {
             material: Material::default(),
             materials: Vec::new(),
             textures: Vec::new(),
+            background: None,
             shading: Shading::Gouraud,
             cull: CullMode::None,
             depth_func: DepthFunc::Less,
@@ -116,6 +121,7 @@ impl Pipeline {
             unproject: Unproject::new(self.view.proj, self.width, self.height),
             textures: &self.textures,
             blend: false,
+            background: self.background.map(|c| [c.r, c.g, c.b, 1.0]),
         }
     }
 
