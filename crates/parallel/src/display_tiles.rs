@@ -152,12 +152,14 @@ impl DisplayLayout {
 }
 
 /// Sends every display rank the part of `span` (this rank's share of the composited
-/// `layer`) that falls in its tile, and on a display rank assembles its tile. Returns
-/// the tile image on display ranks, `None` on the others.
+/// `layer`, whose active pixels all lie in `rect`) that falls in its tile, and on a
+/// display rank assembles its tile. Returns the tile image on display ranks, `None` on
+/// the others.
 pub fn gather_tiles<P: Pixel, C: Comm>(
     comm: &C,
     layer: &Layer<P>,
     span: Range<usize>,
+    rect: &ActiveRect,
     layout: &DisplayLayout,
     opts: &CompositeOptions,
 ) -> Result<Option<Layer<P>>, CommError> {
@@ -165,7 +167,7 @@ pub fn gather_tiles<P: Pixel, C: Comm>(
     let mut local: Option<Vec<u8>> = None;
     let mut outgoing = Vec::new();
     for tile in &layout.tiles {
-        let msg = encode_tile_part(layer, &span, tile, opts);
+        let msg = encode_tile_part(layer, &span, rect, tile, opts);
         if tile.rank == me {
             local = Some(msg);
         } else {
@@ -197,6 +199,7 @@ pub fn gather_tiles<P: Pixel, C: Comm>(
 fn encode_tile_part<P: Pixel>(
     layer: &Layer<P>,
     span: &Range<usize>,
+    rect: &ActiveRect,
     tile: &DisplayTile,
     opts: &CompositeOptions,
 ) -> Vec<u8> {
@@ -217,7 +220,7 @@ fn encode_tile_part<P: Pixel>(
         if part.is_empty() {
             continue;
         }
-        let msg = rle::encode(layer, part, opts.op, opts.rle);
+        let msg = rle::encode_bounded(layer, part, opts.op, opts.rle, rect);
         out.extend_from_slice(&(msg.len() as u32).to_le_bytes());
         out.extend_from_slice(&msg);
     }
@@ -285,9 +288,10 @@ pub fn composite_to_tiles_bounded<P: Pixel, C: Comm>(
     opts: &CompositeOptions,
 ) -> Result<Option<Layer<P>>, CommError> {
     comm.log().begin_stage("composite");
-    let (layer, span) = composite::reduce_bounded(comm, strategy, layer, rect, opts)?;
+    let mut rect = rect;
+    let (layer, span) = composite::reduce_tracked(comm, strategy, layer, &mut rect, opts)?;
     comm.log().begin_stage("gather");
-    let out = gather_tiles(comm, &layer, span, layout, opts)?;
+    let out = gather_tiles(comm, &layer, span, &rect, layout, opts)?;
     comm.barrier()?;
     comm.log().end_stage();
     Ok(out)

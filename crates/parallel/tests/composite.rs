@@ -374,6 +374,49 @@ fn every_strategy_with_active_rectangles_equals_serial() {
     }
 }
 
+/// The rectangle is a promise all the way to the final image: decoy pixels that a rank
+/// leaves outside its rectangle (and outside every other rank's) are never read, in the
+/// reduce steps nor in the final gather, whichever rank ends up owning them.
+#[test]
+fn pixels_outside_every_rectangle_never_reach_the_image() {
+    use irradia_parallel::comm::Comm;
+    use irradia_parallel::composite::ActiveRect;
+    for ranks in 1..=5 {
+        let layers: Vec<_> = (0..ranks).map(blob_layer).collect();
+        let serial = composite::serial(&layers, Operator::Depth, None);
+        let rects: Vec<_> = layers
+            .iter()
+            .map(|l| ActiveRect::of_layer(l, Operator::Depth))
+            .collect();
+        let union = rects.iter().fold(ActiveRect::EMPTY, |u, r| u.union(r));
+        assert!(union.x1 < 230 && union.y1 < 58, "{union:?}");
+        for s in STRATEGIES {
+            for root in [0, ranks - 1] {
+                let opts = CompositeOptions {
+                    root,
+                    ..Default::default()
+                };
+                let out = run_local(ranks, LocalOptions::default(), |c| {
+                    let mut l = blob_layer(c.rank());
+                    // Decoys in the bottom-right corner, a few per rank.
+                    for k in 0..4 {
+                        let i = (58 + k) * 256 + 230 + 5 * c.rank();
+                        l.color[i] = [255, 0, 255, 255];
+                        l.depth[i] = 0.0;
+                    }
+                    composite::composite_bounded(c, s, l, rects[c.rank()], &opts).unwrap()
+                });
+                let img = out.into_iter().nth(root).unwrap().unwrap().unwrap();
+                assert!(
+                    img == serial,
+                    "{} with {ranks} ranks, root {root}: a pixel outside the rectangles arrived",
+                    s.name()
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn an_empty_active_rectangle_sends_nothing_and_still_composites() {
     use irradia_parallel::comm::Comm;

@@ -79,6 +79,55 @@ fn every_display_gets_its_rectangle_of_the_serial_composite() {
     }
 }
 
+/// With each rank's active rectangle, decoy pixels left outside every rectangle never
+/// reach a display (the reduce steps and the delivery to the tiles read inside the
+/// rectangles only).
+#[test]
+fn pixels_outside_every_rectangle_never_reach_a_display() {
+    use irradia_parallel::composite::ActiveRect;
+    use irradia_parallel::display_tiles::composite_to_tiles_bounded;
+    // Everything drawn lies in the top-left 40x30; decoys go in the bottom-right corner.
+    let rects: Vec<Rect> = random_rects(20, 9, 255)
+        .into_iter()
+        .map(|mut r| {
+            (r.x1, r.y1) = (r.x1.min(40), r.y1.min(30));
+            r
+        })
+        .filter(|r| r.x0 < r.x1 && r.y0 < r.y1)
+        .collect();
+    let serial = render_opaque::<[u8; 4]>(&rects.iter().collect::<Vec<_>>());
+    for ranks in [1, 2, 3, 4, 6] {
+        let (cols, rows) = match ranks {
+            1 => (1, 1),
+            2 | 3 => (2, 1),
+            _ => (2, 2),
+        };
+        let layout = DisplayLayout::grid(W, H, cols, rows, 4).unwrap();
+        for s in STRATEGIES {
+            let got = run_local(ranks, LocalOptions::default(), |c| {
+                let mut layer = render_opaque::<[u8; 4]>(&block(&rects, c.rank(), ranks));
+                let rect = ActiveRect::of_layer(&layer, Operator::Depth);
+                for k in 0..4 {
+                    let i = (44 + k) as usize * W as usize + 56 + c.rank();
+                    layer.color[i] = [255, 0, 255, 255];
+                    layer.depth[i] = 0.0;
+                }
+                let opts = CompositeOptions::default();
+                composite_to_tiles_bounded(c, s, layer, rect, &layout, &opts).unwrap()
+            });
+            for (rank, tile) in got.into_iter().enumerate() {
+                if let (Some(t), Some(img)) = (layout.tile_of(rank), tile.unwrap()) {
+                    assert!(
+                        img == DisplayLayout::crop(&serial, t),
+                        "{} with {ranks} ranks: rank {rank}'s tile got a pixel from outside the rectangles",
+                        s.name()
+                    );
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn float_pixels_and_display_ranks_at_the_end() {
     let rects = random_rects(25, 9, 255);

@@ -158,7 +158,10 @@ fn each_ranks_active_rectangle_is_the_box_of_its_hit_pixels() {
             assert_eq!(rect, scanned, "{ranks} ranks, rank {rank}");
             non_empty += usize::from(!rect.is_empty() && rect != ActiveRect::full(64, 48));
         }
-        assert!(non_empty > 0, "{ranks} ranks: every rectangle empty or full");
+        assert!(
+            non_empty > 0,
+            "{ranks} ranks: every rectangle empty or full"
+        );
     }
 }
 

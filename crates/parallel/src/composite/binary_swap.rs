@@ -16,7 +16,7 @@ use std::ops::Range;
 pub fn reduce<P: Pixel, C: Comm>(
     comm: &C,
     mut layer: Layer<P>,
-    mut rect: ActiveRect,
+    rect: &mut ActiveRect,
     opts: &CompositeOptions,
 ) -> Result<(Layer<P>, Range<usize>), CommError> {
     let n = comm.size();
@@ -42,11 +42,11 @@ pub fn reduce<P: Pixel, C: Comm>(
         };
         if me % 2 == 1 {
             let to = [(order.rank(me - 1), all)];
-            pairwise::transfer(comm, &mut layer, &mut rect, &fold(&to, &[], 0..0))?;
+            pairwise::transfer(comm, &mut layer, rect, &fold(&to, &[], 0..0))?;
             return Ok((layer, 0..0));
         }
         let from = [(order.rank(me + 1), false)];
-        pairwise::transfer(comm, &mut layer, &mut rect, &fold(&[], &from, all))?;
+        pairwise::transfer(comm, &mut layer, rect, &fold(&[], &from, all))?;
         me / 2
     } else {
         me - extra
@@ -68,7 +68,7 @@ pub fn reduce<P: Pixel, C: Comm>(
             comm,
             partner,
             &mut layer,
-            &mut rect,
+            rect,
             give,
             keep.clone(),
             TAG_COMPOSITE + round,

@@ -10,7 +10,7 @@ use std::ops::Range;
 pub fn reduce<P: Pixel, C: Comm>(
     comm: &C,
     mut layer: Layer<P>,
-    mut rect: ActiveRect,
+    rect: &mut ActiveRect,
     opts: &CompositeOptions,
 ) -> Result<(Layer<P>, Range<usize>), CommError> {
     let n = comm.size();
@@ -22,7 +22,7 @@ pub fn reduce<P: Pixel, C: Comm>(
         comm,
         &order,
         &mut layer,
-        &mut rect,
+        rect,
         span,
         &members,
         me,

@@ -289,9 +289,10 @@ pub fn composite_bounded<P: Pixel, C: Comm>(
     opts: &CompositeOptions,
 ) -> Result<Option<Layer<P>>, CommError> {
     comm.log().begin_stage("composite");
-    let (layer, span) = reduce_bounded(comm, strategy, layer, rect, opts)?;
+    let mut rect = rect;
+    let (layer, span) = reduce_tracked(comm, strategy, layer, &mut rect, opts)?;
     comm.log().begin_stage("gather");
-    let out = gather::gather(comm, &layer, span, opts)?;
+    let out = gather::gather_bounded(comm, &layer, span, &rect, opts)?;
     // Frame barrier: every rank learns whether the frame completed everywhere.
     comm.barrier()?;
     comm.log().end_stage();
@@ -325,6 +326,20 @@ pub fn reduce_bounded<P: Pixel, C: Comm>(
         layer.width,
         layer.height
     );
+    let mut rect = rect;
+    reduce_tracked(comm, strategy, layer, &mut rect, opts)
+}
+
+/// [`reduce_bounded`] that leaves in `rect` a rectangle holding every active pixel of the
+/// returned layer (the union of the rectangles of every rank whose pixels reached it),
+/// for whatever sends the owned span on (the final gather, the tiled-display delivery).
+pub(crate) fn reduce_tracked<P: Pixel, C: Comm>(
+    comm: &C,
+    strategy: Strategy,
+    layer: Layer<P>,
+    rect: &mut ActiveRect,
+    opts: &CompositeOptions,
+) -> Result<(Layer<P>, Range<usize>), CommError> {
     match strategy {
         Strategy::DirectSend => direct_send::reduce(comm, layer, rect, opts),
         Strategy::Tree => tree::reduce(comm, layer, rect, opts),

@@ -42,7 +42,7 @@ pub fn factors(n: usize, k: usize) -> Vec<usize> {
 pub fn reduce<P: Pixel, C: Comm>(
     comm: &C,
     mut layer: Layer<P>,
-    mut rect: ActiveRect,
+    rect: &mut ActiveRect,
     opts: &CompositeOptions,
     k: usize,
 ) -> Result<(Layer<P>, Range<usize>), CommError> {
@@ -59,7 +59,7 @@ pub fn reduce<P: Pixel, C: Comm>(
             comm,
             &order,
             &mut layer,
-            &mut rect,
+            rect,
             span,
             &members,
             digit,

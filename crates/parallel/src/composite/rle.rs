@@ -21,6 +21,19 @@ fn push_words(out: &mut Vec<u8>, w: &[u32]) {
 
 /// Encodes `span` of `layer` (run lengths when `rle`, else dense).
 pub fn encode<P: Pixel>(layer: &Layer<P>, span: Range<usize>, op: Operator, rle: bool) -> Vec<u8> {
+    let all = ActiveRect::full(layer.width, layer.height);
+    encode_bounded(layer, span, op, rle, &all)
+}
+
+/// [`encode`] of a layer whose active pixels all lie inside `rect`: run lengths are
+/// found without reading anything outside it.
+pub fn encode_bounded<P: Pixel>(
+    layer: &Layer<P>,
+    span: Range<usize>,
+    op: Operator,
+    rle: bool,
+    rect: &ActiveRect,
+) -> Vec<u8> {
     let n = span.len();
     let px = std::mem::size_of::<P>() + 4;
     if !rle {
@@ -31,8 +44,7 @@ pub fn encode<P: Pixel>(layer: &Layer<P>, span: Range<usize>, op: Operator, rle:
         return out;
     }
     let mut out = Vec::with_capacity(12 + 64);
-    let all = ActiveRect::full(layer.width, layer.height);
-    encode_runs_into(&mut out, layer, span, op, &all);
+    encode_runs_into(&mut out, layer, span, op, rect);
     out
 }
 

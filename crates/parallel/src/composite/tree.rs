@@ -12,7 +12,7 @@ use std::ops::Range;
 pub fn reduce<P: Pixel, C: Comm>(
     comm: &C,
     mut layer: Layer<P>,
-    mut rect: ActiveRect,
+    rect: &mut ActiveRect,
     opts: &CompositeOptions,
 ) -> Result<(Layer<P>, Range<usize>), CommError> {
     let n = comm.size();
@@ -34,11 +34,11 @@ pub fn reduce<P: Pixel, C: Comm>(
             if me + bit < n {
                 let from = [(order.rank(me + bit), false)];
                 let s = step(&[], &from, full.clone());
-                pairwise::transfer(comm, &mut layer, &mut rect, &s)?;
+                pairwise::transfer(comm, &mut layer, rect, &s)?;
             }
         } else {
             let to = [(order.rank(me - bit), full.clone())];
-            pairwise::transfer(comm, &mut layer, &mut rect, &step(&to, &[], 0..0))?;
+            pairwise::transfer(comm, &mut layer, rect, &step(&to, &[], 0..0))?;
             return Ok((layer, 0..0));
         }
         bit <<= 1;
