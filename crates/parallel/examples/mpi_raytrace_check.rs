@@ -1,14 +1,16 @@
 //! The parallel ray tracer over MPI: run under `mpirun -np N` (scripts/test-mpi.sh runs
 //! N = 2 and 3). Every process loads the built-in Whitted scene at 64x48; rank 0
 //! compares the image-parallel Whitted image (strips, interleaved tiles, cost-dealt
-//! tiles) with the serial render, and the object-parallel ray cast (binary swap, radix-k)
-//! with the serial ray cast, bit for bit. Prints one line per case and a closing
+//! tiles) with the serial render, the object-parallel ray cast (binary swap, radix-k)
+//! with the serial ray cast, and the object-parallel Whitted tracer with ray forwarding
+//! (`raytrace_forward`, on the Whitted scene and the default scene with its area light
+//! and CSG) with the serial render, bit for bit. Prints one line per case and a closing
 //! `N passed, N failed`; exits 1 on any failure.
 
 use irradia_parallel::comm::{Comm, MpiComm};
 use irradia_parallel::composite::Strategy;
 use irradia_parallel::sort_first::{Assign, Tiling};
-use irradia_parallel::{raytrace_first, raytrace_last};
+use irradia_parallel::{raytrace_first, raytrace_forward, raytrace_last};
 use irradia_render::{film, Whitted};
 use std::time::Duration;
 
@@ -60,6 +62,34 @@ fn main() {
                 got.as_ref() == Some(&cast),
                 format!("sort-last ray casting {}", s.name()),
             );
+        }
+    }
+    for name in ["whitted", "default"] {
+        let mut scene = irradia_scene::builtin::load(name).expect("built-in scene");
+        scene.settings.width = 64;
+        scene.settings.height = 48;
+        let serial = film::render_with(&Whitted::new(&scene), &scene, &Default::default())
+            .expect("serial render")
+            .image;
+        for tiling in [
+            Tiling::STRIPS,
+            Tiling {
+                per_rank: 3,
+                assign: Assign::Interleaved,
+            },
+        ] {
+            let r = raytrace_forward::render(&comm, &scene, tiling, 0)
+                .unwrap_or_else(|e| comm.fail(&e));
+            if rank == 0 {
+                let img = raytrace_first::to_image(&r.image.expect("rank 0 holds the image"));
+                tally(
+                    img.pixels() == serial.pixels(),
+                    format!(
+                        "sort-last Whitted ray tracing with ray forwarding, {name}, {tiling:?} ({} generations)",
+                        r.generations.len()
+                    ),
+                );
+            }
         }
     }
     if rank == 0 {
