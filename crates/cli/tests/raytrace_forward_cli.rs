@@ -8,7 +8,12 @@ use common::{irradia, stderr};
 
 const SIZE: [&str; 4] = ["--width", "48", "--height", "36"];
 
-fn parallel(shading: &str, out: &str, dir: &std::path::Path) -> std::process::Output {
+fn parallel(
+    shading: &str,
+    out: &str,
+    extra: &[&str],
+    dir: &std::path::Path,
+) -> std::process::Output {
     let mut args = vec![
         "parallel",
         "--mode",
@@ -28,6 +33,7 @@ fn parallel(shading: &str, out: &str, dir: &std::path::Path) -> std::process::Ou
         "--quiet",
     ];
     args.extend(SIZE);
+    args.extend(extra);
     irradia(&args, dir)
 }
 
@@ -40,7 +46,8 @@ fn forwarded_sort_last_ray_tracing_equals_irradia_render() {
     let o = irradia(&args, d);
     assert!(o.status.success(), "{}", stderr(&o));
 
-    let o = parallel("forward", "fwd.pfm", d);
+    // Tiles dealt by cost: the forwarding ranks shade screen regions as sort-first does.
+    let o = parallel("forward", "fwd.pfm", &["--tiles-per-rank", "2"], d);
     assert!(o.status.success(), "{}", stderr(&o));
     let serial = irradia_core::io::load(&d.join("serial.pfm")).unwrap();
     let fwd = irradia_core::io::load(&d.join("fwd.pfm")).unwrap();
@@ -59,7 +66,7 @@ fn forwarded_sort_last_ray_tracing_equals_irradia_render() {
 
     // Local shading (no forwarding) has no shadows: the floor under the objects is
     // brighter there, so the images differ in many pixels.
-    let o = parallel("local", "local.pfm", d);
+    let o = parallel("local", "local.pfm", &[], d);
     assert!(o.status.success(), "{}", stderr(&o));
     let local = irradia_core::io::load(&d.join("local.pfm")).unwrap();
     let differ = local

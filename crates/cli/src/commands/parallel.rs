@@ -109,7 +109,7 @@ pub struct ParallelArgs {
     /// Renderer of each rank.
     #[arg(long, value_enum, default_value = "raster")]
     pub renderer: Renderer,
-    /// Sort-first: screen regions per rank (1 = one horizontal strip each; more = a grid of tiles).
+    /// Sort-first (and sort-last with --object-shading forward, whose ranks shade screen regions): screen regions per rank (1 = one horizontal strip each; more = a grid of tiles).
     #[arg(long, default_value_t = 1)]
     pub tiles_per_rank: usize,
     /// Sort-first with tiles: how tiles are dealt out to ranks.
@@ -293,7 +293,10 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
             a.tiles_per_rank
         )));
     }
-    if a.tiles_per_rank > 1 && mode != Mode::SortFirst {
+    if a.tiles_per_rank > 1
+        && mode != Mode::SortFirst
+        && a.object_shading != ObjectShadingArg::Forward
+    {
         return Err(input(format!(
             "--tiles-per-rank belongs to sort-first (the mode is {})",
             mode.name()
