@@ -224,11 +224,10 @@ impl Answer {
     pub fn merge(&mut self, later: Answer) {
         match (self, later) {
             (Answer::Any(a), Answer::Any(b)) => *a |= b,
-            (Answer::Nearest(a), Answer::Nearest(Some(h))) => {
-                if a.map_or(true, |best| h.hit.t < best.hit.t) {
-                    *a = Some(h);
-                }
+            (Answer::Nearest(Some(best)), Answer::Nearest(Some(h))) if h.hit.t < best.hit.t => {
+                *best = h
             }
+            (Answer::Nearest(a @ None), Answer::Nearest(h)) => *a = h,
             _ => {}
         }
     }
