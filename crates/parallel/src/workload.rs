@@ -203,7 +203,13 @@ pub fn scene_triangles_with(scene: &irradia_scene::Scene, opts: &Tessellation) -
         let to_world = *inst.to_world();
         let normal_matrix = inst.to_object().matrix3.transpose();
         let mut mesh = WorldMesh::default();
-        if let Some(f) = inst.shape.facets(SCENE_FACET_DETAIL) {
+        if let Some(mut f) = inst.shape.facets(SCENE_FACET_DETAIL) {
+            if matches!(
+                scene.materials[obj.material as usize].color,
+                Texture::Image { .. }
+            ) {
+                fan_from_centres(&mut f);
+            }
             let m = Mesh::from_facets(&f);
             mesh.positions = m
                 .positions
@@ -264,6 +270,45 @@ pub fn scene_triangles_with(scene: &irradia_scene::Scene, opts: &Tessellation) -
         t.id = i as u32;
     }
     out
+}
+
+/// Cuts every convex face of five or more corners (a disk, a cylinder's cap) into a fan
+/// around its centroid instead of a fan from its first corner: texture coordinates
+/// that are not affine over the face (a disk's angle and radius) are then fitted over
+/// narrow wedges ([`crate::tessellate::uv`]) instead of over slivers spanning it.
+fn fan_from_centres(f: &mut irradia_geometry::Facets) {
+    let faces = std::mem::take(&mut f.faces);
+    let smooth = f.normals.len() == f.vertices.len();
+    for face in faces {
+        let p: Vec<Vec3> = face.iter().map(|&i| f.vertices[i as usize]).collect();
+        // Newell's normal, then every turn the same way round it.
+        let mut n = Vec3::ZERO;
+        for k in 0..p.len() {
+            let (a, b) = (p[k], p[(k + 1) % p.len()]);
+            n += Vec3::new(
+                (a.y - b.y) * (a.z + b.z),
+                (a.z - b.z) * (a.x + b.x),
+                (a.x - b.x) * (a.y + b.y),
+            );
+        }
+        let convex = (0..p.len()).all(|k| {
+            let (a, b, c) = (p[k], p[(k + 1) % p.len()], p[(k + 2) % p.len()]);
+            (b - a).cross(c - b).dot(n) >= -1e-6 * n.length_squared()
+        });
+        if face.len() < 5 || !convex || n == Vec3::ZERO {
+            f.faces.push(face);
+            continue;
+        }
+        let c = f.vertices.len() as u32;
+        f.vertices.push(p.iter().sum::<Vec3>() / p.len() as f32);
+        if smooth {
+            let m: Vec3 = face.iter().map(|&i| f.normals[i as usize]).sum();
+            f.normals.push(m.normalize_or_zero());
+        }
+        for k in 0..face.len() {
+            f.faces.push(vec![c, face[k], face[(k + 1) % face.len()]]);
+        }
+    }
 }
 
 /// One object's triangles in world space before they become raster triangles.
