@@ -49,3 +49,7 @@ for line in open(sys.argv[1]):
 for (form, ranks), v in sorted(t.items()):
     print(f"{form:10} ranks {ranks}: median {statistics.median(v):.3f} s over {len(v)} runs")
 PY
+if grep -q "equals serial: False" "$tmp/lines"; then
+  echo "FAILED: an image differs from the serial render"
+  exit 1
+fi

@@ -1,9 +1,9 @@
-//! A rank's memory of resolved geometry queries, and the geometry that replays from it.
+//! A pixel's memory of resolved geometry queries, and the geometry that replays from it.
 //!
 //! [`Replay`] is what the unchanged Whitted tracer asks during a generation: a query
-//! whose answer is in the [`Cache`] gets it; any other is recorded as a miss and gets a
-//! placeholder (no hit, not blocked), so that the rest of the pixel's ray tree is still
-//! explored in this generation and its own queries found. A pixel is finished when it
+//! whose answer is in the pixel's [`Log`] gets it; any other is recorded as a miss and
+//! gets a placeholder (no hit, not blocked), so that the rest of the pixel's ray tree is
+//! still explored in this generation and its own queries found. A pixel is finished when it
 //! was traced without a miss: then every answer it used was the true one, and since the
 //! pixel's random numbers are seeded from the pixel alone (`irradia_render::film`), its
 //! colour is the serial one bit for bit. This is deterministic replay in the sense of
@@ -60,46 +60,84 @@ impl Hasher for BitsHasher {
     }
 }
 
-/// Resolved queries of one rank, by their exact bits.
+/// Queries resolved in one generation, by their exact bits.
 pub type Cache = HashMap<Query, Answer, BuildHasherDefault<BitsHasher>>;
 
-/// Geometry answered from a [`Cache`], recording the queries it cannot answer.
+/// A pixel's replay log: the queries its last trace asked, in the order it asked them,
+/// with their answers (`None` until resolved).
+pub type Log = Vec<(Query, Option<Answer>)>;
+
+/// Where the current pixel's replay stands.
+#[derive(Default)]
+struct Cursor {
+    /// The pixel's log from its last trace, answers filled in.
+    old: Log,
+    /// The next entry of `old` the trace is expected to ask.
+    at: usize,
+    /// What this trace asked.
+    new: Log,
+    missed: bool,
+}
+
+/// Geometry answered from a pixel's replay log, recording what the pixel asks.
+///
+/// A replay asks the same queries in the same order as the last trace of the pixel
+/// until it reaches the first answer that was a placeholder then; after that it may ask
+/// new ones. So the log is read in order (a comparison, no hashing, memory read in
+/// sequence), and a query out of order is looked up by a scan of the log.
 pub struct Replay<'c> {
-    cache: &'c Cache,
     /// Whether each object of the scene is a closed solid (replicated, like materials).
     solid: &'c [bool],
-    misses: Mutex<Vec<Query>>,
+    /// One pixel at a time (a task's pixels share one `Replay`; the lock is never
+    /// contended).
+    cursor: Mutex<Cursor>,
 }
 
 impl<'c> Replay<'c> {
-    pub fn new(cache: &'c Cache, solid: &'c [bool]) -> Self {
+    pub fn new(solid: &'c [bool]) -> Self {
         Self {
-            cache,
             solid,
-            misses: Mutex::new(Vec::new()),
+            cursor: Mutex::new(Cursor::default()),
         }
     }
 
-    /// How many queries missed so far (compare before and after a pixel).
-    pub fn miss_count(&self) -> usize {
-        self.misses.lock().expect("miss list").len()
+    /// Starts replaying a pixel whose last trace asked `log` (empty for a first trace).
+    pub fn begin(&self, log: Log) {
+        let mut c = self.cursor.lock().expect("replay cursor");
+        *c = Cursor {
+            old: log,
+            at: 0,
+            new: Vec::with_capacity(c.new.capacity()),
+            missed: false,
+        };
     }
 
-    /// The queries that missed, in the order they were asked.
-    pub fn into_misses(self) -> Vec<Query> {
-        self.misses.into_inner().expect("miss list")
+    /// Ends the pixel: what it asked, and whether some answer was missing (then its
+    /// colour is not the true one yet).
+    pub fn end(&self) -> (Log, bool) {
+        let mut c = self.cursor.lock().expect("replay cursor");
+        (std::mem::take(&mut c.new), c.missed)
     }
 
     #[inline]
     fn lookup(&self, q: Query) -> Option<Answer> {
-        let a = self.cache.get(&q).copied();
-        if a.is_none() {
-            self.misses.lock().expect("miss list").push(q);
-        }
-        a
+        let mut guard = self.cursor.lock().expect("replay cursor");
+        let c = &mut *guard;
+        let found = match c.old.get(c.at) {
+            Some(&(k, a)) if k == q => {
+                c.at += 1;
+                a
+            }
+            _ => c.old.iter().position(|e| e.0 == q).and_then(|i| {
+                c.at = i + 1;
+                c.old[i].1
+            }),
+        };
+        c.new.push((q, found));
+        c.missed |= found.is_none();
+        found
     }
 }
-
 impl Geometry for Replay<'_> {
     #[inline]
     fn intersect(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> Option<SceneHit> {

@@ -19,13 +19,15 @@
 //! 2. Each rank shades the pixels of its screen regions (`crate::raytrace_first`'s
 //!    layout). The Whitted tracer of `irradia-render` asks its geometry through
 //!    [`irradia_render::whitted::Geometry`]; here that is a [`cache::Replay`], which
-//!    answers from the rank's cache of resolved queries and records every other query
-//!    as a miss, answering it with a placeholder (no hit, not blocked) so that the rest
-//!    of the pixel's tree is still explored and its queries found in the same pass.
+//!    answers from the pixel's log of resolved queries (what its last trace asked, in
+//!    order) and records every other query as a miss, answering it with a placeholder
+//!    (no hit, not blocked) so that the rest of the pixel's tree is still explored and
+//!    its queries found in the same pass.
 //! 3. After each pass, [`resolve::resolve`] sends every rank's missed queries to every
-//!    rank (an all-to-all), each rank answers them against its own objects, and the
-//!    answers return (a second all-to-all) to be merged: the nearest hit (an equal `t`
-//!    goes to the lower rank) or any blocker ([`wire`]).
+//!    rank whose objects' box the ray may cross ([`domain`]; an all-to-all), each rank
+//!    answers them against its own objects, and the answers return (a second
+//!    all-to-all) to be merged: the nearest hit (an equal `t` goes to the lower rank)
+//!    or any blocker ([`wire`]); they are filled into the logs of the pixels that asked.
 //! 4. Pixels traced without a miss are finished: every answer they used was the
 //!    scene's, and their random numbers come from the pixel alone, so their colour is
 //!    the serial one. Only unfinished pixels are traced again. When no rank asked
@@ -42,7 +44,8 @@
 //! its refracted subtree is: these scenes need a few more exchanges (reported).
 //!
 //! The price of replay is recomputation (a pixel is traced once per pass until it
-//! finishes, its earlier levels from the cache) and memory for the cache; the gain is
+//! finishes, its earlier levels from its log) and memory for the logs of unfinished
+//! pixels (dropped as they finish); the gain is
 //! that no ray state ever travels (30 bytes per query, 1 or 65 per answer) and that the
 //! serial tracer is the distributed one.
 
@@ -57,7 +60,7 @@ use crate::frame::block;
 use crate::raytrace_first;
 use crate::raytrace_last::sub_scene;
 use crate::sort_first::{gather_tiles, Tiling};
-use cache::{Cache, Replay};
+use cache::{Cache, Log, Replay};
 use domain::Domain;
 use irradia_render::whitted::{Geometry, SceneGeometry};
 use irradia_render::{film, Whitted};
@@ -89,7 +92,8 @@ pub struct Generation {
 pub struct ForwardResult {
     pub image: Option<Layer<[f32; 4]>>,
     pub generations: Vec<Generation>,
-    /// Resolved queries held in this rank's cache at the end.
+    /// The most resolved queries this rank held at once (in its unfinished pixels'
+    /// logs; a pixel's log is dropped when it finishes).
     pub cached: usize,
 }
 
@@ -157,22 +161,28 @@ pub fn render<C: Comm>(
 
     let (w, h) = (scene.settings.width, scene.settings.height);
     let layout = raytrace_first::layout(scene, p, tiling);
-    let mut pending: Vec<(u32, u32)> = layout
+    let mut pending: Vec<Pending> = layout
         .mine(me)
         .flat_map(|r| (r.y0..r.y1).flat_map(move |y| (r.x0..r.x1).map(move |x| (x, y))))
+        .map(|pixel| Pending {
+            pixel,
+            log: Log::new(),
+        })
         .collect();
     let mut layer = Layer::<[f32; 4]>::new(w, h);
-    let mut cache = Cache::default();
     let mut generations = Vec::new();
+    let mut most_held = 0;
     loop {
         comm.log().begin_stage("render");
         let start = Instant::now();
-        let passes: Vec<_> = pending
-            .par_chunks(PIXELS_PER_TASK)
-            .map(|pixels| trace_pass(scene, &cache, &solid, pixels))
+        let traced = pending.len() as u64;
+        let passes: Vec<_> = std::mem::take(&mut pending)
+            .into_par_iter()
+            .chunks(PIXELS_PER_TASK)
+            .map(|pixels| trace_pass(scene, &solid, pixels))
             .collect();
         let mut g = Generation {
-            traced: pending.len() as u64,
+            traced,
             ..Generation::default()
         };
         let mut still = Vec::new();
@@ -191,11 +201,21 @@ pub fn render<C: Comm>(
         misses.par_sort_unstable();
         misses.dedup();
         pending = still;
+        most_held = most_held.max(pending.iter().map(|p| p.log.len()).sum::<usize>());
         g.trace_seconds = start.elapsed().as_secs_f64();
 
         comm.log().begin_stage("forward");
         let start = Instant::now();
-        g.traffic = resolve(comm, &owned, &domains, &misses, &mut cache)?;
+        let mut resolved = Cache::default();
+        g.traffic = resolve(comm, &owned, &domains, &misses, &mut resolved)?;
+        // Fill the answers into the logs of the pixels that asked.
+        pending.par_iter_mut().for_each(|p| {
+            for (q, a) in &mut p.log {
+                if a.is_none() {
+                    *a = resolved.get(q).copied();
+                }
+            }
+        });
         g.exchange_seconds = start.elapsed().as_secs_f64();
         generations.push(g);
         if g.traffic.queries_total == 0 {
@@ -212,39 +232,47 @@ pub fn render<C: Comm>(
     Ok(ForwardResult {
         image,
         generations,
-        cached: cache.len(),
+        cached: most_held,
     })
+}
+
+/// A pixel still to finish, with the queries its last trace asked.
+struct Pending {
+    pixel: (u32, u32),
+    log: Log,
 }
 
 /// What one task's pass over its pixels produced.
 struct Pass {
     finished: Vec<((u32, u32), irradia_core::Rgb)>,
-    unfinished: Vec<(u32, u32)>,
+    unfinished: Vec<Pending>,
     misses: Vec<Query>,
     rays: u64,
 }
 
 /// Traces `pixels` exactly as `irradia render` does (`film::render_region` of one
 /// pixel: the same samples, and with adaptive sampling the same decision from the
-/// neighbours' centre samples), answering geometry from `cache`.
-fn trace_pass(scene: &Scene, cache: &Cache, solid: &[bool], pixels: &[(u32, u32)]) -> Pass {
-    let tracer = Whitted::with_geometry(scene, Replay::new(cache, solid));
+/// neighbours' centre samples), answering geometry from each pixel's log.
+fn trace_pass(scene: &Scene, solid: &[bool], pixels: Vec<Pending>) -> Pass {
+    let tracer = Whitted::with_geometry(scene, Replay::new(solid));
     let mut pass = Pass {
         finished: Vec::new(),
         unfinished: Vec::new(),
         misses: Vec::new(),
         rays: 0,
     };
-    for &(x, y) in pixels {
-        let before = tracer.geometry().miss_count();
+    for Pending { pixel: (x, y), log } in pixels {
+        tracer.geometry().begin(log);
         let (colour, stats) = film::render_region(&tracer, scene, x, y, 1, 1);
         pass.rays += stats.total_rays();
-        if tracer.geometry().miss_count() == before {
-            pass.finished.push(((x, y), colour[0]));
+        let (log, missed) = tracer.geometry().end();
+        if missed {
+            pass.misses
+                .extend(log.iter().filter(|e| e.1.is_none()).map(|e| e.0));
+            pass.unfinished.push(Pending { pixel: (x, y), log });
         } else {
-            pass.unfinished.push((x, y));
+            pass.finished.push(((x, y), colour[0]));
         }
     }
-    pass.misses = tracer.into_geometry().into_misses();
     pass
 }
