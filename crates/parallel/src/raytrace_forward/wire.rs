@@ -125,7 +125,7 @@ impl Query {
 
     /// Reads a list of queries (a whole message); `None` when it is not one.
     pub fn decode_all(bytes: &[u8]) -> Option<Vec<Query>> {
-        if bytes.len() % QUERY_BYTES != 0 {
+        if !bytes.len().is_multiple_of(QUERY_BYTES) {
             return None;
         }
         bytes
