@@ -276,6 +276,26 @@ pub(crate) fn draw<C: ColorTarget + ?Sized, S: PixelShader>(
     func: DepthFunc,
 ) {
     let Some(s) = Setup::new(tri) else { return };
+    for_each_fragment(&s, clip, width, band_y0, |i, at, e| {
+        if func.pass(at.z, depth_buf[i]) {
+            depth_buf[i] = at.z;
+            target.write(i, tri, &s, s.lambda(e), at, shader);
+        }
+    });
+}
+
+/// Calls `f(i, at, e)` for every pixel of the set-up triangle inside `clip`, in scan
+/// order: `i` is the pixel's index in a band of whole rows of `width` pixels starting at
+/// row `band_y0`, `at` its coordinates and interpolated depth (one multiply-add per
+/// pixel from the row's start), `e` its edge-function values.
+#[inline(always)]
+fn for_each_fragment(
+    s: &Setup,
+    clip: &Rect,
+    width: usize,
+    band_y0: u32,
+    mut f: impl FnMut(usize, FragCoord, &[i64; 3]),
+) {
     let mut row_y = u32::MAX;
     let mut row_z = 0.0;
     let mut row_i = 0;
@@ -285,12 +305,8 @@ pub(crate) fn draw<C: ColorTarget + ?Sized, S: PixelShader>(
             row_z = s.depth_row(y);
             row_i = (y - band_y0) as usize * width;
         }
-        let i = row_i + x as usize;
         let z = s.depth_in_row(row_z, x);
-        if func.pass(z, depth_buf[i]) {
-            depth_buf[i] = z;
-            target.write(i, tri, &s, s.lambda(e), FragCoord { x, y, z }, shader);
-        }
+        f(row_i + x as usize, FragCoord { x, y, z }, e);
     });
 }
 
@@ -358,20 +374,10 @@ pub(crate) fn draw_blended<C: BlendTarget + ?Sized, S: PixelShader>(
     background: Option<[f32; 4]>,
 ) {
     let Some(s) = Setup::new(tri) else { return };
-    let mut row_y = u32::MAX;
-    let mut row_z = 0.0;
-    let mut row_i = 0;
-    s.scan(clip, |x, y, e| {
-        if y != row_y {
-            row_y = y;
-            row_z = s.depth_row(y);
-            row_i = (y - band_y0) as usize * width;
-        }
-        let i = row_i + x as usize;
-        let z = s.depth_in_row(row_z, x);
-        if func.pass(z, depth_buf[i]) {
+    for_each_fragment(&s, clip, width, band_y0, |i, at, e| {
+        if func.pass(at.z, depth_buf[i]) {
             let w = perspective_weights(&s.v, s.lambda(e));
-            let (c, t) = shader.layer(tri, &s, w, FragCoord { x, y, z });
+            let (c, t) = shader.layer(tri, &s, w, at);
             target.blend(i, c, t, background);
         }
     });
