@@ -755,7 +755,7 @@ fn forward_json<C: Comm>(
         .generations
         .iter()
         .flat_map(|g| [g.traced, g.finished, g.rays, g.traffic.bytes_sent])
-        .chain([r.cached as u64])
+        .chain([r.peak_log_entries as u64])
         .flat_map(u64::to_le_bytes)
         .collect();
     let all = c.gather(0, &mine)?;
@@ -793,7 +793,7 @@ fn forward_json<C: Comm>(
             "generations": generations.len(),
             "exchanges": r.exchanges(),
             "per_generation": generations,
-            "cache_entries_per_rank": ranks.iter().map(|w| w.last().copied().unwrap_or(0)).collect::<Vec<_>>(),
+            "peak_log_entries_per_rank": ranks.iter().map(|w| w.last().copied().unwrap_or(0)).collect::<Vec<_>>(),
         }
     })))
 }

@@ -94,7 +94,7 @@ pub struct ForwardResult {
     pub generations: Vec<Generation>,
     /// The most resolved queries this rank held at once (in its unfinished pixels'
     /// logs; a pixel's log is dropped when it finishes).
-    pub cached: usize,
+    pub peak_log_entries: usize,
 }
 
 impl ForwardResult {
@@ -232,7 +232,7 @@ pub fn render<C: Comm>(
     Ok(ForwardResult {
         image,
         generations,
-        cached: most_held,
+        peak_log_entries: most_held,
     })
 }
 
