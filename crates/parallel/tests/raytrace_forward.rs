@@ -79,6 +79,144 @@ fn forwarded_whitted_equals_the_serial_render_for_one_to_four_ranks() {
     }
 }
 
+/// Twelve objects (more than the tracer scans linearly, so the serial render and the
+/// ranks with many objects go through the hierarchy): mirrors, Fresnel glass (one ball
+/// inside a glass box: nested media), boxes, a CSG intersection, a floor; an area light
+/// and a point light.
+const TWELVE: &str = r#"
+[image]
+width = 48
+height = 36
+[camera]
+eye = [0, 3, 9]
+look_at = [0, 1, 0]
+fov = 50
+[render]
+max_depth = 6
+min_weight = 0.002
+background = [0.2, 0.3, 0.5]
+ambient_light = 0.1
+[materials.floor]
+color = { type = "checker", colors = [[0.9, 0.9, 0.9], [0.2, 0.2, 0.25]], scale = 1 }
+diffuse = 0.8
+ambient = 0.3
+reflection = 0.1
+[materials.mirror]
+color = 1
+diffuse = 0.05
+specular = 0.8
+shininess = 100
+reflection = 0.85
+[materials.glass]
+color = 1
+diffuse = 0
+ambient = 0
+specular = 0.9
+shininess = 200
+transmission = 1
+filter = [0.9, 1, 0.95]
+ior = 1.5
+fresnel = true
+reflection = 1
+[materials.red]
+color = [0.8, 0.2, 0.1]
+specular = 0.3
+shininess = 20
+[materials.blue]
+color = [0.2, 0.3, 0.9]
+reflection = 0.2
+[[lights]]
+type = "rect"
+corner = [-1.5, 6, 0]
+edge_u = [1.5, 0, 0]
+edge_v = [0, 0, 1.5]
+radiance = 20
+samples = 4
+[[lights]]
+type = "point"
+position = [5, 5, 6]
+intensity = 20
+[[objects]]
+type = "plane"
+normal = [0, 1, 0]
+offset = 0
+material = "floor"
+[[objects]]
+type = "sphere"
+center = [-2.2, 1, -1]
+radius = 1
+material = "mirror"
+[[objects]]
+type = "sphere"
+center = [2.4, 0.7, -0.5]
+radius = 0.7
+material = "mirror"
+[[objects]]
+type = "sphere"
+center = [0, 0.8, 1.5]
+radius = 0.8
+material = "glass"
+[[objects]]
+type = "box"
+min = [0.9, 0, 1.6]
+max = [2.1, 1.2, 2.8]
+material = "glass"
+[[objects]]
+type = "sphere"
+center = [1.5, 0.6, 2.2]
+radius = 0.35
+material = "glass"
+[[objects]]
+type = "box"
+min = [-3.5, 0, -3.5]
+max = [-2.5, 2.5, -2.5]
+material = "red"
+[[objects]]
+type = "box"
+min = [-0.5, 0, -3]
+max = [0.5, 0.6, -2]
+material = "blue"
+[[objects]]
+type = "intersection"
+material = "red"
+children = [
+  { type = "box", min = [-0.6, -0.6, -0.6], max = [0.6, 0.6, 0.6] },
+  { type = "sphere", radius = 0.8, material = "blue" },
+]
+transform = [{ rotate = [0, 30, 0] }, { translate = [-1, 0.6, 2.5] }]
+[[objects]]
+type = "sphere"
+center = [3.5, 0.4, 1.5]
+radius = 0.4
+material = "blue"
+[[objects]]
+type = "sphere"
+center = [-3.5, 0.5, 1.5]
+radius = 0.5
+material = "mirror"
+[[objects]]
+type = "box"
+min = [2.8, 0, -3.5]
+max = [3.8, 1.5, -2.5]
+material = "blue"
+"#;
+
+#[test]
+fn many_objects_through_the_hierarchy_equal_the_serial_render() {
+    let s = irradia_scene::file::load_str(
+        TWELVE,
+        irradia_scene::file::Format::Toml,
+        std::path::Path::new("twelve.toml"),
+    )
+    .unwrap();
+    assert_eq!(s.objects.len(), 12);
+    let want = serial(&s);
+    for ranks in [1, 2, 3, 4] {
+        let (got, _) = forward(&s, ranks, Tiling::STRIPS);
+        assert_eq!(differing(&got, &want), 0, "{ranks} ranks differ");
+    }
+}
+
 #[test]
 fn forwarding_follows_supersampling_and_any_tiling() {
     // Several samples per pixel (area-light random numbers per sample) and adaptive
