@@ -3,9 +3,11 @@
 //! the image has shadows, reflection, refraction and area-light samples, and equals
 //! the serial `irradia render` (Whitted) bit for bit.
 //!
-//! The lecture's object-parallel ray tracing section names the problem: a secondary or
-//! shadow ray may hit any object, and the objects live on other ranks, so the rays (or
-//! the objects) must travel. Reinhard and Jansen (1997, "Rendering large scenes using
+//! The lecture's "Sort Last" slide assigns objects to units and composites the results
+//! at the end, and "Mapping to Clusters" warns that on distributed memory the
+//! communication cost must be evaluated. For a ray tracer, compositing suffices only for
+//! ray casting (`crate::raytrace_last`): a secondary or shadow ray may hit any object,
+//! and the objects live on other ranks, so the rays (or the objects) must travel. Reinhard and Jansen (1997, "Rendering large scenes using
 //! parallel ray tracing") forward the rays to the processors owning the data they
 //! cross ("data-parallel" tasks) while the shading stays where the ray tree lives;
 //! Navrátil et al. (2014) schedule such ray exchanges in rounds across the whole
