@@ -2,7 +2,8 @@
 //! rank owns a block of the objects, and the image equals the serial Whitted render bit
 //! for bit (shadows, mirrors, glass with refraction and total internal reflection, area
 //! light samples, CSG, the depth and weight limits). Controls: object-parallel ray
-//! tracing without forwarding differs from it, and the number of exchanges is bounded.
+//! tracing without forwarding differs from it, the number of exchanges is bounded, and
+//! a rank that never answers is named by the others.
 
 use irradia_core::{Image, Ray, Rng};
 use irradia_geometry::SceneHit;
@@ -355,4 +356,29 @@ fn every_exchange_resolves_at_least_one_query_of_every_unfinished_pixel() {
         gens[0].traced,
         "every pixel finishes exactly once"
     );
+}
+
+#[test]
+fn a_rank_that_never_answers_is_named_on_the_others() {
+    let s = scene("whitted");
+    let opts = LocalOptions {
+        timeout: std::time::Duration::from_millis(300),
+        delay: None,
+    };
+    let t0 = std::time::Instant::now();
+    let out = run_local(3, opts, |c| {
+        if irradia_parallel::comm::Comm::rank(c) == 1 {
+            std::thread::sleep(std::time::Duration::from_millis(900));
+            return None;
+        }
+        Some(raytrace_forward::render(c, &s, Tiling::STRIPS, 0).map(|_| ()))
+    });
+    assert!(t0.elapsed() < std::time::Duration::from_secs(5));
+    for (r, res) in out.into_iter().enumerate() {
+        if r == 1 {
+            continue;
+        }
+        let e = res.unwrap().unwrap().expect_err("the job must fail");
+        assert_eq!(e.culprit(), Some(1), "rank {r} blamed {e}");
+    }
 }
