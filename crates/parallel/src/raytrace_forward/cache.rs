@@ -2,11 +2,11 @@
 //!
 //! [`Replay`] is what the unchanged Whitted tracer asks during a generation: a query
 //! whose answer is in the pixel's [`Log`] gets it; any other is recorded as a miss and
-//! gets a placeholder (no hit, not blocked), so that the rest of the pixel's ray tree is
-//! still explored in this generation and its own queries found. A pixel is finished when it
-//! was traced without a miss: then every answer it used was the true one, and since the
-//! pixel's random numbers are seeded from the pixel alone (`irradia_render::film`), its
-//! colour is the serial one bit for bit. This is deterministic replay in the sense of
+//! gets a placeholder (no hit, not blocked), so that the rest of the pixel's ray tree
+//! is still explored in this generation and its own queries found. A pixel is finished
+//! when it was traced without a miss: then every answer it used was the true one, and
+//! since the pixel's random numbers are seeded from the pixel alone
+//! (`irradia_render::film`), its colour is the serial one bit for bit. This is deterministic replay in the sense of
 //! record-and-replay debugging: the tracer's stack is never saved or sent; it is
 //! re-executed, which costs computation but keeps the recursive tracer as it is.
 
@@ -14,54 +14,7 @@ use super::wire::{Answer, Kind, Query};
 use irradia_core::Ray;
 use irradia_geometry::SceneHit;
 use irradia_render::whitted::{Geometry, ObjectSet};
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
 use std::sync::Mutex;
-
-/// A multiply-rotate hasher for the cache's fixed-size bit keys (the FxHash of the Rust
-/// compiler, with a final mix): much cheaper than SipHash, and the keys are not chosen
-/// by an adversary.
-#[derive(Default, Clone, Copy)]
-pub struct BitsHasher(u64);
-
-impl Hasher for BitsHasher {
-    #[inline]
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(b as u64);
-        }
-    }
-    #[inline]
-    fn write_u8(&mut self, i: u8) {
-        self.write_u64(i as u64);
-    }
-    #[inline]
-    fn write_u32(&mut self, i: u32) {
-        self.write_u64(i as u64);
-    }
-    #[inline]
-    fn write_u64(&mut self, i: u64) {
-        self.0 = (self.0.rotate_left(5) ^ i).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-    #[inline]
-    fn write_usize(&mut self, i: usize) {
-        self.write_u64(i as u64);
-    }
-    /// With a final mix (MurmurHash3's fmix64), so that the low bits hashbrown
-    /// indexes buckets by depend on every bit of the key.
-    #[inline]
-    fn finish(&self) -> u64 {
-        let mut h = self.0;
-        h ^= h >> 33;
-        h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
-        h ^= h >> 33;
-        h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
-        h ^ h >> 33
-    }
-}
-
-/// Queries resolved in one generation, by their exact bits.
-pub type Cache = HashMap<Query, Answer, BuildHasherDefault<BitsHasher>>;
 
 /// A pixel's replay log: the queries its last trace asked, in the order it asked them,
 /// with their answers (`None` until resolved).

@@ -62,7 +62,7 @@ use crate::frame::block;
 use crate::raytrace_first;
 use crate::raytrace_last::sub_scene;
 use crate::sort_first::{gather_tiles, Tiling};
-use cache::{Cache, Log, Replay};
+use cache::{Log, Replay};
 use domain::Domain;
 use irradia_render::whitted::{Geometry, SceneGeometry};
 use irradia_render::{film, Whitted};
@@ -208,13 +208,13 @@ pub fn render<C: Comm>(
 
         comm.log().begin_stage("forward");
         let start = Instant::now();
-        let mut resolved = Cache::default();
-        g.traffic = resolve(comm, &owned, &domains, &misses, &mut resolved)?;
-        // Fill the answers into the logs of the pixels that asked.
+        let mut answered = Vec::new();
+        g.traffic = resolve(comm, &owned, &domains, &misses, &mut answered)?;
+        // Fill the answers into the logs of the pixels that asked (`misses` is sorted).
         pending.par_iter_mut().for_each(|p| {
             for (q, a) in &mut p.log {
                 if a.is_none() {
-                    *a = resolved.get(q).copied();
+                    *a = misses.binary_search(q).ok().map(|i| answered[i]);
                 }
             }
         });

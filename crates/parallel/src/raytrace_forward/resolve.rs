@@ -1,7 +1,7 @@
 //! One generation's exchange: every rank's unanswered queries go to every rank, each
 //! rank answers all of them against the objects it owns, and the answers go back to
 //! the rank that asked, which merges them (nearest hit, ties to the lower rank; blocked
-//! if any rank blocks) into its cache.
+//! if any rank blocks).
 //!
 //! This is the "data-parallel" ray forwarding of Reinhard and Jansen (1997) and of
 //! Navrátil et al. (2014, "Exploring the spectrum of dynamic scheduling algorithms for
@@ -18,7 +18,6 @@
 //! (the count, seen by every rank, tells all of them together when nobody asks
 //! anything); answers are the receiver's answers in the order of the queries it got.
 
-use super::cache::Cache;
 use super::domain::Domain;
 use super::wire::{Answer, Kind, Query};
 use crate::comm::{Comm, CommError};
@@ -65,7 +64,7 @@ pub struct Traffic {
 }
 
 /// Resolves `mine` (this rank's unanswered queries, without duplicates) with every
-/// rank, into `cache`. Collective: every rank calls it in every generation, with an
+/// rank, into `answered` (one answer per query, in the same order). Collective: every rank calls it in every generation, with an
 /// empty list when it has nothing to ask. Returns the traffic; `queries_total == 0`
 /// means no rank asked anything (every rank sees the same), and then nothing more is
 /// sent.
@@ -76,8 +75,9 @@ pub fn resolve<C: Comm>(
     owned: &Owned<'_>,
     domains: &[Domain],
     mine: &[Query],
-    cache: &mut Cache,
+    answered: &mut Vec<Answer>,
 ) -> Result<Traffic, CommError> {
+    answered.clear();
     let (me, p) = (comm.rank(), comm.size());
     // Which ranks each query goes to, one bit per rank (at most 64 ranks get a bit;
     // beyond that every query goes everywhere).
@@ -110,6 +110,12 @@ pub fn resolve<C: Comm>(
         queries_mine: mine.len() as u64,
         ..Traffic::default()
     };
+    for (rank, a) in asks.iter().enumerate() {
+        if rank != me {
+            traffic.bytes_sent += a.len() as u64;
+        }
+    }
+    drop(asks);
     let mut lists = Vec::with_capacity(p);
     for (rank, bytes) in asked.iter().enumerate() {
         let malformed = || CommError::Malformed {
@@ -123,11 +129,11 @@ pub fn resolve<C: Comm>(
         let list = Query::decode_all(&bytes[8..]).ok_or_else(malformed)?;
         traffic.queries_total += count;
         if rank != me {
-            traffic.bytes_sent += asks[rank].len() as u64;
             traffic.bytes_received += bytes.len() as u64;
         }
         lists.push(list);
     }
+    drop(asked);
     if traffic.queries_total == 0 {
         return Ok(traffic);
     }
@@ -147,12 +153,14 @@ pub fn resolve<C: Comm>(
             parts.concat()
         })
         .collect();
+    drop(lists);
     for (rank, r) in replies.iter().enumerate() {
         if rank != me {
             traffic.bytes_sent += r.len() as u64;
         }
     }
     let answers = comm.all_to_all(&replies)?;
+    drop(replies);
 
     // Merge the ranks' answers to this rank's queries, in rank order.
     let mut at = vec![0usize; p];
@@ -181,7 +189,7 @@ pub fn resolve<C: Comm>(
             Kind::Nearest => Answer::Nearest(None),
             Kind::Any => Answer::Any(false),
         };
-        cache.insert(*q, merged.unwrap_or(nobody));
+        answered.push(merged.unwrap_or(nobody));
     }
     for (rank, bytes) in answers.iter().enumerate() {
         if rank != me {

@@ -71,18 +71,6 @@ fn set_code(set: ObjectSet) -> u8 {
     }
 }
 
-impl std::hash::Hash for Query {
-    /// Four 64-bit words (the derived hash would feed the hasher byte by byte).
-    #[inline]
-    fn hash<H: std::hash::Hasher>(&self, h: &mut H) {
-        let b = self.bits.map(u64::from);
-        h.write_u64(b[0] | b[1] << 32);
-        h.write_u64(b[2] | b[3] << 32);
-        h.write_u64(b[4] | b[5] << 32);
-        h.write_u64(b[6] | (self.kind as u64) << 32 | (self.set as u64) << 40);
-    }
-}
-
 impl Query {
     pub fn new(kind: Kind, set: ObjectSet, ray: &Ray, t_max: f32) -> Self {
         let (o, d) = (ray.origin, ray.dir);
