@@ -29,6 +29,7 @@ const EXAMPLES: &str = "Examples:
   irradia parallel --mode sort-first --ranks 4 --tiles-per-rank 8 --workload marching-cubes -o g.png
   irradia parallel --mode sort-first --renderer raytrace --workload builtin:whitted -o w.png
   irradia parallel --mode sort-last --renderer raytrace --workload scene.toml --compositor radix-k
+  irradia parallel --mode sort-last --renderer raytrace --object-shading forward --workload builtin:default -o f.png
   mpirun -np 4 irradia parallel --comm mpi --mode sort-first --renderer raytrace --workload builtin:csg
   irradia parallel --mode sort-last --ranks 6 --display-tiles 3x2 --display-overlap 16 -o wall.png
 
