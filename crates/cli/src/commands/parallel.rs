@@ -461,7 +461,11 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
                             first = Some(v);
                         }
                     }
-                    Err(e) => return Err(CliError::Failure(format!("rank {r}: {e}"))),
+                    Err(e) => {
+                        let hint = timeout_hint(&e).map(|h| format!("; {h}"));
+                        let hint = hint.unwrap_or_default();
+                        return Err(CliError::Failure(format!("rank {r}: {e}{hint}")));
+                    }
                 }
             }
             first.expect("rank 0 ran")
@@ -848,7 +852,24 @@ fn mpi_frame(job: &Job, timeout: Duration) -> Result<Frame, CliError> {
             )));
         }
     }
-    one_frame(&comm, job).map_err(|e| -> CliError { comm.fail(&e) })
+    one_frame(&comm, job).map_err(|e| -> CliError {
+        if let Some(hint) = timeout_hint(&e) {
+            eprintln!("irradia: rank {}: {hint}", comm.rank());
+        }
+        comm.fail(&e)
+    })
+}
+
+/// What to do about a timeout: a rank that is still rendering looks the same as one that
+/// hung, so a frame whose ranks finish their work far apart needs a longer `--timeout`.
+fn timeout_hint(e: &CommError) -> Option<&'static str> {
+    match e {
+        CommError::Timeout { .. } => Some(
+            "a rank still rendering counts as silent too: if the ranks' work is that \
+             uneven (a large image, a slow scene), raise --timeout",
+        ),
+        _ => None,
+    }
 }
 
 #[cfg(not(feature = "mpi"))]
