@@ -7,6 +7,7 @@
 use crate::error::CliError;
 use crate::scene_arg::{load_scene, SceneArgs};
 use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use irradia_core::{Image, Rgb};
 use irradia_parallel::comm::{run_local, Comm, CommError, LocalOptions};
 use irradia_parallel::composite::{CompositeOptions, Layer, Strategy};
@@ -21,6 +22,7 @@ use irradia_parallel::workload::{scene_pipeline, scene_triangles_with, Workload}
 use irradia_parallel::{raytrace_first, raytrace_forward, raytrace_last, sort_last};
 use irradia_raster::{Pipeline, Triangle};
 use irradia_scene::Scene;
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -273,6 +275,9 @@ struct Job {
     input: Input,
     /// Sort-last onto a tiled display, and the grid's column count (for file names).
     display: Option<(DisplayLayout, u32)>,
+    /// Show rank 0's stage and the elapsed time while the frame runs (a terminal, no
+    /// `--quiet`).
+    progress: bool,
 }
 
 pub fn run(a: ParallelArgs) -> Result<(), CliError> {
@@ -440,6 +445,7 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
         },
         forward: a.object_shading == ObjectShadingArg::Forward,
         input: input_,
+        progress: !a.quiet && std::io::stderr().is_terminal(),
     };
     let timeout = Duration::from_secs_f64(a.timeout);
     let frame = match a.comm {
@@ -646,6 +652,45 @@ fn layer_image(l: &Layer<[u8; 4]>, background: Option<Rgb>) -> Image {
 }
 
 fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
+    let spinner = (job.progress && c.rank() == 0).then(|| stage_spinner(c, job));
+    let frame = frame_body(c, job);
+    if let Some(s) = spinner {
+        s.finish_and_clear();
+    }
+    frame
+}
+
+/// A spinner with the elapsed time and the stage rank 0 is in (its message log tells it
+/// each stage as it begins); with ray forwarding, the generation.
+fn stage_spinner<C: Comm>(c: &C, job: &Job) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {elapsed:>4} {msg}").expect("a valid template"),
+    );
+    bar.enable_steady_tick(Duration::from_millis(120));
+    let what = format!("{} on {} ranks", job.mode.name(), c.size());
+    bar.set_message(what.clone());
+    let shown = bar.clone();
+    let forward = job.forward;
+    // With forwarding, stages alternate: a tracing pass ("render"), then its queries
+    // ("forward"), until no rank asks anything.
+    let forwarded = std::sync::atomic::AtomicUsize::new(0);
+    c.log().on_stage(move |stage| {
+        let done = forwarded.load(std::sync::atomic::Ordering::Relaxed);
+        let msg = match stage {
+            "render" if forward => format!("{what}: tracing, pass {}", done + 1),
+            "forward" => {
+                forwarded.store(done + 1, std::sync::atomic::Ordering::Relaxed);
+                format!("{what}: forwarding the rays of pass {}", done + 1)
+            }
+            _ => format!("{what}: {stage}"),
+        };
+        shown.set_message(msg);
+    });
+    bar
+}
+
+fn frame_body<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
     let n = c.size();
     let (image, balance) = match &job.input {
         Input::Triangles {

@@ -67,9 +67,22 @@ pub struct MessageRecord {
 
 /// The messages one rank sent and received, grouped by named stage, with the wall time
 /// each stage took on this rank.
-#[derive(Debug, Default)]
+#[derive(Default)]
 pub struct MessageLog {
     inner: Mutex<LogInner>,
+    /// Told each stage's name as it begins ([`MessageLog::on_stage`]).
+    observer: Mutex<Option<StageObserver>>,
+}
+
+/// What [`MessageLog::on_stage`] calls.
+pub type StageObserver = Box<dyn Fn(&str) + Send>;
+
+impl std::fmt::Debug for MessageLog {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("MessageLog")
+            .field("inner", &self.inner)
+            .finish_non_exhaustive()
+    }
 }
 
 #[derive(Debug, Default)]
@@ -84,13 +97,24 @@ struct LogInner {
 impl MessageLog {
     /// Ends the current stage (recording its time) and starts `name`.
     pub fn begin_stage(&self, name: &str) {
-        let mut g = self.inner.lock().unwrap();
-        if let Some(t0) = g.stage_start.take() {
-            let s = g.stage.clone();
-            g.times.push((s, t0.elapsed().as_secs_f64()));
+        {
+            let mut g = self.inner.lock().unwrap();
+            if let Some(t0) = g.stage_start.take() {
+                let s = g.stage.clone();
+                g.times.push((s, t0.elapsed().as_secs_f64()));
+            }
+            g.stage = name.to_string();
+            g.stage_start = Some(Instant::now());
         }
-        g.stage = name.to_string();
-        g.stage_start = Some(Instant::now());
+        if let Some(tell) = self.observer.lock().unwrap().as_ref() {
+            tell(name);
+        }
+    }
+
+    /// Calls `tell` with each stage's name as it begins, from the rank's own thread (a
+    /// front end's progress display; replaces an earlier observer).
+    pub fn on_stage(&self, tell: impl Fn(&str) + Send + 'static) {
+        *self.observer.lock().unwrap() = Some(Box::new(tell));
     }
 
     /// Ends the current stage without starting another.
@@ -331,5 +355,30 @@ pub trait Comm {
         } else {
             self.recv(root, TAG_BCAST)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::MessageLog;
+    use std::sync::{Arc, Mutex};
+
+    #[test]
+    fn the_stage_observer_hears_every_stage_in_order() {
+        let log = MessageLog::default();
+        log.begin_stage("before anyone listens");
+        let heard = Arc::new(Mutex::new(Vec::new()));
+        let h = heard.clone();
+        log.on_stage(move |s| h.lock().unwrap().push(s.to_string()));
+        for s in ["render", "composite", "gather"] {
+            log.begin_stage(s);
+        }
+        log.end_stage();
+        assert_eq!(*heard.lock().unwrap(), ["render", "composite", "gather"]);
+        let times: Vec<String> = log.stage_times().into_iter().map(|t| t.0).collect();
+        assert_eq!(
+            times,
+            ["before anyone listens", "render", "composite", "gather"]
+        );
     }
 }
