@@ -231,6 +231,20 @@ pub trait Comm {
         sources.iter().map(|&s| self.recv(s, tag)).collect()
     }
 
+    /// [`Comm::exchange`] that receives into `into` (one buffer per source, resized to
+    /// each message), so that a caller exchanging every frame reuses its allocations.
+    /// The default receives through `exchange`; `MpiComm` receives in place.
+    fn exchange_into(
+        &self,
+        sends: &[(usize, &[u8])],
+        sources: &[usize],
+        tag: u32,
+        into: &mut Vec<Vec<u8>>,
+    ) -> Result<(), CommError> {
+        *into = self.exchange(sends, sources, tag)?;
+        Ok(())
+    }
+
     /// A pairwise exchange in pieces, for overlapping the transfer with work on what has
     /// already arrived: sends every piece of `sends` to `partner` and receives the
     /// partner's pieces into `recvs` (piece i must arrive with exactly `recvs[i].len()`

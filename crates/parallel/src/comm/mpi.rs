@@ -115,6 +115,45 @@ impl MpiComm {
         waited.unwrap_or_else(|e| self.fail(&e))
     }
 
+    /// Posts every send without blocking, calls `receive(i, source, deadline)` for each
+    /// source in order, then waits for the sends. A receive that fails ends the whole
+    /// job here: outstanding sends cannot be abandoned.
+    fn exchange_with(
+        &self,
+        sends: &[(usize, &[u8])],
+        sources: &[usize],
+        tag: u32,
+        mut receive: impl FnMut(usize, usize, Instant) -> Result<(), CommError>,
+    ) -> Result<(), CommError> {
+        for &(d, _) in sends {
+            self.check(d)?;
+        }
+        for &s in sources {
+            self.check(s)?;
+        }
+        mpi::request::scope(|scope| {
+            let requests: Vec<_> = sends
+                .iter()
+                .map(|&(d, b)| {
+                    self.log.record(self.rank(), d, b.len(), true);
+                    self.world
+                        .process_at_rank(d as i32)
+                        .immediate_send_with_tag(scope, b, tag as i32)
+                })
+                .collect();
+            for (i, &src) in sources.iter().enumerate() {
+                if let Err(e) = receive(i, src, Instant::now() + self.timeout) {
+                    self.fail(&e);
+                }
+            }
+            let deadline = Instant::now() + self.timeout;
+            for (r, &(d, _)) in requests.into_iter().zip(sends) {
+                self.wait_request(d, tag, deadline, r, |r| r.test());
+            }
+            Ok(())
+        })
+    }
+
     fn check(&self, rank: usize) -> Result<(), CommError> {
         if rank >= self.size() {
             return Err(CommError::BadRank {
@@ -161,6 +200,30 @@ impl Comm for MpiComm {
         Ok(v)
     }
 
+    /// As [`Comm::exchange`], each message received straight into its reused buffer
+    /// (the probe gives its size).
+    fn exchange_into(
+        &self,
+        sends: &[(usize, &[u8])],
+        sources: &[usize],
+        tag: u32,
+        into: &mut Vec<Vec<u8>>,
+    ) -> Result<(), CommError> {
+        into.resize_with(sources.len(), Vec::new);
+        self.exchange_with(sends, sources, tag, |i, src, deadline| {
+            let p = self.world.process_at_rank(src as i32);
+            let (m, status) = self.poll_until(src, tag, deadline, || {
+                p.immediate_matched_probe_with_tag(tag as i32)
+            })?;
+            let n = status.count(u8::equivalent_datatype()) as usize;
+            let buf = &mut into[i];
+            buf.resize(n, 0);
+            m.matched_receive_into(&mut buf[..]);
+            self.log.record(src, self.rank(), n, false);
+            Ok(())
+        })
+    }
+
     /// Non-blocking sends, then probed receives: no deadlock whatever the pattern.
     fn exchange(
         &self,
@@ -168,33 +231,12 @@ impl Comm for MpiComm {
         sources: &[usize],
         tag: u32,
     ) -> Result<Vec<Vec<u8>>, CommError> {
-        for &(d, _) in sends {
-            self.check(d)?;
-        }
-        mpi::request::scope(|scope| {
-            let requests: Vec<_> = sends
-                .iter()
-                .map(|&(d, b)| {
-                    self.log.record(self.rank(), d, b.len(), true);
-                    self.world
-                        .process_at_rank(d as i32)
-                        .immediate_send_with_tag(scope, b, tag as i32)
-                })
-                .collect();
-            let mut out = Vec::with_capacity(sources.len());
-            for &s in sources {
-                match self.recv(s, tag) {
-                    Ok(v) => out.push(v),
-                    // Outstanding sends cannot be abandoned: end the whole job here.
-                    Err(e) => self.fail(&e),
-                }
-            }
-            let deadline = Instant::now() + self.timeout;
-            for (r, &(d, _)) in requests.into_iter().zip(sends) {
-                self.wait_request(d, tag, deadline, r, |r| r.test());
-            }
-            Ok(out)
-        })
+        let mut out = Vec::with_capacity(sources.len());
+        self.exchange_with(sends, sources, tag, |_, src, _| {
+            out.push(self.recv(src, tag)?);
+            Ok(())
+        })?;
+        Ok(out)
     }
 
     /// Non-blocking receives posted straight into the caller's buffers, `window` pieces

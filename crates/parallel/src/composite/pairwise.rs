@@ -87,11 +87,13 @@ fn piece_count(n: usize) -> usize {
         .clamp(1, MAX_PIECES.load(Ordering::Relaxed))
 }
 
-/// Buffers reused by every swap on this thread: run-length messages out, pieces in.
+/// Buffers reused by every swap on this thread: run-length messages out, pieces in,
+/// header messages (with any inline run lengths) in.
 #[derive(Default)]
 struct Scratch {
     send: Vec<u8>,
     recv: Vec<u32>,
+    headers: Vec<Vec<u8>>,
 }
 
 thread_local! {
@@ -354,7 +356,11 @@ pub fn transfer<P: Pixel, C: Comm>(
     let decide_s = profile::lap(&mut t);
     SCRATCH.with(|scratch| {
         let mut scratch = scratch.borrow_mut();
-        let Scratch { send, recv } = &mut *scratch;
+        let Scratch {
+            send,
+            recv,
+            headers: incoming,
+        } = &mut *scratch;
         send.clear();
         // Each run-length plan's bytes in `send`: a slot for its header, then its pieces.
         // Small ones become inline (header and runs are one message), the others send
@@ -400,7 +406,8 @@ pub fn transfer<P: Pixel, C: Comm>(
             })
             .collect();
         let sources: Vec<usize> = take_from.iter().map(|r| r.0).collect();
-        let got = comm.exchange(&header_sends, &sources, tag)?;
+        comm.exchange_into(&header_sends, &sources, tag, incoming)?;
+        let got = &*incoming;
         let mut theirs = Vec::with_capacity(got.len());
         let mut inline = Vec::with_capacity(got.len());
         for (buf, &src) in got.iter().zip(&sources) {
