@@ -4,9 +4,9 @@
 //! the material table: a material with `texture: Some(i)` multiplies the fragment's base
 //! colour by texture `i` at the fragment's perspective-correct texture coordinate
 //! (Heckbert and Moreton 1991, see [`crate::interpolate`]). The lookup is the ray
-//! tracer's (`irradia_scene::Texture::Image`): the coordinate times `scale`, repeated
-//! (wrapped to [0, 1)), nearest texel, `v` running up the image, so that a rasterized and
-//! a ray-traced surface sample the same texel at the same point.
+//! tracer's, the same function (`irradia_scene::image_texel`): the coordinate times
+//! `scale`, repeated (wrapped to [0, 1)), nearest texel, `v` running up the image, so
+//! that a rasterized and a ray-traced surface sample the same texel at the same point.
 
 use glam::{Vec2, Vec3};
 use irradia_core::Image;
@@ -31,17 +31,11 @@ impl Texture {
         Self { image, scale }
     }
 
-    /// The texel at `uv`: nearest, repeated.
+    /// The texel at `uv`: nearest, repeated ([`irradia_scene::image_texel`], the ray
+    /// tracer's own lookup).
     #[inline]
     pub fn sample(&self, uv: Vec2) -> Vec3 {
-        let st = uv * self.scale;
-        let (w, h) = (self.image.width(), self.image.height());
-        if w == 0 || h == 0 || !st.is_finite() {
-            return Vec3::ZERO;
-        }
-        let x = ((st.x - st.x.floor()) * w as f32) as u32;
-        let y = ((1.0 - (st.y - st.y.floor())) * h as f32) as u32;
-        let c = self.image.get(x.min(w - 1), y.min(h - 1));
+        let c = irradia_scene::image_texel(&self.image, uv * self.scale);
         Vec3::new(c.r, c.g, c.b)
     }
 }

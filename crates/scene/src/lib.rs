@@ -15,5 +15,5 @@ pub use camera::{Camera, FovAxis, Projection};
 pub use error::{ErrorKind, SceneError};
 pub use file::{load_file, load_str, Format};
 pub use light::{spot_falloff, Light};
-pub use material::{Material, ShadingModel, Texture};
+pub use material::{image_texel, Material, ShadingModel, Texture};
 pub use scene::{Integrator, Object, RenderSettings, Scene};

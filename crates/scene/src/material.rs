@@ -56,15 +56,23 @@ impl Texture {
                     *b
                 }
             }
-            Texture::Image { image, scale } => {
-                let st = uv * *scale;
-                let (w, h) = (image.width(), image.height());
-                let x = ((st.x - st.x.floor()) * w as f32) as u32;
-                let y = ((1.0 - (st.y - st.y.floor())) * h as f32) as u32;
-                image.get(x.min(w - 1), y.min(h - 1))
-            }
+            Texture::Image { image, scale } => image_texel(image, uv * *scale),
         }
     }
+}
+
+/// The texel of `image` at `st` (surface coordinates times the repeat scale): repeated
+/// (wrapped to [0, 1)), nearest texel, `v` running up the image. Black for an empty
+/// image or a non-finite coordinate. The ray tracer and the rasterizer both look up
+/// image textures through it, so they sample the same texel at the same point.
+pub fn image_texel(image: &Image, st: Vec2) -> Rgb {
+    let (w, h) = (image.width(), image.height());
+    if w == 0 || h == 0 || !st.is_finite() {
+        return Rgb::BLACK;
+    }
+    let x = ((st.x - st.x.floor()) * w as f32) as u32;
+    let y = ((1.0 - (st.y - st.y.floor())) * h as f32) as u32;
+    image.get(x.min(w - 1), y.min(h - 1))
 }
 
 #[derive(Clone, Debug)]
