@@ -126,9 +126,22 @@ fn nan_and_infinity_are_rejected() {
         );
     }
     let text = "{\"camera\": {\"eye\": [0, 0, 1e999], \"look_at\": [0, 0, 0]}}";
+    // Valid JSON syntax, but beyond f64: named as a non-finite field, not a syntax error.
     let (e, p) = fails("s.json", text);
-    assert_eq!(e.line, Some(1), "{e}");
-    assert_eq!(e.file.as_deref(), Some(p.as_path()));
+    check(
+        &e,
+        &p,
+        1,
+        "camera.eye[2]",
+        "must be a finite number (got inf)",
+    );
+    assert_eq!(e.column, Some(27), "{e}");
+    // ... and a syntax error after it is still reported.
+    let (e, p) = fails(
+        "s.json",
+        "{\"camera\": {\"eye\": [0, 0, 1e999], \"look_at\": [0, 0, ]}}",
+    );
+    check(&e, &p, 1, "", "expected a value");
 }
 
 #[test]
@@ -342,7 +355,13 @@ fn expression_error_points_at_its_character() {
         "{HEAD}\n[[objects]]\ntype = \"implicit\"\nexpr = \"x^2 + y^2 + $ - 1\"\nbounds = {{ min = [-1, -1, -1], max = [1, 1, 1] }}\n"
     );
     let (e, p) = fails("s.toml", &text);
-    check(&e, &p, line_of(&text, "expr"), "objects[0].expr", "");
+    check(
+        &e,
+        &p,
+        line_of(&text, "expr"),
+        "objects[0].expr",
+        "unexpected character '$' (at character 13 of the expression)",
+    );
     // The opening quote is column 8 and `$` is the 13th character of the expression.
     assert_eq!(e.column, Some(8 + 13), "{e}");
     assert!(e.to_string().contains("'$'"), "{e}");

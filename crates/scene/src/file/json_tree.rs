@@ -7,18 +7,25 @@ use super::tree::{line_col, Entry, Node, Value};
 use crate::error::SceneError;
 
 pub fn parse_json(text: &str) -> Result<Node, SceneError> {
-    if let Err(e) = serde_json::from_str::<serde_json::Value>(text) {
-        let full = e.to_string();
-        // serde_json appends " at line L column C"; we print the position ourselves.
-        let message = match full.rfind(" at line ") {
-            Some(i) => full[..i].to_string(),
-            None => full,
-        };
-        let mut err = SceneError::input("", format!("JSON syntax error: {message}"));
-        if e.line() > 0 {
-            err = err.at(e.line(), e.column().max(1));
+    // A number too large for f64 (`1e999`) is valid JSON syntax that serde_json refuses;
+    // the scanner reads it as an infinity so that validation names its field ("must be
+    // finite"), as it does for TOML's `inf`.
+    let out_of_range = |e: &serde_json::Error| e.to_string().starts_with("number out of range");
+    match serde_json::from_str::<serde_json::Value>(text) {
+        Err(e) if !out_of_range(&e) => {
+            let full = e.to_string();
+            // serde_json appends " at line L column C"; we print the position ourselves.
+            let message = match full.rfind(" at line ") {
+                Some(i) => full[..i].to_string(),
+                None => full,
+            };
+            let mut err = SceneError::input("", format!("JSON syntax error: {message}"));
+            if e.line() > 0 {
+                err = err.at(e.line(), e.column().max(1));
+            }
+            return Err(err);
         }
-        return Err(err);
+        _ => {}
     }
     let mut s = Scanner { text, pos: 0 };
     s.value().map_err(|m| {
@@ -150,7 +157,13 @@ impl Scanner<'_> {
                 if let Ok(v) = lit.parse::<i64>() {
                     Value::Int(v)
                 } else {
-                    Value::Float(serde_json::from_str::<f64>(lit).map_err(|e| e.to_string())?)
+                    let v = match serde_json::from_str::<f64>(lit) {
+                        Ok(v) => v,
+                        // Out of range (the only error left after the syntax check):
+                        // Rust's parser rounds it to an infinity (or zero).
+                        Err(e) => lit.parse::<f64>().map_err(|_| e.to_string())?,
+                    };
+                    Value::Float(v)
                 }
             }
         };
