@@ -1,6 +1,8 @@
 //! CSG by spans: set laws per ray (proptest over random solids and rays), normals of
 //! subtracted faces, the coincident-surface rule, leaf numbering, union versus merge,
-//! the Steinmetz solid, bounds and bad operands.
+//! the Steinmetz solid, bounds and bad operands; and a point-membership oracle that
+//! checks spans, nearest hits and normals of random CSG trees against independent
+//! inside tests of their leaves.
 
 use glam::{Affine3A, Quat, Vec3};
 use irradia_core::Ray;
@@ -516,4 +518,749 @@ fn degenerate_rays_neither_panic_nor_hang() {
             s.spans(r, &mut v);
         }
     }
+}
+
+// ---------------------------------------------------------------------------------
+// Point-membership oracle. The laws above compare combiner calls with each other, so
+// swapping union and intersection everywhere would still pass them. Here every leaf of
+// a random CSG tree is also described in the test by its own implicit equation
+// (|p - c| < r, slabs, distance to an axis, half-spaces ...) and placed by the same
+// transforms in f64; a point is inside the tree when the Boolean formula of the tree,
+// evaluated on those independent inside tests, says so. For random rays, points sampled
+// along each ray must be inside the tree's combined spans exactly when the oracle says
+// so (away from span ends and leaf surfaces, where rounding decides), and the nearest
+// hit must be the first span boundary, lie on the leaf it names, and carry a normal
+// that points out of the combined solid (into the cavity for subtracted faces).
+
+use glam::{DAffine3, DMat3, DVec3};
+use irradia_geometry::shapes::Torus;
+
+/// One primitive, described independently of the shapes' ray code (object space).
+#[derive(Clone, Debug)]
+enum Prim {
+    Sphere {
+        c: DVec3,
+        r: f64,
+    },
+    Cuboid {
+        lo: DVec3,
+        hi: DVec3,
+    },
+    /// Capped cone (a cylinder when the radii are equal) from `a` to `b`.
+    Cone {
+        a: DVec3,
+        b: DVec3,
+        ra: f64,
+        rb: f64,
+    },
+    /// Ring torus around the y axis.
+    Torus {
+        major: f64,
+        minor: f64,
+    },
+    /// The half-space `n · p <= d` (`n` unit).
+    HalfSpace {
+        n: DVec3,
+        d: f64,
+    },
+    /// The intersection of half-spaces `n · p <= d` (`n` unit).
+    Polyhedron {
+        planes: Vec<(DVec3, f64)>,
+    },
+}
+
+impl Prim {
+    /// Signed distance to the surface (for cones and polyhedra the distance to the
+    /// nearest face's infinite extension, a lower bound) and the outward normal of the
+    /// nearest face, unnormalised.
+    fn eval(&self, p: DVec3) -> (f64, DVec3) {
+        match self {
+            Prim::Sphere { c, r } => ((p - *c).length() - r, p - *c),
+            Prim::Cuboid { lo, hi } => {
+                // Inside: the nearest face; outside: the distance to the box.
+                let below = *lo - p;
+                let above = p - *hi;
+                let out = below.max(above);
+                let inside = out.max_element() < 0.0;
+                let mut axis = 0;
+                for i in 1..3 {
+                    if out[i] > out[axis] {
+                        axis = i;
+                    }
+                }
+                let mut n = DVec3::ZERO;
+                n[axis] = if above[axis] > below[axis] { 1.0 } else { -1.0 };
+                let dist = if inside {
+                    out.max_element()
+                } else {
+                    out.max(DVec3::ZERO).length()
+                };
+                (dist, n)
+            }
+            Prim::Cone { a, b, ra, rb } => {
+                let axis = *b - *a;
+                let h = axis.length();
+                let u = axis / h;
+                let q = p - *a;
+                let s = q.dot(u);
+                let radial = q - u * s;
+                let rho = radial.length();
+                let k = (rb - ra) / h;
+                let side = (rho - (ra + k * s)) / (1.0 + k * k).sqrt();
+                let e = if rho > 0.0 { radial / rho } else { DVec3::X };
+                // The gradient of the nearest of the three surfaces.
+                let (d0, d1) = (s.abs(), (s - h).abs());
+                if side.abs() <= d0.min(d1) {
+                    (side, e - u * k)
+                } else if d0 < d1 {
+                    (-s, -u)
+                } else {
+                    (s - h, u)
+                }
+            }
+            Prim::Torus { major, minor } => {
+                let rxz = (p.x * p.x + p.z * p.z).sqrt();
+                let ring = if rxz > 0.0 {
+                    DVec3::new(p.x, 0.0, p.z) * (major / rxz)
+                } else {
+                    DVec3::new(*major, 0.0, 0.0)
+                };
+                let q = p - ring;
+                (q.length() - minor, q)
+            }
+            Prim::HalfSpace { n, d } => (n.dot(p) - d, *n),
+            Prim::Polyhedron { planes } => {
+                let (mut best, mut n) = (f64::NEG_INFINITY, DVec3::ZERO);
+                for (pn, pd) in planes {
+                    let f = pn.dot(p) - pd;
+                    if f > best {
+                        best = f;
+                        n = *pn;
+                    }
+                }
+                (best, n)
+            }
+        }
+    }
+
+    /// Distance (lower bound) from `p` to the surface.
+    fn margin(&self, p: DVec3) -> f64 {
+        match self {
+            Prim::Polyhedron { planes } => planes
+                .iter()
+                .map(|(n, d)| (n.dot(p) - d).abs())
+                .fold(f64::INFINITY, f64::min),
+            _ => self.eval(p).0.abs(),
+        }
+    }
+
+    fn inside(&self, p: DVec3) -> bool {
+        match self {
+            Prim::Sphere { c, r } => (p - *c).length_squared() < r * r,
+            Prim::Cuboid { lo, hi } => p.cmpgt(*lo).all() && p.cmplt(*hi).all(),
+            Prim::Cone { a, b, ra, rb } => {
+                let axis = *b - *a;
+                let h = axis.length();
+                let u = axis / h;
+                let q = p - *a;
+                let s = q.dot(u);
+                let rho = (q - u * s).length();
+                s > 0.0 && s < h && rho < ra + (rb - ra) * s / h
+            }
+            Prim::Torus { major, minor } => {
+                let rxz = (p.x * p.x + p.z * p.z).sqrt();
+                (rxz - major).powi(2) + p.y * p.y < minor * minor
+            }
+            Prim::HalfSpace { n, d } => n.dot(p) < *d,
+            Prim::Polyhedron { planes } => planes.iter().all(|(n, d)| n.dot(p) < *d),
+        }
+    }
+
+    /// A box (object space) that holds the solid's part worth aiming at.
+    fn aim_box(&self) -> (DVec3, DVec3) {
+        match self {
+            Prim::Sphere { c, r } => (*c - *r, *c + *r),
+            Prim::Cuboid { lo, hi } => (*lo, *hi),
+            Prim::Cone { a, b, ra, rb } => {
+                let r = ra.max(*rb);
+                (a.min(*b) - r, a.max(*b) + r)
+            }
+            Prim::Torus { major, minor } => {
+                let e = DVec3::new(major + minor, *minor, major + minor);
+                (-e, e)
+            }
+            Prim::HalfSpace { .. } => (DVec3::splat(-2.0), DVec3::splat(2.0)),
+            Prim::Polyhedron { .. } => (DVec3::splat(-2.0), DVec3::splat(2.0)),
+        }
+    }
+}
+
+fn daffine(a: &Affine3A) -> DAffine3 {
+    DAffine3 {
+        matrix3: DMat3::from_cols(
+            a.matrix3.x_axis.as_dvec3(),
+            a.matrix3.y_axis.as_dvec3(),
+            a.matrix3.z_axis.as_dvec3(),
+        ),
+        translation: a.translation.as_dvec3(),
+    }
+}
+
+/// A leaf as the oracle sees it: the primitive and its world-to-object map (f64).
+struct OracleLeaf {
+    prim: Prim,
+    to_object: DAffine3,
+    to_world: DAffine3,
+    /// Largest stretch of `to_object` (to turn object distances into world ones).
+    stretch: f64,
+}
+
+impl OracleLeaf {
+    fn inside(&self, p: DVec3) -> bool {
+        self.prim.inside(self.to_object.transform_point3(p))
+    }
+    /// Lower bound on the world distance from `p` to this leaf's surface.
+    fn margin(&self, p: DVec3) -> f64 {
+        self.prim.margin(self.to_object.transform_point3(p)) / self.stretch
+    }
+    /// Outward unit normal of the leaf's surface nearest `p` (world space).
+    fn normal(&self, p: DVec3) -> DVec3 {
+        let g = self.prim.eval(self.to_object.transform_point3(p)).1;
+        (self.to_object.matrix3.transpose() * g).normalize()
+    }
+}
+
+/// The tree's Boolean formula over leaf indices (depth-first, as `Hit::leaf`).
+#[derive(Clone, Debug)]
+enum Formula {
+    Leaf(usize),
+    Node(CsgOp, Vec<Formula>),
+}
+
+impl Formula {
+    /// Whether the point with leaf memberships `inside` is in the tree, with every
+    /// operation first renamed by `label` (the identity for the real oracle).
+    fn eval(&self, inside: &[bool], label: &dyn Fn(CsgOp) -> CsgOp) -> bool {
+        match self {
+            Formula::Leaf(i) => inside[*i],
+            Formula::Node(op, children) => {
+                let mut v = children.iter().map(|c| c.eval(inside, label));
+                let first = v.next().unwrap();
+                let op = label(*op);
+                v.fold(first, |acc, b| match op {
+                    CsgOp::Union | CsgOp::Merge => acc || b,
+                    CsgOp::Intersection => acc && b,
+                    CsgOp::Difference => acc && !b,
+                })
+            }
+        }
+    }
+}
+
+struct Oracle {
+    leaves: Vec<OracleLeaf>,
+    formula: Formula,
+}
+
+impl Oracle {
+    fn memberships(&self, p: DVec3) -> Vec<bool> {
+        self.leaves.iter().map(|l| l.inside(p)).collect()
+    }
+    fn inside(&self, p: DVec3) -> bool {
+        self.formula.eval(&self.memberships(p), &|op| op)
+    }
+    fn margin(&self, p: DVec3) -> f64 {
+        self.leaves
+            .iter()
+            .map(|l| l.margin(p))
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+fn uniform(rng: &mut irradia_core::Rng, lo: f64, hi: f64) -> f64 {
+    lo + (hi - lo) * rng.next_f64()
+}
+
+fn rand_v3(rng: &mut irradia_core::Rng, r: f64) -> DVec3 {
+    DVec3::new(
+        uniform(rng, -r, r),
+        uniform(rng, -r, r),
+        uniform(rng, -r, r),
+    )
+}
+
+/// A random primitive: the library's shape and the test's own description of it.
+fn random_prim(rng: &mut irradia_core::Rng) -> (Arc<dyn Shape>, Prim) {
+    let f = |v: DVec3| v.as_vec3();
+    loop {
+        match rng.below(13) {
+            0 | 1 => {
+                let c = rand_v3(rng, 1.0).as_vec3();
+                let r = uniform(rng, 0.3, 1.3) as f32;
+                let prim = Prim::Sphere {
+                    c: c.as_dvec3(),
+                    r: r as f64,
+                };
+                return (Arc::new(Sphere::new(c, r)), prim);
+            }
+            2 | 3 => {
+                let (a, b) = (rand_v3(rng, 1.3).as_vec3(), rand_v3(rng, 1.3).as_vec3());
+                if (a - b).abs().min_element() < 0.2 {
+                    continue;
+                }
+                let (lo, hi) = (a.min(b), a.max(b));
+                let prim = Prim::Cuboid {
+                    lo: lo.as_dvec3(),
+                    hi: hi.as_dvec3(),
+                };
+                return (Arc::new(Cuboid::new(a, b).unwrap()), prim);
+            }
+            4 | 5 => {
+                let (a, b) = (f(rand_v3(rng, 1.3)), f(rand_v3(rng, 1.3)));
+                let r = uniform(rng, 0.2, 0.9) as f32;
+                if (a - b).length() < 0.3 {
+                    continue;
+                }
+                let prim = Prim::Cone {
+                    a: a.as_dvec3(),
+                    b: b.as_dvec3(),
+                    ra: r as f64,
+                    rb: r as f64,
+                };
+                let shape = Quadric::capped_cylinder(a, b, r).unwrap();
+                return (Arc::new(shape), prim);
+            }
+            6 | 7 => {
+                let (a, b) = (f(rand_v3(rng, 1.3)), f(rand_v3(rng, 1.3)));
+                let ra = if rng.below(3) == 0 {
+                    0.0
+                } else {
+                    uniform(rng, 0.2, 1.0) as f32
+                };
+                let rb = uniform(rng, 0.2, 1.0) as f32;
+                if (a - b).length() < 0.3 {
+                    continue;
+                }
+                let prim = Prim::Cone {
+                    a: a.as_dvec3(),
+                    b: b.as_dvec3(),
+                    ra: ra as f64,
+                    rb: rb as f64,
+                };
+                let shape = Quadric::capped_cone(a, ra, b, rb).unwrap();
+                return (Arc::new(shape), prim);
+            }
+            8 | 9 => {
+                let major = uniform(rng, 0.6, 1.3) as f32;
+                let minor = uniform(rng, 0.15, 0.5) as f32;
+                let prim = Prim::Torus {
+                    major: major as f64,
+                    minor: minor as f64,
+                };
+                return (Arc::new(Torus::new(major, minor)), prim);
+            }
+            10 | 11 => {
+                // An octahedron-like solid: the eight octant planes at random distances.
+                let mut planes = Vec::new();
+                let mut given = Vec::new();
+                for i in 0..8 {
+                    let s = |b: u32| if i & (1 << b) == 0 { 1.0f32 } else { -1.0 };
+                    let n = Vec3::new(s(0), s(1), s(2)).normalize();
+                    let d = uniform(rng, 0.4, 1.1) as f32;
+                    given.push((n, d));
+                    planes.push((n.as_dvec3(), d as f64));
+                }
+                let prim = Prim::Polyhedron { planes };
+                return (Arc::new(Polyhedron::new(&given).unwrap()), prim);
+            }
+            _ => {
+                let n = irradia_core::sampling::uniform_sphere(rng.next_2d());
+                let d = uniform(rng, -0.8, 0.8) as f32;
+                let prim = Prim::HalfSpace {
+                    n: n.as_dvec3(),
+                    d: d as f64,
+                };
+                return (Arc::new(Plane::new(n, d).unwrap()), prim);
+            }
+        }
+    }
+}
+
+/// A random placement: identity, or non-uniform scale, rotation and translation.
+fn random_placement(rng: &mut irradia_core::Rng) -> Affine3A {
+    if rng.below(3) == 0 {
+        return Affine3A::IDENTITY;
+    }
+    let s = uniform(rng, 0.6, 1.5) as f32;
+    let axis = irradia_core::sampling::uniform_sphere(rng.next_2d());
+    let angle = uniform(rng, -3.0, 3.0) as f32;
+    Affine3A::from_scale_rotation_translation(
+        Vec3::new(s, 1.0, 1.0 / s),
+        Quat::from_axis_angle(axis, angle),
+        rand_v3(rng, 0.5).as_vec3(),
+    )
+}
+
+/// A random tree of `depth` levels below a node of operation `op` (2 or 3 operands),
+/// with its oracle leaves appended to `leaves` in depth-first order. `to_world` places
+/// this node.
+fn random_tree(
+    rng: &mut irradia_core::Rng,
+    op: CsgOp,
+    depth: u32,
+    to_world: DAffine3,
+    leaves: &mut Vec<OracleLeaf>,
+) -> (Csg, Formula) {
+    let n = 2 + rng.below(2);
+    let mut operands = Vec::new();
+    let mut formulas = Vec::new();
+    for _ in 0..n {
+        let place = random_placement(rng);
+        let child_to_world = to_world * daffine(&place);
+        if depth > 0 && rng.below(2) == 0 {
+            let child_op = [
+                CsgOp::Union,
+                CsgOp::Intersection,
+                CsgOp::Difference,
+                CsgOp::Merge,
+            ][rng.below(4) as usize];
+            let (csg, f) = random_tree(rng, child_op, depth - 1, child_to_world, leaves);
+            operands.push(CsgOperand::node(csg, place));
+            formulas.push(f);
+        } else {
+            let (shape, prim) = random_prim(rng);
+            let to_object = child_to_world.inverse();
+            let m = to_object.matrix3;
+            let stretch =
+                (m.x_axis.length_squared() + m.y_axis.length_squared() + m.z_axis.length_squared())
+                    .sqrt();
+            formulas.push(Formula::Leaf(leaves.len()));
+            leaves.push(OracleLeaf {
+                prim,
+                to_object,
+                to_world: child_to_world,
+                stretch,
+            });
+            operands.push(CsgOperand::shape(shape, place));
+        }
+    }
+    (Csg::new(op, operands).unwrap(), Formula::Node(op, formulas))
+}
+
+/// A point the oracle puts inside the tree, found by aiming at random leaves.
+fn point_inside(rng: &mut irradia_core::Rng, o: &Oracle) -> Option<DVec3> {
+    for _ in 0..40 {
+        let l = &o.leaves[rng.below(o.leaves.len() as u32) as usize];
+        let (lo, hi) = l.prim.aim_box();
+        let q = lo + (hi - lo) * DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
+        let p = l.to_world.transform_point3(q);
+        if o.inside(p) && o.margin(p) > 1e-3 {
+            return Some(p);
+        }
+    }
+    None
+}
+
+#[derive(Debug, Default)]
+struct OracleTally {
+    rays: u32,
+    hit_rays: u32,
+    samples: u32,
+    inside: u32,
+    mismatches: u32,
+    /// Mismatches of the oracle with union and intersection swapped (power check).
+    swapped_mismatches: u32,
+    /// ... and with a difference read as an intersection (the complement forgotten).
+    no_complement_mismatches: u32,
+    nearest_checked: u32,
+    normals_checked: u32,
+    cavity_normals: u32,
+}
+
+/// Runs the oracle over `trees` random trees per root operation; returns the tallies
+/// per root operation and a list of failure messages.
+fn run_membership_oracle(trees: u32) -> (Vec<(CsgOp, OracleTally)>, Vec<String>) {
+    let mut rng = irradia_core::Rng::new(2024, 11);
+    let mut failures = Vec::new();
+    let mut tallies = Vec::new();
+    let swap = |op: CsgOp| match op {
+        CsgOp::Union | CsgOp::Merge => CsgOp::Intersection,
+        CsgOp::Intersection => CsgOp::Union,
+        d => d,
+    };
+    let no_complement = |op: CsgOp| match op {
+        CsgOp::Difference => CsgOp::Intersection,
+        o => o,
+    };
+    for op in [
+        CsgOp::Union,
+        CsgOp::Intersection,
+        CsgOp::Difference,
+        CsgOp::Merge,
+    ] {
+        let mut tally = OracleTally::default();
+        for tree_no in 0..trees {
+            // A tree with something inside (intersections of random solids are often
+            // empty), or the last one tried.
+            let (csg, oracle) = {
+                let mut tries = 0;
+                loop {
+                    let mut leaves = Vec::new();
+                    let depth = rng.below(3);
+                    let (csg, formula) =
+                        random_tree(&mut rng, op, depth, DAffine3::IDENTITY, &mut leaves);
+                    let oracle = Oracle { leaves, formula };
+                    tries += 1;
+                    if tries == 20 || point_inside(&mut rng, &oracle).is_some() {
+                        break (csg, oracle);
+                    }
+                }
+            };
+            for ray_no in 0..8 {
+                let dir = irradia_core::sampling::uniform_sphere(rng.next_2d()).as_dvec3();
+                // Mostly rays through a point inside the tree; some at random; some
+                // starting inside it.
+                let target = match ray_no % 4 {
+                    3 => None,
+                    _ => point_inside(&mut rng, &oracle),
+                }
+                .unwrap_or_else(|| rand_v3(&mut rng, 1.5));
+                let back = if ray_no % 4 == 2 {
+                    uniform(&mut rng, 0.0, 1.0)
+                } else {
+                    6.0
+                };
+                let ray = Ray::new((target - dir * back).as_vec3(), dir.as_vec3());
+                let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+                let at = |t: f64| o + d * t;
+                let mut spans = Vec::new();
+                csg.spans(&ray, &mut spans);
+                tally.rays += 1;
+                if !spans.is_empty() {
+                    tally.hit_rays += 1;
+                }
+                if !well_formed(&spans) {
+                    failures.push(format!(
+                        "{op:?} tree {tree_no}: spans out of order {spans:?}"
+                    ));
+                    continue;
+                }
+                let ends: Vec<f64> = spans
+                    .iter()
+                    .flat_map(|s| [s.enter.t as f64, s.exit.t as f64])
+                    .collect();
+                // Sample points: evenly over the scene, plus some inside every span.
+                let mut samples: Vec<f64> = (0..64)
+                    .map(|i| -10.0 + 20.0 * (i as f64 + rng.next_f64()) / 64.0)
+                    .collect();
+                for s in &spans {
+                    let (a, b) = ((s.enter.t as f64).max(-12.0), (s.exit.t as f64).min(12.0));
+                    if a < b {
+                        samples.extend((0..4).map(|_| uniform(&mut rng, a, b)));
+                    }
+                }
+                for t in samples {
+                    if ends.iter().any(|e| (e - t).abs() < 1e-3) {
+                        continue;
+                    }
+                    let p = at(t);
+                    if oracle.margin(p) < 1e-5 {
+                        continue;
+                    }
+                    let by_spans = spans
+                        .iter()
+                        .any(|s| (s.enter.t as f64) < t && t < s.exit.t as f64);
+                    let member = oracle.memberships(p);
+                    let by_oracle = oracle.formula.eval(&member, &|o| o);
+                    tally.samples += 1;
+                    tally.inside += by_oracle as u32;
+                    if by_spans != by_oracle {
+                        tally.mismatches += 1;
+                        if failures.len() < 20 {
+                            failures.push(format!(
+                                "{op:?} tree {tree_no} ray {ray:?}: at t = {t} the spans say \
+                                 inside = {by_spans}, the oracle {by_oracle} (leaves {member:?}, \
+                                 formula {:?}, spans {:?})",
+                                oracle.formula,
+                                ts(&spans)
+                            ));
+                        }
+                    }
+                    tally.swapped_mismatches +=
+                        (oracle.formula.eval(&member, &swap) != by_spans) as u32;
+                    tally.no_complement_mismatches +=
+                        (oracle.formula.eval(&member, &no_complement) != by_spans) as u32;
+                }
+                check_nearest_hit(
+                    op,
+                    tree_no,
+                    &csg,
+                    &oracle,
+                    &ray,
+                    &spans,
+                    &mut tally,
+                    &mut failures,
+                );
+            }
+        }
+        tallies.push((op, tally));
+    }
+    (tallies, failures)
+}
+
+/// The nearest hit is the first span boundary at t > 0; it lies on the leaf it names,
+/// and its normal is that leaf's normal, pointing out of the combined solid.
+#[allow(clippy::too_many_arguments)]
+fn check_nearest_hit(
+    op: CsgOp,
+    tree_no: u32,
+    csg: &Csg,
+    oracle: &Oracle,
+    ray: &Ray,
+    spans: &[Span],
+    tally: &mut OracleTally,
+    failures: &mut Vec<String>,
+) {
+    let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+    let mut fail = |m: String| {
+        if failures.len() < 40 {
+            failures.push(format!("{op:?} tree {tree_no} ray {ray:?}: {m}"));
+        }
+    };
+    let hit = csg.intersect(ray, f32::INFINITY);
+    if csg.occluded(ray, f32::INFINITY) != hit.is_some() {
+        fail(format!("occluded disagrees with intersect {hit:?}"));
+    }
+    let first = spans
+        .iter()
+        .flat_map(|s| [(s.enter, true), (s.exit, false)])
+        .find(|(b, _)| b.t > 0.0 && b.t < f32::INFINITY);
+    let origin_outside = !oracle.inside(o) && oracle.margin(o) > 1e-4;
+    // A union reports the nearest surface of any operand (inner ones too), which is the
+    // first span entry only when the ray starts outside.
+    if op == CsgOp::Union && !origin_outside {
+        return;
+    }
+    let (h, (b, entering)) = match (hit, first) {
+        (None, None) => return,
+        (Some(h), Some(f)) => (h, f),
+        (h, f) => {
+            fail(format!("hit {h:?} but first span boundary {f:?}"));
+            return;
+        }
+    };
+    tally.nearest_checked += 1;
+    let t_ok = if op == CsgOp::Union {
+        (h.t - b.t).abs() <= 1e-4 * b.t.max(1.0)
+    } else {
+        h.t == b.t && h.normal == b.normal && h.leaf == b.leaf
+    };
+    if !t_ok {
+        fail(format!("hit {h:?} is not the first span boundary {b:?}"));
+        return;
+    }
+    if origin_outside && !entering {
+        fail(format!("from outside, the first boundary {b:?} is an exit"));
+    }
+    let p = o + d * h.t as f64;
+    let Some(leaf) = oracle.leaves.get(h.leaf as usize) else {
+        fail(format!("leaf {} out of range", h.leaf));
+        return;
+    };
+    if leaf.margin(p) > 1e-4 {
+        fail(format!(
+            "hit point {p:?} is {} from the surface of its leaf {}",
+            leaf.margin(p),
+            h.leaf
+        ));
+        return;
+    }
+    // Away from edges (other leaves' surfaces), compare the normal with the leaf's
+    // own and with the inside test on both sides of the surface.
+    let clear = oracle
+        .leaves
+        .iter()
+        .enumerate()
+        .all(|(i, l)| i == h.leaf as usize || l.margin(p) > 1e-2);
+    if !clear {
+        return;
+    }
+    let n = h.normal.as_dvec3();
+    let g = leaf.normal(p);
+    let cavity = n.dot(g) < 0.0;
+    let expect = if cavity { -g } else { g };
+    if (n - expect).length() > 1e-3 {
+        fail(format!(
+            "normal {n:?} is not ±{g:?}, the normal of leaf {}",
+            h.leaf
+        ));
+        return;
+    }
+    let delta = 2e-3;
+    // Where the leaf is thinner than that (near a cone's apex), both sides are outside.
+    if leaf.margin(p - n * delta) < 0.5 * delta || leaf.margin(p + n * delta) < 0.5 * delta {
+        return;
+    }
+    let (behind, in_front) = (oracle.inside(p - n * delta), oracle.inside(p + n * delta));
+    if !behind || in_front {
+        fail(format!(
+            "normal {n:?} at {p:?} does not point out of the solid (inside behind: {behind}, \
+             in front: {in_front}; cavity face: {cavity}; leaf {:?})",
+            leaf.prim
+        ));
+        return;
+    }
+    tally.normals_checked += 1;
+    tally.cavity_normals += cavity as u32;
+}
+
+#[test]
+fn spans_agree_with_an_independent_point_membership_oracle() {
+    let start = std::time::Instant::now();
+    let (tallies, failures) = run_membership_oracle(200);
+    for (op, t) in &tallies {
+        eprintln!("{op:?}: {t:?}");
+    }
+    eprintln!("oracle run: {:?}", start.elapsed());
+    assert!(
+        failures.is_empty(),
+        "{} failures:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+    for (op, t) in &tallies {
+        // Not vacuous: the rays hit, points are found inside and outside, hits and
+        // normals were checked (subtracted faces included where there are any).
+        assert!(
+            t.hit_rays as f64 >= 0.3 * t.rays as f64,
+            "{op:?}: only {} of {} rays hit",
+            t.hit_rays,
+            t.rays
+        );
+        assert!(
+            t.inside >= 1000 && t.samples - t.inside >= 1000,
+            "{op:?}: {t:?}"
+        );
+        assert!(t.nearest_checked >= t.rays / 4, "{op:?}: {t:?}");
+        assert!(t.normals_checked >= t.rays / 8, "{op:?}: {t:?}");
+        if *op == CsgOp::Difference {
+            assert!(
+                t.cavity_normals >= 50,
+                "too few subtracted faces seen: {t:?}"
+            );
+        }
+        assert_eq!(t.mismatches, 0);
+        // Power: the oracle tells union from intersection and a difference from an
+        // intersection; a combiner that confused them would disagree this often.
+        assert!(
+            t.swapped_mismatches as f64 > 0.02 * t.samples as f64 || *op == CsgOp::Difference,
+            "{op:?}: swapping union and intersection changes only {} of {} samples",
+            t.swapped_mismatches,
+            t.samples
+        );
+    }
+    let total = |f: fn(&OracleTally) -> u32| tallies.iter().map(|(_, t)| f(t)).sum::<u32>();
+    let samples = total(|t| t.samples);
+    assert!(total(|t| t.swapped_mismatches) as f64 > 0.05 * samples as f64);
+    assert!(total(|t| t.no_complement_mismatches) as f64 > 0.02 * samples as f64);
 }
