@@ -373,7 +373,13 @@ fn a_rank_that_never_answers_is_named_on_the_others() {
         }
         Some(raytrace_forward::render(c, &s, Tiling::STRIPS, 0).map(|_| ()))
     });
-    assert!(t0.elapsed() < std::time::Duration::from_secs(5));
+    // A hang guard only (a loaded CI machine may be slow to notice); the errors'
+    // content below is the check.
+    assert!(
+        t0.elapsed() < std::time::Duration::from_secs(60),
+        "took {:?}",
+        t0.elapsed()
+    );
     for (r, res) in out.into_iter().enumerate() {
         if r == 1 {
             continue;
