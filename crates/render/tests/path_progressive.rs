@@ -1,6 +1,7 @@
 //! The path tracer's progressive machinery: resume equals an uninterrupted render,
 //! thread count does not change the image, and the estimator is unbiased (the mean of
-//! independent renders converges to a reference with error falling as 1/sqrt(N)).
+//! independent renders converges to a closed-form radiance with error falling as
+//! 1/sqrt(N)).
 
 mod path_common;
 
@@ -109,29 +110,36 @@ fn target_error_and_time_budget_stop_the_render() {
     assert_eq!(r.stop, StopReason::Time);
 }
 
-/// Unbiasedness: the mean of N independent 1-sample renders approaches a reference
-/// render made from other random streams, with RMS error falling as 1/sqrt(N).
+/// Unbiasedness against a closed form, not against the estimator itself: inside a
+/// closed ellipsoid whose surface emits `e` everywhere and reflects by a mixture of a
+/// Lambertian lobe (albedo ρ_d) and a perfect mirror (reflectance ρ_m), whose albedo is
+/// ρ = ρ_d + ρ_m in every direction, the radiance is e + ρ e + ρ² e + ... = e / (1 − ρ)
+/// everywhere. The mixture exercises lobe selection, MIS on emitter hits after smooth
+/// bounces (weight 1 after the mirror), next-event estimation and Russian roulette.
+///
+/// The mean of N independent 1-sample renders (seeds 1..=N) must approach the exact
+/// image with RMS error falling as 1/sqrt(N) (a bias would flatten the slope), the mean
+/// over all pixels and renders must lie within 4.5 standard errors of e / (1 − ρ) (the
+/// standard error from the spread of the renders' image means) while rejecting a value
+/// 2% off, and the pixels' squared errors must be those of noise alone.
 #[test]
 fn mean_of_independent_renders_converges_as_one_over_sqrt_n() {
-    let scene = path_common::soft_room();
-    let params = PathParams::default();
-    let reference = path::render(
-        &scene,
-        &params,
-        &ProgressiveOptions {
-            seed: 1_000_000,
-            ..options(2048)
-        },
-        new_film(&scene),
-        |_, _| {},
-    )
-    .unwrap()
-    .film
-    .image();
-    let mut sum = vec![irradia_core::Rgb::BLACK; reference.pixels().len()];
+    let (rho_d, rho_m, e) = (0.5f32, 0.3f32, 0.25f32);
+    let mut scene = path_common::furnace_sphere(rho_d, e);
+    scene.materials[0].reflection = irradia_core::Rgb::splat(rho_m);
+    let exact = (e / (1.0 - rho_d - rho_m)) as f64;
+    let params = PathParams {
+        max_depth: 200,
+        rr_depth: 5,
+    };
+    let pixels = (scene.settings.width * scene.settings.height) as usize;
+    let mut sum = vec![0.0f64; pixels];
+    let mut sum_sq = vec![0.0f64; pixels];
+    let mut image_means = Vec::new();
     let mut errors = Vec::new();
-    let checkpoints = [4u32, 16, 64, 256];
-    for n in 1..=*checkpoints.last().unwrap() {
+    let checkpoints = [4u32, 16, 64, 256, 1024];
+    let n_max = *checkpoints.last().unwrap();
+    for n in 1..=n_max {
         let one = path::render(
             &scene,
             &params,
@@ -145,16 +153,20 @@ fn mean_of_independent_renders_converges_as_one_over_sqrt_n() {
         .unwrap()
         .film
         .image();
-        for (s, p) in sum.iter_mut().zip(one.pixels()) {
-            *s += *p;
+        // The green channel (the scene is grey: all three are the same estimate).
+        let values: Vec<f64> = one.pixels().iter().map(|p| p.g as f64).collect();
+        for ((s, s2), v) in sum.iter_mut().zip(&mut sum_sq).zip(&values) {
+            *s += v;
+            *s2 += v * v;
         }
+        image_means.push(values.iter().sum::<f64>() / pixels as f64);
         if checkpoints.contains(&n) {
-            let mean = irradia_core::Image::from_pixels(
-                reference.width(),
-                reference.height(),
-                sum.iter().map(|s| *s / n as f32).collect(),
-            );
-            errors.push((n as f64, mean.rmse(&reference)));
+            let mse = sum
+                .iter()
+                .map(|s| (s / n as f64 - exact).powi(2))
+                .sum::<f64>()
+                / pixels as f64;
+            errors.push((n as f64, mse.sqrt()));
         }
     }
     // Slope of log(error) against log(N): -1/2 for an unbiased estimator; a bias would
@@ -171,5 +183,48 @@ fn mean_of_independent_renders_converges_as_one_over_sqrt_n() {
     assert!(
         (-0.65..=-0.35).contains(&slope),
         "error slope {slope}, errors {errors:?}"
+    );
+
+    // The mean over every pixel and render, with its standard error from the spread of
+    // the independent renders' image means.
+    let n = n_max as f64;
+    let mean = image_means.iter().sum::<f64>() / n;
+    let se = (image_means.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
+    let k = 4.5;
+    assert!(
+        se < 0.005 * exact,
+        "standard error {se} too large to tell a 2% bias"
+    );
+    assert!(
+        (mean - exact).abs() <= k * se,
+        "mean {mean} ± {se}, exact e/(1-ρ) = {exact} ({:+.1} standard errors)",
+        (mean - exact) / se
+    );
+    for wrong in [1.02 * exact, 0.98 * exact] {
+        assert!(
+            (mean - wrong).abs() > k * se,
+            "the comparison cannot tell {wrong} from {exact} (mean {mean} ± {se})"
+        );
+    }
+    // Per pixel: the squared errors against the exact value are those of noise alone
+    // (chi-square with one degree of freedom per pixel, each pixel's variance of the
+    // mean estimated from its N samples).
+    let chi2: f64 = sum
+        .iter()
+        .zip(&sum_sq)
+        .map(|(s, s2)| {
+            let m = s / n;
+            let var_of_mean = (s2 / n - m * m) * n / (n - 1.0) / n;
+            (m - exact).powi(2) / var_of_mean
+        })
+        .sum();
+    let dof = pixels as f64;
+    println!(
+        "slope {slope:.3} (errors {errors:?}); mean {mean:.5} ± {se:.5}, exact {exact}; \
+         chi-square {chi2:.1} for {dof} pixels"
+    );
+    assert!(
+        chi2 <= dof + 5.0 * (2.0 * dof).sqrt(),
+        "per-pixel chi-square {chi2:.1} for {dof} pixels"
     );
 }
