@@ -595,11 +595,10 @@ fn phong_reference(ks: f64, n: f64, wo: Vec3, wi: Vec3) -> (f64, f64) {
     (ks * (n + 2.0) / (2.0 * PI) * c, (n + 1.0) / (2.0 * PI) * c)
 }
 
-fn wos() -> [Vec3; 6] {
+fn wos() -> [Vec3; 5] {
     [
         Vec3::Z,
         Vec3::new(0.5, 0.2, 0.6).normalize(),
-        Vec3::new(-0.9, 0.1, 0.2).normalize(),
         Vec3::new(0.99, 0.0, 0.05).normalize(),
         Vec3::new(0.3, 0.3, -0.8).normalize(),
         -Vec3::Z,
@@ -696,7 +695,7 @@ fn sampled_weight_pdf_and_eval_agree_for_every_lobe_and_mixture() {
         let m = Model::of(bsdf);
         for (j, wo) in wos().into_iter().enumerate() {
             let seed = (100 + 10 * k + j) as u64;
-            for e in check_consistency(&m, wo, delta(wo), 100_000, seed, alpha) {
+            for e in check_consistency(&m, wo, delta(wo), 60_000, seed, alpha) {
                 failures.push(format!("{name} at wo {wo}: {e}"));
             }
         }
