@@ -179,7 +179,20 @@ fn all_solvers_agree_with_direct() {
 #[test]
 fn hierarchical_agrees_with_direct() {
     // A box with an occluding block; hierarchical leaves of the same size as the
-    // uniform elements; surface means within 3%.
+    // uniform elements. Surface means within 3%, except the block's four sides: 4.5%.
+    //
+    // Measured (deterministic seeds): the walls and ceiling within 0.9%, the floor 2.5%,
+    // the block's sides 3.5-4.0%, every surface brighter in the hierarchical solve. 3%
+    // does not hold on the sides, for two reasons found by varying one setting at a
+    // time (side 1, direct 0.1306):
+    // - the links' receiver quadrature (2 x 2 Gauss points here): 4 x 4 points bring
+    //   side 1 from 0.1359 (+4.0%) to 0.1344 (+2.9%) and the floor from 0.1645 to
+    //   0.1626;
+    // - the rest (+2.6-2.9% on the sides) stays with 64 visibility rays per link and
+    //   with `bf_epsilon` 1e-5, while the direct reference moves by at most 0.5% on the
+    //   sides with 6 x 6 Gauss points or 64 visibility samples (the floor by up to 1.3%,
+    //   its visibility sampling noise). A hierarchical bias on surfaces in contact with
+    //   the floor, not explained here.
     let specs = scenes::closed_box_with_block([0.6, 0.5, 0.4]);
     let area = 1.0 / 16.0;
     let pipe = |solver: SolverKind| {
@@ -247,9 +260,14 @@ fn hierarchical_agrees_with_direct() {
             "{:>14}: direct (analytic) {:.4} hierarchical {:.4} direct (hemicube) {:.4} ({rel:.3})",
             s.name, md[i][0], mh[i][0], ma[i][0]
         );
+        let tolerance = if s.name.starts_with("block side") {
+            0.045
+        } else {
+            0.03
+        };
         assert!(
-            rel < 0.06,
-            "{}: hierarchical {:?} vs direct {:?}",
+            rel < tolerance,
+            "{}: hierarchical {:?} vs direct {:?} ({rel:.3}, tolerance {tolerance})",
             s.name,
             mh[i],
             md[i]
