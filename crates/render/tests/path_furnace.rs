@@ -301,7 +301,7 @@ fn phong_albedo(ks: f64, n: f64, mu: f64) -> f64 {
         DVec3::new(mu, 0.0, (1.0 - mu * mu).max(0.0).sqrt()),
         DVec3::Y,
     );
-    let (nv, np) = (400, 400);
+    let (nv, np) = (200, 200);
     let mut sum = 0.0;
     for i in 0..nv {
         let cos_a = ((i as f64 + 0.5) / nv as f64).powf(1.0 / (n + 1.0));
@@ -317,7 +317,7 @@ fn phong_albedo(ks: f64, n: f64, mu: f64) -> f64 {
 
 /// A table of `a(mu)` on [0, 1], linearly interpolated.
 fn table(a: impl Fn(f64) -> f64) -> impl Fn(f64) -> f64 {
-    const N: usize = 256;
+    const N: usize = 128;
     let v: Vec<f64> = (0..=N).map(|i| a(i as f64 / N as f64)).collect();
     move |mu: f64| {
         let x = mu.clamp(0.0, 1.0) * N as f64;
