@@ -165,8 +165,8 @@ fn patch_factors(s: &Scene, mesh: &Mesh, ff: &FormFactors) -> Factors {
     out.send_recv /= a_s;
     out.recv_send /= a_r;
     out.send_blocker /= a_s;
-    for q in 0..4 {
-        out.quadrants[q] /= a_q[q];
+    for (f, a) in out.quadrants.iter_mut().zip(a_q) {
+        *f /= a;
     }
     out
 }
