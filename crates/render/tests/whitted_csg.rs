@@ -446,16 +446,19 @@ fn shade_difference(o: DVec3, d: DVec3) -> Option<Shade> {
             candidates.push((c1, 2, -(q - axis * q.dot(axis)) / HOLE_R));
         }
         for (t, leaf, n) in candidates {
-            if t > 0.0 && t >= b0 && t < b1 && !inside_removed(t, s, c) {
-                if best.map_or(true, |(bt, _, _)| t < bt) {
-                    best = Some((t, leaf, n));
-                }
+            if t > 0.0
+                && t >= b0
+                && t < b1
+                && !inside_removed(t, s, c)
+                && best.is_none_or(|(bt, _, _)| t < bt)
+            {
+                best = Some((t, leaf, n));
             }
         }
     }
     let ground = (d.y < 0.0).then(|| -o.y / d.y).filter(|&t| t > 0.0);
     let (object, leaf, t, normal) = match (best, ground) {
-        (Some((t, leaf, n)), g) if g.map_or(true, |g| t < g) => (1, leaf, t, n),
+        (Some((t, leaf, n)), g) if g.is_none_or(|g| t < g) => (1, leaf, t, n),
         (_, Some(g)) => (0, 0, g, DVec3::Y),
         _ => return None,
     };
