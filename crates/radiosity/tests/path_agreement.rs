@@ -287,12 +287,12 @@ fn compare(b: Box_, cfg: Config, tolerance: &dyn Fn(&str) -> f64) -> Vec<[f64; 3
     // The path tracer's own noise must be well below the tolerance for the test to
     // mean anything.
     for (s, p) in specs.iter().zip(traced) {
-        for c in 0..3 {
+        for (c, channel) in CHANNELS.iter().enumerate() {
             assert!(
                 p.stderr[c] < 0.01 * p.mean[c],
                 "{} {}: path-traced estimate too noisy ({:?})",
                 s.name,
-                CHANNELS[c],
+                channel,
                 p
             );
         }
@@ -373,8 +373,8 @@ fn empty_cornell_box_agrees_with_the_path_tracer_within_two_percent() {
     for (s, b) in specs.iter().zip(no_bleed.iter_mut()) {
         if coloured(s) {
             let g = lum(s.reflectance);
-            for c in 0..3 {
-                b[c] = s.emission[c] + s.reflectance[c] * (b[c] - s.emission[c]) / g;
+            for (c, bc) in b.iter_mut().enumerate() {
+                *bc = s.emission[c] + s.reflectance[c] * (*bc - s.emission[c]) / g;
             }
         }
     }
