@@ -20,13 +20,16 @@
 //! differ) and `F(sender → blocker)` are compared with the reference, at the tolerance
 //! stated on each test; each test also computes the method without the blocker and
 //! checks that the same tolerance rejects that value (so the tolerance is tight enough
-//! to see the shadow) and accepts it against the unoccluded reference.
+//! to see the shadow) and accepts it against the unoccluded reference. The occluded
+//! scene is computed twice, with the blocker's elements after and before the
+//! receiver's, so that visibility decided by the order of the elements (a hemicube
+//! without its depth test keeps whatever it drew last) fails in one of the two.
 
 mod reference_quadrature;
 
 use glam::DVec3;
 use irradia_radiosity::formfactor::{self, FormFactors, Method, Params};
-use irradia_radiosity::mesh::{spec, Mesh, MeshOptions};
+use irradia_radiosity::mesh::{spec, Mesh, MeshOptions, PatchSpec};
 use reference_quadrature::{self as rq, Rect, Rule};
 use std::sync::OnceLock;
 use std::time::Instant;
@@ -75,6 +78,22 @@ fn mesh(s: &Scene, with_blocker: bool) -> Mesh {
     if with_blocker {
         specs.push(spec("blocker", &s.blocker.corners(), [0.5; 3], [0.0; 3]));
     }
+    build(&specs)
+}
+
+/// The scene with the blocker listed first, so that its elements come before the
+/// receiver's: a method whose visibility depends on the order of the elements (a
+/// hemicube without a depth test keeps whichever it drew last; a ray caster that takes
+/// the first hit it finds) fails in one of the two orders.
+fn mesh_blocker_first(s: &Scene) -> Mesh {
+    build(&[
+        spec("blocker", &s.blocker.corners(), [0.5; 3], [0.0; 3]),
+        spec("sender", &s.send.corners(), [0.5; 3], [1.0; 3]),
+        spec("receiver", &s.recv.corners(), [0.5; 3], [0.0; 3]),
+    ])
+}
+
+fn build(specs: &[PatchSpec]) -> Mesh {
     Mesh::build(
         &specs,
         MeshOptions {
@@ -393,9 +412,12 @@ fn check(m: Method, p: Params, which: usize, tol: Tolerance) {
     let method = formfactor::method(m, p);
     let blocked = mesh(&s, true);
     let open = mesh(&s, false);
+    let reordered = mesh_blocker_first(&s);
     let ff = method.compute(&blocked, None).unwrap();
+    let ff_reordered = method.compute(&reordered, None).unwrap();
     let ff_open = method.compute(&open, None).unwrap();
     let got = patch_factors(&s, &blocked, &ff);
+    let got_reordered = patch_factors(&s, &reordered, &ff_reordered);
     let got_open = patch_factors(&s, &open, &ff_open);
     let elapsed = t.elapsed();
     let (want, want_open) = (
@@ -413,10 +435,13 @@ fn check(m: Method, p: Params, which: usize, tol: Tolerance) {
         t.elapsed()
     );
     report("with blocker", &got, &want);
+    report("with blocker listed first", &got_reordered, &want);
     report("no blocker vs unoccluded", &got_open, &want_open);
     let e = worst_patch(&got, &want);
     let e_open = worst_patch(&got_open, &want_open);
     let r = worst_rows(&blocked, &ff, &rows, true);
+    let e_reordered = worst_patch(&got_reordered, &want);
+    let r_reordered = worst_rows(&reordered, &ff_reordered, &rows, true);
     let r_open = worst_rows(&open, &ff_open, &rows_open, false);
     // The method run without the blocker, against the occluded references.
     let e_blind = ((got_open.send_recv - want.send_recv) / want.send_recv).abs();
@@ -431,6 +456,12 @@ fn check(m: Method, p: Params, which: usize, tol: Tolerance) {
         e < tol.patch,
         "{what}: patch factors off the occluded reference by {e:.3e} (tolerance {})",
         tol.patch
+    );
+    assert!(
+        e_reordered < tol.patch && r_reordered < tol.rows,
+        "{what}, blocker listed first: patch factors off by {e_reordered:.3e} (tolerance {}), element rows by {r_reordered:.3e} (tolerance {})",
+        tol.patch,
+        tol.rows
     );
     assert!(
         e_open < tol.patch,
