@@ -22,7 +22,7 @@ Before rendering, the script checks that the two descriptions of each scene are 
 same geometry: Mitsuba's first-hit distance and shading normal (AOV integrator) must
 match Irradia's depth and normal AOVs on every mask pixel.
 
-Usage: python3 bench/pathtrace/mitsuba_reference.py [--res 64] [--spp 1024]
+Usage: python3 bench/pathtrace/mitsuba_reference.py [--res 96] [--spp 1024]
        [--seeds 16] [--threads 2] [--out crates/render/tests/data/mitsuba_reference.json]
        [--write-mesh]
 Installs Mitsuba with pip when it is missing; skips cleanly (exit 0) when it cannot.
@@ -241,7 +241,7 @@ def surface_means(img, labels, ids):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--res", type=int, default=64)
+    ap.add_argument("--res", type=int, default=96)
     ap.add_argument("--spp", type=int, default=1024, help="samples per pixel of each seed's render")
     ap.add_argument("--seeds", type=int, default=16, help="independent renders (seeds 0..N-1)")
     ap.add_argument("--threads", type=int, default=2)
