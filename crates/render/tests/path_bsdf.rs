@@ -29,23 +29,25 @@ fn bin_of(w: Vec3) -> usize {
     t * PHI_BINS + p
 }
 
+/// 5-point Gauss-Legendre nodes and weights on [-1, 1].
+const X: [f64; 5] = [
+    -0.906_179_845_938_664,
+    -0.538_469_310_105_683,
+    0.0,
+    0.538_469_310_105_683,
+    0.906_179_845_938_664,
+];
+const W: [f64; 5] = [
+    0.236_926_885_056_189,
+    0.478_628_670_499_366,
+    0.568_888_888_888_889,
+    0.478_628_670_499_366,
+    0.236_926_885_056_189,
+];
+
 /// Expected probability of each (cos θ, φ) bin: the density integrated by composite
 /// 5-point Gauss-Legendre quadrature (the measure d(cos θ) dφ is the solid angle).
 fn expected(pdf: impl Fn(Vec3) -> f64) -> Vec<f64> {
-    const X: [f64; 5] = [
-        -0.906_179_845_938_664,
-        -0.538_469_310_105_683,
-        0.0,
-        0.538_469_310_105_683,
-        0.906_179_845_938_664,
-    ];
-    const W: [f64; 5] = [
-        0.236_926_885_056_189,
-        0.478_628_670_499_366,
-        0.568_888_888_888_889,
-        0.478_628_670_499_366,
-        0.236_926_885_056_189,
-    ];
     let sub = 6;
     let (dz, dp) = (2.0 / THETA_BINS as f64, 2.0 * PI / PHI_BINS as f64);
     let (hz, hp) = (dz / sub as f64, dp / sub as f64);
@@ -388,20 +390,6 @@ impl<'a> Model<'a> {
 /// (whose measure is the solid angle): `f(direction, weight)` at every node. The
 /// horizon cos θ = 0 is a cell boundary, so the integrands' jump there costs nothing.
 fn sphere_quadrature(mut f: impl FnMut(Vec3, f64)) {
-    const X: [f64; 5] = [
-        -0.906_179_845_938_664,
-        -0.538_469_310_105_683,
-        0.0,
-        0.538_469_310_105_683,
-        0.906_179_845_938_664,
-    ];
-    const W: [f64; 5] = [
-        0.236_926_885_056_189,
-        0.478_628_670_499_366,
-        0.568_888_888_888_889,
-        0.478_628_670_499_366,
-        0.236_926_885_056_189,
-    ];
     const NZ: usize = 64;
     const NP: usize = 128;
     let (hz, hp) = (2.0 / NZ as f64, 2.0 * PI / NP as f64);
