@@ -691,17 +691,8 @@ fn reference_matches_closed_forms_occluded() {
     let rule = Rule::default();
     for (px, py) in [(0.5, 0.4), (0.1, 0.7), (0.93, 0.05), (0.55, 0.37)] {
         let q = rq::point_to_rect(V(px, py, 0.), V(0., 0., 1.), &s.recv, &[s.blocker], rule);
-        let k = recv.z / bl.z;
-        let sx = (
-            (px + (bl.x.0 - px) * k).max(recv.x.0),
-            (px + (bl.x.1 - px) * k).min(recv.x.1),
-        );
-        let sy = (
-            (py + (bl.y.0 - py) * k).max(recv.y.0),
-            (py + (bl.y.1 - py) * k).min(recv.y.1),
-        );
         let open = rq::point_parallel(px, py, recv.x, recv.y, recv.z);
-        let exact = open - rq::point_parallel(px, py, sx, sy, recv.z);
+        let exact = rq::point_parallel_shadowed(px, py, &recv, Some(&bl));
         println!("point ({px}, {py}): quadrature {q:.8}, exact {exact:.8} (unoccluded {open:.6})");
         assert!(
             exact < 0.95 * open,

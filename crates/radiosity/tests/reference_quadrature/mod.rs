@@ -426,6 +426,36 @@ pub struct ParallelBox {
     pub z: f64,
 }
 
+/// The exact point-to-receiver factor from `(px, py, 0)` (normal +z) with the receiver
+/// partly hidden by `blocker`: `F(receiver) − F(shadow ∩ receiver)`, the shadow being the
+/// blocker scaled about the point by `recv.z / blocker.z`.
+pub fn point_parallel_shadowed(
+    px: f64,
+    py: f64,
+    recv: &ParallelBox,
+    blocker: Option<&ParallelBox>,
+) -> f64 {
+    let open = point_parallel(px, py, recv.x, recv.y, recv.z);
+    let Some(bl) = blocker else {
+        return open;
+    };
+    assert!(bl.z > 0.0 && bl.z < recv.z);
+    let k = recv.z / bl.z;
+    let sx = (
+        (px + (bl.x.0 - px) * k).max(recv.x.0),
+        (px + (bl.x.1 - px) * k).min(recv.x.1),
+    );
+    let sy = (
+        (py + (bl.y.0 - py) * k).max(recv.y.0),
+        (py + (bl.y.1 - py) * k).min(recv.y.1),
+    );
+    if sx.0 < sx.1 && sy.0 < sy.1 {
+        open - point_parallel(px, py, sx, sy, recv.z)
+    } else {
+        open
+    }
+}
+
 pub fn parallel_semi_analytic(
     send: ((f64, f64), (f64, f64)),
     recv: &ParallelBox,
@@ -443,22 +473,7 @@ pub fn parallel_semi_analytic(
                 for &(b, wb) in &g {
                     let px = sx0 + (i as f64 + a) * hx;
                     let py = sy0 + (j as f64 + b) * hy;
-                    let mut f = point_parallel(px, py, recv.x, recv.y, recv.z);
-                    if let Some(bl) = blocker {
-                        assert!(bl.z > 0.0 && bl.z < recv.z);
-                        let k = recv.z / bl.z;
-                        let sx = (
-                            (px + (bl.x.0 - px) * k).max(recv.x.0),
-                            (px + (bl.x.1 - px) * k).min(recv.x.1),
-                        );
-                        let sy = (
-                            (py + (bl.y.0 - py) * k).max(recv.y.0),
-                            (py + (bl.y.1 - py) * k).min(recv.y.1),
-                        );
-                        if sx.0 < sx.1 && sy.0 < sy.1 {
-                            f -= point_parallel(px, py, sx, sy, recv.z);
-                        }
-                    }
+                    let f = point_parallel_shadowed(px, py, recv, blocker);
                     sum += wa * wb * hx * hy * f;
                 }
             }
