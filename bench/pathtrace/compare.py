@@ -20,22 +20,10 @@ ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 LLVM = "/usr/lib/x86_64-linux-gnu/libLLVM-19.so"
 
 
-def ensure_mitsuba():
-    try:
-        import mitsuba  # noqa: F401
-        return True
-    except ImportError:
-        r = subprocess.run([sys.executable, "-m", "pip", "install", "-q", "numpy", "mitsuba==3.9.1", "drjit==1.5.0"])
-        if r.returncode != 0:
-            print("SKIP: mitsuba could not be installed")
-            return False
-        return True
-
-
-def irradia_binary():
-    subprocess.run(["cargo", "build", "--release", "-q", "-p", "irradia"], cwd=ROOT, check=True)
-    target = os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target"))
-    return os.path.join(target, "release", "irradia")
+# The Mitsuba install, the binary, the PFM reader and the mask erosion are the reference
+# script's (one of each in bench/pathtrace/).
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mitsuba_reference import ensure_mitsuba, eroded_labels, irradia_binary, read_pfm  # noqa: E402
 
 
 MITSUBA_CODE = r'''
@@ -79,16 +67,6 @@ def run_irradia(binary, spp, res, threads, out):
     return time.perf_counter() - t0
 
 
-def read_pfm(path):
-    import numpy as np
-    with open(path, "rb") as f:
-        assert f.readline().strip() == b"PF"
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4").reshape(h, w, 3)
-    return data[::-1].copy()
-
-
 def surface_masks(binary, res, tmp):
     """Object ids of Irradia's cornell scene (Whitted pass, 1 spp), eroded by 2 px."""
     import numpy as np
@@ -97,14 +75,8 @@ def surface_masks(binary, res, tmp):
                     "--height", str(res), "--quiet", "--aov", "object-id", "-o", out], check=True)
     ids = np.rint(read_pfm(os.path.join(tmp, "ids.object-id.pfm"))[..., 0]).astype(int)
     names = ["floor", "ceiling", "back wall", "red wall", "green wall", "light", "tall box", "short box"]
-    masks = {}
-    for i, n in enumerate(names):
-        m = ids == i
-        er = m.copy()
-        for dy in (-2, -1, 0, 1, 2):
-            for dx in (-2, -1, 0, 1, 2):
-                er &= np.roll(np.roll(m, dy, 0), dx, 1)
-        masks[n] = er
+    labels = eroded_labels(ids, 2)  # eroded by 2 px; the image border counts as another surface
+    masks = {n: labels == i for i, n in enumerate(names)}
     return masks
 
 
