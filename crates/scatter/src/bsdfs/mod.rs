@@ -1,0 +1,6 @@
+//! Every BSDF, one file each, with Mitsuba 3's parameter names and definitions
+//! (<https://mitsuba.readthedocs.io/en/latest/src/generated/plugins_bsdfs.html>).
+
+pub mod diffuse;
+
+pub use diffuse::Diffuse;
