@@ -21,6 +21,7 @@
 
 pub mod bsdf;
 pub mod bsdfs;
+pub mod ior;
 pub mod microfacet;
 pub mod optics;
 mod special;
