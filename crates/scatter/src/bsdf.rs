@@ -148,4 +148,5 @@ macro_rules! bsdf_enum {
 // One line per BSDF; boxed for the wrappers that hold other BSDFs.
 bsdf_enum! {
     Diffuse(Diffuse),
+    LectureMix(LectureMix),
 }

@@ -2,5 +2,7 @@
 //! (<https://mitsuba.readthedocs.io/en/latest/src/generated/plugins_bsdfs.html>).
 
 pub mod diffuse;
+pub mod lecture;
 
 pub use diffuse::Diffuse;
+pub use lecture::{LectureLobe, LectureMix};
