@@ -149,4 +149,9 @@ macro_rules! bsdf_enum {
 bsdf_enum! {
     Diffuse(Diffuse),
     LectureMix(LectureMix),
+    Conductor(Conductor),
+    RoughConductor(RoughConductor),
+    Dielectric(Dielectric),
+    RoughDielectric(RoughDielectric),
+    ThinDielectric(ThinDielectric),
 }
