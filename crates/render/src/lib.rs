@@ -14,6 +14,7 @@ pub mod film;
 pub mod integrator;
 pub mod optics;
 pub mod path;
+pub mod prepared;
 pub mod raytree;
 pub mod sampler;
 pub mod stats;
@@ -21,6 +22,7 @@ pub mod whitted;
 
 pub use aov::Aov;
 pub use integrator::{AovSample, Integrator};
+pub use prepared::PreparedScene;
 pub use raytree::{RayKind, RayNode};
 pub use stats::Stats;
 pub use whitted::Whitted;
@@ -95,7 +97,10 @@ pub struct RenderOutput {
 /// Renders `scene` with the integrator its settings name.
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, RenderError> {
     match scene.settings.integrator {
-        Method::Whitted => film::render_with(&Whitted::new(scene), scene, options),
+        Method::Whitted => {
+            let prepared = PreparedScene::new(scene);
+            film::render_with(&Whitted::prepared(&prepared), scene, options)
+        }
         Method::Path => path::output::render_output(scene, options),
     }
 }
@@ -132,7 +137,9 @@ pub fn trace_pixel(
     let mut rec = raytree::TreeRecorder::default();
     let mut stats = Stats::default();
     let mut aov = AovSample::default();
-    let c = Whitted::new(scene).sample_recorded(&ray, &mut rng, &mut stats, &mut aov, &mut rec);
+    let prepared = PreparedScene::new(scene);
+    let c = Whitted::prepared(&prepared)
+        .sample_recorded(&ray, &mut rng, &mut stats, &mut aov, &mut rec);
     let root = rec
         .roots
         .pop()

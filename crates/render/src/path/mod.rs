@@ -18,11 +18,9 @@ pub mod integrator;
 pub mod lights;
 pub mod material_map;
 pub mod output;
-pub mod packet_bounds;
 pub mod progressive;
 pub mod trace_sample;
 pub mod tracer;
-pub mod triangle_packet;
 pub mod wide;
 
 pub use film::{CheckpointError, Film};
