@@ -222,13 +222,16 @@ fn disagreements(est: &Estimate, surfaces: &[Surface], scale: f64) -> Vec<String
 /// Renders `scene` with Irradia's path tracer as the stored reference of `key` was
 /// rendered and asserts agreement, the sanity bound on the standard errors, and that a
 /// 2% bias would be caught.
-fn check_against_mitsuba(key: &str, scene: Scene, batches: u32, spp: u32, kernel: Kernel) {
+fn check_against_mitsuba(key: &str, mut scene: Scene, batches: u32, spp: u32, kernel: Kernel) {
     let reference = reference();
     let mts = &reference["mitsuba"];
     let (w, h) = (
         mts["width"].as_u64().unwrap() as u32,
         mts["height"].as_u64().unwrap() as u32,
     );
+    // The image is the scene's (a film is a window of it): render at the reference size.
+    scene.settings.width = w;
+    scene.settings.height = h;
     let params = PathParams {
         max_depth: mts["max_depth"].as_u64().unwrap() as u32,
         rr_depth: mts["rr_depth"].as_u64().unwrap() as u32,
