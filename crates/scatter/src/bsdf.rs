@@ -148,4 +148,9 @@ macro_rules! bsdf_enum {
 // One line per BSDF; boxed for the wrappers that hold other BSDFs.
 bsdf_enum! {
     Diffuse(Diffuse),
+    Conductor(Conductor),
+    RoughConductor(RoughConductor),
+    Dielectric(Dielectric),
+    RoughDielectric(RoughDielectric),
+    ThinDielectric(ThinDielectric),
 }
