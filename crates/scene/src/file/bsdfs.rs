@@ -11,7 +11,7 @@ use crate::bsdf::{
 };
 use crate::texture::ColorTexture;
 use irradia_core::Rgb;
-use irradia_scatter::ior::{conductor_ior, dielectric_ior};
+use irradia_scatter::ior::{conductor_ior, conductor_names, dielectric_ior, dielectric_names};
 use std::collections::HashMap;
 
 /// Whether a material table is a physically based one (it has a `type`).
@@ -233,15 +233,9 @@ fn conductor(t: &Table) -> Result<Conductor> {
                 return Err(other.err("give either material or eta and k, not both"));
             }
             let name = m.str()?;
-            let (eta, k) = if name == "none" {
-                (Rgb::BLACK, Rgb::WHITE)
-            } else {
-                conductor_ior(name).ok_or_else(|| {
-                    m.err(format!(
-                        "unknown conductor `{name}` (Mitsuba's names: Au, Ag, Al, Cu, Cr, ...; docs/scene-format.md lists them)"
-                    ))
-                })?
-            };
+            let (eta, k) = conductor_ior(name).ok_or_else(|| {
+                m.err(unknown_name_message("conductor", name, &conductor_names()))
+            })?;
             (Some(name.to_string()), eta.into(), k.into())
         }
         None => (
@@ -274,11 +268,8 @@ fn ior(t: &Table, key: &'static str, default: f32) -> Result<f32> {
     };
     if v.is_str() {
         let name = v.str()?;
-        return dielectric_ior(name).ok_or_else(|| {
-            v.err(format!(
-                "unknown IOR name `{name}` (Mitsuba's names: vacuum, air, water, bk7, acrylic glass, polypropylene, diamond, ...; docs/scene-format.md lists them)"
-            ))
-        });
+        return dielectric_ior(name)
+            .ok_or_else(|| v.err(unknown_name_message("IOR name", name, &dielectric_names())));
     }
     v.positive()
 }

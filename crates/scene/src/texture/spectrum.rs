@@ -7,28 +7,19 @@
 //! zero), scaled by Mitsuba's `MI_CIE_Y_NORMALIZATION`, taken from XYZ to linear sRGB
 //! and clamped to [0, 1].
 
-use super::cie::{CIE_MAX, CIE_MIN, CIE_STEP, CIE_TABLE};
+use super::cie::{D65, D65_STEP};
 use irradia_core::Rgb;
+use irradia_scatter::ior::{cie1931_xyz, xyz_to_srgb, CIE_MAX, CIE_MIN};
 
 /// Mitsuba's `MI_CIE_Y_NORMALIZATION` (1 / ∫ȳ over its table).
 const CIE_Y_NORMALIZATION: f64 = 0.009_367_658_735_689_113;
 
-/// Linear sRGB from CIE XYZ (the sRGB primaries and D65 white, IEC 61966-2-1).
-fn xyz_to_srgb(x: f64, y: f64, z: f64) -> [f64; 3] {
-    [
-        3.240479 * x - 1.537150 * y - 0.498535 * z,
-        -0.969256 * x + 1.875991 * y + 0.041556 * z,
-        0.055648 * x - 0.204043 * y + 1.057311 * z,
-    ]
-}
-
-/// `[x̄, ȳ, z̄, D65]` at wavelength `w` nm, linearly interpolated in the 5 nm table.
-fn cie_at(w: f64) -> [f64; 4] {
-    let t = ((w - CIE_MIN) / CIE_STEP).clamp(0.0, (CIE_TABLE.len() - 1) as f64);
-    let i = (t.floor() as usize).min(CIE_TABLE.len() - 2);
+/// D65 (scaled as Mitsuba) at wavelength `w` nm, linearly interpolated.
+fn d65_at(w: f64) -> f64 {
+    let t = ((w - CIE_MIN) / D65_STEP).clamp(0.0, (D65.len() - 1) as f64);
+    let i = (t.floor() as usize).min(D65.len() - 2);
     let f = t - i as f64;
-    let (a, b) = (CIE_TABLE[i], CIE_TABLE[i + 1]);
-    std::array::from_fn(|k| f64::from(a[k]) * (1.0 - f) + f64::from(b[k]) * f)
+    f64::from(D65[i]) * (1.0 - f) + f64::from(D65[i + 1]) * f
 }
 
 /// Why a wavelength:value list is not a spectrum.
@@ -105,13 +96,13 @@ pub fn spectrum_to_rgb(wavelengths: &[f64], values: &[f64]) -> Rgb {
             - 1;
         let (w0, w1, v0, v1) = (wavelengths[k], wavelengths[k + 1], values[k], values[k + 1]);
         let v = ((w - w1) * v0 + (w0 - w) * v1) / (w0 - w1);
-        let c = cie_at(w);
-        for (acc, cmf) in xyz.iter_mut().zip(&c[..3]) {
-            *acc += cmf * c[3] * v;
+        let (cmf, d65) = (cie1931_xyz(w), d65_at(w));
+        for (acc, c) in xyz.iter_mut().zip(cmf) {
+            *acc += c * d65 * v;
         }
     }
     let scale = (CIE_MAX - CIE_MIN) / STEPS as f64 * CIE_Y_NORMALIZATION;
-    let rgb = xyz_to_srgb(xyz[0] * scale, xyz[1] * scale, xyz[2] * scale);
+    let rgb = xyz_to_srgb(xyz.map(|c| c * scale));
     Rgb::new(
         rgb[0].clamp(0.0, 1.0) as f32,
         rgb[1].clamp(0.0, 1.0) as f32,
