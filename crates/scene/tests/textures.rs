@@ -189,3 +189,75 @@ fn corrupt_and_missing_files_are_errors() {
     let e = read_texels(&dir.path().join("none.png"), false).unwrap_err();
     assert!(e.contains("cannot open"), "{e}");
 }
+
+/// EXR and HDR are linear whatever `raw` says; JPEG is sRGB unless `raw` (Mitsuba
+/// 3.9.1, nearest lookups at texel centres of files it wrote itself; the HDR file's
+/// signature was changed from Mitsuba's `#?RGBE` to `#?RADIANCE`, the only one the
+/// `image` crate reads).
+#[test]
+fn file_formats_decode_as_mitsuba_decides() {
+    let cases: [(&str, bool, [(f32, f32); 2], [[f32; 3]; 2], f32); 6] = [
+        (
+            "float2x1.exr",
+            false,
+            [(0.25, 0.5), (0.75, 0.5)],
+            [[0.25, 0.5, 2.0], [0.75, 0.125, 0.0]],
+            1e-6,
+        ),
+        (
+            "float2x1.exr",
+            true,
+            [(0.25, 0.5), (0.75, 0.5)],
+            [[0.25, 0.5, 2.0], [0.75, 0.125, 0.0]],
+            1e-6,
+        ),
+        (
+            "float2x1.hdr",
+            false,
+            [(0.25, 0.5), (0.75, 0.5)],
+            [[0.25, 0.5, 2.0], [0.75, 0.125, 0.0]],
+            1e-6,
+        ),
+        (
+            "float2x1.hdr",
+            true,
+            [(0.25, 0.5), (0.75, 0.5)],
+            [[0.25, 0.5, 2.0], [0.75, 0.125, 0.0]],
+            1e-6,
+        ),
+        (
+            "grey8x8.jpg",
+            false,
+            [(0.0625, 0.0625), (0.9375, 0.9375)],
+            [[0.21586; 3], [0.577581; 3]],
+            0.005,
+        ),
+        (
+            "grey8x8.jpg",
+            true,
+            [(0.0625, 0.0625), (0.9375, 0.9375)],
+            [[0.501961; 3], [0.784314; 3]],
+            0.005,
+        ),
+    ];
+    for (name, raw, uvs, want, tol) in cases {
+        let texels = read_texels(&data(name), raw).unwrap_or_else(|e| panic!("{e}"));
+        let b = Bitmap {
+            filename: data(name),
+            texels,
+            filter_type: FilterType::Nearest,
+            wrap_mode: WrapMode::Repeat,
+            raw,
+            to_uv: UvTransform::default(),
+        };
+        for (uv, w) in uvs.iter().zip(want) {
+            let got = b.eval(Vec2::new(uv.0, uv.1));
+            for k in 0..3 {
+                assert!(
+                    (got[k] - w[k]).abs() <= tol,
+                    "{name} raw={raw} at {uv:?}: {got:?} vs {w:?}"
+                );
+            }
+        }
+    }
+}
