@@ -6,6 +6,8 @@
 
 mod commands;
 mod error;
+mod output;
+mod progress;
 mod scene_arg;
 
 use clap::{Parser, Subcommand};

@@ -14,6 +14,7 @@ pub mod netmodel;
 pub mod raytrace_first;
 pub mod raytrace_forward;
 pub mod raytrace_last;
+pub mod render_job;
 pub mod report;
 pub mod sort_first;
 pub mod sort_last;
