@@ -46,7 +46,6 @@ struct State {
 pub struct Progress {
     bar: Option<ProgressBar>,
     state: Arc<Mutex<State>>,
-    start: Instant,
     ticker: Mutex<Option<(Arc<AtomicBool>, JoinHandle<()>)>>,
 }
 
@@ -81,7 +80,6 @@ impl Progress {
         Progress {
             bar,
             state,
-            start,
             ticker: Mutex::new(ticker),
         }
     }
@@ -125,7 +123,8 @@ impl Progress {
         }
     }
 
-    /// `n` more steps done.
+    /// `n` more steps done (the Whitted render's tiles).
+    #[allow(dead_code)] // for commands/render.rs, which moves to this reporter
     pub fn inc(&self, n: u64) {
         self.state.lock().expect("progress state").position += n;
         if let Some(b) = &self.bar {
@@ -134,6 +133,7 @@ impl Progress {
     }
 
     /// A progressive render finished a pass.
+    #[allow(dead_code)] // for commands/render_path.rs, which moves to this reporter
     pub fn pass(&self, p: PassStatus) {
         self.state.lock().expect("progress state").pass = Some(p);
         if let Some(b) = &self.bar {
@@ -144,11 +144,6 @@ impl Progress {
                 b.set_position((f.clamp(0.0, 1.0) * 1000.0) as u64);
             }
         }
-    }
-
-    /// Time since the job started.
-    pub fn elapsed(&self) -> Duration {
-        self.start.elapsed()
     }
 
     /// Clears the bar and stops the log lines (also on drop).
