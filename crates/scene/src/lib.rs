@@ -13,7 +13,7 @@ pub mod scene;
 
 pub use camera::{Camera, FovAxis, Projection};
 pub use error::{ErrorKind, SceneError};
-pub use file::{load_file, load_str, Format};
+pub use file::{load_file, load_str, SceneSyntax};
 pub use light::{spot_falloff, Light};
 pub use material::{image_texel, Material, ShadingModel, Texture};
 pub use scene::{Integrator, Object, RenderSettings, Scene};
