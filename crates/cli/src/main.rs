@@ -6,6 +6,8 @@
 
 mod commands;
 mod error;
+mod output;
+mod progress;
 mod scene_arg;
 
 use clap::{Parser, Subcommand};
@@ -43,8 +45,58 @@ enum Command {
     Wall(commands::wall::WallArgs),
 }
 
+/// A clap error in one line, like every other error of the command: the message, the
+/// tip if any, the usage and where the help is.
+fn one_line(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let mut message = String::new();
+    let mut tip = None;
+    let mut usage = None;
+    for line in text.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if let Some(m) = line.strip_prefix("error: ") {
+            message = m.to_string();
+        } else if let Some(t) = line.strip_prefix("tip: ") {
+            tip.get_or_insert_with(|| t.to_string());
+        } else if let Some(u) = line.strip_prefix("Usage: ") {
+            usage.get_or_insert_with(|| u.to_string());
+        } else if message.is_empty() {
+            message = line.to_string();
+        }
+    }
+    let mut out = message;
+    if let Some(t) = tip {
+        out.push_str(&format!(" ({t})"));
+    }
+    if let Some(u) = usage {
+        let command = u
+            .split(" [")
+            .next()
+            .unwrap_or(&u)
+            .split(" <")
+            .next()
+            .unwrap_or(&u);
+        out.push_str(&format!("; usage: {u}; see `{command} --help`"));
+    }
+    out
+}
+
 fn main() {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind as K;
+            match e.kind() {
+                // Help and version are what was asked for, not errors.
+                K::DisplayHelp
+                | K::DisplayVersion
+                | K::DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
+                _ => {
+                    eprintln!("irradia: {}", one_line(&e));
+                    std::process::exit(2);
+                }
+            }
+        }
+    };
     let result = match cli.command {
         Command::Render(a) => commands::render::run(a),
         Command::TracePixel(a) => commands::trace_pixel::run(a),

@@ -4,7 +4,7 @@
 use crate::error::CliError;
 use clap::{Args, ValueEnum};
 use irradia_scene::Scene;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Options that pick a scene and override its image settings.
 #[derive(Args, Debug, Clone, Default)]
@@ -39,6 +39,24 @@ pub enum IntegratorArg {
     Path,
 }
 
+/// A scene file argument names a file that exists (a folder or a missing file is bad
+/// input, said in one line).
+pub fn check_scene_path(path: &Path) -> Result<(), CliError> {
+    if path.is_dir() {
+        return Err(CliError::Input(format!(
+            "{}: is a directory, not a scene file (give a .toml or .json file)",
+            path.display()
+        )));
+    }
+    if !path.exists() {
+        return Err(CliError::Input(format!(
+            "{}: no such scene file",
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
 /// Loads the scene named by `file` or `args.builtin` (the built-in `default` when
 /// neither is given) and applies the overrides.
 pub fn load_scene(file: Option<&PathBuf>, args: &SceneArgs) -> Result<Scene, CliError> {
@@ -49,12 +67,7 @@ pub fn load_scene(file: Option<&PathBuf>, args: &SceneArgs) -> Result<Scene, Cli
             ))
         }
         (Some(path), None) => {
-            if !path.exists() {
-                return Err(CliError::Input(format!(
-                    "{}: no such scene file",
-                    path.display()
-                )));
-            }
+            check_scene_path(path)?;
             irradia_scene::load_file(path)?
         }
         (None, Some(name)) => irradia_scene::builtin::load(name)?,

@@ -266,3 +266,69 @@ fn truncated_and_garbage_files_never_panic() {
         }
     }
 }
+
+/// The unit cube as Stanford-style triangle strips (igea.ply's `tristrips` element):
+/// each face `a b c d` as the strip `a b d c`, the strips separated by -1, one of them
+/// ending in a repeated vertex (a join, dropped).
+fn cube_tristrips_ply(format: &str) -> Vec<u8> {
+    let ascii = String::from_utf8(cube_ply("ascii")).unwrap();
+    let vertices: Vec<&str> = ascii.lines().skip(10).take(8).collect();
+    let faces: [[i32; 4]; 6] = [
+        [0, 3, 2, 1],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [1, 2, 6, 5],
+        [2, 3, 7, 6],
+        [3, 0, 4, 7],
+    ];
+    let mut strip: Vec<i32> = Vec::new();
+    for (k, f) in faces.iter().enumerate() {
+        if k > 0 {
+            strip.push(-1);
+        }
+        strip.extend([f[0], f[1], f[3], f[2]]);
+    }
+    let last = *strip.last().unwrap();
+    strip.push(last); // a join: its triangle repeats a vertex
+    let mut out = format!(
+        "ply\nformat {format} 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n\
+element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+    )
+    .into_bytes();
+    if format == "ascii" {
+        for v in vertices {
+            out.extend(format!("{v}\n").bytes());
+        }
+        let list: Vec<String> = strip.iter().map(|i| i.to_string()).collect();
+        out.extend(format!("{} {}\n", strip.len(), list.join(" ")).bytes());
+    } else {
+        for v in vertices {
+            for x in v.split_whitespace() {
+                out.extend(x.parse::<f32>().unwrap().to_le_bytes());
+            }
+        }
+        out.extend((strip.len() as i32).to_le_bytes());
+        for i in &strip {
+            out.extend(i.to_le_bytes());
+        }
+    }
+    out
+}
+
+#[test]
+fn ply_triangle_strips_load_with_alternating_winding() {
+    for format in ["ascii", "binary_little_endian"] {
+        let p = tmp(&format!("strips-{format}.ply"), &cube_tristrips_ply(format));
+        check_cube(&load_mesh(&p).unwrap_or_else(|e| panic!("{format}: {e}")));
+    }
+    // An index past the vertices is named like a face's.
+    let bad = String::from_utf8(cube_tristrips_ply("ascii"))
+        .unwrap()
+        .replacen(" 0 3 1 2 ", " 0 3 1 9 ", 1);
+    let e = parse_ply(bad.as_bytes(), Path::new("s.ply")).unwrap_err();
+    assert!(
+        e.message.contains("out of range")
+            && e.field.as_deref().unwrap().starts_with("tristrips 0"),
+        "{e}"
+    );
+}

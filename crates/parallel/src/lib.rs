@@ -8,13 +8,14 @@
 pub mod comm;
 pub mod composite;
 pub mod display_tiles;
-pub mod frame;
 pub mod job;
 pub mod netmodel;
 pub mod raytrace_first;
 pub mod raytrace_forward;
 pub mod raytrace_last;
+pub mod render_job;
 pub mod report;
+pub mod sort_common;
 pub mod sort_first;
 pub mod sort_last;
 pub mod sort_middle;

@@ -23,7 +23,7 @@
 
 use crate::comm::{Comm, CommError};
 use crate::composite::{self, ActiveRect, CompositeOptions, Layer, Operator, Strategy, FAR};
-use crate::frame::block;
+use crate::sort_common::block;
 use glam::Vec3;
 use irradia_core::{Ray, Rgb};
 use irradia_geometry::SceneHit;

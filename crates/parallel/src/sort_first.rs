@@ -18,7 +18,7 @@
 
 use crate::comm::{Comm, CommError};
 use crate::composite::{rle, Layer, Operator, Pixel};
-use crate::frame::{block, framebuffer, read_triangles, region, to_layer, write_triangle};
+use crate::sort_common::{block, framebuffer, read_triangles, region, to_layer, write_triangle};
 use irradia_raster::{Pipeline, Rect, Triangle};
 
 /// How tiles are dealt out to ranks.

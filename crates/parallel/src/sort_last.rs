@@ -7,7 +7,7 @@
 use crate::comm::{Comm, CommError};
 use crate::composite::active::ActiveRect;
 use crate::composite::{self, CompositeOptions, Layer, Strategy};
-use crate::frame::{block, framebuffer, to_layer};
+use crate::sort_common::{block, framebuffer, to_layer};
 use glam::Vec3;
 use irradia_raster::{Pipeline, Triangle};
 

@@ -7,7 +7,7 @@
 
 use crate::comm::{Comm, CommError};
 use crate::composite::{gather::gather, CompositeOptions, Layer, Operator};
-use crate::frame::{block, framebuffer, region, rows_meet, span, to_layer};
+use crate::sort_common::{block, framebuffer, region, rows_meet, span, to_layer};
 use irradia_raster::{Pipeline, ScreenTriangle, Triangle, SCREEN_TRIANGLE_BYTES};
 
 pub fn render<C: Comm>(

@@ -11,7 +11,7 @@
 
 use crate::comm::{Comm, CommError};
 use crate::composite::{gather::gather, CompositeOptions, Layer, Operator};
-use crate::frame::{
+use crate::sort_common::{
     block, framebuffer, read_triangles, region, rows_meet, screen_rows, span, to_layer,
     write_triangle, TRIANGLE_BYTES,
 };

@@ -206,7 +206,7 @@ material = "blue"
 fn many_objects_through_the_hierarchy_equal_the_serial_render() {
     let s = irradia_scene::file::load_str(
         TWELVE,
-        irradia_scene::file::Format::Toml,
+        irradia_scene::file::SceneSyntax::Toml,
         std::path::Path::new("twelve.toml"),
     )
     .unwrap();

@@ -12,20 +12,20 @@ use irradia_parallel::composite::{CompositeOptions, Strategy};
 use irradia_parallel::submission::{self, Batch};
 use irradia_parallel::tessellate::Tessellation;
 use irradia_parallel::workload::{scene_pipeline, scene_triangles_with, SceneTriangles};
-use irradia_parallel::{frame, sort_first, sort_last, sort_middle};
+use irradia_parallel::{sort_common, sort_first, sort_last, sort_middle};
 use irradia_raster::{
     ColorBuffer, ColorFormat, Framebuffer, Lights, Material, Mesh, MeshError, Pipeline,
     RasterLight, Shading, Triangle, ViewParams,
 };
 use irradia_render::{AovSample, Integrator, Stats, Whitted};
-use irradia_scene::{Format, Scene, Texture};
+use irradia_scene::{Scene, SceneSyntax, Texture};
 use std::path::Path;
 
 fn scene(body: &str) -> Scene {
     let text = format!(
         "[image]\nwidth = 64\nheight = 48\n\n[camera]\neye = [0, 3, 3.5]\nlook_at = [0, 0.4, 0]\nfov = 50\n\n[render]\nambient_light = 0.3\n\n[[lights]]\ntype = \"point\"\nposition = [2, 5, 4]\nintensity = 40\n\n{body}"
     );
-    irradia_scene::load_str(&text, Format::Toml, Path::new("test.toml")).unwrap()
+    irradia_scene::load_str(&text, SceneSyntax::Toml, Path::new("test.toml")).unwrap()
 }
 
 fn tessellate(s: &Scene, resolution: u32) -> SceneTriangles {
@@ -333,7 +333,7 @@ fn sorting_schemes_with_several_materials_equal_the_serial_render() {
     assert_eq!(used, vec![0, 1, 2, 3]);
     let p = scene_pipeline(&s);
     let tris = &st.triangles;
-    let serial = frame::serial(&p, tris);
+    let serial = sort_common::serial(&p, tris);
     for ranks in [1, 3, 4] {
         for mode in ["sort-first", "sort-middle", "sort-last"] {
             let out = run_local(ranks, LocalOptions::default(), |c| match mode {
@@ -355,7 +355,7 @@ fn sorting_schemes_with_several_materials_equal_the_serial_render() {
     // The materials matter: with one material for all the image changes.
     let mut one = p.clone();
     one.materials.clear();
-    assert!(frame::serial(&one, tris) != serial);
+    assert!(sort_common::serial(&one, tris) != serial);
 }
 
 #[test]
@@ -374,7 +374,7 @@ fn submission_carries_material_changes_as_state() {
             triangles: c.to_vec(),
         })
         .collect();
-    let serial = frame::serial(&p, &submission::flatten(&batches));
+    let serial = sort_common::serial(&p, &submission::flatten(&batches));
     for ranks in [1, 3] {
         let out = run_local(ranks, LocalOptions::default(), |c| {
             submission::render(c, &p, &batches, 0).unwrap()
@@ -728,7 +728,7 @@ fn with_transparency_sort_first_and_sort_middle_equal_the_serial_render() {
     let p = scene_pipeline(&s);
     assert!(st.has_transparency(&p));
     let tris = &st.triangles;
-    let serial = frame::serial(&p, tris);
+    let serial = sort_common::serial(&p, tris);
     // WireGL-style submission: runs of one material, one colour per batch.
     let batches: Vec<Batch> = tris
         .chunk_by(|a, b| a.material == b.material)
@@ -739,7 +739,7 @@ fn with_transparency_sort_first_and_sort_middle_equal_the_serial_render() {
             triangles: c.to_vec(),
         })
         .collect();
-    let submitted = frame::serial(&p, &submission::flatten(&batches));
+    let submitted = sort_common::serial(&p, &submission::flatten(&batches));
     for ranks in [1, 3, 4] {
         for mode in ["sort-first", "sort-middle", "submission"] {
             let out = run_local(ranks, LocalOptions::default(), |c| match mode {
@@ -761,7 +761,7 @@ fn with_transparency_sort_first_and_sort_middle_equal_the_serial_render() {
     for m in &mut opaque.materials {
         m.transmission = 0.0;
     }
-    assert!(frame::serial(&opaque, tris) != serial);
+    assert!(sort_common::serial(&opaque, tris) != serial);
 }
 
 #[test]
@@ -795,7 +795,7 @@ type = "sphere"
 center = [60, 0.5, -80]
 radius = 1
 "#,
-        Format::Toml,
+        SceneSyntax::Toml,
         Path::new("horizon.toml"),
     )
     .unwrap();
@@ -865,7 +865,7 @@ type = "polygon"
 vertices = [[0.1, -0.7, 0], [1.3, -0.7, 0], [1.3, 1.2, 0], [0.1, 1.2, 0]]
 material = "tint"
 "#,
-        Format::Toml,
+        SceneSyntax::Toml,
         Path::new("clear.toml"),
     )
     .unwrap();

@@ -4,7 +4,7 @@
 use irradia_parallel::comm::{run_local, LocalOptions};
 use irradia_parallel::composite::{self, CompositeOptions, Operator, Strategy};
 use irradia_parallel::workload::Workload;
-use irradia_parallel::{frame, sort_first, sort_last, sort_middle};
+use irradia_parallel::{sort_common, sort_first, sort_last, sort_middle};
 
 const W: u32 = 64;
 const H: u32 = 48;
@@ -25,7 +25,7 @@ fn every_sorting_scheme_equals_the_serial_render() {
     for w in workloads() {
         let tris = w.triangles();
         let p = w.pipeline(W, H);
-        let serial = frame::serial(&p, &tris);
+        let serial = sort_common::serial(&p, &tris);
         let covered = serial.active_fraction(Operator::Depth);
         assert!(
             covered > 0.05,
@@ -69,7 +69,7 @@ fn sort_first_tiles_equal_the_serial_render() {
     for w in workloads() {
         let tris = w.triangles();
         let p = w.pipeline(W, H);
-        let serial = frame::serial(&p, &tris);
+        let serial = sort_common::serial(&p, &tris);
         for ranks in [1, 2, 3, 5] {
             for tiling in [
                 Tiling {
@@ -169,8 +169,8 @@ fn the_active_rectangle_holds_every_drawn_pixel() {
         let p = w.pipeline(W, H);
         for ranks in [1, 3, 8] {
             for rank in 0..ranks {
-                let mine = &tris[frame::block(tris.len(), rank, ranks)];
-                let layer = frame::serial(&p, mine);
+                let mine = &tris[sort_common::block(tris.len(), rank, ranks)];
+                let layer = sort_common::serial(&p, mine);
                 let r = sort_last::active_rect(&p, mine);
                 for y in 0..H {
                     for x in 0..W {

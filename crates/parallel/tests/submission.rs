@@ -2,7 +2,7 @@
 //! tracking sends fewer state bytes than broadcasting every change.
 
 use irradia_parallel::comm::{run_local, LocalOptions};
-use irradia_parallel::frame;
+use irradia_parallel::sort_common;
 use irradia_parallel::submission::{self, Batch};
 use irradia_parallel::workload::Workload;
 
@@ -25,7 +25,7 @@ fn parallel_submission_equals_serial_and_tracks_state() {
             triangles: c.to_vec(),
         })
         .collect();
-    let serial = frame::serial(&p, &submission::flatten(&batches));
+    let serial = sort_common::serial(&p, &submission::flatten(&batches));
     for ranks in [1, 2, 3, 4, 6] {
         let out = run_local(ranks, LocalOptions::default(), |c| {
             submission::render(c, &p, &batches, 0).unwrap()

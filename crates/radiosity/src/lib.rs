@@ -7,7 +7,8 @@
 //! `two_pass`: the ray-traced two-pass image with mirrors and glass, whose scenes are
 //! `two_pass_scene`). `instant` is Keller's instant
 //! radiosity; `convergence` writes residual histories and charts; `pipeline` runs the
-//! whole job with timings, as the `irradia radiosity` command does.
+//! meshing, form factors and solve with timings; `job` chooses the scene, draws the
+//! image and writes the report, as the `irradia radiosity` command does.
 
 pub mod convergence;
 pub mod display;
@@ -15,6 +16,7 @@ pub mod error;
 pub mod formfactor;
 pub mod geom;
 pub mod instant;
+pub mod job;
 pub mod mesh;
 pub mod pipeline;
 pub mod scene_input;

@@ -162,9 +162,11 @@ fn field_name(path: &[&str]) -> String {
 fn position(file: &std::path::Path, path: &[&str]) -> Option<(usize, usize)> {
     use irradia_scene::file::tree::{line_col, parse_toml, Value};
     let text = std::fs::read_to_string(file).ok()?;
-    let root = match irradia_scene::Format::from_path(file).ok()? {
-        irradia_scene::Format::Toml => parse_toml(&text).ok()?,
-        irradia_scene::Format::Json => irradia_scene::file::json_tree::parse_json(&text).ok()?,
+    let root = match irradia_scene::SceneSyntax::from_path(file).ok()? {
+        irradia_scene::SceneSyntax::Toml => parse_toml(&text).ok()?,
+        irradia_scene::SceneSyntax::Json => {
+            irradia_scene::file::json_tree::parse_json(&text).ok()?
+        }
     };
     let mut node = &root;
     let mut pos = None;

@@ -280,8 +280,12 @@ min = [0.4, 0, 0.7]
 max = [0.6, 0.2, 0.9]
 material = "glass"
 "#;
-    let scene = irradia_scene::load_str(text, irradia_scene::Format::Toml, Path::new("mixed.toml"))
-        .unwrap();
+    let scene = irradia_scene::load_str(
+        text,
+        irradia_scene::SceneSyntax::Toml,
+        Path::new("mixed.toml"),
+    )
+    .unwrap();
     let (s, owners, warnings) = from_scene(&scene, 8).unwrap();
     let kinds: Vec<_> = s
         .objects

@@ -9,7 +9,7 @@
 use irradia_render::filter::{erf, FilterSampler};
 use irradia_render::sampler::{camera_sample, Sampler};
 use irradia_render::{render, Aov, AovSample, Integrator, RenderOptions, Stats, Whitted};
-use irradia_scene::{builtin, CropWindow, Format, Integrator as Method, PixelFilter, Scene};
+use irradia_scene::{builtin, CropWindow, Integrator as Method, PixelFilter, Scene, SceneSyntax};
 use std::path::Path;
 
 /// An orthographic view of a white half-plane (x < `EDGE` in image columns) on black,
@@ -50,7 +50,7 @@ material = "white"
 "#,
         x = EDGE - 16.0
     );
-    irradia_scene::load_str(&text, Format::Toml, Path::new("edge.toml")).unwrap()
+    irradia_scene::load_str(&text, SceneSyntax::Toml, Path::new("edge.toml")).unwrap()
 }
 
 /// The normalised filter's distribution function at `t` (the part of the filter left
@@ -266,7 +266,7 @@ fn bad_filters_and_crop_windows_name_their_field() {
         ("crop_offset_x = 15\ncrop_width = 10", "image.crop_offset_x"),
         ("crop_height = 0", "image.crop_height"),
     ] {
-        let err = irradia_scene::load_str(&base(image), Format::Toml, Path::new("bad.toml"))
+        let err = irradia_scene::load_str(&base(image), SceneSyntax::Toml, Path::new("bad.toml"))
             .expect_err(image);
         let text = err.to_string();
         assert!(
@@ -276,7 +276,7 @@ fn bad_filters_and_crop_windows_name_their_field() {
     }
     let ok = irradia_scene::load_str(
         &base("crop_offset_x = 5\ncrop_offset_y = 2"),
-        Format::Toml,
+        SceneSyntax::Toml,
         Path::new("ok.toml"),
     )
     .unwrap();

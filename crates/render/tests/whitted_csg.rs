@@ -28,7 +28,7 @@
 use glam::DVec3;
 use irradia_core::Rgb;
 use irradia_render::{render, Aov, RenderOptions};
-use irradia_scene::{load_str, Format, Scene};
+use irradia_scene::{load_str, Scene, SceneSyntax};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -253,7 +253,7 @@ fn same_kind(a: &Option<Shade>, b: &Option<Shade>) -> bool {
 }
 
 fn check_case(case: &Case) -> Tally {
-    let scene: Scene = load_str(case.toml, Format::Toml, Path::new("whitted_csg.toml"))
+    let scene: Scene = load_str(case.toml, SceneSyntax::Toml, Path::new("whitted_csg.toml"))
         .unwrap_or_else(|e| panic!("{}: {e}", case.name));
     let out = render(
         &scene,

@@ -2,7 +2,7 @@
 //! so every built-in is also an example of the scene format.
 
 use crate::error::SceneError;
-use crate::file::{load_str, Format};
+use crate::file::{load_str, SceneSyntax};
 use crate::scene::Scene;
 use std::path::PathBuf;
 
@@ -74,7 +74,7 @@ pub fn load(name: &str) -> Result<Scene, SceneError> {
             crate::file::reader::unknown_name_message("built-in scene", name, &valid),
         ));
     };
-    load_str(text, Format::Toml, &origin(name))
+    load_str(text, SceneSyntax::Toml, &origin(name))
 }
 
 /// The name a built-in scene goes by in messages: `builtin:NAME.toml`.

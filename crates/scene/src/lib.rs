@@ -16,7 +16,7 @@ pub mod texture;
 pub use bsdf::BsdfDesc;
 pub use camera::{Camera, FovAxis, Projection};
 pub use error::{ErrorKind, SceneError};
-pub use file::{load_file, load_str, Format};
+pub use file::{load_file, load_str, SceneSyntax};
 pub use light::{spot_falloff, Light};
 pub use material::{image_texel, Material, ShadingModel, Texture};
 pub use scene::{CropWindow, Integrator, Object, PixelFilter, RenderSettings, Scene};

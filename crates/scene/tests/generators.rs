@@ -163,12 +163,12 @@ transform = [{ translate = [-7.5, -7.5, -7.5] }]
     assert!(triangles(&raw) > 100);
     assert_eq!(triangles(&raw), triangles(&from_nrrd));
     assert!(hit_from_front(&raw), "the ball is centred on the view axis");
-    let direct = irradia_geometry::generators::volume::volume_mesh(
-        &irradia_geometry::generators::volume::read_raw(
+    let direct = irradia_geometry::generators::volume_mesh(
+        &irradia_geometry::io::volume::read_raw(
             &d.join("ball.raw"),
-            &irradia_geometry::generators::volume::RawSpec::new(
+            &irradia_geometry::io::volume::RawSpec::new(
                 UVec3::splat(16),
-                irradia_geometry::generators::volume::VoxelType::U8,
+                irradia_geometry::io::volume::VoxelType::U8,
             ),
         )
         .unwrap(),

@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 use irradia_core::Ray;
-use irradia_scene::{builtin, load_file, load_str, Format, Light, Projection, Scene};
+use irradia_scene::{builtin, load_file, load_str, Light, Projection, Scene, SceneSyntax};
 use std::path::Path;
 
 const TOML: &str = r#"
@@ -103,8 +103,8 @@ fn fingerprint(s: &Scene) -> String {
 
 #[test]
 fn toml_and_json_load_identically() {
-    let a = load_str(TOML, Format::Toml, Path::new("a.toml")).unwrap();
-    let b = load_str(JSON, Format::Json, Path::new("a.json")).unwrap();
+    let a = load_str(TOML, SceneSyntax::Toml, Path::new("a.toml")).unwrap();
+    let b = load_str(JSON, SceneSyntax::Json, Path::new("a.json")).unwrap();
     assert_eq!(fingerprint(&a), fingerprint(&b));
     // And the values are the ones written.
     assert_eq!(a.settings.width, 64);
@@ -136,7 +136,7 @@ fn transforms_apply_in_the_order_written() {
         let text = format!(
             "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n[[objects]]\ntype = \"sphere\"\nradius = 1\ntransform = {steps}\n"
         );
-        load_str(&text, Format::Toml, Path::new("t.toml")).unwrap()
+        load_str(&text, SceneSyntax::Toml, Path::new("t.toml")).unwrap()
     };
     let map = |s: &Scene, p: Vec3| s.accel.instances()[0].to_world().transform_point3(p);
     let p = Vec3::new(1.0, 0.0, 0.0);
@@ -193,7 +193,7 @@ fn builtin_files_on_disk_load_too() {
 #[test]
 fn objects_without_material_get_the_default_one() {
     let text = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n[[objects]]\ntype = \"sphere\"\nradius = 1\n";
-    let s = load_str(text, Format::Toml, Path::new("d.toml")).unwrap();
+    let s = load_str(text, SceneSyntax::Toml, Path::new("d.toml")).unwrap();
     assert_eq!(s.materials.len(), 1);
     assert_eq!(s.materials[s.objects[0].material as usize].name, "default");
 }
@@ -242,7 +242,7 @@ children = [
   ] },
 ]
 "#;
-    let s = load_str(text, Format::Toml, Path::new("c.toml")).unwrap();
+    let s = load_str(text, SceneSyntax::Toml, Path::new("c.toml")).unwrap();
     assert_eq!(s.objects[0].leaf_materials, vec![0, 1, 2]);
     assert_eq!(s.objects[0].material_for_leaf(1), 1);
     // A ray along the x axis enters the box at a corner region outside the sphere? No:
@@ -334,7 +334,7 @@ transform = [{ translate = [-0.25, -0.25, -0.25] }]"#,
         }
     }
     let origin = Path::new(env!("CARGO_MANIFEST_DIR")).join("scene.toml");
-    let s = load_str(&text, Format::Toml, &origin).unwrap_or_else(|e| panic!("{e}"));
+    let s = load_str(&text, SceneSyntax::Toml, &origin).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.objects.len(), objects.len());
     for (i, object) in objects.iter().enumerate() {
         let x = 10.0 * i as f32;
@@ -395,7 +395,7 @@ radius = 0.5
 radiance = 3
 samples = 4
 "#;
-    let s = load_str(text, Format::Toml, Path::new("l.toml")).unwrap();
+    let s = load_str(text, SceneSyntax::Toml, Path::new("l.toml")).unwrap();
     assert_eq!(
         s.camera.projection,
         Projection::Orthographic { height: 4.0 }

@@ -1,11 +1,11 @@
 //! Whatever the text, loading returns a scene or an error: it never panics. Inputs are
 //! random bytes and built-in scenes cut short or with one character changed.
 
-use irradia_scene::{builtin, load_str, Format};
+use irradia_scene::{builtin, load_str, SceneSyntax};
 use proptest::prelude::*;
 use std::path::Path;
 
-fn try_load(text: &str, format: Format) {
+fn try_load(text: &str, format: SceneSyntax) {
     let r = std::panic::catch_unwind(|| {
         let _ = load_str(text, format, Path::new("fuzz.toml"));
     });
@@ -17,8 +17,8 @@ proptest! {
 
     #[test]
     fn random_text_never_panics(s in "\\PC{0,200}") {
-        try_load(&s, Format::Toml);
-        try_load(&s, Format::Json);
+        try_load(&s, SceneSyntax::Toml);
+        try_load(&s, SceneSyntax::Json);
     }
 
     #[test]
@@ -26,11 +26,11 @@ proptest! {
         let text = builtin::source("csg").unwrap();
         let cut = cut.min(text.len());
         let cut = (0..=cut).rev().find(|&i| text.is_char_boundary(i)).unwrap();
-        try_load(&text[..cut], Format::Toml);
+        try_load(&text[..cut], SceneSyntax::Toml);
         let mut chars: Vec<char> = text.chars().collect();
         let at = at % chars.len();
         chars[at] = c;
         let changed: String = chars.into_iter().collect();
-        try_load(&changed, Format::Toml);
+        try_load(&changed, SceneSyntax::Toml);
     }
 }

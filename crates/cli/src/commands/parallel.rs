@@ -5,24 +5,21 @@
 //! software rasterizer or the ray tracer.
 
 use crate::error::CliError;
+use crate::output;
+use crate::progress::Progress;
 use crate::scene_arg::{load_scene, SceneArgs};
 use clap::{Args, ValueEnum};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use irradia_core::{Image, Rgb};
+use irradia_core::Image;
 use irradia_parallel::comm::{run_local, Comm, CommError, LocalOptions};
-use irradia_parallel::composite::{CompositeOptions, Layer, Strategy};
-use irradia_parallel::display_tiles::{
-    composite_to_tiles, composite_to_tiles_bounded, DisplayLayout,
+use irradia_parallel::composite::Strategy;
+use irradia_parallel::display_tiles::DisplayLayout;
+use irradia_parallel::job::Mode;
+use irradia_parallel::raytrace_last;
+use irradia_parallel::render_job::{
+    self, summary, JobInput, RankOutcome, RenderJob, Renderer as JobRenderer, StageNarrator,
 };
-use irradia_parallel::job::{self, Mode};
-use irradia_parallel::report::Report;
-use irradia_parallel::sort_first::{self, imbalance, Assign, TileLayout, Tiling};
-use irradia_parallel::tessellate::{solid::MAX_CELLS, Tessellation};
-use irradia_parallel::workload::{scene_pipeline, scene_triangles_with, Workload};
-use irradia_parallel::{raytrace_first, raytrace_forward, raytrace_last, sort_last};
-use irradia_raster::{Pipeline, Triangle};
-use irradia_scene::Scene;
-use std::io::IsTerminal;
+use irradia_parallel::sort_first::{Assign, Tiling};
+use irradia_parallel::workload::Workload;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -136,12 +133,13 @@ pub struct ParallelArgs {
     /// Seconds a rank waits for another before ending the job with an error naming it.
     #[arg(long, default_value_t = 30.0)]
     pub timeout: f64,
-    /// Output image (PNG, EXR or PFM), written by rank 0.
-    #[arg(short, long)]
-    pub output: Option<PathBuf>,
+    /// Output image (.png, .exr or .pfm), written by rank 0; with --display-tiles each
+    /// display's tile is written beside it as NAME-ROW-COL.png.
+    #[arg(short, long, value_name = "FILE", default_value = "parallel.png")]
+    pub output: PathBuf,
     /// Per-rank, per-stage report (bytes, messages, time, load imbalance) as JSON, with a
     /// "balance" section: estimated work per rank for the regions used and for strips.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE.json")]
     pub report: Option<PathBuf>,
     /// Sort-last onto a tiled display: a grid of COLUMNSxROWS displays driven by ranks
     /// 0, 1, ... (row-major from the top left); each display rank receives only its tile of
@@ -153,8 +151,8 @@ pub struct ParallelArgs {
     /// overlap of edge-blended projectors).
     #[arg(long, default_value_t = 0)]
     pub display_overlap: u32,
-    /// Print nothing but errors.
-    #[arg(long)]
+    /// Print nothing but errors (no progress, no summary).
+    #[arg(short, long, help_heading = "General options")]
     pub quiet: bool,
 }
 
@@ -176,51 +174,22 @@ fn parse_grid(s: &str) -> Result<(u32, u32), CliError> {
     Ok((c, r))
 }
 
-/// Where display tile `index` of a `columns`-wide grid is written, next to `output`:
-/// `NAME.png` gives `NAME-ROW-COL.png`.
-fn tile_path(output: &std::path::Path, columns: u32, index: usize) -> PathBuf {
-    let (row, col) = (index / columns as usize, index % columns as usize);
-    let stem = output
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "tile".into());
-    let name = match output.extension() {
-        Some(ext) => format!("{stem}-{row}-{col}.{}", ext.to_string_lossy()),
-        None => format!("{stem}-{row}-{col}"),
-    };
-    output.with_file_name(name)
-}
-
 fn input(m: String) -> CliError {
     CliError::Input(m)
 }
 
-/// What the ranks render.
-enum Input {
-    Triangles {
-        name: String,
-        tris: Vec<Triangle>,
-        pipeline: Pipeline,
-        /// A scene's background colour, painted where nothing was drawn.
-        background: Option<Rgb>,
-    },
-    Scene {
-        name: String,
-        scene: Scene,
-    },
-}
-
-/// The workload named by `--workload`.
-fn load_input(a: &ParallelArgs) -> Result<Input, CliError> {
+/// The workload named by `--workload`, as the ranks render it.
+fn load_input(a: &ParallelArgs, mode: Mode) -> Result<JobInput, CliError> {
     if let Some(w) = Workload::by_name(&a.workload, a.triangles) {
+        if a.renderer == Renderer::Raytrace {
+            return Err(input(format!(
+                "--renderer raytrace --workload {}: the ray tracer renders scenes; give a scene file or builtin:NAME (a scene file can hold a generator object: type = \"generator\", see docs/scene-format.md)",
+                w.name()
+            )));
+        }
         let (width, height) = (a.width.unwrap_or(640), a.height.unwrap_or(480));
         check_size(width, height)?;
-        return Ok(Input::Triangles {
-            name: w.name().into(),
-            tris: w.triangles(),
-            pipeline: w.pipeline(width, height),
-            background: None,
-        });
+        return Ok(JobInput::generator(&w, width, height));
     }
     let scene_args = SceneArgs {
         width: a.width,
@@ -248,10 +217,26 @@ fn load_input(a: &ParallelArgs) -> Result<Input, CliError> {
         load_scene(Some(&path), &scene_args)?
     };
     check_size(scene.settings.width, scene.settings.height)?;
-    Ok(Input::Scene {
-        name: a.workload.clone(),
-        scene,
-    })
+    let name = a.workload.clone();
+    if a.renderer == Renderer::Raytrace {
+        if scene.settings.integrator == irradia_scene::Integrator::Path
+            && !a.quiet
+            && is_display_process(a)
+        {
+            eprintln!("note: the parallel ray tracer is the Whitted tracer; the scene's `integrator = \"path\"` is not used (compare with `irradia render --integrator whitted`)");
+        }
+        return Ok(JobInput::Scene { name, scene });
+    }
+    let r = JobInput::rasterized(&name, &scene, a.tessellation, mode).map_err(input)?;
+    if !r.skipped.is_empty() && !a.quiet && is_display_process(a) {
+        eprintln!(
+            "warning: {} object(s) could not be made into triangles and are left out of the raster image (open surfaces without facets, or no surface found at --tessellation {}): {}",
+            r.skipped.len(),
+            a.tessellation,
+            r.skipped.join(", ")
+        );
+    }
+    Ok(r.input)
 }
 
 fn check_size(width: u32, height: u32) -> Result<(), CliError> {
@@ -263,33 +248,8 @@ fn check_size(width: u32, height: u32) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Everything the ranks need for one frame.
-struct Job {
-    mode: Mode,
-    strategy: Strategy,
-    tiling: Tiling,
-    renderer: Renderer,
-    object_shading: raytrace_last::Shading,
-    /// Sort-last ray tracing with ray forwarding (`--object-shading forward`).
-    forward: bool,
-    input: Input,
-    /// Sort-last onto a tiled display, and the grid's column count (for file names).
-    display: Option<(DisplayLayout, u32)>,
-    /// Show rank 0's stage and the elapsed time while the frame runs (a terminal, no
-    /// `--quiet`).
-    progress: bool,
-}
-
-pub fn run(a: ParallelArgs) -> Result<(), CliError> {
-    let mode = Mode::parse(&a.mode).ok_or_else(|| {
-        input(format!(
-            "--mode {:?}: expected sort-first, sort-middle or sort-last",
-            a.mode
-        ))
-    })?;
-    let strategy = Strategy::parse(&a.compositor).ok_or_else(|| {
-        input(format!("--compositor {:?}: expected direct-send, tree, binary-swap, radix-k or radix-N (N >= 2)", a.compositor))
-    })?;
+/// Checks the options that depend on one another, before any work.
+fn check_options(a: &ParallelArgs, mode: Mode) -> Result<Option<(u32, u32)>, CliError> {
     if a.ranks == 0 || a.ranks > 1024 {
         return Err(input(format!("--ranks {}: expected 1 to 1024", a.ranks)));
     }
@@ -355,69 +315,26 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
             )));
         }
     }
-    let input_ = load_input(&a)?;
-    let name = match &input_ {
-        Input::Triangles { name, .. } | Input::Scene { name, .. } => name.clone(),
-    };
-    let input_ = match (a.renderer, input_) {
-        (Renderer::Raytrace, Input::Triangles { name, .. }) => {
-            return Err(input(format!(
-                "--renderer raytrace --workload {name}: the ray tracer renders scenes; give a scene file or builtin:NAME (a scene file can hold a generator object: type = \"generator\", see docs/scene-format.md)"
-            )))
-        }
-        (Renderer::Raster, Input::Scene { name, scene }) => {
-            if a.tessellation == 0 || a.tessellation > MAX_CELLS {
-                return Err(input(format!(
-                    "--tessellation {}: expected 1 to {MAX_CELLS} cells",
-                    a.tessellation
-                )));
-            }
-            let opts = Tessellation {
-                resolution: a.tessellation,
-            };
-            let st = scene_triangles_with(&scene, &opts);
-            if st.triangles.is_empty() {
-                return Err(input(format!(
-                    "--workload {name}: none of the scene's objects could be made into triangles for the rasterizer ({} left out: open surfaces without facets, or solids with no surface at --tessellation {}); use --renderer raytrace",
-                    st.skipped.join(", "),
-                    a.tessellation
-                )));
-            }
-            if !st.skipped.is_empty() && !a.quiet && is_display_process(&a) {
-                eprintln!(
-                    "warning: {} object(s) could not be made into triangles and are left out of the raster image (open surfaces without facets, or no surface found at --tessellation {}): {}",
-                    st.skipped.len(),
-                    a.tessellation,
-                    st.skipped.join(", ")
-                );
-            }
-            let pipeline = scene_pipeline(&scene);
-            if mode == Mode::SortLast && st.has_transparency(&pipeline) {
-                return Err(input(format!(
-                    "--workload {name}: the scene has transparent (`transmission`) materials, which the rasterizer draws back to front over the opaque surfaces; sort-last depth compositing of separately drawn objects cannot order them; use --mode sort-first or sort-middle, or --renderer raytrace"
-                )));
-            }
-            Input::Triangles {
-                name,
-                pipeline,
-                tris: st.triangles,
-                background: Some(scene.settings.background),
-            }
-        }
-        (_, i) => i,
-    };
-    if let Input::Scene { scene, .. } = &input_ {
-        if scene.settings.integrator == irradia_scene::Integrator::Path
-            && !a.quiet
-            && is_display_process(&a)
-        {
-            eprintln!("note: the parallel ray tracer is the Whitted tracer; the scene's `integrator = \"path\"` is not used (compare with `irradia render --integrator whitted`)");
-        }
+    Ok(grid)
+}
+
+pub fn run(a: ParallelArgs) -> Result<(), CliError> {
+    let mode = Mode::parse(&a.mode).ok_or_else(|| {
+        input(format!(
+            "--mode {:?}: expected sort-first, sort-middle or sort-last",
+            a.mode
+        ))
+    })?;
+    let strategy = Strategy::parse(&a.compositor).ok_or_else(|| {
+        input(format!("--compositor {:?}: expected direct-send, tree, binary-swap, radix-k or radix-N (N >= 2)", a.compositor))
+    })?;
+    let grid = check_options(&a, mode)?;
+    output::check_image("-o", &a.output)?;
+    if let Some(r) = &a.report {
+        output::check_file("--report", r, &["json"])?;
     }
-    let (width, height) = match &input_ {
-        Input::Triangles { pipeline, .. } => (pipeline.width, pipeline.height),
-        Input::Scene { scene, .. } => (scene.settings.width, scene.settings.height),
-    };
+    let job_input = load_input(&a, mode)?;
+    let (width, height) = job_input.size();
     let display = match grid {
         Some((c, r)) => Some((
             DisplayLayout::grid(width, height, c, r, a.display_overlap)
@@ -426,7 +343,7 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
         )),
         None => None,
     };
-    let job = Job {
+    let job = RenderJob {
         display,
         mode,
         strategy,
@@ -437,18 +354,20 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
                 AssignArg::Cost => Assign::Cost,
             },
         },
-        renderer: a.renderer,
+        renderer: match a.renderer {
+            Renderer::Raster => JobRenderer::Raster,
+            Renderer::Raytrace => JobRenderer::Raytrace,
+        },
         object_shading: match a.object_shading {
             ObjectShadingArg::Local => raytrace_last::Shading::Local,
             ObjectShadingArg::WhittedOwnObjects => raytrace_last::Shading::WhittedOwnObjects,
             ObjectShadingArg::Forward => raytrace_last::Shading::Local,
         },
         forward: a.object_shading == ObjectShadingArg::Forward,
-        input: input_,
-        progress: !a.quiet && std::io::stderr().is_terminal(),
+        input: job_input,
     };
     let timeout = Duration::from_secs_f64(a.timeout);
-    let frame = match a.comm {
+    let outcome = match a.comm {
         CommKind::Local => {
             let out = run_local(
                 a.ranks,
@@ -456,7 +375,7 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
                     timeout,
                     delay: None,
                 },
-                |c| one_frame(c, &job),
+                |c| one_frame(c, &job, a.quiet),
             );
             let mut first = None;
             for (r, res) in out.into_iter().enumerate() {
@@ -476,88 +395,31 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
             }
             first.expect("rank 0 ran")
         }
-        CommKind::Mpi => mpi_frame(&job, timeout)?,
+        CommKind::Mpi => mpi_frame(&job, timeout, a.quiet)?,
     };
-    let Frame {
+    let RankOutcome {
         image,
         report,
         balance,
         tile,
-    } = frame;
+    } = outcome;
     write_tile(&job, &a, tile)?;
     let Some(report) = report else {
         return Ok(()); // not rank 0
     };
     if !a.quiet {
-        let what = match &job.input {
-            Input::Triangles { tris, .. } => format!("{} triangles", tris.len()),
-            Input::Scene { scene, .. } => format!("{} objects", scene.objects.len()),
-        };
-        eprintln!(
-            "{} ({:?}) of {name} ({what}) on {} ranks, {width}x{height}{}:",
-            mode.name(),
-            job.renderer,
-            report.ranks,
-            match &job.display {
-                Some((l, c)) => format!(" onto {} display tiles ({c} columns)", l.tiles.len()),
-                None => String::new(),
-            }
-        );
-        for s in &report.stages {
-            eprintln!(
-                "  {:<13} {:>9.3} ms  {:>12} bytes sent  imbalance {:.2}",
-                s.name,
-                s.max_seconds * 1e3,
-                s.total_bytes_sent,
-                s.load_imbalance
-            );
-        }
-        if let Some(f) = balance.as_ref().and_then(|b| b.get("forwarding")) {
-            eprintln!(
-                "  ray forwarding: {} generations, {} exchanges of queries",
-                f["generations"], f["exchanges"]
-            );
-            for (i, g) in f["per_generation"]
-                .as_array()
-                .into_iter()
-                .flatten()
-                .enumerate()
-            {
-                eprintln!(
-                    "    generation {}: {} pixels traced, {} finished, {} rays, {} queries, {} bytes sent",
-                    i + 1,
-                    g["pixels_traced"],
-                    g["pixels_finished"],
-                    g["rays"],
-                    g["queries"],
-                    g["bytes"]
-                );
-            }
-        } else if let Some(b) = &balance {
-            eprintln!(
-                "  regions: {} ({} tiles); estimated work imbalance {:.3} (strips {:.3}){}",
-                b["regions"].as_str().unwrap_or(""),
-                b["tiles"],
-                b["estimated_imbalance"].as_f64().unwrap_or(0.0),
-                b["strips_estimated_imbalance"].as_f64().unwrap_or(0.0),
-                match b.get("rays_imbalance").and_then(|v| v.as_f64()) {
-                    Some(x) => format!("; rays traced imbalance {x:.3}"),
-                    None => String::new(),
-                }
-            );
+        for line in summary::summary_lines(&job, &report, balance.as_ref()) {
+            eprintln!("{line}");
         }
     }
-    if let (Some(path), Some(image)) = (&a.output, &image) {
-        irradia_core::io::save(image, path).map_err(|e| CliError::Failure(e.to_string()))?;
+    if let Some(image) = &image {
+        irradia_core::io::save(image, &a.output).map_err(|e| CliError::Failure(e.to_string()))?;
+        if !a.quiet {
+            eprintln!("Wrote {}", a.output.display());
+        }
     }
     if let Some(path) = &a.report {
-        let mut json: serde_json::Value = serde_json::from_str(&report.to_json())
-            .map_err(|e| CliError::Failure(e.to_string()))?;
-        if let (Some(obj), Some(b)) = (json.as_object_mut(), balance) {
-            obj.insert("balance".into(), b);
-        }
-        let text =
-            serde_json::to_string_pretty(&json).map_err(|e| CliError::Failure(e.to_string()))?;
+        let text = summary::report_json(&report, balance.as_ref());
         irradia_core::io::write_atomic(path, text.as_bytes())
             .map_err(|e| CliError::Failure(format!("{}: {e}", path.display())))?;
     }
@@ -570,23 +432,16 @@ fn is_display_process(a: &ParallelArgs) -> bool {
     matches!(a.comm, CommKind::Local)
 }
 
-/// What rank 0 ends with (the others: all `None`, but for their display tile).
-struct Frame {
-    image: Option<Image>,
-    report: Option<Report>,
-    balance: Option<serde_json::Value>,
-    /// With a tiled display: this rank's tile (its index in the layout, the image).
+/// Writes a display rank's tile next to `-o` (nothing without a tile).
+fn write_tile(
+    job: &RenderJob,
+    a: &ParallelArgs,
     tile: Option<(usize, Image)>,
-}
-
-/// Writes a display rank's tile next to `-o` (nothing without `-o` or a tile).
-fn write_tile(job: &Job, a: &ParallelArgs, tile: Option<(usize, Image)>) -> Result<(), CliError> {
-    let (Some((index, image)), Some(output), Some((layout, columns))) =
-        (tile, &a.output, &job.display)
-    else {
+) -> Result<(), CliError> {
+    let (Some((index, image)), Some((layout, columns))) = (tile, &job.display) else {
         return Ok(());
     };
-    let path = tile_path(output, *columns, index);
+    let path = render_job::tile_path(&a.output, *columns, index);
     irradia_core::io::save(&image, &path).map_err(|e| CliError::Failure(e.to_string()))?;
     if !a.quiet {
         let t = &layout.tiles[index];
@@ -603,285 +458,27 @@ fn write_tile(job: &Job, a: &ParallelArgs, tile: Option<(usize, Image)>) -> Resu
     Ok(())
 }
 
-/// Sort-last onto the tiled display: this rank's tile, background filled (raster).
-fn raster_tile<C: Comm>(
-    c: &C,
-    job: &Job,
-    layout: &DisplayLayout,
-    p: &Pipeline,
-    tris: &[Triangle],
-    background: Option<Rgb>,
-) -> Result<Option<(usize, Image)>, CommError> {
-    let (layer, rect) = sort_last::render_layer(c, p, tris);
-    let opts = CompositeOptions::default();
-    let tile = composite_to_tiles_bounded(c, job.strategy, layer, rect, layout, &opts)?;
-    Ok(tile.map(|l| (tile_index(layout, c.rank()), layer_image(&l, background))))
-}
-
-/// The frame of a tiled-display run: this rank's tile and (rank 0) the report.
-fn tile_frame<C: Comm>(c: &C, tile: Option<(usize, Image)>) -> Result<Frame, CommError> {
-    Ok(Frame {
-        image: None,
-        report: Report::gather(c)?,
-        balance: None,
-        tile,
-    })
-}
-
-fn tile_index(layout: &DisplayLayout, rank: usize) -> usize {
-    layout
-        .tiles
-        .iter()
-        .position(|t| t.rank == rank)
-        .expect("composite_to_tiles returns a tile only to display ranks")
-}
-
-/// An RGBA8 layer as an image, with `background` where nothing opaque was drawn
-/// (behind transparent surfaces, which leave the depth at the far plane: their
-/// colour plus the background times what they let through, `1 - alpha`).
-fn layer_image(l: &Layer<[u8; 4]>, background: Option<Rgb>) -> Image {
-    let mut im = to_image(l);
-    if let Some(bg) = background {
-        for ((px, &d), c) in im.pixels_mut().iter_mut().zip(&l.depth).zip(&l.color) {
-            if d == irradia_parallel::composite::FAR {
-                *px = *px + bg * (1.0 - c[3] as f32 / 255.0);
-            }
-        }
-    }
-    im
-}
-
-fn one_frame<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
-    let spinner = (job.progress && c.rank() == 0).then(|| stage_spinner(c, job));
-    let frame = frame_body(c, job);
-    if let Some(s) = spinner {
-        s.finish_and_clear();
-    }
-    frame
-}
-
-/// A spinner with the elapsed time and the stage rank 0 is in (its message log tells it
-/// each stage as it begins); with ray forwarding, the generation.
-fn stage_spinner<C: Comm>(c: &C, job: &Job) -> ProgressBar {
-    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} {elapsed:>4} {msg}").expect("a valid template"),
-    );
-    bar.enable_steady_tick(Duration::from_millis(120));
-    let what = format!("{} on {} ranks", job.mode.name(), c.size());
-    bar.set_message(what.clone());
-    let shown = bar.clone();
-    let forward = job.forward;
-    // With forwarding, stages alternate: a tracing pass ("render"), then its queries
-    // ("forward"), until no rank asks anything.
-    let forwarded = std::sync::atomic::AtomicUsize::new(0);
-    c.log().on_stage(move |stage| {
-        let done = forwarded.load(std::sync::atomic::Ordering::Relaxed);
-        let msg = match stage {
-            "render" if forward => format!("{what}: tracing, pass {}", done + 1),
-            "forward" => {
-                forwarded.store(done + 1, std::sync::atomic::Ordering::Relaxed);
-                format!("{what}: forwarding the rays of pass {}", done + 1)
-            }
-            _ => format!("{what}: {stage}"),
-        };
-        shown.set_message(msg);
+/// One rank's frame; rank 0 reports the stage it is in while it runs (a bar on a
+/// terminal, log lines otherwise; nothing with `--quiet`).
+fn one_frame<C: Comm>(c: &C, job: &RenderJob, quiet: bool) -> Result<RankOutcome, CommError> {
+    let progress = (c.rank() == 0 && !quiet).then(|| {
+        let narrator = StageNarrator::new(job, c.size());
+        let p = std::sync::Arc::new(Progress::new("parallel", false));
+        p.message(&narrator.start());
+        let shown = p.clone();
+        c.log()
+            .on_stage(move |stage| shown.message(&narrator.stage(stage)));
+        p
     });
-    bar
-}
-
-fn frame_body<C: Comm>(c: &C, job: &Job) -> Result<Frame, CommError> {
-    let n = c.size();
-    let (image, balance) = match &job.input {
-        Input::Triangles {
-            tris,
-            pipeline: p,
-            background,
-            ..
-        } if job.display.is_some() => {
-            let (layout, _) = job.display.as_ref().expect("checked");
-            let tile = raster_tile(c, job, layout, p, tris, *background)?;
-            return tile_frame(c, tile);
-        }
-        Input::Triangles {
-            tris,
-            pipeline: p,
-            background,
-            ..
-        } => {
-            let (img, layout) = job::run_tiled(c, job.mode, p, tris, job.strategy, job.tiling)?;
-            let balance = match (&img, layout) {
-                (Some(_), Some(layout)) => {
-                    let costs = sort_first::raster_costs(p, tris, &layout);
-                    let strips = TileLayout::strips(p.width, p.height, n);
-                    let strip_costs = sort_first::raster_costs(p, tris, &strips);
-                    Some(balance_json(
-                        job.tiling,
-                        &layout,
-                        &costs,
-                        &strips,
-                        &strip_costs,
-                        None,
-                    ))
-                }
-                _ => None,
-            };
-            let image = img.as_ref().map(|l| layer_image(l, *background));
-            (image, balance)
-        }
-        Input::Scene { scene, .. } => match job.mode {
-            Mode::SortFirst => {
-                let r = raytrace_first::render(c, scene, job.tiling, 0)?;
-                c.log().begin_stage("balance");
-                let rays = c.gather(0, &r.rays.to_le_bytes())?;
-                c.log().end_stage();
-                let balance = r.image.as_ref().map(|_| {
-                    let layout = raytrace_first::layout(scene, n, job.tiling);
-                    let costs = raytrace_first::object_costs(scene, &layout.tiles);
-                    let (w, h) = (scene.settings.width, scene.settings.height);
-                    let strips = TileLayout::strips(w, h, n);
-                    let strip_costs = raytrace_first::object_costs(scene, &strips.tiles);
-                    let rays: Vec<f64> = rays
-                        .iter()
-                        .map(|b| {
-                            b.get(..8)
-                                .map_or(0, |b| u64::from_le_bytes(b.try_into().expect("8 bytes")))
-                                as f64
-                        })
-                        .collect();
-                    balance_json(
-                        job.tiling,
-                        &layout,
-                        &costs,
-                        &strips,
-                        &strip_costs,
-                        Some(&rays),
-                    )
-                });
-                (r.image.as_ref().map(raytrace_first::to_image), balance)
-            }
-            _ if job.forward => {
-                let r = raytrace_forward::render(c, scene, job.tiling, 0)?;
-                c.log().begin_stage("balance");
-                let forwarding = forward_json(c, &r)?;
-                c.log().end_stage();
-                (r.image.as_ref().map(raytrace_first::to_image), forwarding)
-            }
-            _ if job.display.is_some() => {
-                let (layout, _) = job.display.as_ref().expect("checked");
-                let layer = raytrace_last::render_layer(c, scene, job.object_shading);
-                let opts = CompositeOptions::default();
-                let tile = composite_to_tiles(c, job.strategy, layer, layout, &opts)?;
-                let tile = tile.map(|mut l| {
-                    raytrace_last::fill_background(&mut l, scene.settings.background);
-                    (tile_index(layout, c.rank()), raytrace_first::to_image(&l))
-                });
-                return tile_frame(c, tile);
-            }
-            _ => {
-                let img =
-                    raytrace_last::render_shaded(c, scene, job.strategy, 0, job.object_shading)?;
-                (img.as_ref().map(raytrace_first::to_image), None)
-            }
-        },
-    };
-    let report = Report::gather(c)?;
-    Ok(Frame {
-        image,
-        report,
-        balance,
-        tile: None,
-    })
-}
-
-/// The "forwarding" section of the report (root only): per generation, the pixels
-/// traced and finished, the queries asked by all ranks, and the bytes and rays summed
-/// over the ranks; and the ranks' cache sizes.
-fn forward_json<C: Comm>(
-    c: &C,
-    r: &raytrace_forward::ForwardResult,
-) -> Result<Option<serde_json::Value>, CommError> {
-    let mine: Vec<u8> = r
-        .generations
-        .iter()
-        .flat_map(|g| [g.traced, g.finished, g.rays, g.traffic.bytes_sent])
-        .chain([r.peak_log_entries as u64])
-        .flat_map(u64::to_le_bytes)
-        .collect();
-    let all = c.gather(0, &mine)?;
-    if all.is_empty() {
-        return Ok(None);
+    let outcome = render_job::run_rank(c, job);
+    if let Some(p) = progress {
+        p.finish();
     }
-    let words = |b: &[u8]| -> Vec<u64> {
-        b.chunks_exact(8)
-            .map(|w| u64::from_le_bytes(w.try_into().expect("8 bytes")))
-            .collect()
-    };
-    let ranks: Vec<Vec<u64>> = all.iter().map(|b| words(b)).collect();
-    let generations: Vec<serde_json::Value> = r
-        .generations
-        .iter()
-        .enumerate()
-        .map(|(i, g)| {
-            let sum = |k: usize| {
-                ranks
-                    .iter()
-                    .map(|w| w.get(4 * i + k).copied().unwrap_or(0))
-                    .sum::<u64>()
-            };
-            serde_json::json!({
-                "pixels_traced": sum(0),
-                "pixels_finished": sum(1),
-                "rays": sum(2),
-                "queries": g.traffic.queries_total,
-                "bytes": sum(3),
-            })
-        })
-        .collect();
-    Ok(Some(serde_json::json!({
-        "forwarding": {
-            "generations": generations.len(),
-            "exchanges": r.exchanges(),
-            "per_generation": generations,
-            "peak_log_entries_per_rank": ranks.iter().map(|w| w.last().copied().unwrap_or(0)).collect::<Vec<_>>(),
-        }
-    })))
-}
-
-/// The "balance" section of the report: estimated work per rank for the regions used
-/// and for one strip per rank, and (ray tracer) the rays each rank traced.
-fn balance_json(
-    tiling: Tiling,
-    layout: &TileLayout,
-    costs: &[f64],
-    strips: &TileLayout,
-    strip_costs: &[f64],
-    rays: Option<&[f64]>,
-) -> serde_json::Value {
-    let n = strips.tiles.len();
-    let per_rank = layout.rank_costs(costs, n);
-    let strip_per_rank = strips.rank_costs(strip_costs, n);
-    let mut v = serde_json::json!({
-        "regions": if tiling.is_strips() { "strips" } else { "tiles" },
-        "tiles": layout.tiles.len(),
-        "tiles_per_rank": tiling.per_rank,
-        "assign": if tiling.is_strips() { "strips" } else { tiling.assign.name() },
-        "estimated_cost_per_rank": per_rank,
-        "estimated_imbalance": imbalance(&per_rank),
-        "strips_estimated_cost_per_rank": strip_per_rank,
-        "strips_estimated_imbalance": imbalance(&strip_per_rank),
-        "tile_rects": layout.tiles.iter().map(|t| [t.x0, t.y0, t.x1, t.y1]).collect::<Vec<_>>(),
-        "tile_owner": layout.owner,
-    });
-    if let Some(r) = rays {
-        v["rays_per_rank"] = serde_json::json!(r);
-        v["rays_imbalance"] = serde_json::json!(imbalance(r));
-    }
-    v
+    outcome
 }
 
 #[cfg(feature = "mpi")]
-fn mpi_frame(job: &Job, timeout: Duration) -> Result<Frame, CliError> {
+fn mpi_frame(job: &RenderJob, timeout: Duration, quiet: bool) -> Result<RankOutcome, CliError> {
     let comm = irradia_parallel::comm::MpiComm::init(timeout)
         .ok_or_else(|| CliError::Failure("MPI was already initialised".into()))?;
     if let Some((layout, _)) = &job.display {
@@ -897,7 +494,7 @@ fn mpi_frame(job: &Job, timeout: Duration) -> Result<Frame, CliError> {
             )));
         }
     }
-    one_frame(&comm, job).map_err(|e| -> CliError {
+    one_frame(&comm, job, quiet).map_err(|e| -> CliError {
         if let Some(hint) = timeout_hint(&e) {
             eprintln!("irradia: rank {}: {hint}", comm.rank());
         }
@@ -918,24 +515,8 @@ fn timeout_hint(e: &CommError) -> Option<&'static str> {
 }
 
 #[cfg(not(feature = "mpi"))]
-fn mpi_frame(_: &Job, _: Duration) -> Result<Frame, CliError> {
+fn mpi_frame(_: &RenderJob, _: Duration, _: bool) -> Result<RankOutcome, CliError> {
     Err(CliError::Input(
         "--comm mpi: this irradia was built without MPI; rebuild with `cargo build --release -p irradia --features mpi`".into(),
     ))
-}
-
-/// The RGBA8 image (no transfer curve, as the rasterizer writes it) as linear colour.
-pub fn to_image(l: &Layer<[u8; 4]>) -> Image {
-    let px = l
-        .color
-        .iter()
-        .map(|c| {
-            Rgb::new(
-                c[0] as f32 / 255.0,
-                c[1] as f32 / 255.0,
-                c[2] as f32 / 255.0,
-            )
-        })
-        .collect();
-    Image::from_pixels(l.width, l.height, px)
 }

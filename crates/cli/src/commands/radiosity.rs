@@ -1,21 +1,20 @@
 //! `irradia radiosity`: solve a scene (or the measured Cornell box) by radiosity and
-//! write an image, the solved mesh (PLY) and the residual history.
+//! write an image, the solved mesh (PLY) and the residual history. The job itself is
+//! `irradia_radiosity::job` and `pipeline`; this file maps the options onto them.
 
 use crate::error::CliError;
+use crate::output;
+use crate::progress::Progress;
 use clap::{Args, ValueEnum};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use irradia_radiosity::display::{render_gouraud, write_ply, View};
+use irradia_radiosity::display::{write_ply, View};
 use irradia_radiosity::formfactor::{Method, Params};
+use irradia_radiosity::job::{self, Display, SceneSource};
 use irradia_radiosity::mesh::MeshOptions;
-use irradia_radiosity::pipeline::{self, Config, Progress};
+use irradia_radiosity::pipeline::{self, Config};
 use irradia_radiosity::solver::hierarchical::HierarchicalOptions;
 use irradia_radiosity::solver::{SolveOptions, SolverKind};
-use irradia_radiosity::two_pass::{TwoPass, TwoPassOptions};
-use irradia_radiosity::two_pass_scene::{self, SpecularScene};
-use irradia_radiosity::{convergence, scenes, RadiosityError};
-use std::io::IsTerminal;
+use irradia_radiosity::RadiosityError;
 use std::path::PathBuf;
-use std::sync::Mutex;
 use std::time::Instant;
 
 const EXAMPLES: &str = "\
@@ -25,15 +24,10 @@ Examples:
   irradia radiosity --solver hierarchical --max-element-area 100 --mesh-out box.ply
   irradia radiosity --builtin cornell-empty --form-factors hemicube --hemicube-resolution 256
   irradia radiosity --elements 500 --convergence residuals.csv   # also residuals.png
-  irradia radiosity scene.toml --max-element-area 0.01 -o scene.png
+  irradia radiosity docs/examples/two-pass.toml --max-element-area 0.01 -o scene.png
   irradia radiosity --builtin cornell-specular --display two-pass -o specular.png
   irradia radiosity docs/examples/two-pass.toml --display two-pass -o two-pass.png
 
-Built-in scenes: cornell (the measured Cornell box with its blocks; the default),
-cornell-empty (without the blocks), furnace (a closed glowing cube, b = 2),
-cornell-specular (the empty box with a mirror sphere and a glass sphere, for
---display two-pass); other names are looked up among the ray tracer's built-ins (see
-`irradia scenes`).
 Displays: gouraud (the default) draws the vertex radiosity with the software
 rasterizer; two-pass traces rays from the eye, reading the same vertex radiosity at
 diffuse hits and following mirrors and glass (in the radiosity pass mirrors are black
@@ -43,6 +37,24 @@ its diffuse reflectance (color x diffuse) is traced: glass when transmission > 0
 (Fresnel at `ior`, filtered by transmission x filter), else a mirror (docs/radiosity.md).
 Units of the Cornell box are millimetres (--max-element-area 100 is 10 mm x 10 mm).
 Pixel values are radiance b/pi. Exit codes: 0 done, 1 failure, 2 bad input.";
+
+/// The examples, then every scene `--builtin` accepts.
+fn after_help() -> String {
+    let mut s = format!("{EXAMPLES}\n\nBuilt-in scenes (--builtin NAME):\n");
+    for (name, what) in job::builtin_names() {
+        s.push_str(&format!("  {name:<18} {what}\n"));
+    }
+    s
+}
+
+/// The `--builtin` option's own help: every name.
+fn builtin_help() -> String {
+    let names: Vec<String> = job::builtin_names().into_iter().map(|(n, _)| n).collect();
+    format!(
+        "A built-in scene instead of a file: {} (see the list below)",
+        names.join(", ")
+    )
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum FormFactorArg {
@@ -84,15 +96,15 @@ pub enum SolverArg {
 }
 
 #[derive(Args, Debug)]
-#[command(after_long_help = EXAMPLES)]
+#[command(after_long_help = after_help())]
 pub struct RadiosityArgs {
     /// Scene file (TOML or JSON). Without it (and without --builtin): the measured
     /// Cornell box.
     #[arg(value_name = "SCENE")]
     pub scene: Option<PathBuf>,
     /// A built-in scene: cornell, cornell-empty, furnace, cornell-specular, or a
-    /// ray-tracer built-in.
-    #[arg(long, value_name = "NAME")]
+    /// ray-tracer built-in (the list is at the end of --help).
+    #[arg(long, value_name = "NAME", long_help = builtin_help())]
     pub builtin: Option<String>,
     /// Form-factor method (matrix solvers).
     #[arg(long = "form-factors", value_enum, default_value = "hemicube")]
@@ -165,29 +177,20 @@ pub struct RadiosityArgs {
     pub convergence: Option<PathBuf>,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// No progress bar or summary.
-    #[arg(short, long)]
+    /// Print nothing but errors (no progress, no summary).
+    #[arg(short, long, help_heading = "General options")]
     pub quiet: bool,
 }
 
-struct Bar {
-    bar: Option<ProgressBar>,
-    phase: Mutex<String>,
-}
+/// The pipeline's progress callbacks drawn by the shared reporter.
+struct Phases(Progress);
 
-impl Progress for Bar {
+impl pipeline::Progress for Phases {
     fn phase(&self, name: &str, total: u64) {
-        *self.phase.lock().unwrap() = name.to_string();
-        if let Some(b) = &self.bar {
-            b.set_length(total.max(1));
-            b.set_position(0);
-            b.set_message(name.to_string());
-        }
+        self.0.phase(name, (total > 0).then_some(total));
     }
     fn set(&self, done: u64) {
-        if let Some(b) = &self.bar {
-            b.set_position(done);
-        }
+        self.0.set_position(done);
     }
 }
 
@@ -198,7 +201,8 @@ fn err(e: RadiosityError) -> CliError {
     }
 }
 
-pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
+/// Every count and tolerance, before any work.
+fn check_options(a: &RadiosityArgs) -> Result<(), CliError> {
     for (name, v) in [
         ("--hemicube-resolution", a.hemicube_resolution),
         ("--hemisphere-resolution", a.hemisphere_resolution),
@@ -225,87 +229,40 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
     }
     irradia_core::image::check_size(a.width, a.height, 12)
         .map_err(|e| CliError::Input(e.to_string()))?;
-    // The scene.
-    let mut view = View::cornell(a.width, a.height);
-    let mut warnings = Vec::new();
-    let mut specular: Option<SpecularScene> = None;
-    let specs = match (&a.scene, &a.builtin) {
+    output::check_image("-o", &a.output)?;
+    if let Some(p) = &a.mesh_out {
+        output::check_file("--mesh-out", p, &["ply"])?;
+    }
+    if let Some(p) = &a.convergence {
+        output::check_file("--convergence", p, &["csv"])?;
+    }
+    Ok(())
+}
+
+pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
+    check_options(&a)?;
+    let source = match (&a.scene, &a.builtin) {
         (Some(_), Some(_)) => {
             return Err(CliError::Input(
                 "give either a scene file or --builtin, not both".into(),
             ))
         }
-        (None, None) => scenes::cornell_measured(),
-        (None, Some(name)) => match scenes::builtin(name) {
-            None if two_pass_scene::builtin(name).is_some() => {
-                let s = two_pass_scene::builtin(name).expect("checked");
-                let patches = s.patches.clone();
-                specular = Some(s);
-                patches
-            }
-            Some(s) => {
-                if name == "furnace" {
-                    view = View {
-                        eye: glam::DVec3::new(0.5, 0.5, 0.05),
-                        target: glam::DVec3::new(0.5, 0.5, 1.0),
-                        up: glam::DVec3::Y,
-                        fov_y: 60.0,
-                        width: a.width,
-                        height: a.height,
-                    };
-                }
-                s
-            }
-            None => {
-                let scene = irradia_scene::builtin::load(name)?;
-                view = view_of(&scene, a.width, a.height)?;
-                let (s, w) = if a.display == DisplayArg::TwoPass {
-                    let (ss, _, w) = two_pass_scene::from_scene(&scene, 32).map_err(err)?;
-                    let patches = ss.patches.clone();
-                    specular = Some(ss);
-                    (patches, w)
-                } else {
-                    irradia_radiosity::scene_input::patches_from_scene(&scene, 32).map_err(err)?
-                };
-                warnings.extend(w);
-                s
-            }
-        },
+        (None, None) => SceneSource::Default,
+        (None, Some(name)) => SceneSource::Builtin(name),
         (Some(path), None) => {
-            if !path.exists() {
-                return Err(CliError::Input(format!(
-                    "{}: no such scene file",
-                    path.display()
-                )));
-            }
-            let scene = irradia_scene::load_file(path)?;
-            view = view_of(&scene, a.width, a.height)?;
-            let (s, objects, w) = if a.display == DisplayArg::TwoPass {
-                // Mirrors and glass (by their materials) are traced in pass two.
-                let (ss, objects, w) = two_pass_scene::from_scene(&scene, 32).map_err(err)?;
-                let patches = ss.patches.clone();
-                specular = Some(ss);
-                (patches, objects, w)
-            } else {
-                irradia_radiosity::scene_input::patches_with_objects(&scene, 32).map_err(err)?
-            };
-            if a.closed {
-                irradia_radiosity::scene_input::check_closed(&s, Some((&scene, &objects)))
-                    .map_err(err)?;
-            }
-            warnings.extend(w);
-            s
+            crate::scene_arg::check_scene_path(path)?;
+            SceneSource::File(path)
         }
     };
-    let total_area: f64 = specs
-        .iter()
-        .map(|s| {
-            irradia_radiosity::geom::Poly::from_slice(&s.corners[..s.corners.len().min(4)])
-                .map(|p| p.area())
-                .unwrap_or(0.0)
-        })
-        .sum();
-    let area = a.max_element_area.unwrap_or(total_area / a.elements as f64);
+    let two_pass = a.display == DisplayArg::TwoPass;
+    let scene = job::load_scene(source, two_pass, a.closed).map_err(err)?;
+    let view = match &scene.scene {
+        Some(s) => view_of(s, a.width, a.height)?,
+        None => scene.view.view(a.width, a.height),
+    };
+    let area = a
+        .max_element_area
+        .unwrap_or(job::total_area(&scene.specs) / a.elements as f64);
     if !(area > 0.0) || !area.is_finite() {
         return Err(CliError::Input(format!(
             "--max-element-area must be a positive number (got {area})"
@@ -326,6 +283,12 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
         FormFactorArg::Hemicube => Method::Hemicube,
         FormFactorArg::Raycast => Method::RayCast,
         FormFactorArg::Montecarlo => Method::MonteCarlo,
+    };
+    let display = match a.display {
+        DisplayArg::Gouraud => Display::Gouraud,
+        DisplayArg::TwoPass => Display::TwoPass {
+            samples_per_axis: a.pixel_samples,
+        },
     };
     let cfg = Config {
         mesh: MeshOptions {
@@ -361,75 +324,27 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
         adaptive_rounds: a.adaptive,
         ..Default::default()
     };
-    let show = !a.quiet && std::io::stderr().is_terminal();
-    let bar = Bar {
-        bar: show.then(|| {
-            let b = ProgressBar::with_draw_target(Some(1), ProgressDrawTarget::stderr());
-            b.set_style(
-                ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ({eta})")
-                    .unwrap()
-                    .progress_chars("=> "),
-            );
-            b
-        }),
-        phase: Mutex::new(String::new()),
-    };
-    for w in &warnings {
+    for w in &scene.warnings {
         eprintln!("irradia: warning: {w}");
     }
-    let report = pipeline::run(&specs, &cfg, &bar).map_err(err)?;
-    if let Some(b) = &bar.bar {
-        b.finish_and_clear();
-    }
+    let phases = Phases(Progress::new("radiosity", a.quiet));
+    let report = pipeline::run(&scene.specs, &cfg, &phases).map_err(err)?;
+    phases.0.finish();
     let t = Instant::now();
-    let dm = report.display_mesh();
-    let img = match a.display {
-        DisplayArg::Gouraud => {
-            if specular.is_some() && !a.quiet {
-                eprintln!(
-                    "irradia: note: the Gouraud image shows mirrors as their black stand-ins and no glass; \
-                     --display two-pass traces them"
-                );
-            }
-            render_gouraud(&dm, &view).map_err(err)?
-        }
-        DisplayArg::TwoPass => {
-            let objects = specular.as_ref().map_or(&[][..], |s| &s.objects[..]);
-            let keep = |p: u32| {
-                let source = report.mesh.patches[p as usize].source;
-                !specular.as_ref().is_some_and(|s| s.is_stand_in(source))
-            };
-            let tracer = TwoPass::new(&dm, keep, objects).map_err(err)?;
-            let opts = TwoPassOptions {
-                samples_per_axis: a.pixel_samples,
-                ..Default::default()
-            };
-            tracer.render(&view, &opts).map_err(err)?
-        }
-    };
-    irradia_core::io::save(&img, &a.output)
-        .map_err(|e| CliError::Failure(format!("{}: {e}", a.output.display())))?;
+    if display == Display::Gouraud && scene.specular.is_some() && !a.quiet {
+        eprintln!(
+            "irradia: note: the Gouraud image shows mirrors as their black stand-ins and no glass; \
+             --display two-pass traces them"
+        );
+    }
+    let img = job::display_image(&report, display, scene.specular.as_ref(), &view).map_err(err)?;
+    irradia_core::io::save(&img, &a.output).map_err(|e| CliError::Failure(e.to_string()))?;
     if let Some(p) = &a.mesh_out {
-        write_ply(&dm, p).map_err(err)?;
+        write_ply(&report.display_mesh(), p).map_err(err)?;
     }
     let display_time = t.elapsed();
     if let Some(p) = &a.convergence {
-        let hs: Vec<convergence::History> = report
-            .histories
-            .iter()
-            .map(|(n, r)| convergence::History {
-                name: n,
-                residuals: r,
-            })
-            .collect();
-        convergence::write_csv(p, &hs).map_err(err)?;
-        let chart = p.with_extension("png");
-        convergence::write_chart(
-            &chart,
-            &hs,
-            &format!("radiosity residuals, {} elements", report.mesh.len()),
-        )
-        .map_err(err)?;
+        let chart = job::write_convergence(p, &report).map_err(err)?;
         if !a.quiet {
             eprintln!("convergence: {} and {}", p.display(), chart.display());
         }
@@ -440,37 +355,9 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
         }
     }
     if !a.quiet {
-        eprintln!(
-            "{} patches, {} elements; solver {}",
-            report.mesh.patches.len(),
-            report.mesh.len(),
-            solver.name()
-        );
-        if let Some(d) = report.diagnostics {
-            eprintln!("form factors ({}): {d}", method.name());
+        for line in job::summary_lines(&report, solver, method, display, display_time, &a.output) {
+            eprintln!("{line}");
         }
-        for n in report.notes.iter().filter(|n| !n.starts_with("warning")) {
-            eprintln!("{n}");
-        }
-        let mut total = display_time;
-        for (phase, d) in &report.timings {
-            eprintln!("  {phase:<44} {:>9.3} s", d.as_secs_f64());
-            total += *d;
-        }
-        eprintln!(
-            "  {:<44} {:>9.3} s",
-            match a.display {
-                DisplayArg::Gouraud => "display (Gouraud image, PLY)",
-                DisplayArg::TwoPass => "display (two-pass image, PLY)",
-            },
-            display_time.as_secs_f64()
-        );
-        eprintln!("  {:<44} {:>9.3} s", "total", total.as_secs_f64());
-        eprintln!(
-            "final relative residual {:.3e}; image {}",
-            report.solution.residual,
-            a.output.display()
-        );
     }
     Ok(())
 }

@@ -9,6 +9,7 @@
 
 use super::parallel::CommKind;
 use crate::error::CliError;
+use crate::output;
 use clap::{Args, ValueEnum};
 use irradia_parallel::comm::{run_local, LocalOptions};
 use irradia_parallel::composite::Strategy;
@@ -17,7 +18,20 @@ use irradia_parallel::workload::Workload;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+const EXAMPLES: &str = "\
+Examples:
+  irradia wall --config docs/examples/wall-3x2.toml -o wall-out            # teapot on a 3x2 projector wall
+  irradia wall --config docs/examples/wall-3x2.toml grey -o grey-out       # the uniform calibration frame
+  irradia wall --config docs/examples/wall-3x2.toml --render sort-last --compositor radix-k -o sl-out
+  mpirun -np 6 irradia wall --comm mpi --config docs/examples/wall-3x2.toml -o wall-out
+
+The wall file (TOML) gives the grid, the display size, overlap or bezel and each
+projector's response (docs/parallel.md). The output folder receives display-R-C.png
+for every display, photo.png (the simulated photograph) and photo-uncorrected.png.
+Exit codes: 0 done, 1 failure while working, 2 bad input (wall file, option).";
+
 #[derive(Args, Debug)]
+#[command(after_long_help = EXAMPLES)]
 pub struct WallArgs {
     /// The wall file (TOML; see docs/parallel.md): grid, display size, overlap or bezel, per-projector response.
     #[arg(long)]
@@ -47,6 +61,9 @@ pub struct WallArgs {
     /// Compositor for `--render sort-last`: direct-send, tree, binary-swap, radix-k or radix-N.
     #[arg(long, default_value = "binary-swap")]
     pub compositor: String,
+    /// Print nothing but errors.
+    #[arg(short, long, help_heading = "General options")]
+    pub quiet: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -86,8 +103,7 @@ pub fn run(a: WallArgs) -> Result<(), CliError> {
         WallRenderArg::SortLast => WallRendering::SortLast(strategy),
     };
     let timeout = Duration::from_secs_f64(a.timeout);
-    std::fs::create_dir_all(&a.output)
-        .map_err(|e| CliError::Failure(format!("{}: {e}", a.output.display())))?;
+    output::prepare_folder("-o", &a.output)?;
     let wrote_all = match a.comm {
         CommKind::Local => {
             let out = run_local(
@@ -109,7 +125,7 @@ pub fn run(a: WallArgs) -> Result<(), CliError> {
         }
         CommKind::Mpi => mpi_run(&c, &src, &a.config, &a.output, timeout, rendering)?,
     };
-    if wrote_all {
+    if wrote_all && !a.quiet {
         eprintln!(
             "wrote {} display images, photo.png and photo-uncorrected.png to {}",
             c.displays(),

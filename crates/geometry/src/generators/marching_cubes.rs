@@ -220,6 +220,11 @@ fn triangulate_case(case: u8) -> Vec<[u8; 3]> {
     tris
 }
 
+/// The isosurface `value = iso` of a volume read from a file ([`crate::io::volume`]).
+pub fn volume_mesh(grid: &ScalarGrid, iso: f32) -> MeshData {
+    marching_cubes(grid, iso)
+}
+
 /// Extracts the surface `value = iso` from the grid. Corners with `value > iso` are
 /// "positive"; triangle normals (by winding) point towards increasing values.
 pub fn marching_cubes(grid: &ScalarGrid, iso: f32) -> MeshData {

@@ -1,5 +1,6 @@
-//! Mesh files: Wavefront OBJ and PLY (ASCII, binary little- and big-endian) into a
-//! [`TriangleMesh`]. Bad files give a [`MeshFileError`] naming the file, the line
+//! Mesh files: Wavefront OBJ and PLY (ASCII, binary little- and big-endian; faces and
+//! triangle strips) into a [`TriangleMesh`]; scalar volumes (raw and NRRD) in
+//! `volume.rs`. Bad files give a [`MeshFileError`] naming the file, the line
 //! (text formats) or element (binary PLY), and the field; nothing here panics on
 //! malformed input, and sizes claimed by a header are checked against the file
 //! before memory is allocated for them.
@@ -7,6 +8,7 @@
 mod error;
 pub mod obj;
 pub mod ply;
+pub mod volume;
 
 pub use error::MeshFileError;
 

@@ -1,7 +1,10 @@
 //! PLY (Turk, "The PLY Polygon File Format", 1994): ASCII, binary little-endian and
 //! binary big-endian. Reads `vertex` (x, y, z; optional nx, ny, nz and u, v / s, t /
-//! texture_u, texture_v) and `face` (a list property `vertex_indices` or
-//! `vertex_index`; polygons are fanned into triangles); other elements are skipped.
+//! texture_u, texture_v), `face` (a list property `vertex_indices` or `vertex_index`;
+//! polygons are fanned into triangles) and `tristrips` (the Stanford scans' triangle
+//! strips, e.g. igea.ply: one list `vertex_indices` per element, -1 ending a strip;
+//! the winding alternates along a strip, and triangles that repeat a vertex are the
+//! strip's joins and dropped); other elements are skipped.
 //! Counts in the header are checked against the bytes that are really there.
 
 use super::{read_file, MeshFile, MeshFileError};
@@ -9,7 +12,7 @@ use glam::{Vec2, Vec3};
 use std::path::Path;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Format {
+enum Encoding {
     Ascii,
     Little,
     Big,
@@ -104,7 +107,7 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
     let mut vertex_count = None;
     for el in &elements {
         // Refuse counts the file cannot hold before allocating anything for them.
-        if format != Format::Ascii {
+        if format != Encoding::Ascii {
             let remaining = bytes.len() - reader.pos;
             if el.count.saturating_mul(el.min_size()) > remaining {
                 return Err(MeshFileError::new(
@@ -183,15 +186,16 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
                 }
                 vertex_count = Some(el.count);
             }
-            "face" => {
+            "face" | "tristrips" => {
+                let strips = el.name == "tristrips";
                 let Some(list) = el.props.iter().position(|p| {
                     (p.name == "vertex_indices" || p.name == "vertex_index") && p.list.is_some()
                 }) else {
                     return Err(MeshFileError::new(
                         path,
                         Some(el.line),
-                        Some("element face".into()),
-                        "faces need a list property vertex_indices",
+                        Some(format!("element {}", el.name)),
+                        format!("{} need a list property vertex_indices", el.name),
                     ));
                 };
                 let nv = vertex_count.unwrap_or(0);
@@ -213,6 +217,11 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
                         corners.clear();
                         for c in 0..n {
                             let x = reader.scalar(el, i, p, p.ty)?;
+                            if strips && x == -1.0 && p.ty.is_integer() {
+                                strip_triangles(&corners, &mut out.indices);
+                                corners.clear();
+                                continue;
+                            }
                             if !p.ty.is_integer() || x < 0.0 || x >= nv as f64 || x.fract() != 0.0 {
                                 return Err(reader.error(
                                     el,
@@ -222,6 +231,10 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
                                 ));
                             }
                             corners.push(x as u32);
+                        }
+                        if strips {
+                            strip_triangles(&corners, &mut out.indices);
+                            continue;
                         }
                         if n < 3 {
                             return Err(reader.error(
@@ -257,11 +270,27 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
     Ok(out)
 }
 
+/// The triangles of one strip `s0 s1 s2 s3 ...`: (s0 s1 s2), (s2 s1 s3), (s2 s3 s4), ...
+/// (every second one reversed so that all keep the first one's winding); triangles that
+/// repeat a vertex join strips and are dropped.
+fn strip_triangles(strip: &[u32], out: &mut Vec<[u32; 3]>) {
+    for (k, w) in strip.windows(3).enumerate() {
+        let t = if k % 2 == 0 {
+            [w[0], w[1], w[2]]
+        } else {
+            [w[1], w[0], w[2]]
+        };
+        if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
+            out.push(t);
+        }
+    }
+}
+
 /// Returns the format, the elements, the offset of the body and the header's line count.
 fn parse_header(
     bytes: &[u8],
     path: &Path,
-) -> Result<(Format, Vec<Element>, usize, usize), MeshFileError> {
+) -> Result<(Encoding, Vec<Element>, usize, usize), MeshFileError> {
     let err = |line: usize, field: Option<&str>, msg: String| {
         MeshFileError::new(path, Some(line), field.map(str::to_string), msg)
     };
@@ -296,9 +325,9 @@ fn parse_header(
             None | Some("comment") | Some("obj_info") => {}
             Some("format") => {
                 format = Some(match tok.get(1).copied() {
-                    Some("ascii") => Format::Ascii,
-                    Some("binary_little_endian") => Format::Little,
-                    Some("binary_big_endian") => Format::Big,
+                    Some("ascii") => Encoding::Ascii,
+                    Some("binary_little_endian") => Encoding::Little,
+                    Some("binary_big_endian") => Encoding::Big,
                     other => {
                         return Err(err(
                             line,
@@ -400,7 +429,7 @@ fn parse_header(
 /// Reads values from the body in either encoding.
 struct Reader<'a> {
     path: &'a Path,
-    format: Format,
+    format: Encoding,
     bytes: &'a [u8],
     pos: usize,
     /// Current line (ASCII).
@@ -411,7 +440,7 @@ struct Reader<'a> {
 
 impl<'a> Reader<'a> {
     fn error(&self, el: &Element, i: usize, field: &str, msg: String) -> MeshFileError {
-        let line = (self.format == Format::Ascii).then_some(self.line);
+        let line = (self.format == Encoding::Ascii).then_some(self.line);
         MeshFileError::new(
             self.path,
             line,
@@ -433,7 +462,7 @@ impl<'a> Reader<'a> {
     }
 
     fn start_instance(&mut self, el: &Element, i: usize) -> Result<(), MeshFileError> {
-        if self.format != Format::Ascii {
+        if self.format != Encoding::Ascii {
             return Ok(());
         }
         // One instance per line; blank lines are skipped.
@@ -458,7 +487,7 @@ impl<'a> Reader<'a> {
     }
 
     fn end_instance(&mut self, el: &Element, i: usize) -> Result<(), MeshFileError> {
-        if self.format == Format::Ascii && self.token_pos < self.tokens.len() {
+        if self.format == Encoding::Ascii && self.token_pos < self.tokens.len() {
             return Err(self.error(
                 el,
                 i,
@@ -480,7 +509,7 @@ impl<'a> Reader<'a> {
         ty: Scalar,
     ) -> Result<f64, MeshFileError> {
         match self.format {
-            Format::Ascii => {
+            Encoding::Ascii => {
                 let Some(tok) = self.tokens.get(self.token_pos).copied() else {
                     return Err(self.error(el, i, &p.name, "missing value".into()));
                 };
@@ -496,7 +525,7 @@ impl<'a> Reader<'a> {
                 };
                 Ok(x)
             }
-            Format::Little | Format::Big => {
+            Encoding::Little | Encoding::Big => {
                 let n = ty.size();
                 if self.pos + n > self.bytes.len() {
                     return Err(self.ends_early(el, i, &p.name));
@@ -504,7 +533,7 @@ impl<'a> Reader<'a> {
                 let mut b = [0u8; 8];
                 b[..n].copy_from_slice(&self.bytes[self.pos..self.pos + n]);
                 self.pos += n;
-                if self.format == Format::Big {
+                if self.format == Encoding::Big {
                     b[..n].reverse();
                 }
                 Ok(match ty {

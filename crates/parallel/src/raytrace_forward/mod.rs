@@ -17,7 +17,7 @@
 //!
 //! 1. Camera, lights, materials, settings and the object table (names, materials) are
 //!    replicated; the geometry is not: each rank builds the acceleration structure of
-//!    its own block of objects only (`crate::frame::block`, as `crate::raytrace_last`).
+//!    its own block of objects only (`crate::sort_common::block`, as `crate::raytrace_last`).
 //! 2. Each rank shades the pixels of its screen regions (`crate::raytrace_first`'s
 //!    layout). The Whitted tracer of `irradia-render` asks its geometry through
 //!    [`irradia_render::whitted::RayQuery`]; here that is a [`cache::Replay`], which
@@ -58,9 +58,9 @@ pub mod wire;
 
 use crate::comm::{Comm, CommError};
 use crate::composite::{Layer, Operator};
-use crate::frame::block;
 use crate::raytrace_first;
 use crate::raytrace_last::sub_scene;
+use crate::sort_common::block;
 use crate::sort_first::{gather_tiles, Tiling};
 use cache::{Log, Replay};
 use domain::Domain;

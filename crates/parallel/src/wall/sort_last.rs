@@ -14,7 +14,7 @@ use crate::comm::{Comm, CommError};
 use crate::composite::active::ActiveRect;
 use crate::composite::{CompositeOptions, Layer, Strategy, FAR};
 use crate::display_tiles::{composite_to_tiles_bounded, DisplayLayout, DisplayTile};
-use crate::frame::block;
+use crate::sort_common::block;
 use crate::workload::Workload;
 use glam::Vec3;
 use irradia_raster::{ColorBuffer, ColorFormat, Framebuffer};

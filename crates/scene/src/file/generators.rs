@@ -25,10 +25,8 @@ use irradia_geometry::generators::metaballs::{metaballs_mesh, random_balls, Ball
 use irradia_geometry::generators::random_triangles::{
     random_triangles, RandomTriangles, SizeDistribution,
 };
-use irradia_geometry::generators::volume::{
-    read_nrrd, read_raw, volume_mesh, Endian, RawSpec, VoxelType,
-};
-use irradia_geometry::generators::{gyroid_mesh, MeshData};
+use irradia_geometry::generators::{gyroid_mesh, volume_mesh, MeshData};
+use irradia_geometry::io::volume::{read_nrrd, read_raw, Endian, RawSpec, VoxelType};
 use irradia_geometry::shapes::bezier::{teapot_patches, tessellate};
 use irradia_geometry::TriangleMesh;
 

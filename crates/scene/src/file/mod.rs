@@ -22,22 +22,22 @@ use std::path::Path;
 
 /// The syntax of a scene file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
+pub enum SceneSyntax {
     Toml,
     Json,
 }
 
-impl Format {
+impl SceneSyntax {
     /// The format named by a path's extension (`.toml`, `.json`).
-    pub fn from_path(path: &Path) -> Result<Format, SceneError> {
+    pub fn from_path(path: &Path) -> Result<SceneSyntax, SceneError> {
         match path
             .extension()
             .and_then(|e| e.to_str())
             .map(|e| e.to_ascii_lowercase())
             .as_deref()
         {
-            Some("toml") => Ok(Format::Toml),
-            Some("json") => Ok(Format::Json),
+            Some("toml") => Ok(SceneSyntax::Toml),
+            Some("json") => Ok(SceneSyntax::Json),
             _ => Err(
                 SceneError::input("", "unknown scene file extension: use .toml or .json")
                     .with_file(path),
@@ -49,7 +49,7 @@ impl Format {
 /// Loads a scene file; the format follows the extension, and relative paths inside
 /// (meshes, image textures) are resolved against the file's folder.
 pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
-    let format = Format::from_path(path)?;
+    let format = SceneSyntax::from_path(path)?;
     let text = std::fs::read_to_string(path).map_err(|e| {
         let mut err = SceneError::io(path, &e);
         if matches!(
@@ -66,10 +66,10 @@ pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
 
 /// Loads a scene from text. `origin` names it in messages and its folder is where
 /// relative paths are resolved.
-pub fn load_str(text: &str, format: Format, origin: &Path) -> Result<Scene, SceneError> {
+pub fn load_str(text: &str, format: SceneSyntax, origin: &Path) -> Result<Scene, SceneError> {
     let tree = match format {
-        Format::Toml => tree::parse_toml(text),
-        Format::Json => json_tree::parse_json(text),
+        SceneSyntax::Toml => tree::parse_toml(text),
+        SceneSyntax::Json => json_tree::parse_json(text),
     }
     .map_err(|e| e.with_file(origin))?;
     let doc = Doc {

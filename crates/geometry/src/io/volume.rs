@@ -1,4 +1,5 @@
-//! Scalar volumes from files, for marching-cubes isosurfaces: a raw file of voxels
+//! Scalar volumes from files, for marching-cubes isosurfaces
+//! ([`crate::generators::volume_mesh`]): a raw file of voxels
 //! (dimensions, voxel type and byte order given by the caller) or an NRRD file
 //! (Teem's "Nearly Raw Raster Data": a text header, then raw or ASCII data, inline
 //! or in a detached file).
@@ -6,7 +7,7 @@
 //! Sizes are checked against the data before anything large is allocated, and every
 //! error names the file (and for NRRD headers the line and field).
 
-use super::marching_cubes::{marching_cubes, MeshData, ScalarGrid};
+use crate::generators::marching_cubes::ScalarGrid;
 use glam::{UVec3, Vec3};
 use irradia_core::Aabb;
 use std::path::{Path, PathBuf};
@@ -432,14 +433,10 @@ pub fn parse_nrrd(bytes: &[u8], path: &Path) -> Result<ScalarGrid, VolumeError> 
     Ok(grid(dims, spacing, origin, values))
 }
 
-/// The isosurface `value = iso` of a volume (marching cubes).
-pub fn volume_mesh(grid: &ScalarGrid, iso: f32) -> MeshData {
-    marching_cubes(grid, iso)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::generators::volume_mesh;
 
     fn nrrd(header: &str, data: &[u8]) -> Vec<u8> {
         let mut b = header.as_bytes().to_vec();
