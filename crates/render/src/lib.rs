@@ -12,7 +12,6 @@
 pub mod aov;
 pub mod film;
 pub mod integrator;
-pub mod optics;
 pub mod path;
 pub mod raytree;
 pub mod sampler;
