@@ -9,7 +9,7 @@
 //!   by π — exactly what the Gouraud image shows at that point;
 //! - at a mirror it returns the reflectance times the radiance along the mirrored ray;
 //! - at glass it returns `F L_reflected + (1 − F) T L_refracted` with the Fresnel
-//!   reflectance `F` of a smooth dielectric (`irradia_render::optics`), total internal
+//!   reflectance `F` of a smooth dielectric (`irradia_scatter::optics`), total internal
 //!   reflection included;
 //! - a ray that leaves the scene returns black.
 //!
@@ -24,7 +24,7 @@ use crate::two_pass_scene::{SpecularMaterial, SpecularObject};
 use glam::{DVec3, Vec3};
 use irradia_core::{offset_ray_origin, Image, Ray, Rgb};
 use irradia_geometry::{Accel, Instance, SceneHit, TriangleMesh};
-use irradia_render::optics::{fresnel_dielectric, reflect, refract};
+use irradia_scatter::optics::{fresnel_dielectric, reflect_about, refract_through};
 use rayon::prelude::*;
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -133,7 +133,7 @@ impl<'a> TwoPass<'a> {
         };
         match self.objects[k].material {
             SpecularMaterial::Mirror { reflectance } => {
-                let r = reflect(d, n);
+                let r = reflect_about(-d, n);
                 let w = weight * max3(reflectance);
                 let l = self.trace(spawn(r), r, depth + 1, w, opts);
                 mul(reflectance, l)
@@ -146,14 +146,16 @@ impl<'a> TwoPass<'a> {
                 } else {
                     (-n, ior as f32)
                 };
-                let f = fresnel_dielectric(-d.dot(nn), eta) as f64;
-                let r = reflect(d, nn);
+                // `eta` is n1/n2; the optics module's is the far side's over the near's.
+                let f =
+                    fresnel_dielectric((-d.dot(nn)).clamp(0.0, 1.0), 1.0 / eta).reflectance as f64;
+                let r = reflect_about(-d, nn);
                 let mut l = [0.0; 3];
                 if f > 0.0 {
                     let lr = self.trace(spawn(r), r, depth + 1, weight * f, opts);
                     l = lr.map(|v| v * f);
                 }
-                if let Some(t) = refract(d, nn, eta) {
+                if let Some(t) = refract_through(-d, nn, 1.0 / eta) {
                     let w = weight * (1.0 - f) * max3(transmittance);
                     let lt = self.trace(spawn(t), t, depth + 1, w, opts);
                     for c in 0..3 {

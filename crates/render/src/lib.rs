@@ -18,7 +18,6 @@ pub mod driver;
 pub mod film;
 pub mod filter;
 pub mod integrator;
-pub mod optics;
 pub mod path;
 pub mod pool;
 pub mod prepared;

@@ -95,6 +95,17 @@ pub fn refract_about(w: Vec3, m: Vec3, cos_theta_t: f32, eta_ti: f32) -> Vec3 {
     (w.dot(m) * eta_ti + cos_theta_t) * m - w * eta_ti
 }
 
+/// Refraction of the unit `w` through a surface with unit normal `m` facing `w`'s side
+/// (the exterior), `eta = η_beyond / η_w's side`: the unit refracted direction, or
+/// `None` under total internal reflection. Frame-free, for world-space callers; the
+/// cosine is taken as `|w·m|` so that a shading normal slightly off `w`'s side still
+/// refracts (as a geometric tracer wants).
+#[inline]
+pub fn refract_through(w: Vec3, m: Vec3, eta: f32) -> Option<Vec3> {
+    let f = fresnel_dielectric(w.dot(m).abs(), eta);
+    (f.cos_theta_t != 0.0).then(|| refract_about(w, m, f.cos_theta_t, f.eta_ti).normalize())
+}
+
 /// Snell's law: the sine of the refraction angle, `sin θt = (η_i / η_t) sin θi`, for
 /// light going from index `eta_i` into `eta_t`; `None` under total internal reflection.
 pub fn snell_sin_t(sin_theta_i: f32, eta_i: f32, eta_t: f32) -> Option<f32> {

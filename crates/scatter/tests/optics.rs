@@ -190,3 +190,38 @@ fn conductor_fresnel_is_the_exact_complex_fresnel() {
         assert!((fresnel_conductor(c, 0.0, 1.0) - 1.0).abs() < 1e-6);
     }
 }
+
+/// The world-space refraction the Whitted tracer and the two-pass display use: a ray
+/// `d` arriving against the normal `n` of its side, `eta = n1 / n2`, refracts to
+/// `eta d + (eta cos θi - cos θt) n` (the former `irradia_render::optics::refract`,
+/// written out here), also for a shading normal slightly behind the ray.
+#[test]
+fn refract_through_is_the_world_space_snell_refraction() {
+    let mut rng = irradia_core::Rng::new(9, 2);
+    for _ in 0..2000 {
+        let n = Vec3::new(
+            rng.next_f32() - 0.5,
+            rng.next_f32() - 0.5,
+            rng.next_f32() - 0.5,
+        )
+        .normalize();
+        let d = Vec3::new(
+            rng.next_f32() - 0.5,
+            rng.next_f32() - 0.5,
+            rng.next_f32() - 0.5,
+        )
+        .normalize();
+        let d = if d.dot(n) > 0.05 { -d } else { d };
+        let eta = [1.0 / 1.5, 1.5, 1.33, 1.0][rng.below(4) as usize];
+        let cos_i = -d.dot(n);
+        let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
+        let expect = (sin2_t <= 1.0)
+            .then(|| (eta * d + (eta * cos_i - (1.0 - sin2_t).sqrt()) * n).normalize());
+        let got = refract_through(-d, n, 1.0 / eta);
+        match (got, expect) {
+            (Some(g), Some(e)) => assert!((g - e).length() < 1e-5, "{g:?} vs {e:?}"),
+            (None, None) => {}
+            (g, e) => assert!((sin2_t - 1.0).abs() < 1e-5, "TIR disagrees: {g:?} vs {e:?}"),
+        }
+    }
+}

@@ -29,7 +29,6 @@ mod shading;
 mod shadow;
 
 use crate::integrator::{AovSample, Integrator};
-use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::raytree::{NoRecorder, RayKind, Recorder};
 use crate::stats::Stats;
 use geometry::object_transmits;
@@ -38,6 +37,7 @@ use glam::Vec3;
 use irradia_core::{offset_ray_origin, Ray, Rgb, Rng};
 use irradia_geometry::SceneHit;
 pub use irradia_geometry::{ObjectSet, RayQuery};
+use irradia_scatter::optics::{fresnel_dielectric, reflect_about, refract_through};
 use irradia_scene::{Scene, ShadingModel};
 use lights::PreparedLight;
 use media::MediaStack;
@@ -212,14 +212,16 @@ impl<'s, G: RayQuery> Whitted<'s, G> {
         } else {
             (1.0, *media)
         };
+        // `eta` is n1/n2 (the ray's medium over the next); the optics module's is the far
+        // side's over the near side's, with the normal on the near side.
         if mat.fresnel && mat.transmission > 0.0 {
-            let f = fresnel_dielectric(view.dot(ns), eta);
+            let f = fresnel_dielectric(view.dot(ns).clamp(0.0, 1.0), 1.0 / eta).reflectance;
             kr = kr * f;
             kt = kt * (1.0 - f);
         }
 
         if !kt.is_black() {
-            match refract(d, ns, eta) {
+            match refract_through(view, ns, 1.0 / eta) {
                 Some(t) => {
                     let o = offset_ray_origin(hit.point, -ng, hit.error);
                     result += self.spawn(
@@ -301,11 +303,11 @@ impl<'s, G: RayQuery> Whitted<'s, G> {
 /// `ComputeReflection` does).
 #[inline]
 fn mirror(d: Vec3, ns: Vec3, ng: Vec3) -> Vec3 {
-    let r = reflect(d, ns);
+    let r = reflect_about(-d, ns);
     if r.dot(ng) > 0.0 {
         r
     } else {
-        reflect(d, ng)
+        reflect_about(-d, ng)
     }
 }
 

@@ -12,11 +12,11 @@
 //!   not. The highlight is `phong * (R·L)^phong_size` in the light's colour.
 
 use super::{Ctx, RayQuery, Whitted};
-use crate::optics::reflect;
 use crate::raytree::Recorder;
 use glam::Vec3;
 use irradia_core::{offset_ray_origin, Rgb};
 use irradia_geometry::Hit;
+use irradia_scatter::optics::reflect_about;
 use irradia_scene::{Material, ShadingModel};
 
 impl<G: RayQuery> Whitted<'_, G> {
@@ -67,7 +67,7 @@ impl<G: RayQuery> Whitted<'_, G> {
                     c += colour * e * (kd * cos);
                 }
                 if mat.specular > 0.0 {
-                    let rv = reflect(-s.dir, ns).dot(view);
+                    let rv = reflect_about(s.dir, ns).dot(view);
                     if rv > 0.0 {
                         c += e * (mat.specular * phong_power(rv, mat.shininess));
                     }
