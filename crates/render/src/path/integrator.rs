@@ -33,6 +33,18 @@ impl Default for PathParams {
     }
 }
 
+impl PathParams {
+    /// The parameters a scene's settings ask for (the one place they are built):
+    /// `max_depth` from the settings (Mitsuba's convention, at least 1), Mitsuba's
+    /// default `rr_depth`.
+    pub fn for_settings(s: &irradia_scene::RenderSettings) -> Self {
+        Self {
+            max_depth: s.max_depth.max(1),
+            ..Self::default()
+        }
+    }
+}
+
 /// Power heuristic with β = 2.
 #[inline]
 fn mis(a: f32, b: f32) -> f32 {

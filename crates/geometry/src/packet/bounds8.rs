@@ -10,7 +10,7 @@
 //! Without AVX2, or for a ray with a zero direction component (where the slab test
 //! would divide zero by zero), every packet is tested.
 
-use super::triangle_packet::{TrianglePacket, LANES};
+use super::triangle8::{TrianglePacket, LANES};
 use glam::Vec3;
 use irradia_core::Aabb;
 
@@ -94,7 +94,7 @@ pub unsafe fn nearest_culled_avx2(
     o: Vec3,
     d: Vec3,
     t_max: f32,
-) -> Option<(usize, super::triangle_packet::PacketHit)> {
+) -> Option<(usize, super::triangle8::PacketHit)> {
     let mut near = [0f32; LANES];
     let mut mask = bounds.enter_avx2(o, d, t_max, &mut near) & ((1u32 << packets.len()) - 1);
     let mut best = None;
@@ -108,7 +108,7 @@ pub unsafe fn nearest_culled_avx2(
         }
         let m = packets[k].test_avx2(o, d, t_max, &mut lanes);
         if m != 0 {
-            if let Some(h) = super::triangle_packet::nearest_lane(m, &lanes, t_max) {
+            if let Some(h) = super::triangle8::nearest_lane(m, &lanes, t_max) {
                 t_max = h.t;
                 best = Some((k, h));
             }

@@ -6,7 +6,7 @@
 //! triangles costs less than eight separate walks of the flat scene's packets, and the
 //! per-lane calls disappear.
 //!
-//! The test is [`TrianglePacket`](crate::path::triangle_packet::TrianglePacket)'s
+//! The test is [`TrianglePacket`](super::triangle8::TrianglePacket)'s
 //! Möller-Trumbore form with the precomputed normal, with the same products and sums
 //! (fused where its AVX2 version fuses them, `FMA = true`, not where its SSE version
 //! does not), and the triangles are visited in the flat scene's packet order keeping
@@ -17,10 +17,11 @@ use super::lanes::{F8, M8, V3, W};
 use glam::Vec3;
 
 /// Scenes of at most this many triangles are traced eight rays at a time.
-pub(crate) const MAX_TRIANGLES: usize = 64;
+pub const MAX_TRIANGLES: usize = 64;
 
 /// The triangles as the ray-lane test reads them.
-pub(crate) struct RayLaneTriangles {
+#[derive(Clone, Debug)]
+pub struct RayLaneTriangles {
     /// Per triangle: `v0`, `e1 = v1 - v0`, `e2 = v2 - v0`, `n = e1 × e2`.
     records: Vec<[f32; 12]>,
     /// The triangle index of each record.
@@ -28,7 +29,8 @@ pub(crate) struct RayLaneTriangles {
 }
 
 /// The nearest hits of eight rays.
-pub(crate) struct LaneHits {
+#[derive(Clone, Copy, Debug)]
+pub struct LaneHits {
     pub hit: M8,
     pub triangle: [u32; W],
     pub t: F8,
@@ -119,8 +121,14 @@ impl RayLaneTriangles {
     /// The nearest hit (`t > 0`) of each ray of `active`.
     #[inline(always)]
     pub fn nearest<const FMA: bool>(&self, o: V3, d: V3, active: M8) -> LaneHits {
+        self.nearest_within::<FMA>(o, d, F8::splat(f32::INFINITY), active)
+    }
+
+    /// The nearest hit with `0 < t < t_max` of each ray of `active`.
+    #[inline(always)]
+    pub fn nearest_within<const FMA: bool>(&self, o: V3, d: V3, t_max: F8, active: M8) -> LaneHits {
         // Inactive lanes get t_max = -inf: nothing is accepted.
-        let mut best = active.select(F8::splat(f32::INFINITY), F8::splat(f32::NEG_INFINITY));
+        let mut best = active.select(t_max, F8::splat(f32::NEG_INFINITY));
         let mut h = LaneHits {
             hit: M8::FALSE,
             triangle: [0; W],
@@ -133,7 +141,7 @@ impl RayLaneTriangles {
             if !ok.any() {
                 continue;
             }
-            // As `triangle_packet::nearest_lane`: t = t' / |den| by a reciprocal,
+            // As `triangle8::nearest_lane`: t = t' / |den| by a reciprocal,
             // strictly nearer than the best so far.
             let inv = 1.0 / abs_den;
             let th = t * inv;
