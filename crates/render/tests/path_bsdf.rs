@@ -4,10 +4,14 @@
 
 use glam::{Vec2, Vec3};
 use irradia_core::{Rgb, Rng};
-use irradia_scatter::bsdfs::lecture::fresnel_dielectric;
 use irradia_scatter::bsdfs::{LectureLobe as Lobe, LectureMix as Bsdf};
 use irradia_scatter::{BsdfSample, Scatter};
 use std::f64::consts::PI;
+
+/// The dielectric Fresnel reflectance of the scattering toolkit's optics.
+fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
+    irradia_scatter::optics::fresnel_dielectric(cos_i, eta).reflectance
+}
 
 const THETA_BINS: usize = 10;
 const PHI_BINS: usize = 20;

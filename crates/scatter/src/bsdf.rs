@@ -154,4 +154,11 @@ bsdf_enum! {
     Dielectric(Dielectric),
     RoughDielectric(RoughDielectric),
     ThinDielectric(ThinDielectric),
+    Plastic(Plastic),
+    RoughPlastic(RoughPlastic),
+    Principled(Principled),
+    Blend(Blend),
+    Mask(Mask),
+    TwoSided(TwoSided),
+    NormalMap(NormalMap),
 }

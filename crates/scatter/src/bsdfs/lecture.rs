@@ -8,6 +8,7 @@
 //! Whitted tracer shades both sides of a surface.
 
 use crate::bsdf::{BsdfSample, LobeFlags, Scatter};
+use crate::optics::{fresnel_dielectric, reflect, refract};
 use glam::{Vec2, Vec3};
 use irradia_core::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
 use irradia_core::Rgb;
@@ -261,7 +262,8 @@ impl LectureLobe {
                 eta: 1.0,
             }),
             LectureLobe::Dielectric { eta, tint, weight } => {
-                let f = fresnel_dielectric(wo.z, eta);
+                let fresnel = fresnel_dielectric(wo.z, eta);
+                let f = fresnel.reflectance;
                 if u.x < f {
                     Some(BsdfSample {
                         wi: reflect(wo),
@@ -271,7 +273,11 @@ impl LectureLobe {
                         eta: 1.0,
                     })
                 } else {
-                    let (wi, eta_rel) = refract(wo, eta)?;
+                    if fresnel.cos_theta_t == 0.0 {
+                        return None; // total internal reflection
+                    }
+                    let wi = refract(wo, fresnel.cos_theta_t, fresnel.eta_ti);
+                    let eta_rel = fresnel.eta_it;
                     // Radiance is compressed into the denser medium: divide by the
                     // squared relative index (PBRT 4th ed., 9.5.2).
                     Some(BsdfSample {
@@ -302,47 +308,4 @@ impl LectureLobe {
         }
         sum / (m * m) as f32
     }
-}
-
-/// Mirror direction of `w` about the +z normal.
-#[inline]
-pub fn reflect(w: Vec3) -> Vec3 {
-    Vec3::new(-w.x, -w.y, w.z)
-}
-
-/// Refracts `wo` through a boundary with relative index `eta` (inside / outside, the
-/// normal +z pointing outside). Returns the refracted direction and the relative index
-/// `eta_t / eta_i` along the path, or `None` on total internal reflection.
-pub fn refract(wo: Vec3, eta: f32) -> Option<(Vec3, f32)> {
-    let (cos_i, eta_rel, sign) = if wo.z > 0.0 {
-        (wo.z, eta, 1.0)
-    } else {
-        (-wo.z, 1.0 / eta, -1.0)
-    };
-    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
-    let sin2_t = sin2_i / (eta_rel * eta_rel);
-    if sin2_t >= 1.0 {
-        return None;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    let wi = Vec3::new(-wo.x / eta_rel, -wo.y / eta_rel, -sign * cos_t);
-    Some((wi.normalize(), eta_rel))
-}
-
-/// Unpolarised Fresnel reflectance of a dielectric boundary for light arriving at
-/// cosine `cos_i` (positive: from outside) with relative index `eta` (inside/outside).
-pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
-    let (cos_i, eta) = if cos_i < 0.0 {
-        (-cos_i, 1.0 / eta)
-    } else {
-        (cos_i, eta)
-    };
-    let sin2_t = (1.0 - cos_i * cos_i).max(0.0) / (eta * eta);
-    if sin2_t >= 1.0 {
-        return 1.0;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    let r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    let r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    0.5 * (r_parl * r_parl + r_perp * r_perp)
 }
