@@ -16,4 +16,4 @@ pub use error::{ErrorKind, SceneError};
 pub use file::{load_file, load_str, Format};
 pub use light::{spot_falloff, Light};
 pub use material::{image_texel, Material, ShadingModel, Texture};
-pub use scene::{Integrator, Object, RenderSettings, Scene};
+pub use scene::{CropWindow, Integrator, Object, PixelFilter, RenderSettings, Scene};

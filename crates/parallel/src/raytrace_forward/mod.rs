@@ -65,7 +65,7 @@ use crate::sort_first::{gather_tiles, Tiling};
 use cache::{Log, Replay};
 use domain::Domain;
 use irradia_render::whitted::{RayQuery, SceneGeometry};
-use irradia_render::{film, Whitted};
+use irradia_render::{driver, Whitted};
 use irradia_scene::Scene;
 use rayon::prelude::*;
 use resolve::{resolve, Owned, Traffic};
@@ -252,7 +252,7 @@ struct Pass {
     rays: u64,
 }
 
-/// Traces `pixels` exactly as `irradia render` does (`film::render_region` of one
+/// Traces `pixels` exactly as `irradia render` does (`driver::render_region` of one
 /// pixel: the same samples, and with adaptive sampling the same decision from the
 /// neighbours' centre samples), answering geometry from each pixel's log.
 fn trace_pass(scene: &Scene, solid: &[bool], pixels: Vec<Pending>) -> Pass {
@@ -265,7 +265,7 @@ fn trace_pass(scene: &Scene, solid: &[bool], pixels: Vec<Pending>) -> Pass {
     };
     for Pending { pixel: (x, y), log } in pixels {
         tracer.geometry().begin(log);
-        let (colour, stats) = film::render_region(&tracer, scene, x, y, 1, 1);
+        let (colour, stats) = driver::render_region(&tracer, scene, x, y, 1, 1);
         pass.rays += stats.total_rays();
         let (log, missed) = tracer.geometry().end();
         if missed {
