@@ -5,7 +5,7 @@
 //! stored depth is `z_clip / w_clip` in [0, 1].
 
 use glam::{Mat4, Vec3, Vec4};
-use irradia_scene::{Camera, FovAxis, Projection};
+use irradia_scene::Camera;
 
 /// The transforms of the geometry stage.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,20 +53,13 @@ impl ViewParams {
     pub fn from_camera(camera: &Camera, width: u32, height: u32, near: f32, far: f32) -> Self {
         let aspect = width as f32 / height as f32;
         let view = Mat4::look_at_rh(camera.eye, camera.look_at, camera.up);
-        let proj = match camera.projection {
-            Projection::Perspective { fov_degrees, axis } => {
-                let t = (fov_degrees.to_radians() * 0.5).tan();
-                let horizontal = match axis {
-                    FovAxis::Horizontal => true,
-                    FovAxis::Vertical => false,
-                    FovAxis::Smaller => width <= height,
-                };
-                let half_y = if horizontal { t / aspect } else { t };
-                Mat4::perspective_rh(2.0 * half_y.atan(), aspect, near, far)
-            }
-            Projection::Orthographic { height: h } => {
-                let hh = 0.5 * h;
-                Mat4::orthographic_rh(-hh * aspect, hh * aspect, -hh, hh, near, far)
+        // The field of view comes from the scene's one resolution of it; a thin lens
+        // is drawn as its pinhole (everything in focus).
+        let proj = match camera.fov_y_radians(width, height) {
+            Some(fov_y) => Mat4::perspective_rh(fov_y, aspect, near, far),
+            None => {
+                let half = camera.half_extents(width, height);
+                Mat4::orthographic_rh(-half.x, half.x, -half.y, half.y, near, far)
             }
         };
         Self { view, proj }

@@ -34,7 +34,12 @@ struct TileResult {
 /// The camera ray and random stream of sample `s` of `n` in pixel (x, y): the one
 /// place that decides where samples go, shared by the renderer and `trace-pixel`.
 pub fn camera_sample(cam: &CameraRays, x: u32, y: u32, s: u32, n: u32) -> (Ray, Rng) {
-    let (o, rng) = pixel_sample(x, y, s, n);
+    let (o, mut rng) = pixel_sample(x, y, s, n);
+    if cam.needs_lens_sample() {
+        // A thin lens: the aperture point from the sample's stream (pinholes draw none).
+        let lens = rng.next_2d();
+        return (cam.ray_lens(x as f32 + o.x, y as f32 + o.y, lens), rng);
+    }
     (cam.ray(x as f32 + o.x, y as f32 + o.y), rng)
 }
 
@@ -249,8 +254,7 @@ fn adaptive_tile<I: Integrator>(
                 stats.refined_pixels += 1;
                 let mut sum = Rgb::BLACK;
                 for s in 0..fine {
-                    let (o, mut rng) = pixel_sample(x, y, s, fine);
-                    let ray = cam.ray(x as f32 + o.x, y as f32 + o.y);
+                    let (ray, mut rng) = camera_sample(cam, x, y, s, fine);
                     let mut a = AovSample::default();
                     sum += integrator.sample(&ray, &mut rng, stats, &mut a);
                 }

@@ -84,6 +84,7 @@ fn spot_lights_are_full_inside_the_inner_cone_and_dark_outside_the_outer() {
                 intensity: Rgb::splat(16.0),
                 cos_inner: 20f32.to_radians().cos(),
                 cos_outer: 30f32.to_radians().cos(),
+                profile: irradia_scene::SpotProfile::Smooth,
             },
             p,
         )

@@ -102,10 +102,15 @@ pub fn fingerprint(scene: &Scene, params: &PathParams) -> u64 {
 }
 
 /// The start of sample `i` of pixel `(x, y)`: its random stream, and the camera ray
-/// through the jittered point of the pixel drawn first from that stream.
+/// through the jittered point of the pixel drawn first from that stream (then the
+/// point of the lens, for a thin-lens camera only, so pinhole streams are unchanged).
 pub fn pixel_sample(cam: &CameraRays, x: u32, y: u32, i: u32, seed: u32) -> (Ray, Rng) {
     let mut rng = Rng::for_pixel(x, y, i, PATH_STREAM ^ seed.wrapping_mul(0x9e37_79b9));
     let j = rng.next_2d();
+    if cam.needs_lens_sample() {
+        let lens = rng.next_2d();
+        return (cam.ray_lens(x as f32 + j.x, y as f32 + j.y, lens), rng);
+    }
     (cam.ray(x as f32 + j.x, y as f32 + j.y), rng)
 }
 
