@@ -82,3 +82,50 @@ impl ViewParams {
         -p.z / p.w
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use irradia_scene::{FovAxis, Projection};
+
+    /// The rasterizer's projection puts a point where the scene's camera ray through a
+    /// pixel finds it, for every field-of-view axis and both image orientations (both
+    /// ask the scene's one resolution of the axis).
+    #[test]
+    fn projection_matches_the_scenes_rays_for_every_fov_axis() {
+        let axes = [
+            FovAxis::Horizontal,
+            FovAxis::Vertical,
+            FovAxis::Diagonal,
+            FovAxis::Smaller,
+            FovAxis::Larger,
+        ];
+        for axis in axes {
+            for (w, h) in [(160u32, 90u32), (90, 160)] {
+                let camera = Camera::new(
+                    Vec3::new(1.0, 2.0, 6.0),
+                    Vec3::new(0.0, 0.5, 0.0),
+                    Vec3::Y,
+                    Projection::Perspective {
+                        fov_degrees: 50.0,
+                        axis,
+                    },
+                );
+                let view = ViewParams::from_camera(&camera, w, h, 0.1, 100.0);
+                let rays = camera.rays(w, h);
+                for (x, y) in [(3.5f32, 7.25f32), (80.0, 45.0), (150.5, 88.0)] {
+                    let r = rays.ray(x, y);
+                    let p = r.origin + r.dir * 4.0;
+                    let c = view.view_proj() * p.extend(1.0);
+                    let (nx, ny) = (c.x / c.w, c.y / c.w);
+                    let px = (nx + 1.0) * 0.5 * w as f32;
+                    let py = (1.0 - ny) * 0.5 * h as f32;
+                    assert!(
+                        (px - x).abs() < 1e-3 && (py - y).abs() < 1e-3,
+                        "{axis:?} {w}x{h}: ({x}, {y}) projects to ({px}, {py})"
+                    );
+                }
+            }
+        }
+    }
+}
