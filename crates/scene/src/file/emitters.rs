@@ -64,8 +64,16 @@ pub(super) fn read_projector(t: &Table) -> Result<Light> {
     let up_v = t.get("up");
     let up = up_v.as_ref().map_or(Ok(Vec3::Y), |u| u.direction())?;
     if direction.cross(up.normalize()).length() < 1e-4 {
-        let at = up_v.unwrap_or(t.req("position")?);
-        return Err(at.err("up must not be parallel to the projector's axis"));
+        let at = match up_v {
+            Some(u) => u,
+            None => t
+                .get("look_at")
+                .or(t.get("direction"))
+                .unwrap_or(t.req("position")?),
+        };
+        return Err(
+            at.err("up must not be parallel to the projector's axis (give an `up` across it)")
+        );
     }
     let fov_v = t.req("fov")?;
     let fov = fov_v.f32()?;
