@@ -44,8 +44,10 @@ impl From<irradia_render::RenderError> for CliError {
     fn from(e: irradia_render::RenderError) -> Self {
         use irradia_render::RenderError as E;
         match e {
-            E::Image(_) | E::PixelOutside { .. } => CliError::Input(e.to_string()),
-            E::Threads(_) => CliError::Failure(e.to_string()),
+            E::Image(_) | E::PixelOutside { .. } | E::Settings(_) | E::Resume(_) => {
+                CliError::Input(e.to_string())
+            }
+            E::Threads(_) | E::CheckpointWrite(_) => CliError::Failure(e.to_string()),
             #[allow(unreachable_patterns)]
             _ => CliError::Failure(e.to_string()),
         }

@@ -11,6 +11,7 @@ pub mod image;
 pub mod io;
 pub mod ray;
 pub mod sampling;
+pub mod text;
 
 pub use aabb::Aabb;
 pub use color::Rgb;

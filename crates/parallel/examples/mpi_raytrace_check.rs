@@ -11,7 +11,7 @@ use irradia_parallel::comm::{Comm, MpiComm};
 use irradia_parallel::composite::Strategy;
 use irradia_parallel::sort_first::{Assign, Tiling};
 use irradia_parallel::{raytrace_first, raytrace_forward, raytrace_last};
-use irradia_render::{film, Whitted};
+use irradia_render::{driver, Whitted};
 use std::time::Duration;
 
 fn main() {
@@ -31,7 +31,7 @@ fn main() {
             }
         }
     };
-    let serial = film::render_with(&Whitted::new(&scene), &scene, &Default::default())
+    let serial = driver::render_with(&Whitted::new(&scene), &scene, &Default::default())
         .expect("serial render")
         .image;
     for tiling in [
@@ -68,7 +68,7 @@ fn main() {
         let mut scene = irradia_scene::builtin::load(name).expect("built-in scene");
         scene.settings.width = 64;
         scene.settings.height = 48;
-        let serial = film::render_with(&Whitted::new(&scene), &scene, &Default::default())
+        let serial = driver::render_with(&Whitted::new(&scene), &scene, &Default::default())
             .expect("serial render")
             .image;
         for tiling in [

@@ -19,7 +19,7 @@ use crate::composite::{Layer, Operator, FAR};
 use crate::sort_first::{gather_tiles, overlap, points_box, TileLayout, Tiling};
 use irradia_core::{Image, Rgb};
 use irradia_raster::{Pipeline, Rect, ViewParams};
-use irradia_render::{film, Whitted};
+use irradia_render::{driver, Whitted};
 use irradia_scene::Scene;
 use rayon::prelude::*;
 
@@ -116,7 +116,7 @@ pub fn render<C: Comm>(
     let mine: Vec<Rect> = layout.mine(comm.rank()).copied().collect();
     let done: Vec<_> = mine
         .par_iter()
-        .map(|r| film::render_region(&whitted, scene, r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0))
+        .map(|r| driver::render_region(&whitted, scene, r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0))
         .collect();
     let mut layer = Layer::<[f32; 4]>::new(w, h);
     let mut rays = 0;

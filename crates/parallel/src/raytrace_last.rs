@@ -27,7 +27,7 @@ use crate::frame::block;
 use glam::Vec3;
 use irradia_core::{Ray, Rgb};
 use irradia_geometry::SceneHit;
-use irradia_render::film::camera_sample;
+use irradia_render::sampler::centre_sample;
 use irradia_render::{AovSample, Integrator, Stats, Whitted};
 use irradia_scene::{Light, Scene};
 use rayon::prelude::*;
@@ -60,7 +60,7 @@ fn cast_rows(scene: &Scene) -> (Layer<[f32; 4]>, ActiveRect) {
         .map(|y| {
             (0..w)
                 .map(|x| {
-                    let (ray, _) = camera_sample(&cam, x, y, 0, 1);
+                    let (ray, _) = centre_sample(&cam, x, y);
                     match scene.accel.intersect(&ray, f32::INFINITY) {
                         Some(sh) => {
                             let c = shade(scene, &ray, &sh);
@@ -149,7 +149,7 @@ fn whitted_rows(scene: &Scene) -> (Layer<[f32; 4]>, ActiveRect) {
             let mut stats = Stats::default();
             (0..w)
                 .map(|x| {
-                    let (ray, mut rng) = camera_sample(&cam, x, y, 0, 1);
+                    let (ray, mut rng) = centre_sample(&cam, x, y);
                     let mut aov = AovSample::default();
                     let c = tracer.sample(&ray, &mut rng, &mut stats, &mut aov);
                     if aov.depth.is_finite() {

@@ -7,7 +7,7 @@ use irradia_parallel::comm::{run_local, LocalOptions};
 use irradia_parallel::composite::Strategy;
 use irradia_parallel::sort_first::{imbalance, Assign, TileLayout, Tiling};
 use irradia_parallel::{raytrace_first, raytrace_last};
-use irradia_render::{film, Whitted};
+use irradia_render::{driver, Whitted};
 use irradia_scene::Scene;
 
 fn scene(name: &str) -> Scene {
@@ -21,7 +21,7 @@ fn scene(name: &str) -> Scene {
 fn image_parallel_ray_tracing_equals_the_serial_render() {
     for name in ["whitted", "csg"] {
         let s = scene(name);
-        let serial = film::render_with(&Whitted::new(&s), &s, &Default::default())
+        let serial = driver::render_with(&Whitted::new(&s), &s, &Default::default())
             .unwrap()
             .image;
         let tilings = [
@@ -171,7 +171,7 @@ fn object_parallel_casting_has_no_shadows_or_mirrors() {
     // objects: the local ray cast must differ from the Whitted image there.
     let s = scene("whitted");
     let cast = raytrace_last::serial(&s);
-    let traced = film::render_with(&Whitted::new(&s), &s, &Default::default())
+    let traced = driver::render_with(&Whitted::new(&s), &s, &Default::default())
         .unwrap()
         .image;
     let differ = cast

@@ -13,8 +13,8 @@ use irradia_parallel::raytrace_forward::{self, ForwardResult};
 use irradia_parallel::sort_first::{Assign, Tiling};
 use irradia_parallel::{raytrace_first, raytrace_last};
 use irradia_render::raytree::NoRecorder;
-use irradia_render::whitted::{Geometry, ObjectSet, SceneGeometry};
-use irradia_render::{film, AovSample, Stats, Whitted};
+use irradia_render::whitted::{ObjectSet, RayQuery, SceneGeometry};
+use irradia_render::{driver, AovSample, Stats, Whitted};
 use irradia_scene::Scene;
 use std::cell::Cell;
 
@@ -26,7 +26,7 @@ fn scene(name: &str) -> Scene {
 }
 
 fn serial(s: &Scene) -> Image {
-    film::render_with(&Whitted::new(s), s, &Default::default())
+    driver::render_with(&Whitted::new(s), s, &Default::default())
         .unwrap()
         .image
 }
@@ -298,14 +298,14 @@ struct Counting<'s> {
     queries: Cell<usize>,
 }
 
-impl Geometry for Counting<'_> {
-    fn intersect(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> Option<SceneHit> {
+impl RayQuery for Counting<'_> {
+    fn closest_hit(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> Option<SceneHit> {
         self.queries.set(self.queries.get() + 1);
-        self.inner.intersect(set, ray, t_max)
+        self.inner.closest_hit(set, ray, t_max)
     }
-    fn occluded(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> bool {
+    fn any_hit(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> bool {
         self.queries.set(self.queries.get() + 1);
-        self.inner.occluded(set, ray, t_max)
+        self.inner.any_hit(set, ray, t_max)
     }
     fn is_solid(&self, object: u32) -> bool {
         self.inner.is_solid(object)
@@ -330,7 +330,7 @@ fn every_exchange_resolves_at_least_one_query_of_every_unfinished_pixel() {
     let mut most = 0;
     for y in 0..s.settings.height {
         for x in 0..s.settings.width {
-            let (ray, mut rng): (_, Rng) = film::camera_sample(&cam, x, y, 0, 1);
+            let (ray, mut rng): (_, Rng) = irradia_render::sampler::centre_sample(&cam, x, y);
             tracer.geometry().queries.set(0);
             tracer.sample_recorded(
                 &ray,

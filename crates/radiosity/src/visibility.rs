@@ -1,7 +1,9 @@
-//! Occlusion and nearest-surface queries for form factors, through the geometry crate's
-//! scene acceleration structure (`irradia_geometry::Accel`, a BVH over instances): each
-//! patch (for visibility) or element (for the hemisphere's nearest hits) is an instance
-//! of the small planar-polygon shape below.
+//! Occlusion and nearest-surface queries for form factors, through the one ray-query
+//! interface (`irradia_geometry::RayQuery`, answered by the scene acceleration
+//! structure `irradia_geometry::Accel`, a BVH over instances): each patch (for
+//! visibility) or element (for the hemisphere's nearest hits) is an instance of the
+//! small planar-polygon shape below. Patches are opaque, so every query is about
+//! `ObjectSet::All`.
 //!
 //! Rays between two surface points start and end a small distance off the surfaces
 //! (along each normal, 1e-6 of the scene size, which is well above the f32 rounding of
@@ -11,7 +13,7 @@ use crate::geom::Poly;
 use crate::mesh::Mesh;
 use glam::{DVec3, Vec2, Vec3};
 use irradia_core::{Aabb, Ray};
-use irradia_geometry::{Accel, Hit, Instance, Shape, Span};
+use irradia_geometry::{Accel, Hit, Instance, ObjectSet, RayQuery, Shape, Span};
 use std::sync::Arc;
 
 /// A planar triangle or convex quadrilateral as a `Shape` (f32, two-sided).
@@ -111,7 +113,7 @@ impl Visibility {
         let a = p + np * (sp * self.offset);
         let b = q + nq * (sq * self.offset);
         let ray = Ray::new(a.as_vec3(), (b - a).as_vec3());
-        !self.accel.occluded(&ray, 1.0)
+        !self.accel.any_hit(ObjectSet::All, &ray, 1.0)
     }
 }
 
@@ -145,7 +147,7 @@ impl ElementTracer {
         let d = dir.normalize();
         let ray = Ray::new(o.as_vec3(), d.as_vec3());
         self.accel
-            .intersect(&ray, f32::INFINITY)
+            .closest_hit(ObjectSet::All, &ray, f32::INFINITY)
             .map(|h| (h.instance as usize, o + d * h.hit.t as f64))
     }
 }

@@ -1,271 +1,294 @@
-//! The image plane: tiles rendered in parallel with rayon, stratified and adaptive
-//! supersampling per pixel, and the AOV buffers.
-//!
-//! Every sample's random numbers come from `Rng::for_pixel(x, y, sample, 0)` and each
-//! tile writes only its own pixels, so the image is the same for any thread count,
-//! tile size and tile order. Each tile counts its rays in its own `Stats`; they are
-//! merged at the end.
+//! The film: what every integrator's samples add up to. Per pixel of the rendered
+//! window (the whole image, or its crop window), the filter-weighted sums of the
+//! samples' radiance and of their squared luminance, and the sum of the weights, in
+//! f64; so the image (`sum / weight`, pbrt-v4's `RGBFilm`), a per-pixel variance
+//! estimate and the error of the whole image are known at any time, and a checkpoint of
+//! it can be written and resumed.
 
-use crate::aov::Aov;
-use crate::integrator::{AovSample, Integrator};
-use crate::sampler::pixel_sample;
-use crate::stats::Stats;
-use crate::{RenderError, RenderOptions, RenderOutput};
-use irradia_core::{Image, Ray, Rgb, Rng};
-use irradia_scene::camera::CameraRays;
-use irradia_scene::Scene;
-use rayon::prelude::*;
-use std::time::Instant;
+use irradia_core::{Image, ImageError, Rgb};
+use irradia_scene::{CropWindow, Scene};
+use std::path::Path;
 
-#[derive(Clone, Copy, Debug)]
-struct Tile {
-    x0: u32,
-    y0: u32,
-    w: u32,
-    h: u32,
+const MAGIC: &[u8; 16] = b"IRRADIA-FILM-v2\n";
+/// Header: magic, window (x, y, width, height), samples, fingerprint.
+const HEADER: usize = 16 + 5 * 4 + 8;
+/// Per pixel: three sums, the sum of squared luminance, the weight.
+const PIXEL: usize = 5 * 8;
+
+/// One pixel's accumulated samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FilmPixel {
+    pub sum: [f64; 3],
+    pub sum_sq: f64,
+    pub weight: f64,
 }
 
-struct TileResult {
-    colour: Vec<Rgb>,
-    aov: Vec<AovSample>,
-    stats: Stats,
-}
-
-/// The camera ray and random stream of sample `s` of `n` in pixel (x, y): the one
-/// place that decides where samples go, shared by the renderer and `trace-pixel`.
-pub fn camera_sample(cam: &CameraRays, x: u32, y: u32, s: u32, n: u32) -> (Ray, Rng) {
-    let (o, mut rng) = pixel_sample(x, y, s, n);
-    if cam.needs_lens_sample() {
-        // A thin lens: the aperture point from the sample's stream (pinholes draw none).
-        let lens = rng.next_2d();
-        return (cam.ray_lens(x as f32 + o.x, y as f32 + o.y, lens), rng);
+impl FilmPixel {
+    /// Adds one sample of radiance `l` with filter weight `w` (non-finite samples count
+    /// as black).
+    #[inline]
+    pub fn add(&mut self, l: Rgb, w: f32) {
+        let w = w as f64;
+        let v = if l.is_finite() {
+            [l.r as f64 * w, l.g as f64 * w, l.b as f64 * w]
+        } else {
+            [0.0; 3]
+        };
+        self.sum[0] += v[0];
+        self.sum[1] += v[1];
+        self.sum[2] += v[2];
+        let y = luminance(&v);
+        self.sum_sq += y * y;
+        self.weight += w;
     }
-    (cam.ray(x as f32 + o.x, y as f32 + o.y), rng)
-}
 
-/// Renders the scene's image with `integrator`.
-pub fn render_with<I: Integrator>(
-    integrator: &I,
-    scene: &Scene,
-    options: &RenderOptions,
-) -> Result<RenderOutput, RenderError> {
-    let start = Instant::now();
-    let (width, height) = (scene.settings.width, scene.settings.height);
-    // Checks the size before anything is allocated.
-    let mut image = Image::new(width, height)?;
-    let mut aov_images: Vec<(Aov, Image)> = options
-        .aovs
-        .iter()
-        .map(|&a| Image::new(width, height).map(|im| (a, im)))
-        .collect::<Result<_, _>>()?;
-    let want_aov = !aov_images.is_empty();
-
-    let ts = options.tile_size.max(1);
-    let mut tiles = Vec::new();
-    for y0 in (0..height).step_by(ts as usize) {
-        for x0 in (0..width).step_by(ts as usize) {
-            tiles.push(Tile {
-                x0,
-                y0,
-                w: ts.min(width - x0),
-                h: ts.min(height - y0),
-            });
+    /// The filtered mean (black before the first sample).
+    #[inline]
+    pub fn value(&self) -> Rgb {
+        if self.weight > 0.0 {
+            let k = self.weight;
+            Rgb::new(
+                (self.sum[0] / k) as f32,
+                (self.sum[1] / k) as f32,
+                (self.sum[2] / k) as f32,
+            )
+        } else {
+            Rgb::BLACK
         }
     }
-    let cam = scene.camera.rays(width, height);
-    let job = || -> Vec<TileResult> {
-        tiles
-            .par_iter()
-            .map(|t| {
-                let r = render_tile(integrator, scene, &cam, *t, want_aov);
-                if let Some(p) = &options.progress {
-                    p((t.w * t.h) as u64);
+}
+
+/// Accumulated samples of a window of the image. Progressive renders give every pixel
+/// the same number of samples ([`Film::samples`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Film {
+    window: CropWindow,
+    samples: u32,
+    pixels: Vec<FilmPixel>,
+}
+
+/// Errors reading a checkpoint.
+#[derive(Debug, thiserror::Error)]
+pub enum CheckpointError {
+    #[error("{path}: {message}")]
+    Io { path: String, message: String },
+    #[error("{path}: not an Irradia checkpoint, or a damaged one ({message})")]
+    Format { path: String, message: String },
+    #[error("{path}: this checkpoint belongs to another scene or image size; delete it or render without --resume")]
+    Mismatch { path: String },
+}
+
+impl Film {
+    /// An empty film of a whole `width` x `height` image; the size is checked before
+    /// allocating.
+    pub fn new(width: u32, height: u32) -> Result<Self, ImageError> {
+        Self::for_window(CropWindow {
+            x: 0,
+            y: 0,
+            width,
+            height,
+        })
+    }
+
+    /// An empty film of the pixels of `window`.
+    pub fn for_window(window: CropWindow) -> Result<Self, ImageError> {
+        let n = irradia_core::image::check_size(window.width, window.height, 40)?;
+        Ok(Self {
+            window,
+            samples: 0,
+            pixels: vec![FilmPixel::default(); n],
+        })
+    }
+
+    /// An empty film of the scene's window (its crop window, or the whole image).
+    pub fn for_scene(scene: &Scene) -> Result<Self, ImageError> {
+        Self::for_window(scene.settings.window())
+    }
+
+    /// Width of the film (of the crop window, if any).
+    pub fn width(&self) -> u32 {
+        self.window.width
+    }
+    pub fn height(&self) -> u32 {
+        self.window.height
+    }
+    /// The rectangle of the image this film holds.
+    pub fn window(&self) -> CropWindow {
+        self.window
+    }
+    /// Samples per pixel accumulated so far (by progressive passes).
+    pub fn samples(&self) -> u32 {
+        self.samples
+    }
+
+    pub fn pixels(&self) -> &[FilmPixel] {
+        &self.pixels
+    }
+
+    /// The pixel at image coordinates (x, y), which must lie in the window.
+    #[inline]
+    pub(crate) fn index(&self, x: u32, y: u32) -> usize {
+        (y - self.window.y) as usize * self.window.width as usize + (x - self.window.x) as usize
+    }
+
+    pub(crate) fn pixels_mut(&mut self) -> &mut [FilmPixel] {
+        &mut self.pixels
+    }
+
+    pub(crate) fn finish_pass(&mut self, samples: u32) {
+        self.samples += samples;
+    }
+
+    /// The filtered mean of the samples (black before the first sample).
+    pub fn image(&self) -> Image {
+        let px = self.pixels.iter().map(FilmPixel::value).collect();
+        Image::from_pixels(self.window.width, self.window.height, px)
+    }
+
+    /// Per-pixel variance of the mean luminance (the squared standard error).
+    pub fn variance_of_mean(&self) -> Vec<f64> {
+        let n = self.samples as f64;
+        if self.samples < 2 {
+            return vec![f64::INFINITY; self.pixels.len()];
+        }
+        self.pixels
+            .iter()
+            .map(|p| {
+                // Luminance samples are w·y; their mean over the mean weight is the
+                // pixel's value (the weights are 1 for the box and tent filters).
+                let mean_w = p.weight / n;
+                if mean_w <= 0.0 {
+                    return 0.0;
                 }
-                r
+                let mean = luminance(&p.sum) / n;
+                let var = ((p.sum_sq / n - mean * mean) * n / (n - 1.0)).max(0.0);
+                var / n / (mean_w * mean_w)
             })
             .collect()
-    };
-    let results = match options.threads {
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n.max(1))
-            .build()
-            .map_err(|e| RenderError::Threads(e.to_string()))?
-            .install(job),
-        None => job(),
-    };
+    }
 
-    let mut stats = Stats {
-        width,
-        height,
-        max_level: scene.settings.max_depth,
-        ..Stats::default()
-    };
-    let w = width as usize;
-    for (t, r) in tiles.iter().zip(&results) {
-        stats.merge(&r.stats);
-        for j in 0..t.h as usize {
-            let row = (t.y0 as usize + j) * w + t.x0 as usize;
-            let src = j * t.w as usize;
-            image.pixels_mut()[row..row + t.w as usize]
-                .copy_from_slice(&r.colour[src..src + t.w as usize]);
-            for (a, im) in aov_images.iter_mut() {
-                for i in 0..t.w as usize {
-                    im.pixels_mut()[row + i] = a.value(&r.aov[src + i]);
+    /// Relative error of the image: the root-mean-square standard error of the pixel
+    /// means divided by the image's mean luminance (infinite before two samples).
+    pub fn relative_error(&self) -> f64 {
+        if self.samples < 2 {
+            return f64::INFINITY;
+        }
+        let var = self.variance_of_mean();
+        let rms = (var.iter().sum::<f64>() / var.len() as f64).sqrt();
+        let mean = self
+            .pixels
+            .iter()
+            .map(|p| {
+                if p.weight > 0.0 {
+                    luminance(&p.sum) / p.weight
+                } else {
+                    0.0
                 }
-            }
+            })
+            .sum::<f64>()
+            / self.pixels.len() as f64;
+        if mean > 0.0 {
+            rms / mean
+        } else if rms == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
         }
     }
-    Ok(RenderOutput {
-        image,
-        aovs: aov_images,
-        stats,
-        elapsed: start.elapsed(),
+
+    /// Writes the film to `path` atomically, tagged with the scene's fingerprint.
+    pub fn save_checkpoint(&self, path: &Path, fingerprint: u64) -> std::io::Result<()> {
+        let mut out = Vec::with_capacity(HEADER + self.pixels.len() * PIXEL);
+        out.extend_from_slice(MAGIC);
+        let w = self.window;
+        for v in [w.x, w.y, w.width, w.height, self.samples] {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        out.extend_from_slice(&fingerprint.to_le_bytes());
+        for p in &self.pixels {
+            for v in [p.sum[0], p.sum[1], p.sum[2], p.sum_sq, p.weight] {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        irradia_core::io::write_atomic(path, &out)
+    }
+
+    /// Reads a checkpoint written by [`Film::save_checkpoint`] for the same scene.
+    pub fn load_checkpoint(path: &Path, fingerprint: u64) -> Result<Film, CheckpointError> {
+        let p = path.display().to_string();
+        let bytes = std::fs::read(path).map_err(|e| CheckpointError::Io {
+            path: p.clone(),
+            message: e.to_string(),
+        })?;
+        let bad = |m: &str| CheckpointError::Format {
+            path: p.clone(),
+            message: m.into(),
+        };
+        if bytes.len() < HEADER || &bytes[..16] != MAGIC {
+            return Err(bad("wrong header"));
+        }
+        let u32_at = |o: usize| u32::from_le_bytes(bytes[o..o + 4].try_into().unwrap());
+        let window = CropWindow {
+            x: u32_at(16),
+            y: u32_at(20),
+            width: u32_at(24),
+            height: u32_at(28),
+        };
+        let samples = u32_at(32);
+        let fp = u64::from_le_bytes(bytes[36..44].try_into().unwrap());
+        if fp != fingerprint {
+            return Err(CheckpointError::Mismatch { path: p });
+        }
+        let mut film = Film::for_window(window).map_err(|e| bad(&e.to_string()))?;
+        let n = film.pixels.len();
+        if bytes.len() != HEADER + n * PIXEL {
+            return Err(bad("truncated data"));
+        }
+        for (i, px) in film.pixels.iter_mut().enumerate() {
+            let o = HEADER + i * PIXEL;
+            let f =
+                |k: usize| f64::from_le_bytes(bytes[o + 8 * k..o + 8 * k + 8].try_into().unwrap());
+            *px = FilmPixel {
+                sum: [f(0), f(1), f(2)],
+                sum_sq: f(3),
+                weight: f(4),
+            };
+        }
+        film.samples = samples;
+        Ok(film)
+    }
+}
+
+/// A fingerprint of what determines the image (the scene, the film's window and
+/// filter, and the integrator's own parameters `integrator`), not the sample budget; a
+/// checkpoint of another scene is refused with it.
+pub fn fingerprint(scene: &Scene, integrator: &str) -> u64 {
+    let s = &scene.settings;
+    let text = format!(
+        "{}x{}|{:?}|{:?}|{:?}|{}|{}|{}|{}|{:?}|{:?}|{:?}",
+        s.width,
+        s.height,
+        s.background,
+        scene.camera,
+        scene
+            .materials
+            .iter()
+            .map(|m| (m.emission, m.diffuse, m.specular, m.transmission))
+            .collect::<Vec<_>>(),
+        scene.objects.len(),
+        scene.materials.len(),
+        scene.lights.len(),
+        integrator,
+        scene.source,
+        s.filter,
+        s.crop,
+    );
+    text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
     })
 }
 
-/// Renders the pixels of the rectangle at (`x0`, `y0`) of `w` x `h` pixels exactly as
-/// [`render_with`] renders them (the same samples and adaptive decisions, which depend
-/// only on the pixel), row-major, with the rays it traced: image-parallel (sort-first)
-/// rendering of screen regions.
-pub fn render_region<I: Integrator>(
-    integrator: &I,
-    scene: &Scene,
-    x0: u32,
-    y0: u32,
-    w: u32,
-    h: u32,
-) -> (Vec<Rgb>, Stats) {
-    let cam = scene
-        .camera
-        .rays(scene.settings.width, scene.settings.height);
-    let r = render_tile(integrator, scene, &cam, Tile { x0, y0, w, h }, false);
-    (r.colour, r.stats)
-}
-
-fn render_tile<I: Integrator>(
-    integrator: &I,
-    scene: &Scene,
-    cam: &CameraRays,
-    t: Tile,
-    want_aov: bool,
-) -> TileResult {
-    let mut stats = Stats::default();
-    let n = (t.w * t.h) as usize;
-    let mut colour = Vec::with_capacity(n);
-    let mut aov = Vec::with_capacity(if want_aov { n } else { 0 });
-    let spp = scene.settings.spp.max(1);
-    stats.pixels = n as u64;
-    match scene.settings.adaptive_threshold {
-        None => {
-            for y in t.y0..t.y0 + t.h {
-                for x in t.x0..t.x0 + t.w {
-                    let mut first = AovSample::default();
-                    let mut sum = Rgb::BLACK;
-                    for s in 0..spp {
-                        let (ray, mut rng) = camera_sample(cam, x, y, s, spp);
-                        let mut a = AovSample::default();
-                        sum += integrator.sample(&ray, &mut rng, &mut stats, &mut a);
-                        if s == 0 {
-                            first = a;
-                        }
-                    }
-                    stats.samples += spp as u64;
-                    colour.push(sum / spp as f32);
-                    if want_aov {
-                        aov.push(first);
-                    }
-                }
-            }
-        }
-        Some(threshold) => adaptive_tile(
-            integrator,
-            scene,
-            cam,
-            t,
-            spp,
-            threshold,
-            want_aov,
-            &mut stats,
-            &mut colour,
-            &mut aov,
-        ),
-    }
-    TileResult { colour, aov, stats }
-}
-
-/// Adaptive supersampling (lecture: "Adaptive sampling"; Whitted 1980): one sample at
-/// every pixel centre, then every pixel whose centre colour differs from a 4-neighbour's
-/// by more than `threshold` (in any channel) is re-rendered with `max(spp, 4)`
-/// stratified samples. The centre samples of a one-pixel border around the tile are
-/// computed too, so the decision does not depend on where tiles end.
-#[allow(clippy::too_many_arguments)]
-fn adaptive_tile<I: Integrator>(
-    integrator: &I,
-    scene: &Scene,
-    cam: &CameraRays,
-    t: Tile,
-    spp: u32,
-    threshold: f32,
-    want_aov: bool,
-    stats: &mut Stats,
-    colour: &mut Vec<Rgb>,
-    aov: &mut Vec<AovSample>,
-) {
-    let (width, height) = (scene.settings.width, scene.settings.height);
-    let bx0 = t.x0.saturating_sub(1);
-    let by0 = t.y0.saturating_sub(1);
-    let bx1 = (t.x0 + t.w + 1).min(width);
-    let by1 = (t.y0 + t.h + 1).min(height);
-    let bw = (bx1 - bx0) as usize;
-    let mut base = Vec::with_capacity(bw * (by1 - by0) as usize);
-    let mut base_aov = Vec::with_capacity(if want_aov { base.capacity() } else { 0 });
-    for y in by0..by1 {
-        for x in bx0..bx1 {
-            let (ray, mut rng) = camera_sample(cam, x, y, 0, 1);
-            let mut a = AovSample::default();
-            base.push(integrator.sample(&ray, &mut rng, stats, &mut a));
-            if want_aov {
-                base_aov.push(a);
-            }
-        }
-    }
-    let at = |x: u32, y: u32| base[(y - by0) as usize * bw + (x - bx0) as usize];
-    let fine = spp.max(4);
-    for y in t.y0..t.y0 + t.h {
-        for x in t.x0..t.x0 + t.w {
-            let c = at(x, y);
-            let mut differs = false;
-            let neighbours = [
-                (x.wrapping_sub(1), y),
-                (x + 1, y),
-                (x, y.wrapping_sub(1)),
-                (x, y + 1),
-            ];
-            for (nx, ny) in neighbours {
-                if nx < width && ny < height {
-                    let d = at(nx, ny) - c;
-                    if d.r.abs().max(d.g.abs()).max(d.b.abs()) > threshold {
-                        differs = true;
-                    }
-                }
-            }
-            stats.samples += 1;
-            if differs {
-                stats.refined_pixels += 1;
-                let mut sum = Rgb::BLACK;
-                for s in 0..fine {
-                    let (ray, mut rng) = camera_sample(cam, x, y, s, fine);
-                    let mut a = AovSample::default();
-                    sum += integrator.sample(&ray, &mut rng, stats, &mut a);
-                }
-                stats.samples += fine as u64;
-                colour.push(sum / fine as f32);
-            } else {
-                colour.push(c);
-            }
-            if want_aov {
-                aov.push(base_aov[(y - by0) as usize * bw + (x - bx0) as usize]);
-            }
-        }
-    }
+#[inline]
+pub(crate) fn luminance(s: &[f64; 3]) -> f64 {
+    0.2126 * s[0] + 0.7152 * s[1] + 0.0722 * s[2]
 }

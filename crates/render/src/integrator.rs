@@ -1,6 +1,8 @@
-//! What the tile renderer asks of an integrator: the radiance of one camera sample,
-//! plus the first hit's data for the AOVs. The Whitted tracer implements it; the path
-//! tracer (crates/render/src/path/) plugs in the same way, chosen in `crate::render`.
+//! What the driver ([`crate::driver`]) asks of an integrator: the radiance of one
+//! camera sample, plus the first hit's data for the AOVs; and, for integrators that
+//! run many samples at once faster (the path tracer's 8-wide kernel), a batch of
+//! samples. The Whitted tracer ([`crate::Whitted`]) and the path tracer
+//! ([`crate::path::PathIntegrator`]) implement it; [`crate::render`] picks one.
 
 use crate::stats::Stats;
 use glam::Vec3;
@@ -30,10 +32,26 @@ impl Default for AovSample {
     }
 }
 
-/// A light-transport algorithm the tile renderer can drive.
+/// A light-transport algorithm the driver can run (pbrt-v4's `RayIntegrator`).
 pub trait Integrator: Sync {
     /// Radiance arriving along the camera ray `ray` (one sample of one pixel). `rng` is
     /// the sample's own stream (seeded from pixel and sample index), `stats` the
     /// calling tile's counters; `aov` receives the first hit.
     fn sample(&self, ray: &Ray, rng: &mut Rng, stats: &mut Stats, aov: &mut AovSample) -> Rgb;
+
+    /// Samples `0..out.len()` without AOVs: sample `k` starts from `start(k)` (its
+    /// camera ray and stream) and its radiance goes to `out[k]`, exactly as
+    /// [`Integrator::sample`] would compute it (up to rounding, for SIMD kernels).
+    fn sample_batch(
+        &self,
+        mut start: impl FnMut(usize) -> (Ray, Rng),
+        out: &mut [Rgb],
+        stats: &mut Stats,
+    ) {
+        let mut scratch = AovSample::default();
+        for (k, o) in out.iter_mut().enumerate() {
+            let (ray, mut rng) = start(k);
+            *o = self.sample(&ray, &mut rng, stats, &mut scratch);
+        }
+    }
 }

@@ -3,30 +3,47 @@
 //! - [`whitted`]: the recursive ray tracer of the lecture ("Recursive Ray Tracer"),
 //!   with Phong or POV-Ray shading, shadow rays through transparent objects,
 //!   reflection, refraction with nested media, and ray trees ([`raytree`]).
-//! - `path` (added separately): the Monte Carlo path tracer.
+//! - [`path`]: the Monte Carlo path tracer.
 //!
-//! [`render`] picks the integrator named by `scene.settings.integrator` and renders
-//! the image tile by tile on a rayon pool ([`film`]); [`trace_pixel`] records the ray
-//! tree of one pixel with the same code.
+//! Both plug into one driver through the [`Integrator`] trait: [`driver`] (tiles on
+//! rayon, progressive passes, sample / time / error budgets, checkpoints, AOVs,
+//! progress), [`film`] (the accumulated samples), [`sampler`] (where samples go) and
+//! [`filter`] (pixel filters). [`render`] picks the integrator named by
+//! `scene.settings.integrator`; [`trace_pixel`] records the ray tree of one pixel with
+//! the same code.
 
+pub mod adaptive;
 pub mod aov;
+pub mod driver;
 pub mod film;
+pub mod filter;
 pub mod integrator;
 pub mod optics;
 pub mod path;
+pub mod pool;
+pub mod prepared;
 pub mod raytree;
 pub mod sampler;
 pub mod stats;
 pub mod whitted;
 
 pub use aov::Aov;
+pub use driver::{PassReport, StopReason};
+pub use film::{CheckpointError, Film};
 pub use integrator::{AovSample, Integrator};
+pub use prepared::PreparedScene;
 pub use raytree::{RayKind, RayNode};
 pub use stats::Stats;
 pub use whitted::Whitted;
 
+use driver::{DriverSetup, ProgressiveOptions};
+use filter::FilterSampler;
 use irradia_core::{Image, ImageError, Rgb};
 use irradia_scene::{Integrator as Method, Scene};
+use path::{PathIntegrator, PathParams};
+use sampler::{camera_sample, Sampler};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 use thiserror::Error;
@@ -44,7 +61,28 @@ pub enum RenderError {
         width: u32,
         height: u32,
     },
+    /// Settings that do not fit together (a crop window outside the image).
+    #[error("{0}")]
+    Settings(String),
+    /// A checkpoint to resume from that cannot be used.
+    #[error(transparent)]
+    Resume(#[from] CheckpointError),
+    #[error("cannot write the checkpoint: {0}")]
+    CheckpointWrite(std::io::Error),
 }
+
+/// Where a render stands: after each tile (`pass` is `None`) and after each pass.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    /// Pixel-samples finished in this session, and how many there will be (`None`
+    /// when a time or error budget decides).
+    pub done: u64,
+    pub total: Option<u64>,
+    pub pass: Option<PassReport>,
+}
+
+/// A progress callback (called from any thread).
+pub type ProgressFn = Arc<dyn Fn(&Progress) + Send + Sync>;
 
 /// How to render (what to render is in the scene's settings).
 #[derive(Clone)]
@@ -55,8 +93,22 @@ pub struct RenderOptions {
     pub tile_size: u32,
     /// Extra images to produce.
     pub aovs: Vec<Aov>,
-    /// Called after each tile with the number of pixels it finished (from any thread).
-    pub progress: Option<Arc<dyn Fn(u64) + Send + Sync>>,
+    pub progress: Option<ProgressFn>,
+    /// Samples per pixel to reach instead of the scene's (`u32::MAX`: until a time or
+    /// error budget ends the render).
+    pub spp: Option<u32>,
+    /// Stop after the pass in which this much time has passed.
+    pub time_limit: Option<Duration>,
+    /// Stop when the image's relative error estimate falls to this value.
+    pub target_error: Option<f64>,
+    /// Write the film here every `checkpoint_interval` and at the end.
+    pub checkpoint: Option<PathBuf>,
+    pub checkpoint_interval: Duration,
+    /// Continue the render saved in this checkpoint (and keep writing it there unless
+    /// `checkpoint` names another file).
+    pub resume: Option<PathBuf>,
+    /// Selects an independent family of random streams (path tracer).
+    pub seed: u32,
 }
 
 impl Default for RenderOptions {
@@ -66,6 +118,13 @@ impl Default for RenderOptions {
             tile_size: 32,
             aovs: Vec::new(),
             progress: None,
+            spp: None,
+            time_limit: None,
+            target_error: None,
+            checkpoint: None,
+            checkpoint_interval: Duration::from_secs(30),
+            resume: None,
+            seed: 0,
         }
     }
 }
@@ -76,6 +135,11 @@ impl std::fmt::Debug for RenderOptions {
             .field("threads", &self.threads)
             .field("tile_size", &self.tile_size)
             .field("aovs", &self.aovs)
+            .field("spp", &self.spp)
+            .field("time_limit", &self.time_limit)
+            .field("target_error", &self.target_error)
+            .field("checkpoint", &self.checkpoint)
+            .field("resume", &self.resume)
             .finish()
     }
 }
@@ -83,21 +147,102 @@ impl std::fmt::Debug for RenderOptions {
 /// A rendered image with its AOVs and statistics.
 #[derive(Debug)]
 pub struct RenderOutput {
-    /// Linear radiance.
+    /// Linear radiance of the rendered window (the crop window, if any).
     pub image: Image,
     /// Raw AOV images in the order they were asked for.
     pub aovs: Vec<(Aov, Image)>,
     pub stats: Stats,
     /// Wall time of the render (not counting scene loading or file writing).
     pub elapsed: Duration,
+    /// Samples per pixel in the image (counting a resumed checkpoint's).
+    pub samples: u32,
+    pub stop: StopReason,
+    /// The image's relative error estimate (infinite below two samples).
+    pub relative_error: f64,
 }
 
 /// Renders `scene` with the integrator its settings name.
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, RenderError> {
+    scene.settings.check_crop().map_err(RenderError::Settings)?;
     match scene.settings.integrator {
-        Method::Whitted => film::render_with(&Whitted::new(scene), scene, options),
-        Method::Path => path::output::render_output(scene, options),
+        Method::Whitted => {
+            let prepared = PreparedScene::new(scene);
+            driver::render_with(&Whitted::prepared(&prepared), scene, options)
+        }
+        Method::Path => {
+            let lights = path::lights::LightSampler::new(scene);
+            let ps = path::integrator::PathScene::new(
+                scene,
+                path::flat_scene::FlatScene::new(scene),
+                &lights,
+            );
+            let params = PathParams::for_settings(&scene.settings);
+            let integrator = PathIntegrator::new(&ps, params, path::Kernel::Auto);
+            let setup = integrator.setup(options.tile_size, options.aovs.clone());
+            run_driver(&integrator, scene, &setup, options)
+        }
     }
+}
+
+/// The driver under [`RenderOptions`]: the budget, the film (new or resumed), the
+/// thread pool and the progress reports.
+pub(crate) fn run_driver<I: Integrator>(
+    integrator: &I,
+    scene: &Scene,
+    setup: &DriverSetup,
+    options: &RenderOptions,
+) -> Result<RenderOutput, RenderError> {
+    let spp = options.spp.unwrap_or(scene.settings.spp).max(1);
+    let film = match &options.resume {
+        Some(p) => Film::load_checkpoint(p, setup.fingerprint)?,
+        None => Film::for_scene(scene)?,
+    };
+    let progressive = ProgressiveOptions {
+        spp,
+        time_limit: options.time_limit,
+        target_error: options.target_error,
+        checkpoint: options
+            .checkpoint
+            .clone()
+            .or_else(|| options.resume.clone()),
+        checkpoint_interval: options.checkpoint_interval,
+        seed: options.seed,
+    };
+    let pixels = film.pixels().len() as u64;
+    let total = (spp != u32::MAX).then(|| pixels * spp.saturating_sub(film.samples()) as u64);
+    let done = AtomicU64::new(0);
+    let report = |pass: Option<PassReport>, n: u64| {
+        let d = done.fetch_add(n, Ordering::Relaxed) + n;
+        if let Some(p) = &options.progress {
+            p(&Progress {
+                done: d,
+                total,
+                pass,
+            });
+        }
+    };
+    let on_tile = |n: u64| report(None, n);
+    let r = pool::with_threads(options.threads, || {
+        driver::run(
+            integrator,
+            scene,
+            setup,
+            &progressive,
+            film,
+            &on_tile,
+            |p, _| report(Some(*p), 0),
+        )
+    })?
+    .map_err(RenderError::CheckpointWrite)?;
+    Ok(RenderOutput {
+        image: r.film.image(),
+        aovs: r.aovs,
+        stats: r.stats,
+        elapsed: r.elapsed,
+        samples: r.film.samples(),
+        stop: r.stop,
+        relative_error: r.film.relative_error(),
+    })
 }
 
 /// The ray tree of sample `sample` of pixel (x, y) (x right, y down from the top left),
@@ -128,11 +273,13 @@ pub fn trace_pixel(
     } else {
         s.spp.max(1)
     };
-    let (ray, mut rng) = film::camera_sample(&cam, x, y, sample.min(spp - 1), spp);
+    let filter = FilterSampler::new(s.filter);
+    let mut cs = camera_sample(&cam, &filter, Sampler::Stratified { spp }, x, y, sample);
     let mut rec = raytree::TreeRecorder::default();
     let mut stats = Stats::default();
     let mut aov = AovSample::default();
-    let c = Whitted::new(scene).sample_recorded(&ray, &mut rng, &mut stats, &mut aov, &mut rec);
+    let c =
+        Whitted::new(scene).sample_recorded(&cs.ray, &mut cs.rng, &mut stats, &mut aov, &mut rec);
     let root = rec
         .roots
         .pop()

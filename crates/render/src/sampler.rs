@@ -1,14 +1,94 @@
-//! Where in a pixel each camera sample goes.
+//! Where in a pixel each camera sample goes, and the random stream it goes on with:
+//! the one sampler of every integrator ([`Sampler`]), followed by the pixel filter's
+//! warp ([`crate::filter`]) in [`camera_sample`].
 //!
-//! One sample goes through the pixel centre (as POV-Ray without anti-aliasing). More
-//! samples use correlated multi-jittered sampling (Kensler, "Correlated Multi-Jittered
-//! Sampling", Pixar Technical Memo 13-01, 2013): stratified in 2D on an m x n grid and
-//! in each axis alone, for any sample count. The pattern is seeded from the pixel, so
-//! it does not depend on threads or tiles.
+//! - [`Sampler::Stratified`] (the Whitted tracer): one sample goes through the pixel
+//!   centre (as POV-Ray without anti-aliasing); more samples use correlated
+//!   multi-jittered sampling (Kensler, "Correlated Multi-Jittered Sampling", Pixar
+//!   Technical Memo 13-01, 2013): stratified in 2D on an m x n grid and in each axis
+//!   alone, for a sample count known in advance.
+//! - [`Sampler::Independent`] (the path tracer, Mitsuba's `independent` sampler):
+//!   uniform jitter drawn first from the sample's own stream, for renders whose sample
+//!   count is not known in advance (time and error budgets); `seed` selects an
+//!   independent family of streams.
+//!
+//! Both are seeded from (pixel, sample index), so images do not depend on threads,
+//! tiles, passes or crop windows.
 
+use crate::filter::FilterSampler;
 use glam::Vec2;
 use irradia_core::sampling::hash64;
-use irradia_core::Rng;
+use irradia_core::{Ray, Rng};
+use irradia_scene::camera::CameraRays;
+
+/// Stream tag of the independent sampler's samples.
+const INDEPENDENT_STREAM: u32 = 0x9a7b;
+
+/// How the samples of a pixel are placed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sampler {
+    /// `spp` correlated multi-jittered samples (the pixel centre when `spp <= 1`).
+    Stratified { spp: u32 },
+    /// Uniform jitter from stream family `seed`.
+    Independent { seed: u32 },
+}
+
+impl Sampler {
+    /// Offset in `[0,1)²` of sample `i` of pixel (x, y), and the random stream the
+    /// sample's rays use (already past the jitter).
+    #[inline]
+    pub fn pixel_sample(&self, x: u32, y: u32, i: u32) -> (Vec2, Rng) {
+        match *self {
+            Sampler::Stratified { spp } => stratified(x, y, i.min(spp.max(1) - 1), spp),
+            Sampler::Independent { seed } => {
+                let mut rng =
+                    Rng::for_pixel(x, y, i, INDEPENDENT_STREAM ^ seed.wrapping_mul(0x9e37_79b9));
+                let j = rng.next_2d();
+                (j, rng)
+            }
+        }
+    }
+}
+
+/// A camera sample: the ray, its random stream and its filter weight.
+#[derive(Clone, Debug)]
+pub struct CameraSample {
+    pub ray: Ray,
+    pub rng: Rng,
+    pub weight: f32,
+}
+
+/// Sample `i` of pixel (x, y) (of the whole image, whatever the crop window): placed by
+/// `sampler`, moved about the pixel centre by `filter`.
+#[inline]
+pub fn camera_sample(
+    cam: &CameraRays,
+    filter: &FilterSampler,
+    sampler: Sampler,
+    x: u32,
+    y: u32,
+    i: u32,
+) -> CameraSample {
+    let (u, mut rng) = sampler.pixel_sample(x, y, i);
+    let (o, weight) = filter.warp(u);
+    // A thin lens draws its aperture point next from the sample's stream; pinhole and
+    // orthographic cameras draw none, so their streams are unchanged.
+    let ray = if cam.needs_lens_sample() {
+        let lens = rng.next_2d();
+        cam.ray_lens(x as f32 + o.x, y as f32 + o.y, lens)
+    } else {
+        cam.ray(x as f32 + o.x, y as f32 + o.y)
+    };
+    CameraSample { ray, rng, weight }
+}
+
+/// The camera ray through the centre of pixel (x, y) and its stream: the sample of a
+/// one-sample stratified render, whatever the pixel filter (the centre stays the
+/// centre); what object-parallel ray casting traces.
+pub fn centre_sample(cam: &CameraRays, x: u32, y: u32) -> (Ray, Rng) {
+    let (o, rng) = stratified(x, y, 0, 1);
+    (cam.ray(x as f32 + o.x, y as f32 + o.y), rng)
+}
 
 /// Kensler's hash-based permutation of `0..l`: element `i` of a random permutation
 /// chosen by `p`, with no memory.
@@ -45,9 +125,9 @@ fn permute(mut i: u32, l: u32, p: u32) -> u32 {
     (i.wrapping_add(p)) % l
 }
 
-/// Offset in `[0,1)²` of sample `s` of `n` in pixel (x, y), and the random stream the
-/// sample's rays use.
-pub fn pixel_sample(x: u32, y: u32, s: u32, n: u32) -> (Vec2, Rng) {
+/// Offset in `[0,1)²` of sample `s` of `n` in pixel (x, y) by correlated multi-jittered
+/// sampling, and the random stream the sample's rays use.
+pub fn stratified(x: u32, y: u32, s: u32, n: u32) -> (Vec2, Rng) {
     let mut rng = Rng::for_pixel(x, y, s, 0);
     if n <= 1 {
         return (Vec2::splat(0.5), rng);
@@ -72,7 +152,7 @@ mod tests {
 
     #[test]
     fn one_sample_is_the_pixel_centre() {
-        assert_eq!(pixel_sample(3, 9, 0, 1).0, Vec2::splat(0.5));
+        assert_eq!(stratified(3, 9, 0, 1).0, Vec2::splat(0.5));
     }
 
     #[test]
@@ -83,7 +163,7 @@ mod tests {
             let mut cols_hit = vec![0u32; m as usize];
             let mut rows_hit = vec![0u32; rows as usize];
             for s in 0..n {
-                let (o, _) = pixel_sample(11, 4, s, n);
+                let (o, _) = stratified(11, 4, s, n);
                 assert!((0.0..1.0).contains(&o.x) && (0.0..1.0).contains(&o.y));
                 cols_hit[(o.x * m as f32) as usize] += 1;
                 rows_hit[(o.y * rows as f32) as usize] += 1;

@@ -16,8 +16,10 @@
 //! scaled by 1.02 or 0.98 (a 2% bias) on at least `MIN_POWER` of the surface-channels.
 
 use irradia_core::Rgb;
-use irradia_render::path::progressive::{render_with, Kernel};
-use irradia_render::path::{Film, PathParams, ProgressiveOptions};
+use irradia_render::driver::ProgressiveOptions;
+use irradia_render::path::path_integrator::{render_with, Kernel};
+use irradia_render::path::PathParams;
+use irradia_render::Film;
 use irradia_scene::Scene;
 use serde_json::Value;
 use std::time::{Duration, Instant};

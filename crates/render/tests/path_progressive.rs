@@ -5,7 +5,9 @@
 
 mod path_common;
 
-use irradia_render::path::{self, Film, PathParams, ProgressiveOptions, StopReason};
+use irradia_render::driver::{ProgressiveOptions, StopReason};
+use irradia_render::path::{self, PathParams};
+use irradia_render::Film;
 use std::time::Duration;
 
 fn options(spp: u32) -> ProgressiveOptions {
@@ -28,7 +30,7 @@ fn interrupted_and_resumed_render_equals_uninterrupted() {
 
     let dir = tempfile::tempdir().unwrap();
     let ckpt = dir.path().join("room.ckpt");
-    let fp = path::progressive::fingerprint(&scene, &params);
+    let fp = path::fingerprint(&scene, &params);
     // "Interrupted" after 5 samples (a checkpoint is written at the end of every pass).
     let first = ProgressiveOptions {
         checkpoint: Some(ckpt.clone()),
@@ -66,8 +68,7 @@ fn checkpoint_of_another_scene_is_refused() {
         max_depth: 3,
         ..params
     };
-    let err =
-        Film::load_checkpoint(&ckpt, path::progressive::fingerprint(&scene, &other)).unwrap_err();
+    let err = Film::load_checkpoint(&ckpt, path::fingerprint(&scene, &other)).unwrap_err();
     assert!(err.to_string().contains("another scene"), "{err}");
     std::fs::write(&ckpt, b"garbage").unwrap();
     assert!(Film::load_checkpoint(&ckpt, 0).is_err());

@@ -6,9 +6,10 @@
 mod path_common;
 
 use irradia_core::Rgb;
-use irradia_render::path::progressive::Kernel;
-use irradia_render::path::{self, Film, PathParams, ProgressiveOptions};
+use irradia_render::driver::ProgressiveOptions;
+use irradia_render::path::{self, Kernel, PathParams};
 use irradia_render::raytree::{RayKind, RayNode};
+use irradia_render::Film;
 use irradia_scene::Scene;
 use std::time::Duration;
 
@@ -84,7 +85,7 @@ fn one_sample_film(scene: &Scene) -> irradia_core::Image {
         ..Default::default()
     };
     let film = Film::new(s.width, s.height).unwrap();
-    path::progressive::render_with(scene, &params, &options, Kernel::Scalar, film, |_, _| {})
+    path::path_integrator::render_with(scene, &params, &options, Kernel::Scalar, film, |_, _| {})
         .unwrap()
         .film
         .image()

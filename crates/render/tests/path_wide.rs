@@ -6,15 +6,20 @@
 mod path_common;
 
 use glam::Vec3;
-use irradia_core::Rgb;
+use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::shapes::Cuboid;
 use irradia_geometry::Instance;
+use irradia_render::driver::ProgressiveOptions;
+use irradia_render::filter::FilterSampler;
 use irradia_render::path::flat_scene::FlatScene;
 use irradia_render::path::integrator::{radiance_in, PathScene};
 use irradia_render::path::lights::LightSampler;
-use irradia_render::path::progressive::{pixel_sample, Kernel};
 use irradia_render::path::wide::WideScene;
-use irradia_render::path::{self, Film, PathCounters, PathParams, ProgressiveOptions};
+use irradia_render::path::Kernel;
+use irradia_render::path::{self, PathCounters, PathParams};
+use irradia_render::sampler::{camera_sample, Sampler};
+use irradia_render::Film;
+use irradia_scene::camera::CameraRays;
 use irradia_scene::{Material, Object, Scene};
 use std::sync::Arc;
 use std::time::Duration;
@@ -45,6 +50,14 @@ fn cornell(width: u32, height: u32) -> Scene {
     scene.settings.width = width;
     scene.settings.height = height;
     scene
+}
+
+/// Sample `i` of pixel (x, y) as the path tracer draws it (box filter, independent
+/// sampler of stream family `seed`).
+fn pixel_sample(cam: &CameraRays, x: u32, y: u32, i: u32, seed: u32) -> (Ray, Rng) {
+    let filter = FilterSampler::new(Default::default());
+    let s = camera_sample(cam, &filter, Sampler::Independent { seed }, x, y, i);
+    (s.ray, s.rng)
 }
 
 /// Which build of the wide kernel runs.
@@ -193,7 +206,7 @@ fn render(scene: &Scene, spp: u32, seed: u32, scalar_only: bool) -> Film {
     } else {
         Kernel::Auto
     };
-    path::progressive::render_with(scene, &params, &opts, kernel, film, |_, _| {})
+    path::path_integrator::render_with(scene, &params, &opts, kernel, film, |_, _| {})
         .unwrap()
         .film
 }

@@ -3,7 +3,10 @@
 //!
 //! - [`bsdf`]: the interface every BSDF implements ([`Scatter`]: evaluate, pdf, sample,
 //!   lobe flags) and the [`Bsdf`] value an integrator holds at a surface point;
-//! - [`bsdfs`]: one file per BSDF, with Mitsuba 3's parameter meanings.
+//! - [`bsdfs`]: one file per BSDF, with Mitsuba 3's parameter meanings;
+//! - [`optics`]: reflection, refraction and the Fresnel equations;
+//! - [`microfacet`]: the Beckmann and GGX distributions, Smith masking and sampling;
+//! - [`ior`]: Mitsuba's named indices of refraction of dielectrics and conductors.
 //!
 //! # Conventions (one for the whole crate)
 //!
@@ -18,5 +21,9 @@
 
 pub mod bsdf;
 pub mod bsdfs;
+pub mod ior;
+pub mod microfacet;
+pub mod optics;
+mod special;
 
 pub use bsdf::{Bsdf, BsdfSample, LobeFlags, Scatter};

@@ -20,4 +20,4 @@ pub use file::{load_file, load_str, Format};
 pub use light::{spot_falloff, Light, SpotProfile};
 pub use material::{image_texel, Material, ShadingModel, Texture};
 pub use projector::{Projector, ProjectorSample};
-pub use scene::{Integrator, Object, RenderSettings, Scene};
+pub use scene::{CropWindow, Integrator, Object, PixelFilter, RenderSettings, Scene};

@@ -37,6 +37,68 @@ pub struct RenderSettings {
     /// Ambient light multiplied by each material's ambient coefficient.
     pub ambient_light: Rgb,
     pub integrator: Integrator,
+    /// The pixel filter that weights each camera sample by its position around the
+    /// pixel centre (Mitsuba's `rfilter`).
+    pub filter: PixelFilter,
+    /// The part of the image that is rendered (Mitsuba's `crop_offset_x/y`,
+    /// `crop_width/height`); `None` renders all of it.
+    pub crop: Option<CropWindow>,
+}
+
+/// A reconstruction filter, with Mitsuba 3's definitions (plugins `box`, `tent`,
+/// `gaussian`): separable, `f(x, y) = f(x) f(y)` in pixel units around the pixel centre.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PixelFilter {
+    /// `f(x) = 1` for `|x| <= radius` (Mitsuba's default radius 0.5: one pixel).
+    Box { radius: f32 },
+    /// `f(x) = max(0, 1 - |x| / radius)` (Mitsuba's default radius 1).
+    Tent { radius: f32 },
+    /// `f(x) = max(0, exp(-x² / (2 stddev²)) - exp(-r² / (2 stddev²)))`, cut off at
+    /// `r = 4 stddev` (Mitsuba's default stddev 0.5).
+    Gaussian { stddev: f32 },
+}
+
+impl Default for PixelFilter {
+    fn default() -> Self {
+        PixelFilter::Box { radius: 0.5 }
+    }
+}
+
+/// A rectangle of the image, in pixels from the top-left corner.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CropWindow {
+    pub x: u32,
+    pub y: u32,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl RenderSettings {
+    /// The rendered rectangle: the crop window, or the whole image.
+    pub fn window(&self) -> CropWindow {
+        self.crop.unwrap_or(CropWindow {
+            x: 0,
+            y: 0,
+            width: self.width,
+            height: self.height,
+        })
+    }
+
+    /// Why the crop window does not fit the image, if it does not.
+    pub fn check_crop(&self) -> Result<(), String> {
+        let Some(c) = self.crop else { return Ok(()) };
+        if c.width == 0
+            || c.height == 0
+            || c.x as u64 + c.width as u64 > self.width as u64
+            || c.y as u64 + c.height as u64 > self.height as u64
+        {
+            return Err(format!(
+                "crop window {}x{} at ({}, {}) does not fit in the {}x{} image",
+                c.width, c.height, c.x, c.y, self.width, self.height
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl Default for RenderSettings {
@@ -51,6 +113,8 @@ impl Default for RenderSettings {
             background: Rgb::BLACK,
             ambient_light: Rgb::WHITE,
             integrator: Integrator::Whitted,
+            filter: PixelFilter::default(),
+            crop: None,
         }
     }
 }

@@ -5,7 +5,7 @@ use crate::scene_arg::{load_scene, SceneArgs};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use irradia_core::io::{save, Format};
-use irradia_render::{render, Aov, RenderOptions};
+use irradia_render::{render, Aov, Progress, ProgressFn, RenderOptions};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -133,35 +133,34 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let aovs: Vec<Aov> = args.aov.iter().map(|&a| a.into()).collect();
     args.path.validate()?;
     let scene = load_scene(args.scene.as_ref(), &args.scene_args)?;
-    let (w, h) = (scene.settings.width, scene.settings.height);
-    if scene.settings.integrator == irradia_scene::Integrator::Path {
-        return run_path(&args, &scene);
-    }
-    if args.path.any() {
+    let path_traced = scene.settings.integrator == irradia_scene::Integrator::Path;
+    if !path_traced && args.path.any() {
         return Err(CliError::Input(
             "--time, --target-error, --checkpoint and --resume belong to the path tracer: add --integrator path".into(),
         ));
     }
+    scene.settings.check_crop().map_err(CliError::Input)?;
 
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
-        let pb =
-            ProgressBar::with_draw_target(Some(w as u64 * h as u64), ProgressDrawTarget::stderr());
+        let pb = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
         pb.set_style(
-            ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed_precise} eta {eta}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            ProgressStyle::with_template("{spinner} {msg}  {elapsed_precise}")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
         );
         pb
     });
     let progress = bar.clone().map(|pb| {
-        let f: Arc<dyn Fn(u64) + Send + Sync> = Arc::new(move |n| pb.inc(n));
+        let f: ProgressFn = Arc::new(move |p: &Progress| show_progress(&pb, p));
         f
     });
-    let options = RenderOptions {
+    let mut options = RenderOptions {
         threads: args.threads.map(|t| t as usize),
         tile_size: args.tile_size,
         aovs: aovs.clone(),
         progress,
+        ..RenderOptions::default()
     };
+    args.path.apply(&mut options, args.scene_args.spp.is_some());
     let out = render(&scene, &options)?;
     if let Some(pb) = &bar {
         pb.finish_and_clear();
@@ -182,14 +181,35 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     }
 
     if !args.quiet {
-        let secs = out.elapsed.as_secs_f64();
+        let secs = out.elapsed.as_secs_f64().max(1e-9);
         let rays = out.stats.total_rays();
-        eprintln!("{}", out.stats);
-        eprintln!(
-            "Rendered {w}x{h} at {} spp in {secs:.3} s: {rays} rays, {:.2} Mrays/s",
-            scene.settings.spp.max(1),
-            rays as f64 / secs.max(1e-9) / 1e6
-        );
+        let (w, h) = (out.image.width(), out.image.height());
+        if path_traced {
+            if args.path.resume.is_some() && out.stats.samples == 0 {
+                eprintln!(
+                    "The checkpoint already holds {} samples per pixel; nothing to add.",
+                    out.samples
+                );
+            }
+            eprintln!(
+                "Path traced {w}x{h} at {} spp in {secs:.3} s ({:?}): {:.2} Msamples/s, {:.2} Mrays/s, relative error {:.4}",
+                out.samples,
+                out.stop,
+                out.stats.camera_rays as f64 / secs / 1e6,
+                rays as f64 / secs / 1e6,
+                out.relative_error
+            );
+            if let Some(c) = args.path.checkpoint.as_ref().or(args.path.resume.as_ref()) {
+                eprintln!("Checkpoint {}", c.display());
+            }
+        } else {
+            eprintln!("{}", out.stats);
+            eprintln!(
+                "Rendered {w}x{h} at {} spp in {secs:.3} s: {rays} rays, {:.2} Mrays/s",
+                scene.settings.spp.max(1),
+                rays as f64 / secs / 1e6
+            );
+        }
         for p in written {
             eprintln!("Wrote {}", p.display());
         }
@@ -197,42 +217,28 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// `irradia render` with the path tracer: budgets, checkpoints and the summary.
-fn run_path(args: &RenderArgs, scene: &irradia_scene::Scene) -> Result<(), CliError> {
-    if !args.aov.is_empty() {
-        return Err(CliError::Input(
-            "--aov images come from the Whitted integrator: render them with --integrator whitted"
-                .into(),
-        ));
-    }
-    let threads = args.threads.map(|t| t as usize);
-    let summary = super::render_path::run(
-        scene,
-        &args.path,
-        args.scene_args.spp.is_some(),
-        threads,
-        args.quiet,
-    )?;
-    print_shape_warnings(scene, args.quiet);
-    save(&summary.image, &args.output).map_err(|e| CliError::Failure(e.to_string()))?;
-    if !args.quiet {
-        let secs = summary.seconds.max(1e-9);
-        eprintln!(
-            "Path traced {}x{} at {} spp in {secs:.3} s ({:?}): {:.2} Msamples/s, {:.2} Mrays/s, relative error {:.4}",
-            scene.settings.width,
-            scene.settings.height,
-            summary.samples,
-            summary.stop,
-            summary.paths as f64 / secs / 1e6,
-            summary.rays as f64 / secs / 1e6,
-            summary.relative_error
-        );
-        if let Some(c) = args.path.checkpoint.as_ref().or(args.path.resume.as_ref()) {
-            eprintln!("Checkpoint {}", c.display());
+/// The progress bar: a bar over the pixel-samples when their number is known, the
+/// samples per pixel and the error estimate after each pass.
+fn show_progress(pb: &ProgressBar, p: &Progress) {
+    if let Some(total) = p.total {
+        if pb.length() != Some(total) {
+            pb.set_length(total);
+            pb.set_style(
+                ProgressStyle::with_template(
+                    "{bar:40} {percent:>3}% {msg}  {elapsed_precise} eta {eta}",
+                )
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            );
         }
-        eprintln!("Wrote {}", args.output.display());
     }
-    Ok(())
+    pb.set_position(p.done);
+    if let Some(r) = p.pass {
+        if r.relative_error.is_finite() {
+            pb.set_message(format!("{} spp, error {:.4}", r.samples, r.relative_error));
+        } else {
+            pb.set_message(format!("{} spp", r.samples));
+        }
+    }
 }
 
 /// Prints what the shapes noticed while rendering (a Lipschitz bound too small, rays

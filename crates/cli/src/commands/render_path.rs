@@ -1,13 +1,9 @@
-//! The path tracer's side of `irradia render`: sample, time and error budgets, a
-//! progress bar with samples and the error estimate, checkpoints and `--resume`.
+//! The path tracer's options of `irradia render`: sample, time and error budgets,
+//! checkpoints and `--resume` (the driver in `irradia_render` runs them).
 
 use crate::error::CliError;
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use irradia_core::Image;
-use irradia_render::path::{self, Film, PathParams, ProgressiveOptions, StopReason};
-use irradia_scene::Scene;
-use std::io::IsTerminal;
+use irradia_render::RenderOptions;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -64,101 +60,19 @@ impl PathArgs {
         }
         Ok(())
     }
-}
 
-/// What the path tracer did, for the summary line.
-pub struct PathSummary {
-    pub image: Image,
-    pub samples: u32,
-    pub paths: u64,
-    pub rays: u64,
-    pub seconds: f64,
-    pub relative_error: f64,
-    pub stop: StopReason,
-}
-
-/// Path-traces `scene`. `spp_given` tells whether the user fixed the sample count:
-/// with only a time or error budget, samples are not capped.
-pub fn run(
-    scene: &Scene,
-    args: &PathArgs,
-    spp_given: bool,
-    threads: Option<usize>,
-    quiet: bool,
-) -> Result<PathSummary, CliError> {
-    let s = &scene.settings;
-    let params = PathParams {
-        max_depth: s.max_depth.max(1),
-        ..PathParams::default()
-    };
-    let budget = args.time.is_some() || args.target_error.is_some();
-    let spp = if budget && !spp_given {
-        u32::MAX
-    } else {
-        s.spp.max(1)
-    };
-    let fingerprint = path::progressive::fingerprint(scene, &params);
-    let film = match &args.resume {
-        Some(p) => {
-            Film::load_checkpoint(p, fingerprint).map_err(|e| CliError::Input(e.to_string()))?
+    /// Sets the budgets, checkpoint and resume file in `options`. `spp_given` tells
+    /// whether the user fixed the sample count: with only a time or error budget,
+    /// samples are not capped.
+    pub fn apply(&self, options: &mut RenderOptions, spp_given: bool) {
+        let budget = self.time.is_some() || self.target_error.is_some();
+        if budget && !spp_given {
+            options.spp = Some(u32::MAX);
         }
-        None => Film::new(s.width, s.height).map_err(|e| CliError::Input(e.to_string()))?,
-    };
-    if film.samples() >= spp && !quiet {
-        eprintln!(
-            "The checkpoint already holds {} samples per pixel; nothing to add.",
-            film.samples()
-        );
+        options.time_limit = self.time.map(Duration::from_secs_f64);
+        options.target_error = self.target_error;
+        options.checkpoint = self.checkpoint.clone();
+        options.resume = self.resume.clone();
+        options.checkpoint_interval = Duration::from_secs(30);
     }
-    let options = ProgressiveOptions {
-        spp,
-        time_limit: args.time.map(Duration::from_secs_f64),
-        target_error: args.target_error,
-        checkpoint: args.checkpoint.clone().or_else(|| args.resume.clone()),
-        checkpoint_interval: Duration::from_secs(30),
-        seed: 0,
-    };
-    let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
-        let len = if spp == u32::MAX { 0 } else { spp as u64 };
-        let pb = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-        let template = if spp == u32::MAX {
-            "{spinner} {pos} spp  {msg}  {elapsed_precise}"
-        } else {
-            "{bar:40} {pos}/{len} spp  {msg}  {elapsed_precise} eta {eta}"
-        };
-        pb.set_style(
-            ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        pb.set_position(film.samples() as u64);
-        pb
-    });
-    let run = || {
-        path::render(scene, &params, &options, film, |report, _| {
-            if let Some(pb) = &bar {
-                pb.set_position(report.samples as u64);
-                pb.set_message(format!("error {:.4}", report.relative_error));
-            }
-        })
-    };
-    let result = match threads {
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map_err(|e| CliError::Failure(format!("cannot start {n} threads: {e}")))?
-            .install(run),
-        None => run(),
-    }
-    .map_err(|e| CliError::Failure(format!("cannot write the checkpoint: {e}")))?;
-    if let Some(pb) = bar {
-        pb.finish_and_clear();
-    }
-    Ok(PathSummary {
-        image: result.film.image(),
-        samples: result.film.samples(),
-        paths: result.counters.paths,
-        rays: result.counters.rays + result.counters.shadow_rays,
-        seconds: result.elapsed.as_secs_f64(),
-        relative_error: result.film.relative_error(),
-        stop: result.stop,
-    })
 }

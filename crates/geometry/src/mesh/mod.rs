@@ -2,10 +2,9 @@
 //! texture coordinates, hit through their own BVH (the second level of the scene's
 //! two-level hierarchy) with the watertight triangle test.
 
-mod packet;
 mod spans;
 
-pub use packet::Triangle4;
+pub use crate::packet::Triangle4;
 
 use crate::bvh::{Bvh, ChildRef};
 use crate::shape::{Facets, Hit, Shape, Span};

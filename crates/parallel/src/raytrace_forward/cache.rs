@@ -13,7 +13,7 @@
 use super::wire::{Answer, Kind, Query};
 use irradia_core::Ray;
 use irradia_geometry::SceneHit;
-use irradia_render::whitted::{Geometry, ObjectSet};
+use irradia_render::whitted::{ObjectSet, RayQuery};
 use std::sync::Mutex;
 
 /// A pixel's replay log: the queries its last trace asked, in the order it asked them,
@@ -91,9 +91,9 @@ impl<'c> Replay<'c> {
         found
     }
 }
-impl Geometry for Replay<'_> {
+impl RayQuery for Replay<'_> {
     #[inline]
-    fn intersect(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> Option<SceneHit> {
+    fn closest_hit(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> Option<SceneHit> {
         match self.lookup(Query::new(Kind::Nearest, set, ray, t_max)) {
             Some(Answer::Nearest(h)) => h,
             _ => None,
@@ -101,7 +101,7 @@ impl Geometry for Replay<'_> {
     }
 
     #[inline]
-    fn occluded(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> bool {
+    fn any_hit(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> bool {
         matches!(
             self.lookup(Query::new(Kind::Any, set, ray, t_max)),
             Some(Answer::Any(true))

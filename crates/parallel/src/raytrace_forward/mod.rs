@@ -20,7 +20,7 @@
 //!    its own block of objects only (`crate::frame::block`, as `crate::raytrace_last`).
 //! 2. Each rank shades the pixels of its screen regions (`crate::raytrace_first`'s
 //!    layout). The Whitted tracer of `irradia-render` asks its geometry through
-//!    [`irradia_render::whitted::Geometry`]; here that is a [`cache::Replay`], which
+//!    [`irradia_render::whitted::RayQuery`]; here that is a [`cache::Replay`], which
 //!    answers from the pixel's log of resolved queries (what its last trace asked, in
 //!    order) and records every other query as a miss, answering it with a placeholder
 //!    (no hit, not blocked) so that the rest of the pixel's tree is still explored and
@@ -64,8 +64,8 @@ use crate::raytrace_last::sub_scene;
 use crate::sort_first::{gather_tiles, Tiling};
 use cache::{Log, Replay};
 use domain::Domain;
-use irradia_render::whitted::{Geometry, SceneGeometry};
-use irradia_render::{film, Whitted};
+use irradia_render::whitted::{RayQuery, SceneGeometry};
+use irradia_render::{driver, Whitted};
 use irradia_scene::Scene;
 use rayon::prelude::*;
 use resolve::{resolve, Owned, Traffic};
@@ -252,7 +252,7 @@ struct Pass {
     rays: u64,
 }
 
-/// Traces `pixels` exactly as `irradia render` does (`film::render_region` of one
+/// Traces `pixels` exactly as `irradia render` does (`driver::render_region` of one
 /// pixel: the same samples, and with adaptive sampling the same decision from the
 /// neighbours' centre samples), answering geometry from each pixel's log.
 fn trace_pass(scene: &Scene, solid: &[bool], pixels: Vec<Pending>) -> Pass {
@@ -265,7 +265,7 @@ fn trace_pass(scene: &Scene, solid: &[bool], pixels: Vec<Pending>) -> Pass {
     };
     for Pending { pixel: (x, y), log } in pixels {
         tracer.geometry().begin(log);
-        let (colour, stats) = film::render_region(&tracer, scene, x, y, 1, 1);
+        let (colour, stats) = driver::render_region(&tracer, scene, x, y, 1, 1);
         pass.rays += stats.total_rays();
         let (log, missed) = tracer.geometry().end();
         if missed {

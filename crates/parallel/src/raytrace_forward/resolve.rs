@@ -21,7 +21,7 @@
 use super::domain::Domain;
 use super::wire::{Answer, Kind, Query};
 use crate::comm::{Comm, CommError};
-use irradia_render::whitted::{Geometry, SceneGeometry};
+use irradia_render::whitted::{RayQuery, SceneGeometry};
 use rayon::prelude::*;
 
 /// The objects this rank owns: their geometry (`None` when it owns none) and the
@@ -42,11 +42,11 @@ impl Owned<'_> {
             };
         };
         match q.kind() {
-            Kind::Nearest => Answer::Nearest(g.intersect(set, &ray, t_max).map(|mut h| {
+            Kind::Nearest => Answer::Nearest(g.closest_hit(set, &ray, t_max).map(|mut h| {
                 h.instance += self.first;
                 h
             })),
-            Kind::Any => Answer::Any(g.occluded(set, &ray, t_max)),
+            Kind::Any => Answer::Any(g.any_hit(set, &ray, t_max)),
         }
     }
 }

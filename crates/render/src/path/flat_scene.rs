@@ -24,16 +24,18 @@
 //! polygons' f64 plane test). Surface coordinates `uv` of baked hits are the
 //! triangle's barycentrics, which is why objects with image textures are not baked.
 
-use super::packet_bounds::PacketBounds;
-#[cfg(target_arch = "x86_64")]
-use super::packet_bounds::{any_culled_avx2, nearest_culled_avx2};
-use super::tracer::{PathHit, SubsetAccel, Tracer};
-use super::triangle_packet::{self as packet, PacketHit, TrianglePacket, LANES};
+use super::tracer::{SubsetAccel, Tracer};
 use glam::{DVec3, Vec2, Vec3};
 use irradia_core::{Aabb, Ray};
 use irradia_geometry::bvh::{Bvh, ChildRef};
+#[cfg(target_arch = "x86_64")]
+use irradia_geometry::packet::bounds8::{any_culled_avx2, nearest_culled_avx2};
+use irradia_geometry::packet::lanes::{F8, M8, V3, W};
+use irradia_geometry::packet::ray8::LaneHits;
+use irradia_geometry::packet::triangle8 as packet;
+use irradia_geometry::packet::{PacketBounds, PacketHit, RayLaneTriangles, TrianglePacket, LANES};
 use irradia_geometry::triangle::TriangleHit;
-use irradia_geometry::{Accel, Hit, Instance};
+use irradia_geometry::{Accel, Hit, Instance, ObjectSet, RayQuery, RaySegment, SceneHit};
 use irradia_scene::{Scene, Texture};
 
 /// One baked world-space triangle.
@@ -58,6 +60,13 @@ pub struct FlatScene {
     baked: Option<Baked>,
     rest: Option<SubsetAccel>,
     baked_objects: usize,
+    /// Per scene object: its material and its CSG leaves' materials.
+    materials: Vec<(u32, Vec<u32>)>,
+    /// Per scene object: whether its shape is a closed solid.
+    solid: Vec<bool>,
+    /// The baked triangles for answering eight rays at once, when the whole scene is
+    /// baked into at most [`MAX_TRIANGLES`](irradia_geometry::packet::ray8::MAX_TRIANGLES).
+    ray_lanes: Option<RayLaneTriangles>,
 }
 
 /// The world-space triangles of `instance` (corners, unit normal, face index), or
@@ -271,7 +280,6 @@ impl FlatScene {
         let mut triangles = Vec::new();
         let mut rest = Vec::new();
         let mut rest_index = Vec::new();
-        let mut rest_materials = Vec::new();
         let mut baked_objects = 0;
         for (i, (object, instance)) in scene
             .objects
@@ -302,19 +310,34 @@ impl FlatScene {
                 None => {
                     rest.push(instance.clone());
                     rest_index.push(i as u32);
-                    rest_materials.push((material, object.leaf_materials.clone()));
                 }
             }
         }
-        Self {
+        let mut flat = Self {
             baked: (!triangles.is_empty()).then(|| Baked::build(triangles)),
             rest: (!rest.is_empty()).then(|| SubsetAccel {
                 accel: Accel::build(rest),
                 scene_index: rest_index,
-                materials: rest_materials,
             }),
             baked_objects,
-        }
+            materials: scene
+                .objects
+                .iter()
+                .map(|o| (o.material, o.leaf_materials.clone()))
+                .collect(),
+            solid: scene
+                .accel
+                .instances()
+                .iter()
+                .map(|i| i.shape.is_solid())
+                .collect(),
+            ray_lanes: None,
+        };
+        flat.ray_lanes = flat.all_triangles().and_then(|t| {
+            let corners: Vec<[Vec3; 3]> = t.iter().map(|t| t.0).collect();
+            RayLaneTriangles::new(&corners, &flat.packet_order())
+        });
+        flat
     }
 
     /// How many objects were baked into triangles.
@@ -388,37 +411,62 @@ impl FlatScene {
     }
 }
 
-impl Tracer for FlatScene {
+impl FlatScene {
+    /// The world-space hit of baked triangle `tri` at `t` with barycentrics `b1, b2`.
+    #[inline(always)]
+    fn baked_hit(baked: &Baked, tri: u32, t: f32, b1: f32, b2: f32) -> SceneHit {
+        let tri = &baked.triangles[tri as usize];
+        let [p0, p1, p2] = tri.corners;
+        let (point, error) = TriangleHit {
+            t,
+            b0: 1.0 - b1 - b2,
+            b1,
+            b2,
+        }
+        .point_and_error(p0, p1, p2);
+        SceneHit {
+            instance: tri.instance,
+            hit: Hit {
+                t,
+                point,
+                normal: tri.normal,
+                shading_normal: tri.normal,
+                uv: Vec2::new(b1, b2),
+                prim: tri.face,
+                leaf: 0,
+                error,
+            },
+        }
+    }
+}
+
+/// Up to eight segments in the ray lanes (origins, directions, ends, active lanes).
+fn lanes_of(segments: &[RaySegment]) -> (V3, V3, F8, M8) {
+    let zero = || V3::new(F8::ZERO, F8::ZERO, F8::ZERO);
+    let (mut o, mut d, mut t_max, mut active) = (zero(), zero(), F8::ZERO, M8::FALSE);
+    for (lane, s) in segments.iter().enumerate() {
+        (o.x.0[lane], o.y.0[lane], o.z.0[lane]) = s.ray.origin.into();
+        (d.x.0[lane], d.y.0[lane], d.z.0[lane]) = s.ray.dir.into();
+        t_max.0[lane] = s.t_max;
+        active.0[lane] = -1;
+    }
+    (o, d, t_max, active)
+}
+
+impl RayQuery for FlatScene {
+    /// Every object counts as opaque (see [`ObjectSet`]): the path tracer asks about
+    /// [`ObjectSet::All`] only.
     #[inline]
-    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<PathHit> {
+    fn closest_hit(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> Option<SceneHit> {
+        if set == ObjectSet::Clear {
+            return None;
+        }
         let mut best = None;
         let mut t_max = t_max;
         if let Some(baked) = &self.baked {
             if let Some((tri, h)) = baked.intersect(ray, t_max) {
-                let t = &baked.triangles[tri as usize];
-                let [p0, p1, p2] = t.corners;
-                let (point, error) = TriangleHit {
-                    t: h.t,
-                    b0: 1.0 - h.b1 - h.b2,
-                    b1: h.b1,
-                    b2: h.b2,
-                }
-                .point_and_error(p0, p1, p2);
                 t_max = h.t;
-                best = Some(PathHit {
-                    instance: t.instance,
-                    material: t.material,
-                    hit: Hit {
-                        t: h.t,
-                        point,
-                        normal: t.normal,
-                        shading_normal: t.normal,
-                        uv: Vec2::new(h.b1, h.b2),
-                        prim: t.face,
-                        leaf: 0,
-                        error,
-                    },
-                });
+                best = Some(Self::baked_hit(baked, tri, h.t, h.b1, h.b2));
             }
         }
         if let Some(rest) = &self.rest {
@@ -430,11 +478,95 @@ impl Tracer for FlatScene {
     }
 
     #[inline]
-    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.baked.as_ref().is_some_and(|b| b.occluded(ray, t_max))
-            || self
-                .rest
-                .as_ref()
-                .is_some_and(|r| r.accel.occluded(ray, t_max))
+    fn any_hit(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> bool {
+        set != ObjectSet::Clear
+            && (self.baked.as_ref().is_some_and(|b| b.occluded(ray, t_max))
+                || self
+                    .rest
+                    .as_ref()
+                    .is_some_and(|r| r.accel.occluded(ray, t_max)))
+    }
+
+    #[inline]
+    fn is_solid(&self, object: u32) -> bool {
+        self.solid[object as usize]
+    }
+
+    /// Small fully baked scenes: eight rays against every triangle in one pass
+    /// ([`RayLaneTriangles`]), with the single-ray form's arithmetic and tie order.
+    fn closest_hits(&self, set: ObjectSet, segments: &[RaySegment], out: &mut [Option<SceneHit>]) {
+        assert_eq!(segments.len(), out.len(), "one answer per segment");
+        let (Some(lanes), Some(baked), false) =
+            (&self.ray_lanes, &self.baked, set == ObjectSet::Clear)
+        else {
+            for (s, o) in segments.iter().zip(out.iter_mut()) {
+                *o = self.closest_hit(set, &s.ray, s.t_max);
+            }
+            return;
+        };
+        for (segs, outs) in segments.chunks(W).zip(out.chunks_mut(W)) {
+            let (o, d, t_max, active) = lanes_of(segs);
+            let h = ray_lanes_nearest(lanes, o, d, t_max, active);
+            for (lane, slot) in outs.iter_mut().enumerate() {
+                *slot = h.hit.get(lane).then(|| {
+                    let (t, b1, b2) = (h.t.0[lane], h.b1.0[lane], h.b2.0[lane]);
+                    Self::baked_hit(baked, h.triangle[lane], t, b1, b2)
+                });
+            }
+        }
+    }
+
+    fn any_hits(&self, set: ObjectSet, segments: &[RaySegment], out: &mut [bool]) {
+        assert_eq!(segments.len(), out.len(), "one answer per segment");
+        let (Some(lanes), false) = (&self.ray_lanes, set == ObjectSet::Clear) else {
+            for (s, o) in segments.iter().zip(out.iter_mut()) {
+                *o = self.any_hit(set, &s.ray, s.t_max);
+            }
+            return;
+        };
+        for (segs, outs) in segments.chunks(W).zip(out.chunks_mut(W)) {
+            let (o, d, t_max, active) = lanes_of(segs);
+            let hit = ray_lanes_occluded(lanes, o, d, t_max, active);
+            for (lane, slot) in outs.iter_mut().enumerate() {
+                *slot = hit.get(lane);
+            }
+        }
+    }
+}
+
+/// The ray-lane kernel with the arithmetic of the packet test the single-ray form
+/// runs: fused (AVX2 + FMA) when the CPU has it, unfused (SSE) otherwise.
+fn ray_lanes_nearest(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: F8, active: M8) -> LaneHits {
+    #[cfg(target_arch = "x86_64")]
+    if packet::has_avx2() {
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn fused(l: &RayLaneTriangles, o: V3, d: V3, t: F8, a: M8) -> LaneHits {
+            l.nearest_within::<true>(o, d, t, a)
+        }
+        // SAFETY: the CPU supports AVX2 and FMA.
+        return unsafe { fused(lanes, o, d, t_max, active) };
+    }
+    lanes.nearest_within::<false>(o, d, t_max, active)
+}
+
+/// As [`ray_lanes_nearest`], for shadow rays.
+fn ray_lanes_occluded(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: F8, active: M8) -> M8 {
+    #[cfg(target_arch = "x86_64")]
+    if packet::has_avx2() {
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn fused(l: &RayLaneTriangles, o: V3, d: V3, t: F8, a: M8) -> M8 {
+            l.occluded::<true>(o, d, t, a)
+        }
+        // SAFETY: the CPU supports AVX2 and FMA.
+        return unsafe { fused(lanes, o, d, t_max, active) };
+    }
+    lanes.occluded::<false>(o, d, t_max, active)
+}
+
+impl Tracer for FlatScene {
+    #[inline]
+    fn material(&self, object: u32, leaf: u32) -> u32 {
+        let (material, leaves) = &self.materials[object as usize];
+        leaves.get(leaf as usize).copied().unwrap_or(*material)
     }
 }

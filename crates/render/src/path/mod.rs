@@ -1,8 +1,8 @@
 //! The path tracer: the Monte Carlo solution of the rendering equation that every other
 //! method of Irradia is checked against (lecture, "The Rendering Equation").
 //!
-//! - [`bsdf`]: physically based lobes and their sampling;
-//! - [`material_map`]: scene materials to BSDFs (Whitted scenes render unchanged);
+//! - [`material_map`]: scene materials to BSDFs of `irradia_scatter` (Whitted scenes
+//!   render unchanged);
 //! - [`lights`]: emitters and light selection proportional to power; [`envmap`] and
 //!   [`distribution`]: environment maps importance sampled by luminance;
 //! - [`tracer`] and [`flat_scene`]: ray queries; planar objects baked into one
@@ -10,25 +10,20 @@
 //! - [`integrator`]: next-event estimation + BSDF sampling with MIS, Russian roulette;
 //! - [`wide`]: the same estimator over eight paths at once in SIMD lanes, for scenes
 //!   of Lambertian surfaces and facet emitters (the Cornell box);
-//! - [`film`] and [`progressive`]: sample/time/error budgets, checkpoints and resume;
+//! - [`path_integrator`]: the path tracer as an [`Integrator`](crate::Integrator) of the
+//!   one driver (tiles, passes, budgets, checkpoints: [`crate::driver`]);
 //! - [`trace_sample`]: one sample's path as a ray tree (`irradia trace-pixel`).
 
-pub mod bsdf;
 pub mod distribution;
 pub mod envmap;
-pub mod film;
 pub mod flat_scene;
 pub mod integrator;
 pub mod lights;
 pub mod material_map;
-pub mod output;
-pub mod packet_bounds;
-pub mod progressive;
+pub mod path_integrator;
 pub mod trace_sample;
 pub mod tracer;
-pub mod triangle_packet;
 pub mod wide;
 
-pub use film::{CheckpointError, Film};
 pub use integrator::{PathCounters, PathParams};
-pub use progressive::{render, PassReport, PathRender, ProgressiveOptions, StopReason};
+pub use path_integrator::{fingerprint, render, Kernel, PathIntegrator};

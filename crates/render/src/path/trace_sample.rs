@@ -11,22 +11,29 @@
 use super::flat_scene::FlatScene;
 use super::integrator::{radiance_recorded, PathCounters, PathParams, PathScene};
 use super::lights::LightSampler;
-use super::progressive::pixel_sample;
+use crate::filter::FilterSampler;
 use crate::raytree::{RayNode, TreeRecorder};
+use crate::sampler::{camera_sample, Sampler};
 use irradia_core::Rgb;
 use irradia_scene::Scene;
 
 /// The tree of sample `sample` of pixel `(x, y)` (inside the image) and its radiance.
 pub fn trace_sample(scene: &Scene, x: u32, y: u32, sample: u32) -> (RayNode, Rgb) {
     let s = &scene.settings;
-    let params = PathParams {
-        max_depth: s.max_depth.max(1),
-        ..PathParams::default()
-    };
+    let params = PathParams::for_settings(s);
     let lights = LightSampler::new(scene);
     let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
     let cam = scene.camera.rays(s.width, s.height);
-    let (ray, mut rng) = pixel_sample(&cam, x, y, sample, 0);
+    let filter = FilterSampler::new(s.filter);
+    let cs = camera_sample(
+        &cam,
+        &filter,
+        Sampler::Independent { seed: 0 },
+        x,
+        y,
+        sample,
+    );
+    let (ray, mut rng) = (cs.ray, cs.rng);
     let mut rec = TreeRecorder::default();
     let mut counters = PathCounters::default();
     let l = radiance_recorded(&ps, &params, ray, &mut rng, &mut counters, &mut rec);

@@ -4,8 +4,9 @@
 //! hit of a camera, reflected or refracted ray; whether a shadow ray is blocked at all;
 //! whether it is blocked by an object no light passes; the next transparent surface
 //! along it (to filter the light through); and whether a hit object is a closed solid
-//! (for the stack of nested media). [`Geometry`] names these questions, so that the
-//! same tracer runs over the scene's own acceleration structure ([`SceneGeometry`], the
+//! (for the stack of nested media). They are the questions of the one ray-query
+//! interface, [`RayQuery`] (the opaque / clear split is its [`ObjectSet`] argument), so
+//! that the same tracer runs over the scene's own acceleration structure ([`SceneGeometry`], the
 //! default, for serial and image-parallel rendering) and over a distributed scene whose
 //! objects live on other processes (`irradia_parallel::raytrace_forward`, which answers
 //! from a cache of forwarded queries; Reinhard and Jansen 1997, "Rendering large scenes
@@ -13,27 +14,8 @@
 
 use super::query::{Query, LINEAR_MAX};
 use irradia_core::Ray;
-use irradia_geometry::{Accel, SceneHit};
+use irradia_geometry::{Accel, ObjectSet, RayQuery, SceneHit};
 use irradia_scene::Scene;
-
-/// Which objects a query is about: shadow rays ask about the opaque objects (those no
-/// light passes) and the clear ones (those that filter it) apart.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ObjectSet {
-    All,
-    Opaque,
-    Clear,
-}
-
-/// The geometry questions of the Whitted tracer. Object indices are the scene's.
-pub trait Geometry {
-    /// Nearest hit with `0 < t < t_max` among the objects of `set`.
-    fn intersect(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> Option<SceneHit>;
-    /// Whether any object of `set` is hit with `0 < t < t_max`.
-    fn occluded(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> bool;
-    /// Whether object `object` is a closed solid (rays crossing it enter a medium).
-    fn is_solid(&self, object: u32) -> bool;
-}
 
 /// Whether any object of `scene` lets light through (a material of it, or of one of
 /// its CSG leaves, transmits). Decides whether shadow rays filter through objects.
@@ -122,9 +104,9 @@ impl<'s> SceneGeometry<'s> {
     }
 }
 
-impl Geometry for SceneGeometry<'_> {
+impl RayQuery for SceneGeometry<'_> {
     #[inline]
-    fn intersect(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> Option<SceneHit> {
+    fn closest_hit(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> Option<SceneHit> {
         match (set, &self.shadow_sets) {
             (ObjectSet::All, _) | (ObjectSet::Opaque, None) => self.intersect_all(ray, t_max),
             (ObjectSet::Clear, None) => None,
@@ -134,7 +116,7 @@ impl Geometry for SceneGeometry<'_> {
     }
 
     #[inline]
-    fn occluded(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> bool {
+    fn any_hit(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> bool {
         match (set, &self.shadow_sets) {
             (ObjectSet::All, _) | (ObjectSet::Opaque, None) => self.occluded_all(ray, t_max),
             (ObjectSet::Clear, None) => false,
@@ -146,20 +128,5 @@ impl Geometry for SceneGeometry<'_> {
     #[inline]
     fn is_solid(&self, object: u32) -> bool {
         self.accel.instances()[object as usize].shape.is_solid()
-    }
-}
-
-impl<G: Geometry + ?Sized> Geometry for &G {
-    #[inline]
-    fn intersect(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> Option<SceneHit> {
-        (**self).intersect(set, ray, t_max)
-    }
-    #[inline]
-    fn occluded(&self, set: ObjectSet, ray: &Ray, t_max: f32) -> bool {
-        (**self).occluded(set, ray, t_max)
-    }
-    #[inline]
-    fn is_solid(&self, object: u32) -> bool {
-        (**self).is_solid(object)
     }
 }

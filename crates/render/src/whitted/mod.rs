@@ -17,7 +17,7 @@
 //!
 //! The tracer is generic over a [`Recorder`]: rendering passes the empty one,
 //! `trace-pixel` one that builds the ray tree, so both run this same code. It is also
-//! generic over where its geometry answers come from ([`Geometry`]): the scene's own
+//! generic over where its geometry answers come from ([`RayQuery`]): the scene's own
 //! objects ([`SceneGeometry`]) or, for object-parallel rendering, answers forwarded
 //! from the processes that own the objects (`irradia_parallel::raytrace_forward`).
 
@@ -33,10 +33,11 @@ use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::raytree::{NoRecorder, RayKind, Recorder};
 use crate::stats::Stats;
 use geometry::object_transmits;
-pub use geometry::{Geometry, ObjectSet, SceneGeometry};
+pub use geometry::SceneGeometry;
 use glam::Vec3;
 use irradia_core::{offset_ray_origin, Ray, Rgb, Rng};
 use irradia_geometry::SceneHit;
+pub use irradia_geometry::{ObjectSet, RayQuery};
 use irradia_scene::{Scene, ShadingModel};
 use lights::PreparedLight;
 use media::MediaStack;
@@ -66,12 +67,20 @@ pub(crate) struct Ctx<'c, R: Recorder> {
 }
 
 impl<'s> Whitted<'s> {
+    /// The tracer over `scene`'s own objects, prepared for this tracer alone.
     pub fn new(scene: &'s Scene) -> Self {
         Self::with_geometry(scene, SceneGeometry::new(scene))
     }
 }
 
-impl<'s, G: Geometry> Whitted<'s, G> {
+impl<'p, 's> Whitted<'s, &'p SceneGeometry<'s>> {
+    /// The tracer over a prepared scene's exact structure.
+    pub fn prepared(prepared: &'p crate::PreparedScene<'s>) -> Self {
+        Self::with_geometry(prepared.scene(), prepared.objects())
+    }
+}
+
+impl<'s, G: RayQuery> Whitted<'s, G> {
     /// The tracer over `scene`'s camera, lights, materials and settings, asking
     /// `geometry` where rays hit (its object indices are `scene.objects`').
     pub fn with_geometry(scene: &'s Scene, geometry: G) -> Self {
@@ -112,13 +121,13 @@ impl<'s, G: Geometry> Whitted<'s, G> {
     /// Nearest hit among all objects.
     #[inline]
     pub(crate) fn intersect_all(&self, ray: &Ray, t_max: f32) -> Option<SceneHit> {
-        self.geometry.intersect(ObjectSet::All, ray, t_max)
+        self.geometry.closest_hit(ObjectSet::All, ray, t_max)
     }
 
     /// Whether any object is hit.
     #[inline]
     pub(crate) fn occluded_all(&self, ray: &Ray, t_max: f32) -> bool {
-        self.geometry.occluded(ObjectSet::All, ray, t_max)
+        self.geometry.any_hit(ObjectSet::All, ray, t_max)
     }
 
     /// Traces one camera ray with a recorder (the ray-tree hook); returns the radiance.
@@ -312,7 +321,7 @@ fn mirror(d: Vec3, ns: Vec3, ng: Vec3) -> Vec3 {
     }
 }
 
-impl<G: Geometry + Sync> Integrator for Whitted<'_, G> {
+impl<G: RayQuery + Sync> Integrator for Whitted<'_, G> {
     #[inline]
     fn sample(&self, ray: &Ray, rng: &mut Rng, stats: &mut Stats, aov: &mut AovSample) -> Rgb {
         self.sample_recorded(ray, rng, stats, aov, &mut NoRecorder)

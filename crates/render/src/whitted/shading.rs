@@ -11,7 +11,7 @@
 //!   whose pigment filters light are scaled by its opacity `1 - filter`; highlights are
 //!   not. The highlight is `phong * (R·L)^phong_size` in the light's colour.
 
-use super::{Ctx, Geometry, Whitted};
+use super::{Ctx, RayQuery, Whitted};
 use crate::optics::reflect;
 use crate::raytree::Recorder;
 use glam::Vec3;
@@ -19,7 +19,7 @@ use irradia_core::{offset_ray_origin, Rgb};
 use irradia_geometry::Hit;
 use irradia_scene::{Material, ShadingModel};
 
-impl<G: Geometry> Whitted<'_, G> {
+impl<G: RayQuery> Whitted<'_, G> {
     /// The local colour at `hit`: `ng` and `ns` are the geometric and shading normals
     /// turned towards the viewer, `view` the unit direction to the viewer, `colour` the
     /// texture's colour there, `filter` the transmitted fraction (colour).

@@ -4,7 +4,7 @@
 //! (`transmission * filter colour`; POV-Ray's `Trace::ComputeShadowColour`). Shadow
 //! rays go straight through (no refraction: no caustics, as in POV-Ray without photons).
 
-use super::{Ctx, Geometry, ObjectSet, Whitted};
+use super::{Ctx, ObjectSet, RayQuery, Whitted};
 use crate::raytree::{Blocker, Recorder};
 use glam::Vec3;
 use irradia_core::{offset_ray_origin, Ray, Rgb};
@@ -13,7 +13,7 @@ use irradia_geometry::SceneHit;
 /// Most transparent surfaces one shadow ray walks through before giving up (dark).
 const MAX_CROSSINGS: u32 = 64;
 
-impl<G: Geometry> Whitted<'_, G> {
+impl<G: RayQuery> Whitted<'_, G> {
     /// Fraction of a light's colour that arrives at `origin` from direction `dir`
     /// (unit) over distance `dist`. Counts the shadow ray and records it.
     pub(super) fn shadow_transmittance<R: Recorder>(
@@ -59,10 +59,12 @@ impl<G: Geometry> Whitted<'_, G> {
             return Rgb::WHITE;
         }
         let geo = &self.geometry;
-        if geo.occluded(ObjectSet::Opaque, &first, t_max) {
+        if geo.any_hit(ObjectSet::Opaque, &first, t_max) {
             cx.stats.shadow_blocked += 1;
             if R::RECORDS {
-                let b = geo.intersect(ObjectSet::Opaque, &first, t_max).map(blocker);
+                let b = geo
+                    .closest_hit(ObjectSet::Opaque, &first, t_max)
+                    .map(blocker);
                 cx.rec.shadow(&first, depth, b, Rgb::BLACK);
             }
             return Rgb::BLACK;
@@ -75,7 +77,7 @@ impl<G: Geometry> Whitted<'_, G> {
         let mut tr = Rgb::WHITE;
         let mut first_blocker = None;
         for _ in 0..MAX_CROSSINGS {
-            let Some(h) = geo.intersect(ObjectSet::Clear, &ray, limit) else {
+            let Some(h) = geo.closest_hit(ObjectSet::Clear, &ray, limit) else {
                 break;
             };
             let id = h.instance;

@@ -3,7 +3,7 @@
 
 use super::reader::{Result, Table, Val};
 use crate::camera::{Camera, FovAxis, Projection};
-use crate::scene::{Integrator, RenderSettings};
+use crate::scene::{CropWindow, Integrator, PixelFilter, RenderSettings};
 use glam::Vec3;
 
 pub fn read_camera(v: Option<Val>, root: &Table) -> Result<Camera> {
@@ -103,11 +103,43 @@ pub fn read_settings(image: Option<Val>, render: Option<Val>) -> Result<RenderSe
         if let Some(h) = &h {
             s.height = h.count()?;
         }
+        if let Some(f) = t.get("filter") {
+            s.filter = read_filter(&f)?;
+        }
+        let crop_keys = [
+            "crop_offset_x",
+            "crop_offset_y",
+            "crop_width",
+            "crop_height",
+        ];
+        let crop: Vec<Option<Val>> = crop_keys.iter().map(|&k| t.get(k)).collect();
         t.finish()?;
         // Checked before anything is allocated for the image.
         if let Err(e) = irradia_core::image::check_size(s.width, s.height, 12) {
             let at = w.or(h).unwrap_or(v);
             return Err(at.err(e.to_string()));
+        }
+        if let Some(at) = crop.iter().flatten().next() {
+            // Mitsuba's defaults: offset 0, the rest of the image from the offset.
+            let x = crop[0].as_ref().map_or(Ok(0), |v| v.u32())?;
+            let y = crop[1].as_ref().map_or(Ok(0), |v| v.u32())?;
+            let width = match &crop[2] {
+                Some(v) => v.count()?,
+                None => s.width.saturating_sub(x),
+            };
+            let height = match &crop[3] {
+                Some(v) => v.count()?,
+                None => s.height.saturating_sub(y),
+            };
+            s.crop = Some(CropWindow {
+                x,
+                y,
+                width,
+                height,
+            });
+            if let Err(m) = s.check_crop() {
+                return Err(at.err(m));
+            }
         }
     }
     if let Some(v) = render {
@@ -129,4 +161,42 @@ pub fn read_settings(image: Option<Val>, render: Option<Val>) -> Result<RenderSe
         t.finish()?;
     }
     Ok(s)
+}
+
+/// `filter = { type = "box" | "tent" | "gaussian", radius | stddev }`, Mitsuba's
+/// reconstruction filters with their parameter names and defaults.
+fn read_filter(v: &Val) -> Result<PixelFilter> {
+    if v.is_str() {
+        // `filter = "tent"`: the type with its default parameter.
+        return Ok(match v.choice(&["box", "tent", "gaussian"])? {
+            "tent" => PixelFilter::Tent { radius: 1.0 },
+            "gaussian" => PixelFilter::Gaussian { stddev: 0.5 },
+            _ => PixelFilter::Box { radius: 0.5 },
+        });
+    }
+    let t = v.table()?;
+    let kind = t.req("type")?.choice(&["box", "tent", "gaussian"])?;
+    let f = match kind {
+        "tent" => PixelFilter::Tent {
+            radius: t.positive_or("radius", 1.0)?,
+        },
+        "gaussian" => PixelFilter::Gaussian {
+            stddev: t.positive_or("stddev", 0.5)?,
+        },
+        _ => PixelFilter::Box {
+            radius: t.positive_or("radius", 0.5)?,
+        },
+    };
+    t.finish()?;
+    // Wider filters than this would reach more than a few dozen pixels.
+    let reach = match f {
+        PixelFilter::Box { radius } | PixelFilter::Tent { radius } => radius,
+        PixelFilter::Gaussian { stddev } => 4.0 * stddev,
+    };
+    if reach > 16.0 {
+        return Err(v.err(format!(
+            "the filter reaches {reach} pixels from the centre; at most 16 are allowed"
+        )));
+    }
+    Ok(f)
 }

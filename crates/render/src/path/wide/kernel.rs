@@ -13,14 +13,16 @@
 // Lane loops index several arrays by the lane on purpose.
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::{gather, offset_ray_origin, sin_cos_quarter_pi, F8, M8, V3, W};
-use super::trace::LaneHits;
 use super::{facet, mat, tri, LightPick, WideScene};
 use crate::path::integrator::{PathCounters, PathParams};
-use crate::path::triangle_packet::PacketHit;
 use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::bvh::node::gamma;
+use irradia_geometry::packet::lanes::{
+    gather, offset_ray_origin, sin_cos_quarter_pi, F8, M8, V3, W,
+};
+use irradia_geometry::packet::ray8::LaneHits;
+use irradia_geometry::packet::PacketHit;
 use irradia_geometry::triangle::TriangleHit;
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_4};
 

@@ -9,7 +9,7 @@
 //! 1. per lane: refill a finished lane with the next sample of the batch and draw
 //!    the bounce's random numbers from the lane's own stream;
 //! 2. all lanes at once ([`kernel`], 8-wide AVX2 + FMA chosen at run time, or the same
-//!    code in SSE): the nearest hits ([`trace`]: eight rays against every triangle of
+//!    code in SSE): the nearest hits ([`ray8`](irradia_geometry::packet::ray8): eight rays against every triangle of
 //!    a small scene; larger scenes walk the [`FlatScene`]'s hierarchy lane by lane,
 //!    with Wald et al.'s SIMD triangle packets), the hit points (triangle, material
 //!    and light data gathered by index), emission with MIS, the light choice and
@@ -37,14 +37,13 @@
 //! implicit surfaces). Other scenes render with the scalar `radiance_in`.
 
 pub mod kernel;
-pub mod lanes;
-pub mod trace;
 
-use super::bsdf::Lobe;
 use super::flat_scene::FlatScene;
 use super::integrator::{PathCounters, PathParams, PathScene};
 use super::lights::FacetEmitter;
 use irradia_core::{Ray, Rgb, Rng};
+use irradia_scatter::{bsdfs::LectureLobe, Bsdf};
+use irradia_geometry::packet::RayLaneTriangles;
 
 /// A material as the per-lane stage reads it.
 #[derive(Clone, Copy, Debug)]
@@ -102,7 +101,7 @@ pub struct WideScene<'s, 'a> {
     pub(crate) pick: Option<LightPick>,
     /// The triangles for tracing eight rays at once (small scenes); otherwise each
     /// lane walks the flat scene's hierarchy.
-    pub(crate) rays: Option<trace::RayLaneTriangles>,
+    pub(crate) rays: Option<RayLaneTriangles>,
 }
 
 /// What choosing a light facet reads (`LightSampler::pick_facet`, lane by lane): the
@@ -138,11 +137,13 @@ impl<'s, 'a> WideScene<'s, 'a> {
         let mut materials = Vec::new();
         let mut shading = Vec::new();
         for (i, m) in scene.materials.iter().enumerate() {
-            let bsdf = ps.bsdfs.get(i).copied().flatten()?;
+            let Some(Some(Bsdf::LectureMix(bsdf))) = ps.bsdfs.get(i) else {
+                return None;
+            };
             let mut lobes = bsdf.lobes();
             let albedo = match (lobes.next(), lobes.next()) {
                 (None, _) => None,
-                (Some(Lobe::Lambert { albedo }), None) => Some(*albedo),
+                (Some(LectureLobe::Lambert { albedo }), None) => Some(*albedo),
                 _ => return None,
             };
             materials.push(WideMaterial {
@@ -158,7 +159,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
         let mut triangle_owner = Vec::new();
         let baked = ps.tracer.all_triangles()?;
         let corners: Vec<_> = baked.iter().map(|t| t.0).collect();
-        let rays = trace::RayLaneTriangles::new(&corners, &ps.tracer.packet_order());
+        let rays = RayLaneTriangles::new(&corners, &ps.tracer.packet_order());
         for (c, n, instance, material) in baked {
             let mut r = [0.0; tri::LEN];
             for (k, v) in [c[0], c[1], c[2], n].iter().enumerate() {
@@ -257,7 +258,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
         counters: &mut PathCounters,
     ) {
         #[cfg(target_arch = "x86_64")]
-        if super::triangle_packet::has_avx2() {
+        if irradia_geometry::packet::has_avx2() {
             // SAFETY: the CPU supports AVX2 and FMA.
             unsafe { kernel::run_avx2(self, params, start, out, counters) };
             return;
