@@ -80,8 +80,16 @@ pub fn save(image: &Image, path: &Path) -> Result<(), ImageError> {
     write_atomic(path, &bytes).map_err(|e| file_err(path, e))
 }
 
-/// Reads a PNG, EXR or PFM file into linear RGB (PNG is decoded from sRGB).
+/// Reads a PNG, EXR, PFM or Radiance HDR (`.hdr`, read only) file into linear RGB (PNG
+/// is decoded from sRGB).
 pub fn load(path: &Path) -> Result<Image, ImageError> {
+    let hdr = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("hdr"));
+    if hdr {
+        return load_float(path);
+    }
     match Format::from_path(path)? {
         Format::Pfm => {
             let f = std::fs::File::open(path).map_err(|e| file_err(path, e))?;
@@ -95,15 +103,18 @@ pub fn load(path: &Path) -> Result<Image, ImageError> {
             let px = im.pixels().map(|p| Rgb::from_srgb8(p.0)).collect();
             Ok(Image::from_pixels(w, h, px))
         }
-        Format::Exr => {
-            let im = ::image::open(path)
-                .map_err(|e| file_err(path, e))?
-                .to_rgb32f();
-            let (w, h) = im.dimensions();
-            let px = im.pixels().map(|p| Rgb::from_array(p.0)).collect();
-            Ok(Image::from_pixels(w, h, px))
-        }
+        Format::Exr => load_float(path),
     }
+}
+
+/// A linear floating-point image file (EXR, HDR) read by the `image` crate.
+fn load_float(path: &Path) -> Result<Image, ImageError> {
+    let im = ::image::open(path)
+        .map_err(|e| file_err(path, e))?
+        .to_rgb32f();
+    let (w, h) = im.dimensions();
+    let px = im.pixels().map(|p| Rgb::from_array(p.0)).collect();
+    Ok(Image::from_pixels(w, h, px))
 }
 
 fn encode_png(image: &Image) -> Result<Vec<u8>, String> {

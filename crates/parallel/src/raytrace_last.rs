@@ -29,7 +29,7 @@ use irradia_core::{Ray, Rgb};
 use irradia_geometry::SceneHit;
 use irradia_render::sampler::centre_sample;
 use irradia_render::{AovSample, Integrator, Stats, Whitted};
-use irradia_scene::{spot_falloff, Light, Scene};
+use irradia_scene::{Light, Scene};
 use rayon::prelude::*;
 use std::ops::Range;
 
@@ -293,10 +293,17 @@ fn incident(light: &Light, p: Vec3, fade: bool) -> Option<(Vec3, Rgb)> {
             intensity,
             cos_inner,
             cos_outer,
+            profile,
         } => point(position).map(|(l, r2)| {
-            let f = spot_falloff((-l).dot(direction.normalize()), cos_inner, cos_outer);
+            let f = profile.falloff((-l).dot(direction.normalize()), cos_inner, cos_outer);
             (l, intensity * (f / r2))
         }),
+        Light::Projector(ref proj) => proj.illuminate(p).map(|s| {
+            let r2 = s.dist * s.dist;
+            (s.wi, if fade { s.li } else { s.li * r2 })
+        }),
+        // Lights at infinity bring nothing along a shadow ray here.
+        Light::Constant { .. } | Light::Envmap(_) => None,
         Light::Rect {
             corner,
             edge_u,

@@ -94,6 +94,7 @@ fn scene_of(specs: &[PatchSpec]) -> Scene {
             fov_degrees: 39.3,
             axis: FovAxis::Smaller,
         },
+        near_clip: 0.0,
     };
     let settings = RenderSettings {
         background: Rgb::BLACK,

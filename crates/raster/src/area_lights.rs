@@ -90,8 +90,9 @@ pub fn sphere_points(center: Vec3, radius: f32, radiance: Rgb, n: u32) -> Vec<Ra
 }
 
 /// One scene light as pipeline lights: point, directional and spot lights map one to
-/// one; rectangles and spheres become sample points, `points` of them when given,
-/// otherwise the light's own `samples`.
+/// one (spots with the smooth falloff whatever their profile); rectangles and spheres
+/// become sample points, `points` of them when given, otherwise the light's own
+/// `samples`; a projector becomes a spot; `constant` and `envmap` give nothing.
 pub fn scene_light(light: &Light, points: Option<u32>) -> Vec<RasterLight> {
     match *light {
         Light::Point {
@@ -114,6 +115,7 @@ pub fn scene_light(light: &Light, points: Option<u32>) -> Vec<RasterLight> {
             intensity,
             cos_inner,
             cos_outer,
+            ..
         } => vec![RasterLight::Spot {
             position,
             direction: direction.normalize(),
@@ -121,6 +123,20 @@ pub fn scene_light(light: &Light, points: Option<u32>) -> Vec<RasterLight> {
             cos_inner,
             cos_outer,
         }],
+        // A projector as a spot light of its mean intensity on the axis, cut off at
+        // the cone inscribed in its frustum (the pipeline has no projected images).
+        Light::Projector(ref p) => {
+            let cos = 1.0 / (1.0 + p.half.x.min(p.half.y).powi(2)).sqrt();
+            vec![RasterLight::Spot {
+                position: p.position,
+                direction: p.forward,
+                color: p.irradiance.mean() * (std::f32::consts::PI * p.scale),
+                cos_inner: cos,
+                cos_outer: cos,
+            }]
+        }
+        // Lights at infinity do not light the pipeline's surfaces.
+        Light::Constant { .. } | Light::Envmap(_) => Vec::new(),
         Light::Rect {
             corner,
             edge_u,

@@ -5,7 +5,7 @@
 //! stored depth is `z_clip / w_clip` in [0, 1].
 
 use glam::{Mat4, Vec3, Vec4};
-use irradia_scene::{Camera, FovAxis, Projection};
+use irradia_scene::Camera;
 
 /// The transforms of the geometry stage.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,20 +53,13 @@ impl ViewParams {
     pub fn from_camera(camera: &Camera, width: u32, height: u32, near: f32, far: f32) -> Self {
         let aspect = width as f32 / height as f32;
         let view = Mat4::look_at_rh(camera.eye, camera.look_at, camera.up);
-        let proj = match camera.projection {
-            Projection::Perspective { fov_degrees, axis } => {
-                let t = (fov_degrees.to_radians() * 0.5).tan();
-                let horizontal = match axis {
-                    FovAxis::Horizontal => true,
-                    FovAxis::Vertical => false,
-                    FovAxis::Smaller => width <= height,
-                };
-                let half_y = if horizontal { t / aspect } else { t };
-                Mat4::perspective_rh(2.0 * half_y.atan(), aspect, near, far)
-            }
-            Projection::Orthographic { height: h } => {
-                let hh = 0.5 * h;
-                Mat4::orthographic_rh(-hh * aspect, hh * aspect, -hh, hh, near, far)
+        // The field of view comes from the scene's one resolution of it; a thin lens
+        // is drawn as its pinhole (everything in focus).
+        let proj = match camera.fov_y_radians(width, height) {
+            Some(fov_y) => Mat4::perspective_rh(fov_y, aspect, near, far),
+            None => {
+                let half = camera.half_extents(width, height);
+                Mat4::orthographic_rh(-half.x, half.x, -half.y, half.y, near, far)
             }
         };
         Self { view, proj }
@@ -87,5 +80,52 @@ impl ViewParams {
     pub fn eye_depth(&self, ndc_depth: f32) -> f32 {
         let p = self.proj.inverse() * Vec4::new(0.0, 0.0, ndc_depth, 1.0);
         -p.z / p.w
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use irradia_scene::{FovAxis, Projection};
+
+    /// The rasterizer's projection puts a point where the scene's camera ray through a
+    /// pixel finds it, for every field-of-view axis and both image orientations (both
+    /// ask the scene's one resolution of the axis).
+    #[test]
+    fn projection_matches_the_scenes_rays_for_every_fov_axis() {
+        let axes = [
+            FovAxis::Horizontal,
+            FovAxis::Vertical,
+            FovAxis::Diagonal,
+            FovAxis::Smaller,
+            FovAxis::Larger,
+        ];
+        for axis in axes {
+            for (w, h) in [(160u32, 90u32), (90, 160)] {
+                let camera = Camera::new(
+                    Vec3::new(1.0, 2.0, 6.0),
+                    Vec3::new(0.0, 0.5, 0.0),
+                    Vec3::Y,
+                    Projection::Perspective {
+                        fov_degrees: 50.0,
+                        axis,
+                    },
+                );
+                let view = ViewParams::from_camera(&camera, w, h, 0.1, 100.0);
+                let rays = camera.rays(w, h);
+                for (x, y) in [(3.5f32, 7.25f32), (80.0, 45.0), (150.5, 88.0)] {
+                    let r = rays.ray(x, y);
+                    let p = r.origin + r.dir * 4.0;
+                    let c = view.view_proj() * p.extend(1.0);
+                    let (nx, ny) = (c.x / c.w, c.y / c.w);
+                    let px = (nx + 1.0) * 0.5 * w as f32;
+                    let py = (1.0 - ny) * 0.5 * h as f32;
+                    assert!(
+                        (px - x).abs() < 1e-3 && (py - y).abs() < 1e-3,
+                        "{axis:?} {w}x{h}: ({x}, {y}) projects to ({px}, {py})"
+                    );
+                }
+            }
+        }
     }
 }

@@ -112,6 +112,7 @@ fn whitted(light: Light, runs: u64) -> Vec<f32> {
             fov_degrees: 50.0,
             axis: FovAxis::Vertical,
         },
+        near_clip: 0.0,
     };
     let settings = RenderSettings {
         width: W,
@@ -154,6 +155,7 @@ fn spot() -> Light {
         intensity: Rgb::splat(6.0),
         cos_inner: 20f32.to_radians().cos(),
         cos_outer: 35f32.to_radians().cos(),
+        profile: irradia_scene::SpotProfile::Smooth,
     }
 }
 

@@ -69,13 +69,17 @@ pub fn camera_sample(
     y: u32,
     i: u32,
 ) -> CameraSample {
-    let (u, rng) = sampler.pixel_sample(x, y, i);
+    let (u, mut rng) = sampler.pixel_sample(x, y, i);
     let (o, weight) = filter.warp(u);
-    CameraSample {
-        ray: cam.ray(x as f32 + o.x, y as f32 + o.y),
-        rng,
-        weight,
-    }
+    // A thin lens draws its aperture point next from the sample's stream; pinhole and
+    // orthographic cameras draw none, so their streams are unchanged.
+    let ray = if cam.needs_lens_sample() {
+        let lens = rng.next_2d();
+        cam.ray_lens(x as f32 + o.x, y as f32 + o.y, lens)
+    } else {
+        cam.ray(x as f32 + o.x, y as f32 + o.y)
+    };
+    CameraSample { ray, rng, weight }
 }
 
 /// The camera ray through the centre of pixel (x, y) and its stream: the sample of a

@@ -84,6 +84,7 @@ fn spot_lights_are_full_inside_the_inner_cone_and_dark_outside_the_outer() {
                 intensity: Rgb::splat(16.0),
                 cos_inner: 20f32.to_radians().cos(),
                 cos_outer: 30f32.to_radians().cos(),
+                profile: irradia_scene::SpotProfile::Smooth,
             },
             p,
         )
@@ -148,4 +149,85 @@ fn a_rect_light_matches_the_closed_form_for_a_parallel_square() {
         Vec3::ZERO,
     );
     assert_eq!(back, Rgb::BLACK);
+}
+
+#[test]
+fn mitsuba_spot_and_projector_light_the_whitted_floor_like_the_path_tracer() {
+    // Mitsuba's spot (cutoff 30°, beam 10°): at 20° from the axis half the intensity.
+    let theta = 20f32.to_radians();
+    let q = Vec3::new(4.0 * theta.tan(), 0.0, 0.0);
+    let got = floor_radiance(
+        Light::Spot {
+            position: Vec3::new(0.0, 4.0, 0.0),
+            direction: -Vec3::Y,
+            intensity: Rgb::splat(16.0),
+            cos_inner: 10f32.to_radians().cos(),
+            cos_outer: 30f32.to_radians().cos(),
+            profile: irradia_scene::SpotProfile::Linear,
+        },
+        q,
+    );
+    let e = 16.0 * theta.cos().powi(3) / 16.0 * 0.5;
+    assert!((got.r - e).abs() < 1e-5, "{got:?} vs {e}");
+    // A projector 2 above the floor, constant image 3, scale 0.5: E = π · 1.5 / 4.
+    let proj = irradia_scene::Projector::new(
+        Vec3::new(0.0, 2.0, 0.0),
+        Vec3::ZERO,
+        Vec3::Z,
+        50.0,
+        irradia_scene::FovAxis::Horizontal,
+        Arc::new(irradia_core::Image::from_pixels(
+            1,
+            1,
+            vec![Rgb::splat(3.0)],
+        )),
+        0.5,
+    );
+    let got = floor_radiance(Light::Projector(Arc::new(proj)), Vec3::new(0.3, 0.0, -0.2));
+    let e = PI * 1.5 / 4.0;
+    assert!((got.r - e).abs() < 1e-4 * e, "{got:?} vs {e}");
+}
+
+#[test]
+fn whitted_rays_that_leave_the_scene_see_constant_and_envmap_lights() {
+    let map = irradia_scene::EnvMap {
+        image: Arc::new(irradia_core::Image::from_pixels(
+            4,
+            2,
+            (0..8).map(|i| Rgb::splat(i as f32)).collect(),
+        )),
+        scale: 2.0,
+        to_world: glam::Mat3::IDENTITY,
+        path: "m".into(),
+    };
+    let mut s = settings(8, 8);
+    s.background = Rgb::splat(0.25);
+    let scene = Scene::new(
+        camera(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 40.0),
+        s,
+        vec![diffuse("white", Rgb::WHITE, 1.0)],
+        vec![
+            Light::Constant {
+                radiance: Rgb::splat(0.5),
+            },
+            Light::Envmap(Arc::new(map.clone())),
+        ],
+        Vec::new(),
+        Vec::new(),
+    );
+    let w = Whitted::new(&scene);
+    // Up and slightly towards +x (u just above 1/4, upper row): texel (1, 0) = 1.
+    for (d, texel) in [
+        (Vec3::new(1.0, 0.3, 0.2), 1.0),
+        (Vec3::new(0.0, -0.5, -1.0), 4.0),
+    ] {
+        let got = w.sample(
+            &Ray::new(Vec3::ZERO, d.normalize()),
+            &mut Rng::new(0, 0),
+            &mut Stats::default(),
+            &mut AovSample::default(),
+        );
+        let want = 0.25 + 0.5 + 2.0 * texel;
+        assert!((got.g - want).abs() < 1e-6, "{d}: {got:?} vs {want}");
+    }
 }

@@ -6,17 +6,21 @@
 pub mod bsdf;
 pub mod builtin;
 pub mod camera;
+pub mod envmap;
 pub mod error;
 pub mod file;
 pub mod light;
 pub mod material;
+pub mod projector;
 pub mod scene;
 pub mod texture;
 
 pub use bsdf::BsdfDesc;
 pub use camera::{Camera, FovAxis, Projection};
+pub use envmap::EnvMap;
 pub use error::{ErrorKind, SceneError};
 pub use file::{load_file, load_str, SceneSyntax};
-pub use light::{spot_falloff, Light};
+pub use light::{spot_falloff, Light, SpotProfile};
 pub use material::{image_texel, Material, ShadingModel, Texture};
+pub use projector::{Projector, ProjectorSample};
 pub use scene::{CropWindow, Integrator, Object, PixelFilter, RenderSettings, Scene};

@@ -363,29 +363,13 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
 }
 
 fn view_of(scene: &irradia_scene::Scene, width: u32, height: u32) -> Result<View, CliError> {
-    use irradia_scene::{FovAxis, Projection};
     let c = &scene.camera;
-    let aspect = width as f64 / height as f64;
-    let fov_y = match c.projection {
-        Projection::Perspective { fov_degrees, axis } => {
-            let t = (fov_degrees as f64).to_radians() * 0.5;
-            let horizontal = match axis {
-                FovAxis::Horizontal => true,
-                FovAxis::Vertical => false,
-                FovAxis::Smaller => width < height,
-            };
-            if horizontal {
-                2.0 * (t.tan() / aspect).atan().to_degrees()
-            } else {
-                2.0 * t.to_degrees()
-            }
-        }
-        Projection::Orthographic { .. } => {
-            return Err(CliError::Input(
-                "radiosity images need a perspective camera; the scene's is orthographic".into(),
-            ))
-        }
+    let Some(fov_y) = c.fov_y_radians(width, height) else {
+        return Err(CliError::Input(
+            "radiosity images need a perspective camera; the scene's is orthographic".into(),
+        ));
     };
+    let fov_y = (fov_y as f64).to_degrees();
     Ok(View {
         eye: c.eye.as_dvec3(),
         target: c.look_at.as_dvec3(),

@@ -160,7 +160,6 @@ pub fn radiance_recorded<T: Tracer, R: Recorder>(
     let mut kind = RayKind::Camera;
     // The previous scattering vertex and its BSDF density, for MIS on emitter hits.
     let mut prev: Option<(Vec3, f32)> = None;
-    let background = scene.settings.background;
     for depth in 1..=params.max_depth {
         counters.rays += 1;
         if R::RECORDS {
@@ -168,12 +167,12 @@ pub fn radiance_recorded<T: Tracer, R: Recorder>(
             open.push((beta, l));
         }
         let Some(sh) = tracer.intersect(&ray, f32::INFINITY) else {
-            if !background.is_black() {
+            if lights.has_environment() {
                 let w = match prev {
-                    Some((_, pdf)) => mis(pdf, lights.pdf_environment()),
+                    Some((_, pdf)) => mis(pdf, lights.pdf_environment(ray.dir)),
                     None => 1.0,
                 };
-                l += beta * background * w;
+                l += beta * lights.environment_radiance(ray.dir) * w;
             }
             break;
         };

@@ -1,16 +1,23 @@
-//! Light sampling for next-event estimation: every emitter of the scene (point, spot
-//! and directional lights, rectangle and sphere area lights, emissive objects, the
-//! constant environment), chosen in proportion to its power.
+//! Light sampling for next-event estimation: every emitter of the scene (point, spot,
+//! projector and directional lights, rectangle and sphere area lights, emissive
+//! objects, the constant environment (the background plus Mitsuba's `constant`
+//! emitters) and importance-sampled environment maps), chosen in proportion to its
+//! power. Each emitter gives a direction, its radiance and its solid-angle density
+//! (`sample`), and the density of a BSDF-sampled ray that reaches it (`pdf_object` for
+//! surfaces, `pdf_environment` for rays that leave the scene), for multiple importance
+//! sampling (Veach 1997, 9.2).
 //!
 //! Rectangle and sphere *lights* (as opposed to emissive objects) are not part of the
 //! geometry, so the path tracer sees them only through light sampling; make an object
 //! emissive when it should also be visible and reachable by mirrors.
 
+use super::envmap::EnvmapSampler;
 use glam::{Affine3A, Vec2, Vec3};
 use irradia_core::{sampling, Rgb};
 use irradia_geometry::Instance;
-use irradia_scene::{spot_falloff, Light, Scene};
+use irradia_scene::{Light, Projector, Scene, SpotProfile};
 use std::f32::consts::PI;
+use std::sync::Arc;
 
 /// One sampled light connection from a shading point.
 #[derive(Clone, Copy, Debug)]
@@ -39,7 +46,10 @@ enum Emitter {
         intensity: Rgb,
         cos_inner: f32,
         cos_outer: f32,
+        profile: SpotProfile,
     },
+    /// Mitsuba's `projector`: a delta-position emitter with an image for intensity.
+    Projector(Arc<Projector>),
     Directional {
         direction: Vec3,
         irradiance: Rgb,
@@ -68,6 +78,11 @@ enum Emitter {
     },
     Environment {
         radiance: Rgb,
+        radius: f32,
+    },
+    /// Mitsuba's `envmap`, importance sampled by luminance.
+    Envmap {
+        sampler: EnvmapSampler,
         radius: f32,
     },
 }
@@ -220,7 +235,10 @@ pub struct LightSampler {
     probability: Vec<f32>,
     /// For each instance, the index of its emitter (emissive objects).
     by_instance: Vec<Option<u32>>,
+    /// The constant environment's emitter.
     environment: Option<u32>,
+    /// The environment maps' emitters.
+    envmaps: Vec<u32>,
 }
 
 fn det3(m: &Affine3A) -> f32 {
@@ -264,12 +282,21 @@ impl LightSampler {
                     intensity,
                     cos_inner,
                     cos_outer,
+                    profile,
                 } => Emitter::Spot {
                     position,
                     direction: direction.normalize(),
                     intensity,
                     cos_inner,
                     cos_outer,
+                    profile,
+                },
+                Light::Projector(ref p) => Emitter::Projector(p.clone()),
+                // Gathered below with the background.
+                Light::Constant { .. } => continue,
+                Light::Envmap(ref map) => Emitter::Envmap {
+                    sampler: EnvmapSampler::new(map.clone()),
+                    radius,
                 },
                 Light::Directional {
                     direction,
@@ -337,11 +364,21 @@ impl LightSampler {
                 });
             }
         }
+        let envmaps = (0..emitters.len() as u32)
+            .filter(|&i| matches!(emitters[i as usize], Emitter::Envmap { .. }))
+            .collect();
         let mut environment = None;
-        if !scene.settings.background.is_black() {
+        let constant = scene
+            .lights
+            .iter()
+            .fold(scene.settings.background, |c, l| match l {
+                Light::Constant { radiance } => c + *radiance,
+                _ => c,
+            });
+        if !constant.is_black() {
             environment = Some(emitters.len() as u32);
             emitters.push(Emitter::Environment {
-                radiance: scene.settings.background,
+                radiance: constant,
                 radius,
             });
         }
@@ -350,6 +387,10 @@ impl LightSampler {
             .map(|e| match e {
                 Emitter::Point { intensity, .. } | Emitter::Spot { intensity, .. } => {
                     4.0 * PI * intensity.mean()
+                }
+                Emitter::Projector(p) => p.power().mean(),
+                Emitter::Envmap { sampler, radius } => {
+                    PI * 4.0 * PI * radius * radius * sampler.mean_radiance()
                 }
                 Emitter::Directional { irradiance, .. } => PI * radius * radius * irradiance.mean(),
                 Emitter::Rect { area, radiance, .. } => PI * area * radiance.mean(),
@@ -392,6 +433,7 @@ impl LightSampler {
             probability,
             by_instance,
             environment,
+            envmaps,
         }
     }
 
@@ -462,17 +504,38 @@ impl LightSampler {
                 intensity,
                 cos_inner,
                 cos_outer,
+                profile,
             } => {
                 let d = position - p;
                 let dist2 = d.length_squared();
                 let wi = d / dist2.sqrt();
-                let f = spot_falloff((-wi).dot(direction), cos_inner, cos_outer);
+                let f = profile.falloff((-wi).dot(direction), cos_inner, cos_outer);
                 (f > 0.0).then_some(LightSample {
                     wi,
                     target: Some(position),
                     li: intensity * (f / dist2),
                     pdf: pick,
                     delta: true,
+                })
+            }
+            Emitter::Projector(ref proj) => {
+                let s = proj.illuminate(p)?;
+                Some(LightSample {
+                    wi: s.wi,
+                    target: Some(proj.position),
+                    li: s.li,
+                    pdf: pick,
+                    delta: true,
+                })
+            }
+            Emitter::Envmap { ref sampler, .. } => {
+                let s = sampler.sample(u)?;
+                Some(LightSample {
+                    wi: s.wi,
+                    target: None,
+                    li: s.radiance,
+                    pdf: pick * s.pdf,
+                    delta: false,
                 })
             }
             Emitter::Directional {
@@ -560,7 +623,7 @@ impl LightSampler {
     /// sampled by its facets and there is no environment (what the 8-wide kernel of
     /// [`super::wide`] supports); `None` otherwise. Indexed like the emitters.
     pub(crate) fn facet_emitters(&self) -> Option<Vec<FacetEmitter<'_>>> {
-        if self.environment.is_some() {
+        if self.environment.is_some() || !self.envmaps.is_empty() {
             return None;
         }
         self.emitters
@@ -628,9 +691,39 @@ impl LightSampler {
         self.probability[*idx as usize] / (area * area_jacobian(inst, n_obj)) * dist2 / cos_l
     }
 
-    /// The solid-angle density of sampling direction `wi` from the environment.
-    pub fn pdf_environment(&self) -> f32 {
-        self.environment
-            .map_or(0.0, |i| self.probability[i as usize] / (4.0 * PI))
+    /// Whether rays that leave the scene see any light (a background, a `constant` or
+    /// an `envmap`).
+    pub fn has_environment(&self) -> bool {
+        self.environment.is_some() || !self.envmaps.is_empty()
+    }
+
+    /// The radiance a ray travelling along `dir` sees when it leaves the scene.
+    #[inline]
+    pub fn environment_radiance(&self, dir: Vec3) -> Rgb {
+        let mut l = match self.environment.map(|i| &self.emitters[i as usize]) {
+            Some(Emitter::Environment { radiance, .. }) => *radiance,
+            _ => Rgb::BLACK,
+        };
+        for &i in &self.envmaps {
+            if let Emitter::Envmap { sampler, .. } = &self.emitters[i as usize] {
+                l += sampler.map.eval(dir);
+            }
+        }
+        l
+    }
+
+    /// The solid-angle density with which `sample` produces direction `dir` towards
+    /// the environment (every emitter at infinity, each weighted by its choice).
+    #[inline]
+    pub fn pdf_environment(&self, dir: Vec3) -> f32 {
+        let mut pdf = self
+            .environment
+            .map_or(0.0, |i| self.probability[i as usize] / (4.0 * PI));
+        for &i in &self.envmaps {
+            if let Emitter::Envmap { sampler, .. } = &self.emitters[i as usize] {
+                pdf += self.probability[i as usize] * sampler.pdf(dir);
+            }
+        }
+        pdf
     }
 }

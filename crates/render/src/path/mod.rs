@@ -3,7 +3,8 @@
 //!
 //! - [`material_map`]: scene materials to BSDFs of `irradia_scatter` (Whitted scenes
 //!   render unchanged);
-//! - [`lights`]: emitters and light selection proportional to power;
+//! - [`lights`]: emitters and light selection proportional to power; [`envmap`] and
+//!   [`distribution`]: environment maps importance sampled by luminance;
 //! - [`tracer`] and [`flat_scene`]: ray queries; planar objects baked into one
 //!   world-space triangle hierarchy;
 //! - [`integrator`]: next-event estimation + BSDF sampling with MIS, Russian roulette;
@@ -13,6 +14,8 @@
 //!   one driver (tiles, passes, budgets, checkpoints: [`crate::driver`]);
 //! - [`trace_sample`]: one sample's path as a ray tree (`irradia trace-pixel`).
 
+pub mod distribution;
+pub mod envmap;
 pub mod flat_scene;
 pub mod integrator;
 pub mod lights;

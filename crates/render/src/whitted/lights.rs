@@ -9,8 +9,9 @@
 
 use glam::{Vec2, Vec3};
 use irradia_core::{Frame, Rgb, Rng};
-use irradia_scene::Light;
+use irradia_scene::{Light, Projector, SpotProfile};
 use std::f32::consts::PI;
+use std::sync::Arc;
 
 /// One light with its constants precomputed.
 #[derive(Clone, Debug)]
@@ -31,7 +32,10 @@ pub(crate) enum PreparedLight {
         intensity: Rgb,
         cos_inner: f32,
         cos_outer: f32,
+        profile: SpotProfile,
     },
+    /// Mitsuba's `projector`: a point light whose intensity is an image.
+    Projector(Arc<Projector>),
     Rect {
         corner: Vec3,
         edge_u: Vec3,
@@ -84,8 +88,10 @@ fn stratum_point(i: u32, su: u32, sv: u32, rng: &mut Rng) -> Vec2 {
 }
 
 impl PreparedLight {
-    pub fn new(light: &Light) -> Self {
-        match *light {
+    /// The light prepared, or `None` for lights at infinity (`constant`, `envmap`),
+    /// which the Whitted tracer sees only along rays that leave the scene.
+    pub fn new(light: &Light) -> Option<Self> {
+        Some(match *light {
             Light::Point {
                 position,
                 intensity,
@@ -106,13 +112,17 @@ impl PreparedLight {
                 intensity,
                 cos_inner,
                 cos_outer,
+                profile,
             } => PreparedLight::Spot {
                 position,
                 axis: direction.normalize(),
                 intensity,
                 cos_inner,
                 cos_outer,
+                profile,
             },
+            Light::Projector(ref p) => PreparedLight::Projector(p.clone()),
+            Light::Constant { .. } | Light::Envmap(_) => return None,
             Light::Rect {
                 corner,
                 edge_u,
@@ -152,7 +162,7 @@ impl PreparedLight {
                     samples,
                 }
             }
-        }
+        })
     }
 
     /// How many shadow rays the light takes per shaded point.
@@ -198,6 +208,7 @@ impl PreparedLight {
                 intensity,
                 cos_inner,
                 cos_outer,
+                profile,
             } => {
                 let d = position - p;
                 let d2 = d.length_squared();
@@ -207,12 +218,26 @@ impl PreparedLight {
                 if cos <= cos_outer {
                     return None;
                 }
-                let fall = irradia_scene::spot_falloff(cos, cos_inner, cos_outer);
+                let fall = profile.falloff(cos, cos_inner, cos_outer);
                 let e = intensity * fall;
                 Some(LightSample {
                     dir,
                     dist,
                     irradiance: if falloff { e / d2 } else { e },
+                })
+            }
+            PreparedLight::Projector(ref proj) => {
+                let s = proj.illuminate(p)?;
+                // `li` is I / r²; without falloff (POV-Ray's model) the intensity.
+                let irradiance = if falloff {
+                    s.li
+                } else {
+                    s.li * (s.dist * s.dist)
+                };
+                Some(LightSample {
+                    dir: s.wi,
+                    dist: s.dist,
+                    irradiance,
                 })
             }
             PreparedLight::Rect {

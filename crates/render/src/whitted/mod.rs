@@ -87,7 +87,7 @@ impl<'s, G: RayQuery> Whitted<'s, G> {
         let s = &scene.settings;
         Self {
             scene,
-            lights: scene.lights.iter().map(PreparedLight::new).collect(),
+            lights: scene.lights.iter().filter_map(PreparedLight::new).collect(),
             max_depth: s.max_depth.max(1),
             min_weight: s.min_weight.max(0.0),
             background: s.background,
@@ -105,6 +105,17 @@ impl<'s, G: RayQuery> Whitted<'s, G> {
     /// The geometry back (e.g. to read what it recorded).
     pub fn into_geometry(self) -> G {
         self.geometry
+    }
+
+    /// What a ray travelling along `dir` sees when it leaves the scene: the background
+    /// plus the radiance of the lights at infinity (Mitsuba's `constant` and `envmap`).
+    #[inline]
+    fn escaped(&self, dir: Vec3) -> Rgb {
+        self.scene
+            .lights
+            .iter()
+            .filter(|l| l.is_environment())
+            .fold(self.background, |c, l| c + l.environment_radiance(dir))
     }
 
     /// Nearest hit among all objects.
@@ -173,8 +184,9 @@ impl<'s, G: RayQuery> Whitted<'s, G> {
         let scene = self.scene;
         let Some(sh) = self.intersect_all(ray, f32::INFINITY) else {
             cx.stats.missed += 1;
-            cx.rec.end(self.background);
-            return self.background;
+            let seen = self.escaped(ray.dir);
+            cx.rec.end(seen);
+            return seen;
         };
         let hit = &sh.hit;
         let object = &scene.objects[sh.instance as usize];

@@ -19,6 +19,7 @@ pub fn camera(eye: Vec3, look_at: Vec3, fov: f32) -> Camera {
             fov_degrees: fov,
             axis: FovAxis::Horizontal,
         },
+        near_clip: 0.0,
     }
 }
 

@@ -41,6 +41,7 @@ pub fn camera(eye: Vec3, look_at: Vec3, fov: f32) -> Camera {
             fov_degrees: fov,
             axis: FovAxis::Vertical,
         },
+        near_clip: 0.0,
     }
 }
 

@@ -1,8 +1,11 @@
-//! The `[[lights]]` array: point, directional, spot, and rectangle and sphere area
-//! lights.
+//! The `[[lights]]` array: point, directional, spot, rectangle and sphere area lights,
+//! and Mitsuba's `constant`, `envmap` and `projector` emitters (read in
+//! [`super::emitters`]).
 
-use super::reader::{Result, Val};
-use crate::light::Light;
+use super::emitters::{read_envmap, read_projector};
+use super::reader::{Result, Table, Val};
+use crate::light::{Light, SpotProfile};
+use glam::Vec3;
 use irradia_core::Rgb;
 
 pub fn read_lights(v: Option<Val>) -> Result<Vec<Light>> {
@@ -14,9 +17,16 @@ pub fn read_lights(v: Option<Val>) -> Result<Vec<Light>> {
 
 fn read_light(v: &Val) -> Result<Light> {
     let t = v.table()?;
-    let kind = t
-        .req("type")?
-        .choice(&["point", "directional", "spot", "rect", "sphere"])?;
+    let kind = t.req("type")?.choice(&[
+        "point",
+        "directional",
+        "spot",
+        "rect",
+        "sphere",
+        "constant",
+        "envmap",
+        "projector",
+    ])?;
     let light = match kind {
         "point" => Light::Point {
             position: t.req("position")?.vec3()?,
@@ -26,50 +36,7 @@ fn read_light(v: &Val) -> Result<Light> {
             direction: t.req("direction")?.direction()?.normalize(),
             irradiance: t.rgb_or("irradiance", Rgb::WHITE)?,
         },
-        "spot" => {
-            let position = t.req("position")?.vec3()?;
-            let direction = match (t.get("direction"), t.get("look_at")) {
-                (Some(_), Some(l)) => {
-                    return Err(l.err("give either direction or look_at, not both"))
-                }
-                (Some(d), None) => d.direction()?,
-                (None, Some(l)) => {
-                    let d = l.vec3()? - position;
-                    if d.length_squared() == 0.0 {
-                        return Err(l.err("look_at must differ from position"));
-                    }
-                    d
-                }
-                (None, None) => return Err(t.err("a spot light needs direction or look_at")),
-            }
-            .normalize();
-            let outer_v = t.req("outer_angle")?;
-            let outer = outer_v.f32()?;
-            if !(outer > 0.0 && outer <= 90.0) {
-                return Err(outer_v.err(format!(
-                    "must be between 0 (exclusive) and 90 degrees (got {outer})"
-                )));
-            }
-            let inner = match t.get("inner_angle") {
-                Some(i) => {
-                    let x = i.f32()?;
-                    if !(0.0..=outer).contains(&x) {
-                        return Err(i.err(format!(
-                            "must be between 0 and outer_angle ({outer}) degrees (got {x})"
-                        )));
-                    }
-                    x
-                }
-                None => outer,
-            };
-            Light::Spot {
-                position,
-                direction,
-                intensity: t.rgb_or("intensity", Rgb::WHITE)?,
-                cos_inner: inner.to_radians().cos(),
-                cos_outer: outer.to_radians().cos(),
-            }
-        }
+        "spot" => read_spot(&t)?,
         "rect" => {
             let corner = t.req("corner")?.vec3()?;
             let edge_u = t.req("edge_u")?.vec3()?;
@@ -88,13 +55,114 @@ fn read_light(v: &Val) -> Result<Light> {
                 samples: t.count_or("samples", 16)?,
             }
         }
-        _ => Light::Sphere {
+        "sphere" => Light::Sphere {
             center: t.req("center")?.vec3()?,
             radius: t.req("radius")?.positive()?,
             radiance: t.rgb_or("radiance", Rgb::WHITE)?,
             samples: t.count_or("samples", 16)?,
         },
+        "constant" => Light::Constant {
+            radiance: t.rgb_or("radiance", Rgb::WHITE)?,
+        },
+        "envmap" => read_envmap(&t)?,
+        _ => read_projector(&t)?,
     };
     t.finish()?;
     Ok(light)
+}
+
+/// The spot's position and axis (`direction` or `look_at`), for spots and projectors.
+pub(super) fn position_and_axis(t: &Table) -> Result<(Vec3, Vec3)> {
+    let position = t.req("position")?.vec3()?;
+    let direction = match (t.get("direction"), t.get("look_at")) {
+        (Some(_), Some(l)) => return Err(l.err("give either direction or look_at, not both")),
+        (Some(d), None) => d.direction()?,
+        (None, Some(l)) => {
+            let d = l.vec3()? - position;
+            if d.length_squared() == 0.0 {
+                return Err(l.err("look_at must differ from position"));
+            }
+            d
+        }
+        (None, None) => return Err(t.err(format!("a {} needs direction or look_at", kind(t)))),
+    }
+    .normalize();
+    Ok((position, direction))
+}
+
+fn kind(t: &Table) -> &'static str {
+    match t.get("type").and_then(|k| k.str().ok()) {
+        Some("projector") => "projector",
+        _ => "spot light",
+    }
+}
+
+/// A spot light: the lecture's smooth cone (`outer_angle`, `inner_angle`) or Mitsuba's
+/// `spot` (`cutoff_angle`, default 20°, and `beam_width`, default ¾ of the cutoff, with
+/// its falloff linear in the angle). All angles are half-angles from the axis.
+fn read_spot(t: &Table) -> Result<Light> {
+    let (position, direction) = position_and_axis(t)?;
+    let mitsuba = t.get("cutoff_angle").or(t.get("beam_width"));
+    let lecture = t.get("outer_angle").or(t.get("inner_angle"));
+    if let (Some(m), Some(l)) = (&mitsuba, &lecture) {
+        let names = |v: &Val| v.path.rsplit('.').next().unwrap_or("").to_string();
+        return Err(m.err(format!(
+            "give either cutoff_angle/beam_width (Mitsuba's falloff) or \
+             outer_angle/inner_angle (smooth falloff), not {} with {}",
+            names(m),
+            names(l)
+        )));
+    }
+    let angle = |v: &Val| -> Result<f32> {
+        let x = v.f32()?;
+        if !(x > 0.0 && x <= 90.0) {
+            return Err(v.err(format!(
+                "must be between 0 (exclusive) and 90 degrees (got {x})"
+            )));
+        }
+        Ok(x)
+    };
+    let (inner, outer, profile) = if lecture.is_some() {
+        let outer_v = t.req("outer_angle")?;
+        let outer = angle(&outer_v)?;
+        let inner = match t.get("inner_angle") {
+            Some(i) => {
+                let x = i.f32()?;
+                if !(0.0..=outer).contains(&x) {
+                    return Err(i.err(format!(
+                        "must be between 0 and outer_angle ({outer}) degrees (got {x})"
+                    )));
+                }
+                x
+            }
+            None => outer,
+        };
+        (inner, outer, SpotProfile::Smooth)
+    } else {
+        let cutoff = match t.get("cutoff_angle") {
+            Some(c) => angle(&c)?,
+            None => 20.0,
+        };
+        let beam = match t.get("beam_width") {
+            Some(b) => {
+                let x = b.f32()?;
+                if !(0.0..=cutoff).contains(&x) {
+                    return Err(b.err(format!(
+                        "must be between 0 and cutoff_angle ({cutoff}) degrees (got {x})"
+                    )));
+                }
+                x
+            }
+            None => 0.75 * cutoff,
+        };
+        (beam, cutoff, SpotProfile::Linear)
+    };
+    Ok(Light::Spot {
+        position,
+        direction,
+        intensity: t.rgb_or("intensity", Rgb::WHITE)?,
+        cos_inner: inner.to_radians().cos(),
+        cos_outer: outer.to_radians().cos(),
+        profile,
+    })
 }

@@ -2,6 +2,7 @@
 //! positioned tree, then read field by field into a validated [`Scene`].
 
 pub mod bsdfs;
+pub mod emitters;
 pub mod generators;
 pub mod json_tree;
 pub mod lights;

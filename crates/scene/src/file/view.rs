@@ -1,4 +1,5 @@
-//! The `[camera]`, `[image]` and `[render]` tables.
+//! The `[camera]` (Mitsuba's `perspective`, `thinlens` and `orthographic` sensors),
+//! `[image]` and `[render]` tables.
 
 use super::reader::{Result, Table, Val};
 use crate::camera::{Camera, FovAxis, Projection};
@@ -11,7 +12,7 @@ pub fn read_camera(v: Option<Val>, root: &Table) -> Result<Camera> {
     };
     let t = v.table()?;
     let kind = t.get("type").map_or(Ok("perspective"), |k| {
-        k.choice(&["perspective", "orthographic"])
+        k.choice(&["perspective", "thinlens", "orthographic"])
     })?;
     let eye = t.req("eye")?.vec3()?;
     let look_v = t.req("look_at")?;
@@ -29,39 +30,64 @@ pub fn read_camera(v: Option<Val>, root: &Table) -> Result<Camera> {
         let at = up_v.unwrap_or(look_v);
         return Err(at.err("up must not be parallel to the viewing direction"));
     }
-    let projection = if kind == "perspective" {
-        let fov = t.get("fov").map_or(Ok(60.0), |f| {
-            let x = f.f32()?;
-            if !(x > 0.0 && x < 180.0) {
-                return Err(f.err(format!(
-                    "field of view must be between 0 and 180 degrees, exclusive (got {x})"
-                )));
-            }
-            Ok(x)
-        })?;
-        let axis = match t.get("fov_axis").map_or(Ok("horizontal"), |a| {
-            a.choice(&["horizontal", "vertical", "smaller"])
-        })? {
-            "vertical" => FovAxis::Vertical,
-            "smaller" => FovAxis::Smaller,
-            _ => FovAxis::Horizontal,
-        };
-        Projection::Perspective {
-            fov_degrees: fov,
-            axis,
-        }
-    } else {
+    let projection = if kind == "orthographic" {
         Projection::Orthographic {
             height: t.req("height")?.positive()?,
         }
+    } else {
+        let (fov_degrees, axis) = read_fov(&t)?;
+        if kind == "thinlens" {
+            Projection::ThinLens {
+                fov_degrees,
+                axis,
+                aperture_radius: t.req("aperture_radius")?.non_negative()?,
+                focus_distance: t.req("focus_distance")?.positive()?,
+            }
+        } else {
+            Projection::Perspective { fov_degrees, axis }
+        }
     };
+    let near_clip = t.non_negative_or("near_clip", 0.0)?;
     t.finish()?;
     Ok(Camera {
         eye,
         look_at,
         up,
         projection,
+        near_clip,
     })
+}
+
+/// `fov` (degrees, default 60) and `fov_axis` (Mitsuba's names `x`, `y`, `diagonal`,
+/// `smaller`, `larger`; `horizontal` and `vertical` mean `x` and `y`).
+fn read_fov(t: &Table) -> Result<(f32, FovAxis)> {
+    let fov = t.get("fov").map_or(Ok(60.0), |f| {
+        let x = f.f32()?;
+        if !(x > 0.0 && x < 180.0) {
+            return Err(f.err(format!(
+                "field of view must be between 0 and 180 degrees, exclusive (got {x})"
+            )));
+        }
+        Ok(x)
+    })?;
+    let axis = match t.get("fov_axis").map_or(Ok("x"), |a| {
+        a.choice(&[
+            "x",
+            "y",
+            "diagonal",
+            "smaller",
+            "larger",
+            "horizontal",
+            "vertical",
+        ])
+    })? {
+        "y" | "vertical" => FovAxis::Vertical,
+        "diagonal" => FovAxis::Diagonal,
+        "smaller" => FovAxis::Smaller,
+        "larger" => FovAxis::Larger,
+        _ => FovAxis::Horizontal,
+    };
+    Ok((fov, axis))
 }
 
 /// `[image]` (size) and `[render]` (integrator settings) into one `RenderSettings`.

@@ -1,0 +1,150 @@
+//! Piecewise-constant distributions in one and two dimensions, sampled by inverting
+//! their cumulative tables (Pharr, Jakob, Humphreys, *Physically Based Rendering*, 4th
+//! ed., 2.4.2 and A.5 `PiecewiseConstant1D` / `PiecewiseConstant2D`): the density of
+//! the 2D one is the marginal density of a row times the conditional density of a
+//! column within it, so `pdf` is exactly the density `sample` draws from.
+
+use glam::Vec2;
+
+/// A density on [0, 1) proportional to `n` non-negative cell values.
+#[derive(Clone, Debug)]
+pub struct Piecewise1D {
+    /// The cell values.
+    func: Vec<f32>,
+    /// `cdf[i]` is the probability of the cells before `i`; `cdf[n] = 1`.
+    cdf: Vec<f32>,
+    /// The integral of the step function over [0, 1): mean of `func`.
+    integral: f32,
+}
+
+impl Piecewise1D {
+    pub fn new(func: &[f32]) -> Self {
+        let n = func.len().max(1);
+        let func: Vec<f32> = (0..n)
+            .map(|i| {
+                let f = func.get(i).copied().unwrap_or(0.0);
+                if f.is_finite() && f > 0.0 {
+                    f
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let mut cdf = Vec::with_capacity(n + 1);
+        let mut acc = 0.0f64;
+        cdf.push(0.0);
+        for &f in &func {
+            acc += f as f64;
+            cdf.push(acc as f32);
+        }
+        let total = acc as f32;
+        if total > 0.0 {
+            for c in &mut cdf {
+                *c /= total;
+            }
+        } else {
+            // An all-zero function: sample uniformly (its pdf stays 0).
+            for (i, c) in cdf.iter_mut().enumerate() {
+                *c = i as f32 / n as f32;
+            }
+        }
+        *cdf.last_mut().unwrap() = 1.0;
+        Self {
+            func,
+            cdf,
+            integral: (acc / n as f64) as f32,
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.func.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.func.is_empty()
+    }
+
+    pub fn integral(&self) -> f32 {
+        self.integral
+    }
+
+    /// A point of [0, 1) and the cell it lies in, drawn with density `pdf`.
+    #[inline]
+    pub fn sample(&self, u: f32) -> (f32, usize) {
+        let n = self.func.len();
+        let i = self.cdf.partition_point(|&c| c <= u).clamp(1, n) - 1;
+        let (lo, hi) = (self.cdf[i], self.cdf[i + 1]);
+        let du = if hi > lo {
+            ((u - lo) / (hi - lo)).clamp(0.0, 1.0 - f32::EPSILON)
+        } else {
+            0.5
+        };
+        ((i as f32 + du) / n as f32, i)
+    }
+
+    /// The density at a point of cell `i`.
+    #[inline]
+    pub fn pdf(&self, i: usize) -> f32 {
+        if self.integral > 0.0 {
+            self.func[i.min(self.func.len() - 1)] / self.integral
+        } else {
+            0.0
+        }
+    }
+}
+
+/// A density on [0, 1)² proportional to a `width x height` grid of cell values (row
+/// `j` covers `v ∈ [j, j+1) / height`).
+#[derive(Clone, Debug)]
+pub struct Piecewise2D {
+    rows: Vec<Piecewise1D>,
+    marginal: Piecewise1D,
+}
+
+impl Piecewise2D {
+    /// `func` in rows of `width`, top row first.
+    pub fn new(func: &[f32], width: usize, height: usize) -> Self {
+        let rows: Vec<Piecewise1D> = (0..height)
+            .map(|j| Piecewise1D::new(&func[j * width..(j + 1) * width]))
+            .collect();
+        let marginal = Piecewise1D::new(&rows.iter().map(|r| r.integral()).collect::<Vec<_>>());
+        Self { rows, marginal }
+    }
+
+    /// The integral of the step function over the unit square.
+    pub fn integral(&self) -> f32 {
+        self.marginal.integral()
+    }
+
+    /// A point `(u, v)` and its cell `(i, j)`, drawn with density `pdf`.
+    #[inline]
+    pub fn sample(&self, u: Vec2) -> (Vec2, (usize, usize)) {
+        let (v, j) = self.marginal.sample(u.y);
+        let (x, i) = self.rows[j].sample(u.x);
+        (Vec2::new(x, v), (i, j))
+    }
+
+    /// The density at a point of cell `(i, j)`.
+    #[inline]
+    pub fn pdf(&self, i: usize, j: usize) -> f32 {
+        let j = j.min(self.rows.len() - 1);
+        self.marginal.pdf(j) * self.rows[j].pdf(i)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_dimension_samples_cells_in_proportion() {
+        let d = Piecewise1D::new(&[1.0, 0.0, 3.0]);
+        assert!((d.integral() - 4.0 / 3.0).abs() < 1e-6);
+        assert_eq!(d.sample(0.1).1, 0);
+        assert_eq!(d.sample(0.3).1, 2);
+        assert!((d.pdf(2) - 3.0 / (4.0 / 3.0)).abs() < 1e-6);
+        assert_eq!(d.pdf(1), 0.0);
+        let (x, _) = d.sample(0.625); // halfway through the last cell's share
+        assert!((x - (2.0 + 0.5) / 3.0).abs() < 1e-6, "{x}");
+    }
+}

@@ -1,0 +1,503 @@
+//! The path tracer's emitters as Mitsuba's and pbrt's own tests check them: the
+//! environment map's sampling against its density (chi-square), every non-delta
+//! emitter's density integrated over the sphere of directions, the irradiance of point,
+//! spot, directional and projector lights on a diffuse plane against closed forms, the
+//! irradiance of an environment map on a plane against a sum over its texels, and a
+//! furnace lit by Mitsuba's `constant` emitter.
+
+mod chi_square;
+mod path_common;
+
+use glam::{Mat3, Vec2, Vec3};
+use irradia_core::{Image, Ray, Rgb, Rng};
+use irradia_geometry::shapes::{Plane, Sphere};
+use irradia_geometry::Instance;
+use irradia_render::path::envmap::EnvmapSampler;
+use irradia_render::path::integrator::{radiance, PathCounters};
+use irradia_render::path::lights::LightSampler;
+use irradia_render::path::PathParams;
+use irradia_scene::{EnvMap, FovAxis, Light, Object, Projector, Scene, SpotProfile};
+use std::f64::consts::PI;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// A 32 x 16 map with a smooth gradient, a black band and one bright texel, turned by
+/// `to_world`.
+fn test_map(to_world: Mat3) -> Arc<EnvMap> {
+    let (w, h) = (32u32, 16u32);
+    let mut px = Vec::new();
+    for j in 0..h {
+        for i in 0..w {
+            let v = if i == 20 && j == 3 {
+                Rgb::new(400.0, 300.0, 200.0)
+            } else if (8..11).contains(&i) {
+                Rgb::BLACK
+            } else {
+                Rgb::new(0.2 + 0.05 * i as f32, 0.5, 1.0 + 0.1 * j as f32)
+            };
+            px.push(v);
+        }
+    }
+    Arc::new(EnvMap {
+        image: Arc::new(Image::from_pixels(w, h, px)),
+        scale: 1.5,
+        to_world,
+        path: PathBuf::from("test"),
+    })
+}
+
+fn dir(z: f64, phi: f64) -> Vec3 {
+    let s = (1.0 - z * z).max(0.0).sqrt();
+    Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, z as f32)
+}
+
+const Z_BINS: usize = 12;
+const PHI_BINS: usize = 24;
+
+/// ∫ `pdf` dω over each (z, φ) bin by the midpoint rule on a fine grid (z and φ are
+/// equal-area coordinates: dω = dz dφ).
+fn bin_integrals(pdf: impl Fn(Vec3) -> f64, sub: usize) -> Vec<f64> {
+    let (dz, dp) = (2.0 / Z_BINS as f64, 2.0 * PI / PHI_BINS as f64);
+    let mut out = vec![0.0; Z_BINS * PHI_BINS];
+    for (b, o) in out.iter_mut().enumerate() {
+        let (t, p) = (b / PHI_BINS, b % PHI_BINS);
+        let mut s = 0.0;
+        for i in 0..sub {
+            for j in 0..sub {
+                let z = -1.0 + dz * (t as f64 + (i as f64 + 0.5) / sub as f64);
+                let phi = dp * (p as f64 + (j as f64 + 0.5) / sub as f64);
+                s += pdf(dir(z, phi));
+            }
+        }
+        *o = s * dz * dp / (sub * sub) as f64;
+    }
+    out
+}
+
+/// The map's `(u, v)` of a direction in its own frame, derived here from Mitsuba's
+/// definition: u = atan2(x, −z) / 2π, v = acos(y) / π.
+fn lat_long(d: Vec3) -> (f64, f64) {
+    let d = d.as_dvec3().normalize();
+    let mut u = d.x.atan2(-d.z) / (2.0 * PI);
+    if u < 0.0 {
+        u += 1.0;
+    }
+    (u, d.y.clamp(-1.0, 1.0).acos() / PI)
+}
+
+const U_BINS: usize = 20;
+const V_BINS: usize = 12;
+
+/// Pearson's test of `n` samples of the map's sampler against its density. Samples are
+/// binned by their `(u, v)` in the map's frame on a grid that does not line up with the
+/// texels; the density is constant over each texel in `(u, v)` (dω = 2π² sin θ du dv),
+/// so each bin's expected share is exact: Σ over texels of the density at the texel's
+/// centre times its overlap with the bin.
+fn envmap_p_value(sampler: &EnvmapSampler, n: usize, seed: u64) -> f64 {
+    let map = &sampler.map;
+    let (w, h) = (map.image.width() as usize, map.image.height() as usize);
+    let mut observed = vec![0.0; U_BINS * V_BINS];
+    let mut rng = Rng::new(seed, 3);
+    for _ in 0..n {
+        if let Some(s) = sampler.sample(rng.next_2d()) {
+            let (u, v) = lat_long(map.to_world.transpose() * s.wi);
+            let bu = ((u * U_BINS as f64) as usize).min(U_BINS - 1);
+            let bv = ((v * V_BINS as f64) as usize).min(V_BINS - 1);
+            observed[bv * U_BINS + bu] += 1.0;
+        }
+    }
+    let overlap = |a0: f64, a1: f64, b0: f64, b1: f64| (a1.min(b1) - a0.max(b0)).max(0.0);
+    let mut expected = vec![0.0; U_BINS * V_BINS];
+    for j in 0..h {
+        for i in 0..w {
+            let (u, v) = ((i as f64 + 0.5) / w as f64, (j as f64 + 0.5) / h as f64);
+            let d = map.direction(Vec2::new(u as f32, v as f32));
+            let density_uv = sampler.pdf(d) as f64 * 2.0 * PI * PI * (PI * v).sin();
+            for bv in 0..V_BINS {
+                for bu in 0..U_BINS {
+                    let a = overlap(
+                        i as f64 / w as f64,
+                        (i + 1) as f64 / w as f64,
+                        bu as f64 / U_BINS as f64,
+                        (bu + 1) as f64 / U_BINS as f64,
+                    ) * overlap(
+                        j as f64 / h as f64,
+                        (j + 1) as f64 / h as f64,
+                        bv as f64 / V_BINS as f64,
+                        (bv + 1) as f64 / V_BINS as f64,
+                    );
+                    expected[bv * U_BINS + bu] += density_uv * a * n as f64;
+                }
+            }
+        }
+    }
+    chi_square::pearson(&observed, &expected)
+}
+
+#[test]
+fn envmap_sampling_matches_its_density_chi_square() {
+    for (k, m) in [
+        Mat3::IDENTITY,
+        Mat3::from_rotation_x(0.7) * Mat3::from_rotation_y(-1.1),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let sampler = EnvmapSampler::new(test_map(m));
+        let p = envmap_p_value(&sampler, 200_000, 11 + k as u64);
+        assert!(p > 1e-3, "rotation {k}: chi-square p-value {p}");
+    }
+}
+
+/// The sampled radiance and density agree with the map's own lookup and `pdf`, and the
+/// density integrates to one over the sphere.
+#[test]
+fn envmap_samples_report_the_maps_radiance_and_a_density_that_integrates_to_one() {
+    let map = test_map(Mat3::from_rotation_z(0.4));
+    let sampler = EnvmapSampler::new(map.clone());
+    let total: f64 = bin_integrals(|w| sampler.pdf(w) as f64, 40).iter().sum();
+    assert!((total - 1.0).abs() < 2e-3, "∫ pdf dω = {total}");
+    let mut rng = Rng::new(5, 1);
+    for _ in 0..2000 {
+        let s = sampler.sample(rng.next_2d()).unwrap();
+        let (l, pdf) = (map.eval(s.wi), sampler.pdf(s.wi));
+        // Texel edges may round to the neighbour; elsewhere the values agree.
+        if (l - s.radiance).max_component().abs() < 1e-3 {
+            assert!(
+                (pdf - s.pdf).abs() <= 1e-3 * s.pdf,
+                "pdf {pdf} vs {}",
+                s.pdf
+            );
+        }
+    }
+    // The bright texel is sampled in proportion to luminance: its share of samples is
+    // its share of ∫ luminance dω.
+    let black = (0..2000)
+        .filter_map(|_| sampler.sample(rng.next_2d()))
+        .filter(|s| s.radiance.is_black())
+        .count();
+    assert_eq!(black, 0, "black texels are never sampled");
+}
+
+fn scene_with(lights: Vec<Light>, objects: Vec<(Object, Instance)>, background: Rgb) -> Scene {
+    let (objs, insts): (Vec<_>, Vec<_>) = objects.into_iter().unzip();
+    let n = objs.len();
+    Scene::new(
+        path_common::camera(Vec3::new(0.0, 1.0, 5.0), Vec3::ZERO, 40.0),
+        path_common::settings(8, 8, 2, background),
+        vec![
+            path_common::diffuse(1.0, 0.0),
+            path_common::diffuse(0.5, 3.0),
+        ],
+        lights,
+        objs,
+        insts.into_iter().take(n).collect(),
+    )
+}
+
+fn object(name: &str, material: u32) -> Object {
+    Object {
+        name: name.into(),
+        material,
+        leaf_materials: Vec::new(),
+    }
+}
+
+/// Every non-delta emitter's density integrated over the sphere of directions from a
+/// point: environment directions through `pdf_environment`, directions that reach an
+/// emissive sphere through `pdf_object`; each integral is the probability that light
+/// sampling picks that emitter, measured from `sample` with stratified choices.
+#[test]
+fn every_emitters_density_integrates_to_its_choice_probability() {
+    let ball = Instance::untransformed(Arc::new(Sphere::new(Vec3::new(2.0, 0.5, -1.0), 0.75)));
+    let scene = scene_with(
+        vec![
+            Light::Envmap(test_map(Mat3::from_rotation_y(0.9))),
+            Light::Constant {
+                radiance: Rgb::splat(0.3),
+            },
+            Light::Point {
+                position: Vec3::new(0.0, 3.0, 0.0),
+                intensity: Rgb::splat(20.0),
+            },
+        ],
+        vec![(object("ball", 1), ball)],
+        Rgb::splat(0.1),
+    );
+    let lights = LightSampler::new(&scene);
+    let p = Vec3::new(0.2, 0.1, 0.3);
+    // The choice probabilities, from `sample` at stratified `u_pick`.
+    let (mut env, mut ball_share, mut delta) = (0usize, 0usize, 0usize);
+    let n = 20_000;
+    let mut rng = Rng::new(2, 2);
+    for k in 0..n {
+        let u_pick = (k as f32 + 0.5) / n as f32;
+        let Some(s) = lights.sample(&scene, p, u_pick, rng.next_2d()) else {
+            continue;
+        };
+        match (s.delta, s.target) {
+            (true, _) => delta += 1,
+            (false, None) => env += 1,
+            (false, Some(_)) => ball_share += 1,
+        }
+    }
+    let share = |c: usize| c as f64 / n as f64;
+    assert!(delta > 0 && env > 0 && ball_share > 0);
+    // ∫ pdf over the sphere of directions: the environment's over every direction, the
+    // ball's over the directions whose rays from p reach it.
+    let (mut env_total, mut int_ball) = (0.0f64, 0.0f64);
+    let sub = 400;
+    let (dz, dp) = (2.0 / sub as f64, 2.0 * PI / sub as f64);
+    for i in 0..sub {
+        for j in 0..sub {
+            let w = dir(-1.0 + dz * (i as f64 + 0.5), dp * (j as f64 + 0.5));
+            env_total += lights.pdf_environment(w) as f64 * dz * dp;
+            if let Some(h) = scene.accel.intersect(&Ray::new(p, w), f32::INFINITY) {
+                int_ball += lights.pdf_object(&scene, h.instance, p, h.hit.point, h.hit.normal)
+                    as f64
+                    * dz
+                    * dp;
+            }
+        }
+    }
+    assert!(
+        (env_total - share(env)).abs() < 3e-3,
+        "environment: ∫ pdf = {env_total}, chosen {}",
+        share(env)
+    );
+    // Points of the ball facing away from p give no sample, so both sides count only
+    // the cap that p sees.
+    assert!(
+        (int_ball - share(ball_share)).abs() < 3e-3,
+        "ball: ∫ pdf = {int_ball}, sampled {}",
+        share(ball_share)
+    );
+}
+
+/// Radiance from the white (albedo 1) diffuse floor y = 0 at `p`, lit by `light`
+/// alone: E / π, where E is the irradiance there.
+fn floor_radiance(light: Light, p: Vec3) -> f64 {
+    let floor = Instance::untransformed(Arc::new(Plane::new(Vec3::Y, 0.0).unwrap()));
+    let scene = scene_with(vec![light], vec![(object("floor", 0), floor)], Rgb::BLACK);
+    let lights = LightSampler::new(&scene);
+    let eye = p + Vec3::new(0.3, 0.5, 0.1);
+    let ray = Ray::new(eye, (p - eye).normalize());
+    let params = PathParams {
+        max_depth: 2,
+        rr_depth: 5,
+    };
+    let l = radiance(
+        &scene,
+        &lights,
+        &params,
+        ray,
+        &mut Rng::new(1, 1),
+        &mut PathCounters::default(),
+    );
+    l.g as f64
+}
+
+fn close(got: f64, want: f64, what: &str) {
+    assert!(
+        (got - want).abs() <= 2e-5 * want.abs().max(1e-3),
+        "{what}: {got} vs {want}"
+    );
+}
+
+#[test]
+fn point_directional_and_spot_irradiance_on_a_diffuse_plane() {
+    let p = Vec3::new(0.5, 0.0, -0.25);
+    let pos = Vec3::new(2.0, 3.0, 1.0);
+    let d = (pos - p).as_dvec3();
+    let e = 7.0 * (d.normalize().y) / d.length_squared();
+    let got = floor_radiance(
+        Light::Point {
+            position: pos,
+            intensity: Rgb::splat(7.0),
+        },
+        p,
+    );
+    close(got, e / PI, "point");
+
+    let w = Vec3::new(-1.0, -2.0, 0.5).normalize();
+    let got = floor_radiance(
+        Light::Directional {
+            direction: w,
+            irradiance: Rgb::splat(3.0),
+        },
+        p,
+    );
+    close(got, 3.0 * -w.y as f64 / PI, "directional");
+
+    // Mitsuba's spot (cutoff 30°, beam 10°) 4 above the floor pointing down: E = I cos θ
+    // / r² inside the beam, times (cutoff − θ)/(cutoff − beam) in the transition, 0
+    // beyond the cutoff.
+    let (cutoff, beam) = (30f64.to_radians(), 10f64.to_radians());
+    let spot = Light::Spot {
+        position: Vec3::new(0.0, 4.0, 0.0),
+        direction: -Vec3::Y,
+        intensity: Rgb::splat(16.0),
+        cos_inner: (beam as f32).cos(),
+        cos_outer: (cutoff as f32).cos(),
+        profile: SpotProfile::Linear,
+    };
+    for deg in [0.0f64, 5.0, 12.0, 20.0, 27.0, 29.5, 31.0, 50.0] {
+        let theta = deg.to_radians();
+        let q = Vec3::new((4.0 * theta.tan()) as f32, 0.0, 0.0);
+        let r2 = 16.0 / theta.cos().powi(2);
+        let falloff = if theta <= beam {
+            1.0
+        } else if theta < cutoff {
+            (cutoff - theta) / (cutoff - beam)
+        } else {
+            0.0
+        };
+        let want = 16.0 * theta.cos() / r2 * falloff / PI;
+        let got = floor_radiance(spot.clone(), q);
+        assert!(
+            (got - want).abs() <= 1e-4 * want.max(1e-3),
+            "spot at {deg}°: {got} vs {want}"
+        );
+    }
+}
+
+/// Mitsuba's projector: the image projected onto a plane facing it at distance z gives
+/// E = π · scale · E(uv) / z² (a 2 x 2 image, so each quadrant has its own value).
+#[test]
+fn projector_irradiance_on_a_facing_plane() {
+    let image = Arc::new(Image::from_pixels(
+        2,
+        2,
+        vec![
+            Rgb::splat(1.0),
+            Rgb::splat(2.0),
+            Rgb::splat(3.0),
+            Rgb::splat(4.0),
+        ],
+    ));
+    let z = 2.5f32;
+    let proj = Projector::new(
+        Vec3::new(0.0, z, 0.0),
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.0, -1.0),
+        60.0,
+        FovAxis::Horizontal,
+        image,
+        0.8,
+    );
+    // Looking down -y with up = -z: image right is +x, image top is -z.
+    let half = (z * 30f32.to_radians().tan()) as f64;
+    for (x, zc, value) in [
+        (-0.5, -0.5, 1.0),
+        (0.5, -0.5, 2.0),
+        (-0.5, 0.5, 3.0),
+        (0.5, 0.5, 4.0),
+    ] {
+        let q = Vec3::new((x * half) as f32, 0.0, (zc * half) as f32);
+        let got = floor_radiance(Light::Projector(Arc::new(proj.clone())), q);
+        let want = PI * 0.8 * value / (z as f64 * z as f64) / PI;
+        close(got, want, &format!("projector at {q}"));
+    }
+    let outside = floor_radiance(
+        Light::Projector(Arc::new(proj)),
+        Vec3::new((1.2 * half) as f32, 0.0, 0.0),
+    );
+    assert_eq!(outside, 0.0);
+}
+
+/// A white diffuse floor under an environment map whose lower half is hidden by the
+/// floor: its radiance is E / π with E = Σ over the upper texels of L ∫ cos θ dω =
+/// L Δφ (sin² θ1 − sin² θ0) / 2, whatever the sampling (here NEE of the envmap and BSDF
+/// sampling, combined by MIS).
+#[test]
+fn envmap_irradiance_on_a_plane_is_the_sum_over_its_texels() {
+    let map = test_map(Mat3::IDENTITY);
+    let (w, h) = (map.image.width(), map.image.height());
+    let mut e = 0.0f64;
+    for j in 0..h / 2 {
+        let (t0, t1) = (PI * j as f64 / h as f64, PI * (j + 1) as f64 / h as f64);
+        for i in 0..w {
+            let l = map.image.get(i, j).g as f64 * map.scale as f64;
+            e += l * (2.0 * PI / w as f64) * (t1.sin().powi(2) - t0.sin().powi(2)) * 0.5;
+        }
+    }
+    let floor = Instance::untransformed(Arc::new(Plane::new(Vec3::Y, 0.0).unwrap()));
+    let scene = scene_with(
+        vec![Light::Envmap(map)],
+        vec![(object("floor", 0), floor)],
+        Rgb::BLACK,
+    );
+    let lights = LightSampler::new(&scene);
+    let params = PathParams {
+        max_depth: 2,
+        rr_depth: 5,
+    };
+    let eye = Vec3::new(0.1, 1.0, 0.2);
+    let ray = Ray::new(eye, (Vec3::ZERO - eye).normalize());
+    let n = 200_000;
+    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+    let mut counters = PathCounters::default();
+    for s in 0..n {
+        let l = radiance(
+            &scene,
+            &lights,
+            &params,
+            ray,
+            &mut Rng::new(s, 9),
+            &mut counters,
+        )
+        .g as f64;
+        sum += l;
+        sum2 += l * l;
+    }
+    let mean = sum / n as f64;
+    let sigma = ((sum2 / n as f64 - mean * mean) / n as f64).sqrt();
+    let want = e / PI;
+    assert!(
+        (mean - want).abs() < 4.0 * sigma + 1e-4 * want,
+        "{mean} ± {sigma} vs {want}"
+    );
+}
+
+/// A white (albedo 1) diffuse sphere lit by Mitsuba's `constant` emitter alone (black
+/// background) disappears: every pixel converges to the constant radiance.
+#[test]
+fn constant_environment_furnace() {
+    let ball = Instance::untransformed(Arc::new(Sphere::new(Vec3::ZERO, 1.0)));
+    let mut scene = scene_with(
+        vec![Light::Constant {
+            radiance: Rgb::splat(0.6),
+        }],
+        vec![(object("ball", 0), ball)],
+        Rgb::BLACK,
+    );
+    scene.camera = path_common::camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 35.0);
+    let lights = LightSampler::new(&scene);
+    let params = PathParams {
+        max_depth: 400,
+        rr_depth: 5,
+    };
+    let cam = scene.camera.rays(8, 8);
+    let mut counters = PathCounters::default();
+    let (mut sum, mut sum2, n) = (0.0f64, 0.0f64, 40_000u32);
+    for s in 0..n {
+        let px = Vec2::new((s % 8) as f32 + 0.5, ((s / 8) % 8) as f32 + 0.5);
+        let l = radiance(
+            &scene,
+            &lights,
+            &params,
+            cam.ray(px.x, px.y),
+            &mut Rng::new(s as u64, 4),
+            &mut counters,
+        )
+        .g as f64;
+        sum += l;
+        sum2 += l * l;
+    }
+    let mean = sum / n as f64;
+    let sigma = ((sum2 / n as f64 - mean * mean) / n as f64).sqrt();
+    assert!(
+        (mean - 0.6).abs() < 4.0 * sigma + 1e-4,
+        "{mean} ± {sigma} vs 0.6"
+    );
+}
