@@ -4,7 +4,9 @@
 
 use glam::{Vec2, Vec3};
 use irradia_core::{Rgb, Rng};
-use irradia_render::path::bsdf::{fresnel_dielectric, Bsdf, BsdfSample, Lobe};
+use irradia_scatter::bsdfs::lecture::fresnel_dielectric;
+use irradia_scatter::bsdfs::{LectureLobe as Lobe, LectureMix as Bsdf};
+use irradia_scatter::{BsdfSample, Scatter};
 use std::f64::consts::PI;
 
 const THETA_BINS: usize = 10;
@@ -146,7 +148,7 @@ fn chi_square(bsdf: &Model, wo: Vec3, n: usize, seed: u64) -> f64 {
     let mut missing = 0.0;
     for _ in 0..n {
         match (bsdf.sample)(wo, rng.next_f32(), rng.next_2d()) {
-            Some(s) if !s.delta => {
+            Some(s) if !s.is_delta() => {
                 assert!(
                     (s.wi.length() - 1.0).abs() < 1e-3,
                     "sampled direction not unit: {}",
@@ -441,7 +443,7 @@ fn draw(m: &Model, wo: Vec3, n: usize, seed: u64, errors: &mut Vec<String>) -> S
         let Some(s) = (m.sample)(wo, rng.next_f32(), rng.next_2d()) else {
             continue;
         };
-        if !s.delta {
+        if !s.is_delta() {
             smooth += 1;
             let pdf = (m.pdf)(wo, s.wi);
             let expect = (m.eval)(wo, s.wi) * (s.wi.z.abs() / pdf);
@@ -845,7 +847,10 @@ fn delta_lobes_match_fresnel_and_snell_closed_forms() {
                 // (F·weight/F), in the mirror direction.
                 if f > 1e-3 {
                     let r = lobe.sample(wo, Vec2::new((f - 5e-4) as f32, 0.5)).unwrap();
-                    assert!(r.delta && (r.pdf as f64 - f).abs() < 2e-5, "{r:?} F {f}");
+                    assert!(
+                        r.is_delta() && (r.pdf as f64 - f).abs() < 2e-5,
+                        "{r:?} F {f}"
+                    );
                     assert!((r.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-5);
                     assert!((r.weight.g - weight).abs() < 1e-5);
                 }
@@ -855,7 +860,7 @@ fn delta_lobes_match_fresnel_and_snell_closed_forms() {
                     Some((t, e_rel)) => {
                         assert!((e_rel - e).abs() < 1e-6);
                         let r = lobe.sample(wo, Vec2::new((f + 5e-4) as f32, 0.5)).unwrap();
-                        assert!(r.delta && (r.pdf as f64 - (1.0 - f)).abs() < 2e-5);
+                        assert!(r.is_delta() && (r.pdf as f64 - (1.0 - f)).abs() < 2e-5);
                         assert!(
                             (r.wi.as_dvec3() - t).length() < 2e-5,
                             "η {eta} cos {cos}: refracted {}, Snell {t}",
@@ -878,7 +883,7 @@ fn delta_lobes_match_fresnel_and_snell_closed_forms() {
                 }
                 // The mirror: direction and weight r, probability 1; no smooth part.
                 let r = Lobe::Mirror { r: tint }.sample(wo, rng.next_2d()).unwrap();
-                assert!(r.delta && r.pdf == 1.0 && r.weight == tint);
+                assert!(r.is_delta() && r.pdf == 1.0 && r.weight == tint);
                 assert!((r.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-6);
                 for l in [lobe, Lobe::Mirror { r: tint }] {
                     let w = rng.next_2d();

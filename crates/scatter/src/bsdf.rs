@@ -148,6 +148,7 @@ macro_rules! bsdf_enum {
 // One line per BSDF; boxed for the wrappers that hold other BSDFs.
 bsdf_enum! {
     Diffuse(Diffuse),
+    LectureMix(LectureMix),
     Conductor(Conductor),
     RoughConductor(RoughConductor),
     Dielectric(Dielectric),

@@ -6,13 +6,13 @@
 //! Path depth follows Mitsuba's convention: a path of `k` segments from the camera has
 //! depth `k`; `max_depth = 1` shows only emitters seen directly, `2` adds direct light.
 
-use super::bsdf::Bsdf;
 use super::lights::LightSampler;
 use super::material_map::bsdf_for;
 use super::tracer::{AccelTracer, Tracer};
 use crate::raytree::{Blocker, NoRecorder, RayKind, Recorder};
 use glam::{Vec2, Vec3};
 use irradia_core::{offset_ray_origin, Frame, Ray, Rgb, Rng};
+use irradia_scatter::{Bsdf, LobeFlags, Scatter};
 use irradia_scene::{Scene, Texture};
 
 /// Parameters of the estimator.
@@ -79,7 +79,8 @@ impl<'a, T: Tracer> PathScene<'a, T> {
             .materials
             .iter()
             .map(|m| {
-                matches!(m.color, Texture::Solid(_)).then(|| bsdf_for(m, Vec3::ZERO, Vec2::ZERO))
+                matches!(m.color, Texture::Solid(_))
+                    .then(|| bsdf_for(m, Vec3::ZERO, Vec2::ZERO).into())
             })
             .collect();
         Self {
@@ -187,10 +188,10 @@ pub fn radiance_recorded<T: Tracer, R: Recorder>(
             break;
         }
         let bsdf: Bsdf = match ps.bsdfs.get(sh.material as usize) {
-            Some(Some(b)) => *b,
-            _ => bsdf_for(material, hit.point, hit.uv),
+            Some(Some(b)) => b.clone(),
+            _ => bsdf_for(material, hit.point, hit.uv).into(),
         };
-        if bsdf.is_empty() {
+        if bsdf.flags() == LobeFlags::NONE {
             break;
         }
         // Shade with the shading normal, kept on the geometric normal's side.
@@ -203,7 +204,7 @@ pub fn radiance_recorded<T: Tracer, R: Recorder>(
         let wo = frame.to_local(wo_world);
 
         // Next-event estimation.
-        if bsdf.has_smooth_lobe() {
+        if bsdf.flags().has_smooth() {
             if let Some(ls) = lights.sample(scene, hit.point, rng.next_f32(), rng.next_2d()) {
                 let wi = frame.to_local(ls.wi);
                 let f = bsdf.eval(wo, wi);
@@ -259,7 +260,7 @@ pub fn radiance_recorded<T: Tracer, R: Recorder>(
         if beta.is_black() || !beta.is_finite() {
             break;
         }
-        prev = if s.delta {
+        prev = if s.is_delta() {
             None
         } else {
             Some((hit.point, s.pdf))

@@ -14,13 +14,13 @@
 //! max(reflection) + transmission > 1`), all are scaled down by the sum so that the
 //! surface never reflects more energy than it receives.
 
-use super::bsdf::{Bsdf, Lobe};
 use glam::{Vec2, Vec3};
 use irradia_core::Rgb;
+use irradia_scatter::bsdfs::{LectureLobe as Lobe, LectureMix};
 use irradia_scene::Material;
 
 /// The BSDF of `material` at world point `p` with surface coordinates `uv`.
-pub fn bsdf_for(material: &Material, p: Vec3, uv: Vec2) -> Bsdf {
+pub fn bsdf_for(material: &Material, p: Vec3, uv: Vec2) -> LectureMix {
     let color = material.color.eval(p, uv);
     let albedo = color * material.diffuse;
     let transmits = material.transmission > 0.0;
@@ -32,7 +32,7 @@ pub fn bsdf_for(material: &Material, p: Vec3, uv: Vec2) -> Bsdf {
     let total =
         albedo.max_component() + material.specular + mirror.max_component() + material.transmission;
     let scale = if total > 1.0 { 1.0 / total } else { 1.0 };
-    let mut bsdf = Bsdf::new()
+    let mut bsdf = LectureMix::new()
         .with(Lobe::Lambert {
             albedo: albedo * scale,
         })

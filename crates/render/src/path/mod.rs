@@ -1,8 +1,8 @@
 //! The path tracer: the Monte Carlo solution of the rendering equation that every other
 //! method of Irradia is checked against (lecture, "The Rendering Equation").
 //!
-//! - [`bsdf`]: physically based lobes and their sampling;
-//! - [`material_map`]: scene materials to BSDFs (Whitted scenes render unchanged);
+//! - [`material_map`]: scene materials to BSDFs of `irradia_scatter` (Whitted scenes
+//!   render unchanged);
 //! - [`lights`]: emitters and light selection proportional to power;
 //! - [`tracer`] and [`flat_scene`]: ray queries; planar objects baked into one
 //!   world-space triangle hierarchy;
@@ -12,7 +12,6 @@
 //! - [`film`] and [`progressive`]: sample/time/error budgets, checkpoints and resume;
 //! - [`trace_sample`]: one sample's path as a ray tree (`irradia trace-pixel`).
 
-pub mod bsdf;
 pub mod film;
 pub mod flat_scene;
 pub mod integrator;

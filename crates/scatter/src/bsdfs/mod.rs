@@ -4,6 +4,7 @@
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
+pub mod lecture;
 pub mod roughconductor;
 pub mod roughdielectric;
 pub mod thindielectric;
@@ -11,6 +12,7 @@ pub mod thindielectric;
 pub use conductor::Conductor;
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
+pub use lecture::{LectureLobe, LectureMix};
 pub use roughconductor::RoughConductor;
 pub use roughdielectric::RoughDielectric;
 pub use thindielectric::ThinDielectric;

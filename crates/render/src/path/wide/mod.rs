@@ -40,11 +40,11 @@ pub mod kernel;
 pub mod lanes;
 pub mod trace;
 
-use super::bsdf::Lobe;
 use super::flat_scene::FlatScene;
 use super::integrator::{PathCounters, PathParams, PathScene};
 use super::lights::FacetEmitter;
 use irradia_core::{Ray, Rgb, Rng};
+use irradia_scatter::{bsdfs::LectureLobe, Bsdf};
 
 /// A material as the per-lane stage reads it.
 #[derive(Clone, Copy, Debug)]
@@ -138,11 +138,13 @@ impl<'s, 'a> WideScene<'s, 'a> {
         let mut materials = Vec::new();
         let mut shading = Vec::new();
         for (i, m) in scene.materials.iter().enumerate() {
-            let bsdf = ps.bsdfs.get(i).copied().flatten()?;
+            let Some(Some(Bsdf::LectureMix(bsdf))) = ps.bsdfs.get(i) else {
+                return None;
+            };
             let mut lobes = bsdf.lobes();
             let albedo = match (lobes.next(), lobes.next()) {
                 (None, _) => None,
-                (Some(Lobe::Lambert { albedo }), None) => Some(*albedo),
+                (Some(LectureLobe::Lambert { albedo }), None) => Some(*albedo),
                 _ => return None,
             };
             materials.push(WideMaterial {

@@ -1,20 +1,21 @@
-//! Physically based scattering for the path tracer: Lambertian, energy-conserving
-//! (normalised) Phong gloss, perfect mirror, smooth dielectric with Fresnel, and
-//! weighted mixtures of them.
+//! The lecture's mixture BSDF: what a scene's Phong/POV-Ray material becomes in the path
+//! tracer (lecture, "The Rendering Equation" and "Path Tracing"). A weighted mixture of up
+//! to four lobes: Lambertian, energy-conserving (normalised) Phong gloss, perfect mirror
+//! and smooth dielectric with Fresnel.
 //!
-//! All directions are in the local shading frame (normal = +z) and point away from the
-//! surface. `eval` returns the BSDF value f (without the cosine); `sample` returns the
-//! throughput weight `f * |cos θi| / pdf` directly, which for delta lobes is the only
-//! meaningful quantity (Veach 1997, ch. 5; Pharr, Jakob, Humphreys, PBRT 4th ed., ch. 9).
+//! Unlike Mitsuba's one-sided plugins, every lobe here is two-sided: light arriving on
+//! the back side (-z) is reflected the same way as on the front, as the lecture's
+//! Whitted tracer shades both sides of a surface.
 
+use crate::bsdf::{BsdfSample, LobeFlags, Scatter};
 use glam::{Vec2, Vec3};
 use irradia_core::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
 use irradia_core::Rgb;
 use std::f32::consts::{FRAC_1_PI, PI};
 
-/// One scattering lobe.
+/// One scattering lobe of a [`LectureMix`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Lobe {
+pub enum LectureLobe {
     /// Ideal diffuse reflection, `f = albedo / π`.
     Lambert { albedo: Rgb },
     /// The modified Phong lobe normalised for energy conservation (Lafortune and
@@ -31,33 +32,22 @@ pub enum Lobe {
     Dielectric { eta: f32, tint: Rgb, weight: f32 },
 }
 
-/// A sampled direction.
-#[derive(Clone, Copy, Debug)]
-pub struct BsdfSample {
-    pub wi: Vec3,
-    /// `f * |cos θi| / pdf`.
-    pub weight: Rgb,
-    /// Density of `wi` (solid angle), or the discrete probability of a delta lobe.
-    pub pdf: f32,
-    /// True when the direction came from a delta lobe (mirror or dielectric).
-    pub delta: bool,
-}
-
-/// A weighted mixture of up to four lobes; the weights are folded into the lobes'
-/// own coefficients, and sampling picks a lobe in proportion to its albedo estimate.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Bsdf {
-    lobes: [Option<Lobe>; 4],
+/// A weighted mixture of up to four [`LectureLobe`]s; the weights are folded into the
+/// lobes' own coefficients, and sampling picks a lobe in proportion to its albedo
+/// estimate (one-sample MIS over the smooth lobes).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LectureMix {
+    lobes: [Option<LectureLobe>; 4],
     count: usize,
 }
 
-impl Bsdf {
+impl LectureMix {
     pub fn new() -> Self {
         Self::default()
     }
 
-    /// Adds a lobe (ignored when its coefficients are black).
-    pub fn with(mut self, lobe: Lobe) -> Self {
+    /// Adds a lobe (ignored when its coefficients are black, or when four are held).
+    pub fn with(mut self, lobe: LectureLobe) -> Self {
         if lobe.selection_weight() > 0.0 && self.count < 4 {
             self.lobes[self.count] = Some(lobe);
             self.count += 1;
@@ -65,7 +55,7 @@ impl Bsdf {
         self
     }
 
-    pub fn lobes(&self) -> impl Iterator<Item = &Lobe> {
+    pub fn lobes(&self) -> impl Iterator<Item = &LectureLobe> {
         self.lobes[..self.count].iter().flatten()
     }
 
@@ -73,22 +63,28 @@ impl Bsdf {
         self.count == 0
     }
 
-    /// True when some lobe is not a delta distribution (light sampling is useful).
-    pub fn has_smooth_lobe(&self) -> bool {
-        self.lobes().any(|l| !l.is_delta())
-    }
-
     fn total_weight(&self) -> f32 {
         self.lobes().map(|l| l.selection_weight()).sum()
     }
+}
+
+impl Scatter for LectureMix {
+    fn flags(&self) -> LobeFlags {
+        let lobes = self.lobes().fold(LobeFlags::NONE, |f, l| f | l.flags());
+        if lobes == LobeFlags::NONE {
+            lobes
+        } else {
+            lobes | LobeFlags::FRONT_SIDE | LobeFlags::BACK_SIDE
+        }
+    }
 
     /// f(wo, wi) summed over the smooth lobes (delta lobes contribute nothing here).
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
         self.lobes().map(|l| l.eval(wo, wi)).sum()
     }
 
     /// The density with which `sample` produces `wi` through its smooth lobes.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let total = self.total_weight();
         if total <= 0.0 {
             return 0.0;
@@ -99,7 +95,7 @@ impl Bsdf {
     }
 
     /// Samples a direction: first a lobe (`u_lobe`), then a direction in it (`u`).
-    pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
         if self.count == 1 {
             // One lobe: its own sample is the mixture's (selection probability 1).
             return self.lobes[0]?.sample(wo, u);
@@ -135,39 +131,53 @@ impl Bsdf {
         }
         let f = self.eval(wo, s.wi);
         Some(BsdfSample {
-            wi: s.wi,
             weight: f * (s.wi.z.abs() / pdf),
             pdf,
-            delta: false,
+            ..s
         })
     }
 }
 
-impl Lobe {
+impl LectureLobe {
     pub fn is_delta(&self) -> bool {
-        matches!(self, Lobe::Mirror { .. } | Lobe::Dielectric { .. })
+        matches!(
+            self,
+            LectureLobe::Mirror { .. } | LectureLobe::Dielectric { .. }
+        )
+    }
+
+    /// The kinds of scattering this lobe does.
+    pub fn flags(&self) -> LobeFlags {
+        match self {
+            LectureLobe::Lambert { .. } => LobeFlags::DIFFUSE_REFLECTION,
+            LectureLobe::Phong { .. } => LobeFlags::GLOSSY_REFLECTION,
+            LectureLobe::Mirror { .. } => LobeFlags::DELTA_REFLECTION,
+            LectureLobe::Dielectric { .. } => {
+                LobeFlags::DELTA_REFLECTION | LobeFlags::DELTA_TRANSMISSION
+            }
+        }
     }
 
     /// How often sampling picks this lobe, relative to the others.
     fn selection_weight(&self) -> f32 {
         match self {
-            Lobe::Lambert { albedo } => albedo.mean(),
-            Lobe::Phong { ks, .. } => ks.mean(),
-            Lobe::Mirror { r } => r.mean(),
-            Lobe::Dielectric { tint, weight, .. } => weight * 0.5 * (1.0 + tint.mean()),
+            LectureLobe::Lambert { albedo } => albedo.mean(),
+            LectureLobe::Phong { ks, .. } => ks.mean(),
+            LectureLobe::Mirror { r } => r.mean(),
+            LectureLobe::Dielectric { tint, weight, .. } => weight * 0.5 * (1.0 + tint.mean()),
         }
     }
 
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
         match *self {
-            Lobe::Lambert { albedo } => {
+            LectureLobe::Lambert { albedo } => {
                 if wo.z * wi.z > 0.0 {
                     albedo * FRAC_1_PI
                 } else {
                     Rgb::BLACK
                 }
             }
-            Lobe::Phong { ks, exponent } => {
+            LectureLobe::Phong { ks, exponent } => {
                 if wo.z * wi.z <= 0.0 {
                     return Rgb::BLACK;
                 }
@@ -175,33 +185,34 @@ impl Lobe {
                 let c = r.dot(wi).max(0.0);
                 ks * ((exponent + 2.0) / (2.0 * PI) * c.powf(exponent))
             }
-            Lobe::Mirror { .. } | Lobe::Dielectric { .. } => Rgb::BLACK,
+            LectureLobe::Mirror { .. } | LectureLobe::Dielectric { .. } => Rgb::BLACK,
         }
     }
 
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         match *self {
-            Lobe::Lambert { .. } => {
+            LectureLobe::Lambert { .. } => {
                 if wo.z * wi.z > 0.0 {
                     cosine_hemisphere_pdf(wi.z.abs())
                 } else {
                     0.0
                 }
             }
-            Lobe::Phong { exponent, .. } => {
+            LectureLobe::Phong { exponent, .. } => {
                 if wo.z * wi.z <= 0.0 {
                     return 0.0;
                 }
                 let c = reflect(wo).dot(wi).max(0.0);
                 (exponent + 1.0) / (2.0 * PI) * c.powf(exponent)
             }
-            Lobe::Mirror { .. } | Lobe::Dielectric { .. } => 0.0,
+            LectureLobe::Mirror { .. } | LectureLobe::Dielectric { .. } => 0.0,
         }
     }
 
+    /// Samples a direction of this lobe alone (selection probability 1).
     pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
         match *self {
-            Lobe::Lambert { albedo } => {
+            LectureLobe::Lambert { albedo } => {
                 if wo.z == 0.0 {
                     return None;
                 }
@@ -214,10 +225,11 @@ impl Lobe {
                     wi,
                     weight: albedo,
                     pdf,
-                    delta: false,
+                    lobe: LobeFlags::DIFFUSE_REFLECTION,
+                    eta: 1.0,
                 })
             }
-            Lobe::Phong { exponent, .. } => {
+            LectureLobe::Phong { exponent, .. } => {
                 // Sample cos^n around the mirror direction.
                 let r = reflect(wo);
                 let cos_a = u.x.powf(1.0 / (exponent + 1.0));
@@ -237,26 +249,26 @@ impl Lobe {
                     wi,
                     weight: f * (wi.z.abs() / pdf),
                     pdf,
-                    delta: false,
+                    lobe: LobeFlags::GLOSSY_REFLECTION,
+                    eta: 1.0,
                 })
             }
-            Lobe::Mirror { r } => {
-                let wi = reflect(wo);
-                Some(BsdfSample {
-                    wi,
-                    weight: r,
-                    pdf: 1.0,
-                    delta: true,
-                })
-            }
-            Lobe::Dielectric { eta, tint, weight } => {
+            LectureLobe::Mirror { r } => Some(BsdfSample {
+                wi: reflect(wo),
+                weight: r,
+                pdf: 1.0,
+                lobe: LobeFlags::DELTA_REFLECTION,
+                eta: 1.0,
+            }),
+            LectureLobe::Dielectric { eta, tint, weight } => {
                 let f = fresnel_dielectric(wo.z, eta);
                 if u.x < f {
                     Some(BsdfSample {
                         wi: reflect(wo),
                         weight: Rgb::splat(weight),
                         pdf: f,
-                        delta: true,
+                        lobe: LobeFlags::DELTA_REFLECTION,
+                        eta: 1.0,
                     })
                 } else {
                     let (wi, eta_rel) = refract(wo, eta)?;
@@ -266,7 +278,8 @@ impl Lobe {
                         wi,
                         weight: tint * (weight / (eta_rel * eta_rel)),
                         pdf: 1.0 - f,
-                        delta: true,
+                        lobe: LobeFlags::DELTA_TRANSMISSION,
+                        eta: eta_rel,
                     })
                 }
             }
