@@ -3,6 +3,7 @@
 //!
 //! Integrators never parse files; they receive a [`Scene`].
 
+pub mod bsdf;
 pub mod builtin;
 pub mod camera;
 pub mod error;
@@ -10,7 +11,9 @@ pub mod file;
 pub mod light;
 pub mod material;
 pub mod scene;
+pub mod texture;
 
+pub use bsdf::BsdfDesc;
 pub use camera::{Camera, FovAxis, Projection};
 pub use error::{ErrorKind, SceneError};
 pub use file::{load_file, load_str, Format};

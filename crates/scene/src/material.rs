@@ -10,6 +10,9 @@ use glam::Vec2;
 use irradia_core::{Image, Rgb};
 use std::sync::Arc;
 
+use crate::bsdf::lecture::lecture_fields;
+use crate::bsdf::BsdfDesc;
+
 /// How the local (direct) part of a surface is shaded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum ShadingModel {
@@ -106,6 +109,32 @@ pub struct Material {
     /// Emit on both sides of the surface (e.g. a closed room that glows inwards).
     pub emission_two_sided: bool,
     pub model: ShadingModel,
+    /// The physically based description, when the scene gave a Mitsuba BSDF `type`; the
+    /// lecture fields above are then derived from it ([`crate::bsdf::lecture`]).
+    pub bsdf: Option<Arc<BsdfDesc>>,
+}
+
+impl Material {
+    /// A physically based material: `desc`, with the lecture fields that
+    /// [`crate::bsdf::lecture::lecture_fields`] derives from it and the lecture's
+    /// default ambient coefficient.
+    pub fn from_bsdf(name: &str, desc: BsdfDesc) -> Material {
+        let f = lecture_fields(&desc);
+        Material {
+            name: name.to_string(),
+            color: f.color,
+            diffuse: f.diffuse,
+            specular: f.specular,
+            shininess: f.shininess,
+            reflection: f.reflection,
+            transmission: f.transmission,
+            filter_color: f.filter_color,
+            ior: f.ior,
+            fresnel: f.fresnel,
+            bsdf: Some(Arc::new(desc)),
+            ..Material::default()
+        }
+    }
 }
 
 impl Default for Material {
@@ -125,6 +154,7 @@ impl Default for Material {
             emission: Rgb::BLACK,
             emission_two_sided: false,
             model: ShadingModel::Phong,
+            bsdf: None,
         }
     }
 }

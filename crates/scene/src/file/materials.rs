@@ -1,6 +1,8 @@
-//! The `[materials.NAME]` tables: Phong coefficients, reflection, transmission,
-//! emission and textures (see docs/scene-format.md for every field).
+//! The `[materials.NAME]` tables: the lecture's Phong coefficients, reflection,
+//! transmission, emission and textures, or (with a `type`) a physically based material
+//! read by [`super::bsdfs`] (see docs/scene-format.md for every field).
 
+use super::bsdfs::{is_physically_based, BsdfResolver};
 use super::reader::{unknown_name_message, Result, Val};
 use crate::material::{Material, ShadingModel, Texture};
 use glam::Vec2;
@@ -13,9 +15,20 @@ pub fn read_materials(v: Option<Val>) -> Result<Vec<Material>> {
         return Ok(Vec::new());
     };
     let t = v.table()?;
+    let entries = t.entries();
+    let mut resolver = BsdfResolver::new(&entries);
     let mut out = Vec::new();
-    for (name, m) in t.entries() {
-        out.push(read_material(name, &m)?);
+    for (name, m) in &entries {
+        if is_physically_based(m) {
+            let e = resolver.entry(name, m)?;
+            out.push(Material {
+                emission: e.emission,
+                emission_two_sided: e.emission_two_sided,
+                ..Material::from_bsdf(name, e.bsdf)
+            });
+        } else {
+            out.push(read_material(name, m)?);
+        }
     }
     Ok(out)
 }
@@ -57,6 +70,7 @@ fn read_material(name: &str, v: &Val) -> Result<Material> {
         emission: t.rgb_or("emission", d.emission)?,
         emission_two_sided: t.bool_or("emission_two_sided", d.emission_two_sided)?,
         model,
+        bsdf: None,
     };
     t.finish()?;
     Ok(m)

@@ -1,6 +1,7 @@
 //! Scene files: TOML and JSON with one schema (docs/scene-format.md), parsed into a
 //! positioned tree, then read field by field into a validated [`Scene`].
 
+pub mod bsdfs;
 pub mod generators;
 pub mod json_tree;
 pub mod lights;
@@ -9,6 +10,7 @@ pub mod objects;
 pub mod reader;
 pub mod shapes;
 pub mod surfaces;
+pub mod textures;
 pub mod transform;
 pub mod tree;
 pub mod view;

@@ -1,0 +1,191 @@
+//! Texture lookups against values computed by hand and by Mitsuba 3.9.1 (scalar_rgb):
+//! bitmap filtering, wrapping, sRGB decoding and `to_uv`; the checkerboard's cells;
+//! mesh attributes.
+
+use glam::{Affine2, Vec2};
+use irradia_core::Rgb;
+use irradia_scene::texture::bitmap::read_texels;
+use irradia_scene::texture::{
+    Bitmap, Checkerboard, FilterType, MeshAttribute, MeshAttributeName, TextureMap, TextureQuery,
+    UvTransform, WrapMode,
+};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/textures")
+        .join(name)
+}
+
+/// The 4 x 2 test image: rows (top first) red green blue grey128 / yellow cyan magenta
+/// (64, 32, 16), 8-bit sRGB.
+fn bitmap(filter_type: FilterType, wrap_mode: WrapMode, raw: bool) -> Bitmap {
+    Bitmap {
+        filename: data("rgb4x2.png"),
+        texels: read_texels(&data("rgb4x2.png"), raw).unwrap(),
+        filter_type,
+        wrap_mode,
+        raw,
+        to_uv: UvTransform::default(),
+    }
+}
+
+fn close(got: Rgb, want: [f32; 3], what: &str) {
+    for k in 0..3 {
+        assert!(
+            (got[k] - want[k]).abs() < 2e-5,
+            "{what}: got {got:?}, want {want:?}"
+        );
+    }
+}
+
+const UVS: [(f32, f32); 7] = [
+    (0.1, 0.2),
+    (0.375, 0.25),
+    (0.5, 0.5),
+    (0.9, 0.9),
+    (1.3, -0.2),
+    (-0.6, 1.7),
+    (0.0, 0.0),
+];
+
+/// `mi.load_dict({'type': 'bitmap', 'filename': 'rgb4x2.png', 'filter_type': ..,
+/// 'wrap_mode': .., 'raw': ..}).eval(si)` at each of [`UVS`].
+#[rustfmt::skip]
+const MITSUBA: [(FilterType, WrapMode, bool, [[f32; 3]; 7]); 8] = [
+    (FilterType::Nearest, WrapMode::Repeat, false, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 1.0], [0.051269, 0.014444, 0.005182], [0.0, 1.0, 1.0], [0.0, 1.0, 1.0], [1.0, 0.0, 0.0]]),
+    (FilterType::Nearest, WrapMode::Mirror, true, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 1.0], [0.25098, 0.12549, 0.062745], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]),
+    (FilterType::Nearest, WrapMode::Clamp, false, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 1.0], [0.051269, 0.014444, 0.005182], [0.21586, 0.21586, 0.21586], [1.0, 1.0, 0.0], [1.0, 0.0, 0.0]]),
+    (FilterType::Bilinear, WrapMode::Repeat, false, [[0.91994, 0.109572, 0.019479], [0.0, 1.0, 0.0], [0.25, 0.5, 0.75], [0.190582, 0.137382, 0.061547], [0.3, 0.97, 0.63], [0.09, 0.9, 0.91], [0.566782, 0.307576, 0.05526]]),
+    (FilterType::Bilinear, WrapMode::Repeat, true, [[0.947686, 0.136431, 0.045804], [0.0, 1.0, 0.0], [0.25, 0.5, 0.75], [0.393647, 0.284588, 0.175059], [0.3, 0.97, 0.63], [0.09, 0.9, 0.91], [0.688235, 0.406863, 0.141176]]),
+    (FilterType::Bilinear, WrapMode::Mirror, false, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.25, 0.5, 0.75], [0.051269, 0.014444, 0.005182], [0.064758, 0.064758, 0.764758], [0.09, 0.1, 0.91], [1.0, 0.0, 0.0]]),
+    (FilterType::Bilinear, WrapMode::Mirror, true, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.25, 0.5, 0.75], [0.25098, 0.12549, 0.062745], [0.150588, 0.150588, 0.850588], [0.09, 0.1, 0.91], [1.0, 0.0, 0.0]]),
+    (FilterType::Bilinear, WrapMode::Clamp, true, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.25, 0.5, 0.75], [0.25098, 0.12549, 0.062745], [0.501961, 0.501961, 0.501961], [1.0, 1.0, 0.0], [1.0, 0.0, 0.0]]),
+];
+
+#[test]
+fn bitmap_lookups_match_mitsuba() {
+    for (filter, wrap, raw, want) in MITSUBA {
+        let b = bitmap(filter, wrap, raw);
+        for (uv, w) in UVS.iter().zip(want) {
+            close(
+                b.eval(Vec2::new(uv.0, uv.1)),
+                w,
+                &format!("{filter:?} {wrap:?} raw={raw} at {uv:?}"),
+            );
+        }
+    }
+}
+
+#[test]
+fn bitmap_lookups_by_hand() {
+    // uv (0, 0) is the top-left corner; v runs down the file.
+    let b = bitmap(FilterType::Nearest, WrapMode::Repeat, true);
+    close(b.eval(Vec2::new(0.01, 0.01)), [1.0, 0.0, 0.0], "top left");
+    close(
+        b.eval(Vec2::new(0.01, 0.99)),
+        [1.0, 1.0, 0.0],
+        "bottom left",
+    );
+    close(
+        b.eval(Vec2::new(0.99, 0.99)),
+        [64.0 / 255.0, 32.0 / 255.0, 16.0 / 255.0],
+        "bottom right",
+    );
+    // sRGB decoding of 128: ((128/255 + 0.055) / 1.055)^2.4.
+    let grey = ((128.0f32 / 255.0 + 0.055) / 1.055).powf(2.4);
+    let lin = bitmap(FilterType::Nearest, WrapMode::Repeat, false);
+    close(lin.eval(Vec2::new(0.8, 0.2)), [grey; 3], "decoded grey");
+    // Bilinear halfway between the centres of red (0, 0) and green (1, 0), raw.
+    let bl = bitmap(FilterType::Bilinear, WrapMode::Clamp, true);
+    close(
+        bl.eval(Vec2::new(0.25, 0.25)),
+        [0.5, 0.5, 0.0],
+        "red-green midpoint",
+    );
+    // A texel centre returns the texel exactly.
+    close(
+        bl.eval(Vec2::new(0.625, 0.75)),
+        [1.0, 0.0, 1.0],
+        "magenta centre",
+    );
+}
+
+#[test]
+fn to_uv_scales_then_translates_like_mitsuba() {
+    // Mitsuba: to_uv = translate([0.25, 0]) @ scale([2, 1]) at uv (0.1, 0.3) gives
+    // [0.03, 0.7, 0.37] and eval_1 (luminance) 0.5336947.
+    let mut b = bitmap(FilterType::Bilinear, WrapMode::Repeat, false);
+    b.to_uv = UvTransform(
+        Affine2::from_translation(Vec2::new(0.25, 0.0)) * Affine2::from_scale(Vec2::new(2.0, 1.0)),
+    );
+    close(b.eval(Vec2::new(0.1, 0.3)), [0.03, 0.7, 0.37], "to_uv");
+    let map = TextureMap::Bitmap(Arc::new(b));
+    let q = TextureQuery::at_uv(Vec2::new(0.1, 0.3));
+    assert!(
+        (map.eval_1(&q) - 0.533_694_7).abs() < 2e-5,
+        "{}",
+        map.eval_1(&q)
+    );
+}
+
+#[test]
+fn checkerboard_cells_as_mitsuba() {
+    // Mitsuba: color0 = 1, color1 = 0 at these uvs gave 0 1 1 0 0 1 0 1.
+    let c = Checkerboard {
+        color0: Rgb::WHITE,
+        color1: Rgb::BLACK,
+        to_uv: UvTransform::default(),
+    };
+    let cases = [
+        ((0.25, 0.25), 0.0),
+        ((0.75, 0.25), 1.0),
+        ((0.25, 0.75), 1.0),
+        ((0.75, 0.75), 0.0),
+        ((0.5, 0.5), 0.0),
+        ((0.5, 0.75), 1.0),
+        ((1.25, 0.25), 0.0),
+        ((-0.25, 0.25), 1.0),
+    ];
+    for ((u, v), want) in cases {
+        assert_eq!(c.eval(Vec2::new(u, v)).r, want, "at ({u}, {v})");
+    }
+    let scaled = Checkerboard {
+        to_uv: UvTransform(Affine2::from_scale(Vec2::splat(2.0))),
+        ..c
+    };
+    assert_eq!(scaled.eval(Vec2::new(0.3, 0.1)).r, 1.0);
+    assert_eq!(Checkerboard::default().color0, Rgb::splat(0.4));
+}
+
+#[test]
+fn mesh_attributes_read_the_query() {
+    let v = TextureMap::MeshAttribute(MeshAttribute {
+        name: MeshAttributeName::VertexColor,
+        scale: 2.0,
+    });
+    let f = TextureMap::MeshAttribute(MeshAttribute {
+        name: MeshAttributeName::FaceColor,
+        scale: 1.0,
+    });
+    let q = TextureQuery {
+        uv: Vec2::ZERO,
+        vertex_color: Some(Rgb::new(0.1, 0.2, 0.3)),
+        face_color: Some(Rgb::new(0.5, 0.25, 0.0)),
+    };
+    close(v.eval(&q), [0.2, 0.4, 0.6], "vertex colour × scale");
+    close(f.eval(&q), [0.5, 0.25, 0.0], "face colour");
+    close(v.eval(&TextureQuery::default()), [0.0; 3], "no data");
+}
+
+#[test]
+fn corrupt_and_missing_files_are_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.png");
+    std::fs::write(&bad, b"\x89PNG\r\n\x1a\nnot really").unwrap();
+    let e = read_texels(&bad, false).unwrap_err();
+    assert!(e.contains("cannot decode"), "{e}");
+    let e = read_texels(&dir.path().join("none.png"), false).unwrap_err();
+    assert!(e.contains("cannot open"), "{e}");
+}
