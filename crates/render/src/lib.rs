@@ -12,6 +12,7 @@
 pub mod aov;
 pub mod film;
 pub mod integrator;
+pub mod labels;
 pub mod optics;
 pub mod path;
 pub mod raytree;
@@ -44,6 +45,8 @@ pub enum RenderError {
         width: u32,
         height: u32,
     },
+    #[error("trace-pixel records the whitted and path integrators; this scene's integrator is direct (render it with --integrator path and --max-depth 2 to trace its direct light)")]
+    TraceDirect,
 }
 
 /// How to render (what to render is in the scene's settings).
@@ -93,11 +96,14 @@ pub struct RenderOutput {
 }
 
 /// Renders `scene` with the integrator its settings name.
+/// The scene's `[[labels]]` are drawn over the image ([`labels::draw_labels`]).
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, RenderError> {
-    match scene.settings.integrator {
+    let mut out = match scene.settings.integrator {
         Method::Whitted => film::render_with(&Whitted::new(scene), scene, options),
-        Method::Path => path::output::render_output(scene, options),
-    }
+        Method::Path | Method::Direct { .. } => path::output::render_output(scene, options),
+    }?;
+    labels::draw_labels(scene, &mut out.image);
+    Ok(out)
 }
 
 /// The ray tree of sample `sample` of pixel (x, y) (x right, y down from the top left),
@@ -119,8 +125,10 @@ pub fn trace_pixel(
             height: s.height,
         });
     }
-    if s.integrator == Method::Path {
-        return Ok(path::trace_sample::trace_sample(scene, x, y, sample));
+    match s.integrator {
+        Method::Path => return Ok(path::trace_sample::trace_sample(scene, x, y, sample)),
+        Method::Direct { .. } => return Err(RenderError::TraceDirect),
+        Method::Whitted => {}
     }
     let cam = scene.camera.rays(s.width, s.height);
     let spp = if s.adaptive_threshold.is_some() {

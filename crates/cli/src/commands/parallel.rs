@@ -407,10 +407,7 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
         (_, i) => i,
     };
     if let Input::Scene { scene, .. } = &input_ {
-        if scene.settings.integrator == irradia_scene::Integrator::Path
-            && !a.quiet
-            && is_display_process(&a)
-        {
+        if scene.settings.integrator.is_monte_carlo() && !a.quiet && is_display_process(&a) {
             eprintln!("note: the parallel ray tracer is the Whitted tracer; the scene's `integrator = \"path\"` is not used (compare with `irradia render --integrator whitted`)");
         }
     }

@@ -134,7 +134,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     args.path.validate()?;
     let scene = load_scene(args.scene.as_ref(), &args.scene_args)?;
     let (w, h) = (scene.settings.width, scene.settings.height);
-    if scene.settings.integrator == irradia_scene::Integrator::Path {
+    if scene.settings.integrator.is_monte_carlo() {
         return run_path(&args, &scene);
     }
     if args.path.any() {

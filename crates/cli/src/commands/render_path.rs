@@ -152,8 +152,10 @@ pub fn run(
     if let Some(pb) = bar {
         pb.finish_and_clear();
     }
+    let mut image = result.film.image();
+    irradia_render::labels::draw_labels(scene, &mut image);
     Ok(PathSummary {
-        image: result.film.image(),
+        image,
         samples: result.film.samples(),
         paths: result.counters.paths,
         rays: result.counters.rays + result.counters.shadow_rays,

@@ -6,6 +6,7 @@
 //! ..)` and each pixel adds its samples in order, so the image depends neither on the
 //! thread count nor on how the samples were split into passes or sessions.
 
+use super::direct::{radiance_direct, DirectParams};
 use super::film::{luminance, Film};
 use super::flat_scene::FlatScene;
 use super::integrator::{radiance_in, PathCounters, PathParams, PathScene};
@@ -13,7 +14,7 @@ use super::lights::LightSampler;
 use super::wide::WideScene;
 use irradia_core::{Ray, Rgb, Rng};
 use irradia_scene::camera::CameraRays;
-use irradia_scene::Scene;
+use irradia_scene::{Integrator, Scene};
 use rayon::prelude::*;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -80,7 +81,7 @@ pub fn fingerprint(scene: &Scene, params: &PathParams) -> u64 {
     // Everything that changes the image, and not the sample budget.
     let s = &scene.settings;
     let text = format!(
-        "{}x{}|{:?}|{:?}|{:?}|{}|{}|{}|{}|{:?}",
+        "{}x{}|{:?}|{:?}|{:?}|{}|{}|{}|{}|{:?}{}",
         s.width,
         s.height,
         s.background,
@@ -94,7 +95,12 @@ pub fn fingerprint(scene: &Scene, params: &PathParams) -> u64 {
         scene.materials.len(),
         scene.lights.len(),
         params.max_depth,
-        scene.source
+        scene.source,
+        // Only for the direct integrator, so that path-traced checkpoints keep theirs.
+        match s.integrator {
+            Integrator::Direct { .. } => format!("|{:?}", s.integrator),
+            _ => String::new(),
+        }
     );
     text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
         (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
@@ -151,7 +157,19 @@ pub fn render_with(
     // IRRADIA_PATH_KERNEL=scalar turns it off from outside (for A/B timings).
     let scalar_only = kernel == Kernel::Scalar
         || std::env::var("IRRADIA_PATH_KERNEL").is_ok_and(|v| v == "scalar");
-    let wide = if scalar_only {
+    // The scene's `integrator = "direct"` estimates direct light only (Mitsuba's
+    // `direct`); otherwise the path tracer.
+    let direct = match scene.settings.integrator {
+        Integrator::Direct {
+            emitter_samples,
+            bsdf_samples,
+        } => Some(DirectParams {
+            emitter_samples,
+            bsdf_samples,
+        }),
+        _ => None,
+    };
+    let wide = if scalar_only || direct.is_some() {
         None
     } else {
         WideScene::new(&ps)
@@ -209,7 +227,10 @@ pub fn render_with(
                     let (s, s2) = (&mut sum[x as usize], &mut sum_sq[x as usize]);
                     for i in first..first + n {
                         let (ray, mut rng) = pixel_sample(&cam, x, y, i, options.seed);
-                        let l = radiance_in(&ps, params, ray, &mut rng, &mut c);
+                        let l = match &direct {
+                            Some(d) => radiance_direct(&ps, d, ray, &mut rng, &mut c),
+                            None => radiance_in(&ps, params, ray, &mut rng, &mut c),
+                        };
                         accumulate(s, s2, l);
                     }
                 }
