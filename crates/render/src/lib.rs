@@ -18,6 +18,7 @@ pub mod driver;
 pub mod film;
 pub mod filter;
 pub mod integrator;
+pub mod labels;
 pub mod path;
 pub mod pool;
 pub mod prepared;
@@ -68,6 +69,8 @@ pub enum RenderError {
     Resume(#[from] CheckpointError),
     #[error("cannot write the checkpoint: {0}")]
     CheckpointWrite(std::io::Error),
+    #[error("trace-pixel records the whitted and path integrators; this scene's integrator is direct (render it with --integrator path and --max-depth 2 to trace its direct light)")]
+    TraceDirect,
 }
 
 /// Where a render stands: after each tile (`pass` is `None`) and after each pass.
@@ -161,14 +164,15 @@ pub struct RenderOutput {
 }
 
 /// Renders `scene` with the integrator its settings name.
+/// The scene's `[[labels]]` are drawn over the image ([`labels::draw_labels`]).
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, RenderError> {
     scene.settings.check_crop().map_err(RenderError::Settings)?;
-    match scene.settings.integrator {
+    let mut out = match scene.settings.integrator {
         Method::Whitted => {
             let prepared = PreparedScene::new(scene);
             driver::render_with(&Whitted::prepared(&prepared), scene, options)
         }
-        Method::Path => {
+        Method::Path | Method::Direct { .. } => {
             let lights = path::lights::LightSampler::new(scene);
             let ps = path::integrator::PathScene::new(
                 scene,
@@ -180,7 +184,9 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, Re
             let setup = integrator.setup(options.tile_size, options.aovs.clone());
             run_driver(&integrator, scene, &setup, options)
         }
-    }
+    }?;
+    labels::draw_labels(scene, &mut out.image);
+    Ok(out)
 }
 
 /// The driver under [`RenderOptions`]: the budget, the film (new or resumed), the
@@ -263,8 +269,10 @@ pub fn trace_pixel(
             height: s.height,
         });
     }
-    if s.integrator == Method::Path {
-        return Ok(path::trace_sample::trace_sample(scene, x, y, sample));
+    match s.integrator {
+        Method::Path => return Ok(path::trace_sample::trace_sample(scene, x, y, sample)),
+        Method::Direct { .. } => return Err(RenderError::TraceDirect),
+        Method::Whitted => {}
     }
     let cam = scene.camera.rays(s.width, s.height);
     let spp = if s.adaptive_threshold.is_some() {

@@ -49,6 +49,11 @@ const SCENES: &[(&str, &str, &str)] = &[
         include_str!("../scenes/cornell.toml"),
     ),
     (
+        "materials",
+        "every physically based BSDF (Mitsuba 3's plugins) on one ball, with labels, path traced",
+        include_str!("../scenes/materials.toml"),
+    ),
+    (
         "cornell-measured",
         "the measured Cornell box (millimetres), the reference scene of radiosity",
         include_str!("../scenes/cornell-measured.toml"),

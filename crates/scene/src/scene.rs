@@ -2,6 +2,7 @@
 //! and the acceleration structure built over the objects.
 
 use crate::camera::Camera;
+use crate::label::Label;
 use crate::light::Light;
 use crate::material::Material;
 use irradia_core::Rgb;
@@ -16,6 +17,21 @@ pub enum Integrator {
     Whitted,
     /// The Monte Carlo path tracer (solves the rendering equation).
     Path,
+    /// Direct illumination only, as Mitsuba 3's `direct` plugin: per camera hit,
+    /// `emitter_samples` light samples and `bsdf_samples` BSDF samples combined by
+    /// multiple importance sampling (both default 1).
+    Direct {
+        emitter_samples: u32,
+        bsdf_samples: u32,
+    },
+}
+
+impl Integrator {
+    /// Whether a Monte Carlo estimator renders the scene (path or direct), so that
+    /// progressive budgets and the path tracer's film apply.
+    pub fn is_monte_carlo(self) -> bool {
+        matches!(self, Integrator::Path | Integrator::Direct { .. })
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -151,6 +167,8 @@ pub struct Scene {
     pub accel: Accel,
     /// The file the scene came from, if any (for messages).
     pub source: Option<PathBuf>,
+    /// Captions drawn over the rendered image.
+    pub labels: Vec<Label>,
 }
 
 impl Scene {
@@ -173,6 +191,7 @@ impl Scene {
             objects,
             accel: Accel::build(instances),
             source: None,
+            labels: Vec::new(),
         }
     }
 }

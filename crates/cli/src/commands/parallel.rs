@@ -219,10 +219,7 @@ fn load_input(a: &ParallelArgs, mode: Mode) -> Result<JobInput, CliError> {
     check_size(scene.settings.width, scene.settings.height)?;
     let name = a.workload.clone();
     if a.renderer == Renderer::Raytrace {
-        if scene.settings.integrator == irradia_scene::Integrator::Path
-            && !a.quiet
-            && is_display_process(a)
-        {
+        if scene.settings.integrator.is_monte_carlo() && !a.quiet && is_display_process(a) {
             eprintln!("note: the parallel ray tracer is the Whitted tracer; the scene's `integrator = \"path\"` is not used (compare with `irradia render --integrator whitted`)");
         }
         return Ok(JobInput::Scene { name, scene });

@@ -133,7 +133,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let aovs: Vec<Aov> = args.aov.iter().map(|&a| a.into()).collect();
     args.path.validate()?;
     let scene = load_scene(args.scene.as_ref(), &args.scene_args)?;
-    let path_traced = scene.settings.integrator == irradia_scene::Integrator::Path;
+    let path_traced = scene.settings.integrator.is_monte_carlo();
     if !path_traced && args.path.any() {
         return Err(CliError::Input(
             "--time, --target-error, --checkpoint and --resume belong to the path tracer: add --integrator path".into(),

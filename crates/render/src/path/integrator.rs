@@ -7,13 +7,13 @@
 //! depth `k`; `max_depth = 1` shows only emitters seen directly, `2` adds direct light.
 
 use super::lights::LightSampler;
-use super::material_map::bsdf_for;
-use super::tracer::{AccelTracer, Tracer};
+use super::material_map::{is_uniform, material_bsdf};
+use super::tracer::{AccelTracer, PathHit, Tracer};
 use crate::raytree::{Blocker, NoRecorder, RayKind, Recorder};
 use glam::{Vec2, Vec3};
 use irradia_core::{offset_ray_origin, Frame, Ray, Rgb, Rng};
 use irradia_scatter::{Bsdf, LobeFlags, Scatter};
-use irradia_scene::{Scene, Texture};
+use irradia_scene::Scene;
 
 /// Parameters of the estimator.
 #[derive(Clone, Copy, Debug)]
@@ -47,7 +47,7 @@ impl PathParams {
 
 /// Power heuristic with β = 2.
 #[inline]
-fn mis(a: f32, b: f32) -> f32 {
+pub(crate) fn mis(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 > 0.0 {
         a2 / (a2 + b2)
@@ -90,10 +90,7 @@ impl<'a, T: Tracer> PathScene<'a, T> {
         let bsdfs = scene
             .materials
             .iter()
-            .map(|m| {
-                matches!(m.color, Texture::Solid(_))
-                    .then(|| bsdf_for(m, Vec3::ZERO, Vec2::ZERO).into())
-            })
+            .map(|m| is_uniform(m).then(|| material_bsdf(m, Vec3::ZERO, Vec2::ZERO)))
             .collect();
         Self {
             scene,
@@ -102,6 +99,28 @@ impl<'a, T: Tracer> PathScene<'a, T> {
             bsdfs,
         }
     }
+}
+
+/// The BSDF at a hit and its local shading frame, or `None` when the surface does not
+/// scatter. The frame's +z is the shading normal kept on the side of the geometric
+/// normal (out of solids), never turned towards the viewer: Mitsuba's one-sided BSDFs
+/// see light from inside as arriving on their back (`wo.z < 0`), and the lecture
+/// mixture, which scatters on both sides, renders as before.
+pub(crate) fn surface_at<T: Tracer>(ps: &PathScene<'_, T>, sh: &PathHit) -> Option<(Bsdf, Frame)> {
+    let hit = &sh.hit;
+    let bsdf = match ps.bsdfs.get(sh.material as usize) {
+        Some(Some(b)) => b.clone(),
+        _ => material_bsdf(&ps.scene.materials[sh.material as usize], hit.point, hit.uv),
+    };
+    if bsdf.flags() == LobeFlags::NONE {
+        return None;
+    }
+    let ns = if hit.shading_normal.dot(hit.normal) < 0.0 {
+        -hit.shading_normal
+    } else {
+        hit.shading_normal
+    };
+    Some((bsdf, Frame::from_normal(ns)))
 }
 
 /// One sample of the radiance arriving along `ray` (a camera ray), traced through the
@@ -198,20 +217,9 @@ pub fn radiance_recorded<T: Tracer, R: Recorder>(
             }
             break;
         }
-        let bsdf: Bsdf = match ps.bsdfs.get(sh.material as usize) {
-            Some(Some(b)) => b.clone(),
-            _ => bsdf_for(material, hit.point, hit.uv).into(),
-        };
-        if bsdf.flags() == LobeFlags::NONE {
+        let Some((bsdf, frame)) = surface_at(ps, &sh) else {
             break;
-        }
-        // Shade with the shading normal, kept on the geometric normal's side.
-        let ns = if hit.shading_normal.dot(n) < 0.0 {
-            -hit.shading_normal
-        } else {
-            hit.shading_normal
         };
-        let frame = Frame::from_normal(ns);
         let wo = frame.to_local(wo_world);
 
         // Next-event estimation.

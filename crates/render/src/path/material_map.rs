@@ -1,5 +1,14 @@
-//! How a scene material (written for the Whitted tracer) becomes a physically based
-//! BSDF, so that every scene renders in the path tracer without edits.
+//! How a scene material becomes the `irradia_scatter` BSDF the path tracer shades with.
+//!
+//! A material with a physically based description (`material.bsdf`, Mitsuba 3's BSDF
+//! plugins) becomes that BSDF: its textures are evaluated at the hit's surface
+//! coordinates and the nested descriptions (blend, mask, twosided) become nested BSDFs
+//! ([`desc_bsdf`]). Mitsuba's BSDFs are one-sided: the integrators' shading frame keeps
+//! +z on the side the geometric normal points to (out of solids), never towards the
+//! viewer, so a `diffuse` seen from inside is black, as in Mitsuba.
+//!
+//! A material without one is the lecture's mixture ([`bsdf_for`]), written for the
+//! Whitted tracer, so that every scene renders in the path tracer without edits:
 //!
 //! | material field | path-tracer lobe |
 //! |---|---|
@@ -16,8 +25,172 @@
 
 use glam::{Vec2, Vec3};
 use irradia_core::Rgb;
-use irradia_scatter::bsdfs::{LectureLobe as Lobe, LectureMix};
-use irradia_scene::Material;
+use irradia_scatter::bsdfs::{self, LectureLobe as Lobe, LectureMix};
+use irradia_scatter::microfacet::{Microfacet, MicrofacetType};
+use irradia_scatter::Bsdf;
+use irradia_scene::bsdf::{self as desc, BsdfDesc, Distribution, Roughness};
+use irradia_scene::texture::{ColorTexture, FloatTexture, TextureQuery};
+use irradia_scene::{Material, Texture};
+
+/// The BSDF of `material` at world point `p` with surface coordinates `uv`: its
+/// physically based description when it has one, else the lecture mixture.
+pub fn material_bsdf(material: &Material, p: Vec3, uv: Vec2) -> Bsdf {
+    match &material.bsdf {
+        Some(d) => desc_bsdf(d, &TextureQuery::at_uv(uv))
+            .unwrap_or_else(|| bsdf_for(material, p, uv).into()),
+        None => bsdf_for(material, p, uv).into(),
+    }
+}
+
+/// Whether `material`'s BSDF is the same at every surface point (so it is built once
+/// per render): a lecture material with a solid colour, or a description without
+/// textures.
+pub fn is_uniform(material: &Material) -> bool {
+    match &material.bsdf {
+        Some(d) => desc_uniform(d),
+        None => matches!(material.color, Texture::Solid(_)),
+    }
+}
+
+fn color_uniform(c: &ColorTexture) -> bool {
+    matches!(c, ColorTexture::Value(_))
+}
+
+fn float_uniform(f: &FloatTexture) -> bool {
+    matches!(f, FloatTexture::Value(_))
+}
+
+fn roughness_uniform(r: &Roughness) -> bool {
+    match r {
+        Roughness::Isotropic(a) => float_uniform(a),
+        Roughness::Anisotropic { alpha_u, alpha_v } => {
+            float_uniform(alpha_u) && float_uniform(alpha_v)
+        }
+    }
+}
+
+fn desc_uniform(d: &BsdfDesc) -> bool {
+    let conductor = |c: &desc::Conductor| {
+        color_uniform(&c.eta) && color_uniform(&c.k) && color_uniform(&c.specular_reflectance)
+    };
+    let dielectric = |d: &desc::Dielectric| {
+        color_uniform(&d.specular_reflectance) && color_uniform(&d.specular_transmittance)
+    };
+    let plastic = |p: &desc::Plastic| {
+        color_uniform(&p.diffuse_reflectance) && color_uniform(&p.specular_reflectance)
+    };
+    match d {
+        BsdfDesc::Diffuse(d) => color_uniform(&d.reflectance),
+        BsdfDesc::Conductor(c) => conductor(c),
+        BsdfDesc::RoughConductor(c, m) => conductor(c) && roughness_uniform(&m.alpha),
+        BsdfDesc::Dielectric(d) | BsdfDesc::ThinDielectric(d) => dielectric(d),
+        BsdfDesc::RoughDielectric(d, m) => dielectric(d) && roughness_uniform(&m.alpha),
+        BsdfDesc::Plastic(p) | BsdfDesc::RoughPlastic(p, _) => plastic(p),
+        BsdfDesc::Principled(p) => {
+            color_uniform(&p.base_color)
+                && [
+                    &p.roughness,
+                    &p.anisotropic,
+                    &p.metallic,
+                    &p.spec_trans,
+                    &p.spec_tint,
+                    &p.sheen,
+                    &p.sheen_tint,
+                    &p.flatness,
+                    &p.clearcoat,
+                    &p.clearcoat_gloss,
+                ]
+                .into_iter()
+                .all(float_uniform)
+        }
+        BsdfDesc::PrincipledThin(p) => {
+            color_uniform(&p.base_color)
+                && [
+                    &p.roughness,
+                    &p.anisotropic,
+                    &p.spec_trans,
+                    &p.eta,
+                    &p.spec_tint,
+                    &p.sheen,
+                    &p.sheen_tint,
+                    &p.flatness,
+                    &p.diff_trans,
+                ]
+                .into_iter()
+                .all(float_uniform)
+        }
+        BsdfDesc::Blend { weight, bsdfs } => {
+            float_uniform(weight) && desc_uniform(&bsdfs[0]) && desc_uniform(&bsdfs[1])
+        }
+        BsdfDesc::Mask { opacity, bsdf } => float_uniform(opacity) && desc_uniform(bsdf),
+        BsdfDesc::TwoSided { front, back } => {
+            desc_uniform(front) && back.as_deref().is_none_or(desc_uniform)
+        }
+        // The perturbed normal varies over the surface.
+        BsdfDesc::BumpMap { .. } | BsdfDesc::NormalMap { .. } => false,
+    }
+}
+
+/// Mitsuba's microfacet parameters at a surface point.
+fn microfacet(m: &desc::Microfacet, q: &TextureQuery) -> Microfacet {
+    let kind = match m.distribution {
+        Distribution::Beckmann => MicrofacetType::Beckmann,
+        Distribution::Ggx => MicrofacetType::Ggx,
+    };
+    let (au, av) = match &m.alpha {
+        Roughness::Isotropic(a) => {
+            let a = a.eval(q);
+            (a, a)
+        }
+        Roughness::Anisotropic { alpha_u, alpha_v } => (alpha_u.eval(q), alpha_v.eval(q)),
+    };
+    Microfacet::new(kind, au, av, m.sample_visible)
+}
+
+/// The scatter BSDF of description `d` with its textures evaluated at `q`; `None` for
+/// descriptions `irradia_scatter` has no BSDF for yet (the caller then uses the
+/// lecture fields the scene derived from the description).
+pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery) -> Option<Bsdf> {
+    Some(match d {
+        BsdfDesc::Diffuse(d) => bsdfs::Diffuse {
+            reflectance: d.reflectance.eval(q),
+        }
+        .into(),
+        BsdfDesc::Conductor(c) => bsdfs::Conductor {
+            eta: c.eta.eval(q),
+            k: c.k.eval(q),
+            specular_reflectance: c.specular_reflectance.eval(q),
+        }
+        .into(),
+        BsdfDesc::RoughConductor(c, m) => bsdfs::RoughConductor {
+            distribution: microfacet(m, q),
+            eta: c.eta.eval(q),
+            k: c.k.eval(q),
+            specular_reflectance: c.specular_reflectance.eval(q),
+        }
+        .into(),
+        BsdfDesc::Dielectric(d) => bsdfs::Dielectric {
+            eta: d.eta(),
+            specular_reflectance: d.specular_reflectance.eval(q),
+            specular_transmittance: d.specular_transmittance.eval(q),
+        }
+        .into(),
+        BsdfDesc::RoughDielectric(d, m) => bsdfs::RoughDielectric {
+            distribution: microfacet(m, q),
+            eta: d.eta(),
+            specular_reflectance: d.specular_reflectance.eval(q),
+            specular_transmittance: d.specular_transmittance.eval(q),
+        }
+        .into(),
+        BsdfDesc::ThinDielectric(d) => bsdfs::ThinDielectric {
+            eta: d.eta(),
+            specular_reflectance: d.specular_reflectance.eval(q),
+            specular_transmittance: d.specular_transmittance.eval(q),
+        }
+        .into(),
+        _ => return None,
+    })
+}
 
 /// The BSDF of `material` at world point `p` with surface coordinates `uv`.
 pub fn bsdf_for(material: &Material, p: Vec3, uv: Vec2) -> LectureMix {

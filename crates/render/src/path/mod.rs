@@ -8,12 +8,14 @@
 //! - [`tracer`] and [`flat_scene`]: ray queries; planar objects baked into one
 //!   world-space triangle hierarchy;
 //! - [`integrator`]: next-event estimation + BSDF sampling with MIS, Russian roulette;
+//! - [`direct`]: direct illumination only, as Mitsuba's `direct` integrator;
 //! - [`wide`]: the same estimator over eight paths at once in SIMD lanes, for scenes
 //!   of Lambertian surfaces and facet emitters (the Cornell box);
 //! - [`path_integrator`]: the path tracer as an [`Integrator`](crate::Integrator) of the
 //!   one driver (tiles, passes, budgets, checkpoints: [`crate::driver`]);
 //! - [`trace_sample`]: one sample's path as a ray tree (`irradia trace-pixel`).
 
+pub mod direct;
 pub mod distribution;
 pub mod envmap;
 pub mod flat_scene;

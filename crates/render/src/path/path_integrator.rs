@@ -3,6 +3,7 @@
 //! 8-wide kernel ([`super::wide`]) where the scene qualifies. Its camera samples come
 //! from the independent sampler (Mitsuba's default for the `path` integrator).
 
+use super::direct::{radiance_direct, DirectParams};
 use super::flat_scene::FlatScene;
 use super::integrator::{radiance_in, PathCounters, PathParams, PathScene};
 use super::lights::LightSampler;
@@ -30,6 +31,8 @@ pub enum Kernel {
 /// The path tracer over a prepared scene.
 pub struct PathIntegrator<'s, 'a> {
     ps: &'s PathScene<'a, FlatScene>,
+    /// The scene's `integrator = "direct"` (Mitsuba's `direct`): direct light only.
+    direct: Option<DirectParams>,
     wide: Option<WideScene<'s, 'a>>,
     params: PathParams,
 }
@@ -38,12 +41,41 @@ impl<'s, 'a> PathIntegrator<'s, 'a> {
     pub fn new(ps: &'s PathScene<'a, FlatScene>, params: PathParams, kernel: Kernel) -> Self {
         let scalar_only = kernel == Kernel::Scalar
             || std::env::var("IRRADIA_PATH_KERNEL").is_ok_and(|v| v == "scalar");
-        let wide = if scalar_only {
+        let direct = match ps.scene.settings.integrator {
+            irradia_scene::Integrator::Direct {
+                emitter_samples,
+                bsdf_samples,
+            } => Some(DirectParams {
+                emitter_samples,
+                bsdf_samples,
+            }),
+            _ => None,
+        };
+        let wide = if scalar_only || direct.is_some() {
             None
         } else {
             WideScene::new(ps)
         };
-        Self { ps, wide, params }
+        Self {
+            ps,
+            direct,
+            wide,
+            params,
+        }
+    }
+
+    /// One camera sample's radiance by the scene's estimator.
+    #[inline]
+    fn radiance(
+        &self,
+        ray: irradia_core::Ray,
+        rng: &mut irradia_core::Rng,
+        c: &mut PathCounters,
+    ) -> irradia_core::Rgb {
+        match &self.direct {
+            Some(d) => radiance_direct(self.ps, d, ray, rng, c),
+            None => radiance_in(self.ps, &self.params, ray, rng, c),
+        }
     }
 
     /// How the driver runs it: independent samples, no adaptive supersampling.
@@ -76,7 +108,7 @@ impl Integrator for PathIntegrator<'_, '_> {
             aov.object = h.instance as i32;
         }
         let mut c = PathCounters::default();
-        let l = radiance_in(self.ps, &self.params, *ray, rng, &mut c);
+        let l = self.radiance(*ray, rng, &mut c);
         aov.ray_depth = c.rays as u32;
         count(stats, &c);
         l
@@ -94,7 +126,7 @@ impl Integrator for PathIntegrator<'_, '_> {
             None => {
                 for (k, o) in out.iter_mut().enumerate() {
                     let (ray, mut rng) = start(k);
-                    *o = radiance_in(self.ps, &self.params, ray, &mut rng, &mut c);
+                    *o = self.radiance(ray, &mut rng, &mut c);
                 }
             }
         }
@@ -107,7 +139,10 @@ impl Integrator for PathIntegrator<'_, '_> {
 pub fn fingerprint(scene: &Scene, params: &PathParams) -> u64 {
     crate::film::fingerprint(
         scene,
-        &format!("path|{}|{}", params.max_depth, params.rr_depth),
+        &format!(
+            "path|{}|{}|{:?}",
+            params.max_depth, params.rr_depth, scene.settings.integrator
+        ),
     )
 }
 

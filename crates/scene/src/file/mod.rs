@@ -5,6 +5,7 @@ pub mod bsdfs;
 pub mod emitters;
 pub mod generators;
 pub mod json_tree;
+pub mod labels;
 pub mod lights;
 pub mod materials;
 pub mod objects;
@@ -91,13 +92,9 @@ fn read_scene(doc: &Doc, tree: &tree::Node) -> Result<Scene, SceneError> {
     let lights = lights::read_lights(root.get("lights"))?;
     let mut mats = objects::MaterialTable::new(materials);
     let (objects, instances) = objects::read_objects(root.get("objects"), &mut mats)?;
+    let labels = labels::read_labels(root.get("labels"))?;
     root.finish()?;
-    Ok(Scene::new(
-        camera,
-        settings,
-        mats.materials,
-        lights,
-        objects,
-        instances,
-    ))
+    let mut scene = Scene::new(camera, settings, mats.materials, lights, objects, instances);
+    scene.labels = labels;
+    Ok(scene)
 }

@@ -153,10 +153,45 @@ pub fn read_settings(image: Option<Val>, render: Option<Val>) -> Result<RenderSe
         s.background = t.rgb_or("background", s.background)?;
         s.ambient_light = t.rgb_or("ambient_light", s.ambient_light)?;
         if let Some(i) = t.get("integrator") {
-            s.integrator = match i.choice(&["whitted", "path"])? {
+            s.integrator = match i.choice(&["whitted", "path", "direct"])? {
                 "path" => Integrator::Path,
+                "direct" => Integrator::Direct {
+                    emitter_samples: 1,
+                    bsdf_samples: 1,
+                },
                 _ => Integrator::Whitted,
             };
+        }
+        // Mitsuba's `direct`: `shading_samples` sets both counts, the specific ones win.
+        let shading = t.get("shading_samples");
+        let emitter = t.get("emitter_samples");
+        let bsdf = t.get("bsdf_samples");
+        let any = [&shading, &emitter, &bsdf]
+            .into_iter()
+            .flatten()
+            .next()
+            .cloned();
+        if let Some(at) = any {
+            let Integrator::Direct {
+                emitter_samples,
+                bsdf_samples,
+            } = &mut s.integrator
+            else {
+                return Err(at.err("emitter_samples, bsdf_samples and shading_samples belong to integrator = \"direct\""));
+            };
+            if let Some(v) = &shading {
+                let n = v.u32()?;
+                (*emitter_samples, *bsdf_samples) = (n, n);
+            }
+            if let Some(v) = &emitter {
+                *emitter_samples = v.u32()?;
+            }
+            if let Some(v) = &bsdf {
+                *bsdf_samples = v.u32()?;
+            }
+            if *emitter_samples + *bsdf_samples == 0 {
+                return Err(at.err("emitter_samples and bsdf_samples must not both be 0"));
+            }
         }
         t.finish()?;
     }

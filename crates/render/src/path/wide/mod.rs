@@ -42,8 +42,8 @@ use super::flat_scene::FlatScene;
 use super::integrator::{PathCounters, PathParams, PathScene};
 use super::lights::FacetEmitter;
 use irradia_core::{Ray, Rgb, Rng};
-use irradia_scatter::{bsdfs::LectureLobe, Bsdf};
 use irradia_geometry::packet::RayLaneTriangles;
+use irradia_scatter::{bsdfs::LectureLobe, Bsdf};
 
 /// A material as the per-lane stage reads it.
 #[derive(Clone, Copy, Debug)]
