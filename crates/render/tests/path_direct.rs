@@ -3,8 +3,8 @@
 //! estimate the same integral, so the mean radiance of every surface agrees within
 //! the noise, for every split of samples between the emitters and the BSDF.
 
-use irradia_render::path::tracer::{AccelTracer, Tracer};
 use irradia_render::driver::ProgressiveOptions;
+use irradia_render::path::tracer::{AccelTracer, Tracer};
 use irradia_render::path::{self, PathParams};
 use irradia_render::Film;
 use irradia_scene::{Integrator, Scene};

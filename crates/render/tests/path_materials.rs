@@ -44,8 +44,12 @@ radius = 1
 material = "ball"
 "#
     );
-    irradia_scene::load_str(&text, irradia_scene::SceneSyntax::Toml, Path::new("ball.toml"))
-        .unwrap_or_else(|e| panic!("{e}\n{text}"))
+    irradia_scene::load_str(
+        &text,
+        irradia_scene::SceneSyntax::Toml,
+        Path::new("ball.toml"),
+    )
+    .unwrap_or_else(|e| panic!("{e}\n{text}"))
 }
 
 fn render(scene: &Scene, spp: u32) -> Film {
@@ -212,8 +216,12 @@ center = [0, 1, -1]
 radius = 0.2
 material = "lamp"
 "#;
-    let scene = irradia_scene::load_str(text, irradia_scene::SceneSyntax::Toml, Path::new("shell.toml"))
-        .unwrap();
+    let scene = irradia_scene::load_str(
+        text,
+        irradia_scene::SceneSyntax::Toml,
+        Path::new("shell.toml"),
+    )
+    .unwrap();
     let film = render(&scene, 8);
     let im = film.image();
     // The lamp covers few pixels; everything else is the inside of the shell.
