@@ -9,6 +9,12 @@ use std::path::{Path, PathBuf};
 
 /// An image output (`-o`): .png, .exr or .pfm, in a folder that exists.
 pub fn check_image(option: &str, path: &Path) -> Result<Format, CliError> {
+    if path.is_dir() {
+        return Err(CliError::Input(format!(
+            "{option} {}: is a folder; give an image file name in it",
+            path.display()
+        )));
+    }
     let format = Format::from_path(path).map_err(|_| {
         CliError::Input(format!(
             "{option} {}: unsupported image extension (use .png, .exr or .pfm)",
