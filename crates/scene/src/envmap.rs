@@ -4,11 +4,14 @@
 //!
 //! Mapping (Mitsuba's): a local direction `d` has `u = atan2(d.x, -d.z) / 2π` (wrapped
 //! into [0, 1)) and `v = acos(d.y) / π`, so the image's top row is straight up (+y), its
-//! left edge looks down -z and its centre column along +z. Texel `(i, j)` covers `u ∈ [i, i+1) / width`,
-//! `v ∈ [j, j+1) / height` and its radiance is constant there (nearest lookup, as
-//! pbrt-v4's `ImageInfiniteLight`; Mitsuba interpolates bilinearly, which differs
-//! only within a texel), so the importance sampling of the path tracer follows the
-//! radiance exactly.
+//! left edge looks down -z and its centre column along +z.
+//!
+//! Lookup (Mitsuba's `envmap`, exactly): the pixels are the vertices of a grid, bilinearly
+//! interpolated. Horizontally pixel `x` sits at `u = (x + ½) / W` and the grid is periodic
+//! (column `W` repeats column 0); vertically pixel row `y` sits at `v = y / (H - 1)`, so
+//! the top row is the north pole itself and the bottom row the south pole. The grid
+//! coordinates of `(u, v)` are `(s, t) = ((u - ½/W) mod 1, v)`: cell `(i, j)` covers
+//! `s ∈ [i, i+1) / W`, `t ∈ [j, j+1) / (H - 1)`.
 
 use glam::{Mat3, Vec2, Vec3};
 use irradia_core::{Image, Rgb};
@@ -47,22 +50,56 @@ impl EnvMap {
         (self.to_world * Vec3::new(sp * st, ct, -cp * st)).normalize()
     }
 
-    /// The texel `(u, v)` falls in.
+    /// The grid coordinates `(s, t)` of map coordinates `(u, v)`, each in [0, 1].
     #[inline]
-    pub fn texel(&self, uv: Vec2) -> (u32, u32) {
+    pub fn grid(&self, uv: Vec2) -> Vec2 {
+        let w = self.image.width() as f32;
+        Vec2::new((uv.x - 0.5 / w).rem_euclid(1.0), uv.y.clamp(0.0, 1.0))
+    }
+
+    /// The map coordinates `(u, v)` of grid coordinates `(s, t)`.
+    #[inline]
+    pub fn uv_of_grid(&self, st: Vec2) -> Vec2 {
+        let w = self.image.width() as f32;
+        Vec2::new((st.x + 0.5 / w).rem_euclid(1.0), st.y)
+    }
+
+    /// The grid cell `(i, j)` that grid coordinates `(s, t)` fall in: `W x (H - 1)` cells.
+    #[inline]
+    pub fn cell(&self, st: Vec2) -> (u32, u32) {
         let (w, h) = (self.image.width(), self.image.height());
         (
-            ((uv.x * w as f32) as u32).min(w - 1),
-            ((uv.y * h as f32) as u32).min(h - 1),
+            ((st.x * w as f32) as u32).min(w - 1),
+            ((st.y * (h - 1) as f32) as u32).min(h - 2),
         )
+    }
+
+    /// The pixel at grid vertex `(x, y)`, `x` in `0..=W` (column `W` is column 0).
+    #[inline]
+    pub fn vertex(&self, x: u32, y: u32) -> Rgb {
+        let w = self.image.width();
+        self.image.get(if x >= w { x - w } else { x }, y)
+    }
+
+    /// Radiance at map coordinates `uv`: the bilinear interpolation of the four pixels
+    /// around it, times `scale`.
+    #[inline]
+    pub fn eval_uv(&self, uv: Vec2) -> Rgb {
+        let (w, h) = (self.image.width(), self.image.height());
+        let st = self.grid(uv);
+        let (i, j) = self.cell(st);
+        let fx = (st.x * w as f32 - i as f32).clamp(0.0, 1.0);
+        let fy = (st.y * (h - 1) as f32 - j as f32).clamp(0.0, 1.0);
+        let top = self.vertex(i, j) * (1.0 - fx) + self.vertex(i + 1, j) * fx;
+        let bottom = self.vertex(i, j + 1) * (1.0 - fx) + self.vertex(i + 1, j + 1) * fx;
+        (top * (1.0 - fy) + bottom * fy) * self.scale
     }
 
     /// Radiance arriving from world direction `-dir`, i.e. seen by a ray travelling
     /// along `dir` that leaves the scene.
     #[inline]
     pub fn eval(&self, dir: Vec3) -> Rgb {
-        let (x, y) = self.texel(self.uv(dir));
-        self.image.get(x, y) * self.scale
+        self.eval_uv(self.uv(dir))
     }
 }
 
@@ -94,5 +131,37 @@ mod tests {
         assert!((plain.direction(Vec2::new(0.3, 0.0)) - Vec3::Y).length() < 1e-6);
         assert!((plain.direction(Vec2::new(0.0, 0.5)) - -Vec3::Z).length() < 1e-6);
         assert!((plain.direction(Vec2::new(0.25, 0.5)) - Vec3::X).length() < 1e-6);
+    }
+
+    /// Mitsuba's lookup by hand on a 4 x 3 map: pixel `(x, y)` sits at
+    /// `u = (x + ½)/4`, `v = y/2`; in between the value is bilinear, and the grid wraps
+    /// from the last column to the first.
+    #[test]
+    fn lookup_is_mitsubas_bilinear_vertex_grid() {
+        let px: Vec<Rgb> = (0..12).map(|k| Rgb::splat(k as f32)).collect();
+        let map = EnvMap {
+            image: Arc::new(Image::from_pixels(4, 3, px)),
+            scale: 2.0,
+            to_world: Mat3::IDENTITY,
+            path: PathBuf::new(),
+        };
+        let at = |u: f32, v: f32| map.eval_uv(Vec2::new(u, v)).r / 2.0;
+        // On the pixels themselves.
+        for (x, y) in [(0u32, 0u32), (1, 0), (3, 1), (2, 2)] {
+            let want = (y * 4 + x) as f32;
+            let got = at((x as f32 + 0.5) / 4.0, y as f32 / 2.0);
+            assert!((got - want).abs() < 1e-5, "pixel ({x}, {y}): {got}");
+        }
+        // Half-way between pixels (1, 1) = 5 and (2, 1) = 6, and a quarter of the way
+        // down from row 0 to row 1 at column 1: 1 + 0.5 * 4 = 3.
+        assert!((at(0.5, 0.5) - 5.5).abs() < 1e-5);
+        assert!((at(0.375, 0.25) - 3.0).abs() < 1e-5);
+        // Across the seam: half-way between column 3 (7) and column 0 (4) of row 1, at
+        // u = 0 (= 1).
+        assert!((at(0.0, 0.5) - 5.5).abs() < 1e-5);
+        assert!((at(0.999_999, 0.5) - 5.5).abs() < 1e-3);
+        // The poles are the first and last rows.
+        assert!((at(0.125, 0.0) - 0.0).abs() < 1e-5);
+        assert!((at(0.625, 1.0) - 10.0).abs() < 1e-5);
     }
 }

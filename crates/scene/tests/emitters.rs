@@ -153,7 +153,7 @@ fn bad_emitters_are_refused_with_file_line_and_field() {
     refused(
         "[[lights]]\ntype = \"envmap\"\nfilename = \"not-latlong.png\"\n",
         "lights[0].filename",
-        "not-latlong.png: an environment map must be a latitude-longitude image twice as wide as it is high (got 9x6)",
+        "not-latlong.png: an environment map must be a latitude-longitude image twice as wide as it is high, at least 6x3 (got 9x6)",
     );
     refused(
         "[[lights]]\ntype = \"envmap\"\nfilename = \"missing.exr\"\n",

@@ -1,9 +1,12 @@
-//! Importance sampling of Mitsuba's `envmap` emitter: directions are drawn from a 2D
-//! piecewise-constant distribution over the latitude-longitude image, each texel
-//! weighted by its luminance times `sin θ` at its centre (the area of the sphere the
-//! row covers), and turned into solid angle by the Jacobian of the lat-long map,
-//! `dω = 2π² sin θ du dv` (Pharr, Jakob, Humphreys, PBRT 3rd ed., 14.2.4
-//! "Infinite Area Lights"; Mitsuba 3 `envmap`, which warps the same weighted image).
+//! Importance sampling of Mitsuba's `envmap` emitter. The map is a grid of pixels
+//! interpolated bilinearly (see [`irradia_scene::EnvMap`]); Mitsuba samples that grid
+//! with a piecewise-bilinear warp of luminance × sin θ at the pixels. Here each of the
+//! `W x (H - 1)` grid cells gets the same probability as in Mitsuba's warp (the integral
+//! of the bilinear function over the cell: the mean of its four corners times its area),
+//! drawn uniformly inside the cell (a 2D piecewise-constant distribution), and turned into
+//! solid angle by the Jacobian of the lat-long map, `dω = 2π² sin θ du dv` (Pharr, Jakob,
+//! Humphreys, PBRT 3rd ed., 14.2.4 "Infinite Area Lights"). The density differs from
+//! Mitsuba's only inside a cell; the estimate is the same in expectation.
 
 use super::distribution::Piecewise2D;
 use glam::{Vec2, Vec3};
@@ -35,21 +38,35 @@ pub struct EnvmapSample {
 impl EnvmapSampler {
     pub fn new(map: Arc<EnvMap>) -> Self {
         let (w, h) = (map.image.width() as usize, map.image.height() as usize);
-        let mut func = Vec::with_capacity(w * h);
+        let rows = h - 1;
+        // Luminance × sin θ and RGB mean at every grid vertex (row y at θ = π y / (H - 1)).
+        let vertex = |x: usize, y: usize| {
+            let c = map.vertex(x as u32, y as u32) * map.scale;
+            let sin_theta = (PI * y as f32 / rows as f32).sin();
+            (c.luminance().max(0.0) * sin_theta, c.mean())
+        };
+        let mut func = Vec::with_capacity(w * rows);
         let mut sum = 0.0f64;
-        for j in 0..h {
-            let sin_theta = (PI * (j as f32 + 0.5) / h as f32).sin();
-            // Solid angle of a texel of this row: (2π / w)(cos θ0 − cos θ1).
-            let (t0, t1) = (PI * j as f32 / h as f32, PI * (j + 1) as f32 / h as f32);
+        for j in 0..rows {
+            // Solid angle of a cell of this row: (2π / W)(cos θ0 − cos θ1).
+            let (t0, t1) = (
+                PI * j as f32 / rows as f32,
+                PI * (j + 1) as f32 / rows as f32,
+            );
             let omega = 2.0 * PI / w as f32 * (t0.cos() - t1.cos());
             for i in 0..w {
-                let c = map.image.get(i as u32, j as u32) * map.scale;
-                func.push(c.luminance().max(0.0) * sin_theta);
-                sum += (c.mean() * omega) as f64;
+                let corners = [
+                    vertex(i, j),
+                    vertex(i + 1, j),
+                    vertex(i, j + 1),
+                    vertex(i + 1, j + 1),
+                ];
+                func.push(corners.iter().map(|c| c.0).sum::<f32>() * 0.25);
+                sum += (corners.iter().map(|c| c.1).sum::<f32>() * 0.25 * omega) as f64;
             }
         }
         Self {
-            dist: Piecewise2D::new(&func, w, h),
+            dist: Piecewise2D::new(&func, w, rows),
             mean_radiance: (sum / (4.0 * std::f64::consts::PI)) as f32,
             map,
         }
@@ -66,7 +83,8 @@ impl EnvmapSampler {
         if self.dist.integral() <= 0.0 {
             return None;
         }
-        let (uv, (i, j)) = self.dist.sample(u);
+        let (st, (i, j)) = self.dist.sample(u);
+        let uv = self.map.uv_of_grid(st);
         let sin_theta = (PI * uv.y).sin();
         let p = self.dist.pdf(i, j);
         if sin_theta <= 0.0 || p <= 0.0 {
@@ -74,7 +92,7 @@ impl EnvmapSampler {
         }
         Some(EnvmapSample {
             wi: self.map.direction(uv),
-            radiance: self.map.image.get(i as u32, j as u32) * self.map.scale,
+            radiance: self.map.eval_uv(uv),
             pdf: p / (2.0 * PI * PI * sin_theta),
         })
     }
@@ -86,7 +104,7 @@ impl EnvmapSampler {
             return 0.0;
         }
         let uv = self.map.uv(dir);
-        let (i, j) = self.map.texel(uv);
+        let (i, j) = self.map.cell(self.map.grid(uv));
         let sin_theta = (PI * uv.y).sin();
         if sin_theta <= 0.0 {
             return 0.0;

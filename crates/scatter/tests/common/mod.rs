@@ -383,7 +383,11 @@ fn nudge(w: Vec3) -> Vec3 {
     let axis = if w.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
     let t = w.cross(axis).normalize();
     let v = (w + 2e-3 * t).normalize();
-    if v.z * w.z > 0.0 { v } else { (w - 2e-3 * t).normalize() }
+    if v.z * w.z > 0.0 {
+        v
+    } else {
+        (w - 2e-3 * t).normalize()
+    }
 }
 
 fn uniform_sphere(u: Vec2) -> Vec3 {

@@ -26,10 +26,10 @@ fn read_image(v: &Val, what: &str) -> Result<(Arc<Image>, std::path::PathBuf)> {
 pub(super) fn read_envmap(t: &Table) -> Result<Light> {
     let file_v = t.req("filename")?;
     let (image, path) = read_image(&file_v, "environment map")?;
-    if image.width() != 2 * image.height() {
+    if image.width() != 2 * image.height() || image.height() < 3 {
         return Err(file_v.err(format!(
             "{}: an environment map must be a latitude-longitude image twice as wide as \
-             it is high (got {}x{})",
+             it is high, at least 6x3 (got {}x{})",
             path.display(),
             image.width(),
             image.height()
