@@ -123,17 +123,23 @@ impl Progress {
         }
     }
 
-    /// `n` more steps done (the Whitted render's tiles).
-    #[allow(dead_code)] // for commands/render.rs, which moves to this reporter
-    pub fn inc(&self, n: u64) {
-        self.state.lock().expect("progress state").position += n;
+    /// Sets the length of the current phase when it changes (learnt after the phase
+    /// began), keeping the count.
+    pub fn set_length(&self, length: u64) {
+        {
+            let mut s = self.state.lock().expect("progress state");
+            if s.length == Some(length) {
+                return;
+            }
+            s.length = Some(length);
+        }
         if let Some(b) = &self.bar {
-            b.inc(n);
+            b.set_style(bar_style());
+            b.set_length(length.max(1));
         }
     }
 
     /// A progressive render finished a pass.
-    #[allow(dead_code)] // for commands/render_path.rs, which moves to this reporter
     pub fn pass(&self, p: PassStatus) {
         self.state.lock().expect("progress state").pass = Some(p);
         if let Some(b) = &self.bar {

@@ -3,11 +3,11 @@
 use crate::error::CliError;
 use crate::scene_arg::{load_scene, SceneArgs};
 use clap::{Args, ValueEnum};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use irradia_core::io::{save, Format};
 use irradia_render::{render, Aov, Progress, ProgressFn, RenderOptions};
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use crate::progress::PassStatus;
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
 
 const EXAMPLES: &str = "\
@@ -136,21 +136,24 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let path_traced = scene.settings.integrator.is_monte_carlo();
     if !path_traced && args.path.any() {
         return Err(CliError::Input(
-            "--time, --target-error, --checkpoint and --resume belong to the path tracer: add --integrator path".into(),
+            "--time, --target-error, --checkpoint, --resume and --seed belong to the path tracer: add --integrator path".into(),
         ));
     }
     scene.settings.check_crop().map_err(CliError::Input)?;
 
-    let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
-        let pb = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
-        pb.set_style(
-            ProgressStyle::with_template("{spinner} {msg}  {elapsed_precise}")
-                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
-        );
-        pb
-    });
-    let progress = bar.clone().map(|pb| {
-        let f: ProgressFn = Arc::new(move |p: &Progress| show_progress(&pb, p));
+    let reporter = Arc::new(crate::progress::Progress::new("render", args.quiet));
+    reporter.phase(
+        if path_traced {
+            "path tracing"
+        } else {
+            "ray tracing"
+        },
+        None,
+    );
+    let progress = (!args.quiet).then(|| {
+        let (r, passes) = (reporter.clone(), Arc::new(AtomicU32::new(0)));
+        let time = args.path.time;
+        let f: ProgressFn = Arc::new(move |p: &Progress| show_progress(&r, &passes, time, p));
         f
     });
     let mut options = RenderOptions {
@@ -161,10 +164,9 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         ..RenderOptions::default()
     };
     args.path.apply(&mut options, args.scene_args.spp.is_some());
-    let out = render(&scene, &options)?;
-    if let Some(pb) = &bar {
-        pb.finish_and_clear();
-    }
+    let out = render(&scene, &options);
+    reporter.finish();
+    let out = out?;
     print_shape_warnings(&scene, args.quiet);
 
     save(&out.image, &args.output).map_err(|e| CliError::Failure(e.to_string()))?;
@@ -217,27 +219,35 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The progress bar: a bar over the pixel-samples when their number is known, the
-/// samples per pixel and the error estimate after each pass.
-fn show_progress(pb: &ProgressBar, p: &Progress) {
+/// Reports the render's progress to the one reporter (a bar on a terminal, log lines
+/// otherwise): the pixel-samples done when their number is known, and after each pass
+/// of a progressive render its samples per pixel, error estimate and the fraction of
+/// the sample or time budget (`time`, seconds) used.
+fn show_progress(
+    r: &crate::progress::Progress,
+    passes: &AtomicU32,
+    time: Option<f64>,
+    p: &Progress,
+) {
     if let Some(total) = p.total {
-        if pb.length() != Some(total) {
-            pb.set_length(total);
-            pb.set_style(
-                ProgressStyle::with_template(
-                    "{bar:40} {percent:>3}% {msg}  {elapsed_precise} eta {eta}",
-                )
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-            );
-        }
+        r.set_length(total);
     }
-    pb.set_position(p.done);
-    if let Some(r) = p.pass {
-        if r.relative_error.is_finite() {
-            pb.set_message(format!("{} spp, error {:.4}", r.samples, r.relative_error));
-        } else {
-            pb.set_message(format!("{} spp", r.samples));
-        }
+    r.set_position(p.done);
+    if let Some(rep) = p.pass {
+        let pass = passes.fetch_add(1, Ordering::Relaxed) + 1;
+        let by_samples = (rep.target_samples != u32::MAX && rep.target_samples > 0)
+            .then(|| rep.samples as f64 / rep.target_samples as f64);
+        let by_time = time.map(|t| rep.elapsed.as_secs_f64() / t);
+        let done = match (by_samples, by_time) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        };
+        r.pass(PassStatus {
+            pass,
+            spp: rep.samples as u64,
+            error: rep.relative_error.is_finite().then_some(rep.relative_error),
+            done,
+        });
     }
 }
 

@@ -23,6 +23,10 @@ pub struct PathArgs {
     /// Continue an interrupted render from its checkpoint (and keep writing it).
     #[arg(long, value_name = "FILE")]
     pub resume: Option<PathBuf>,
+    /// Random stream family (Mitsuba's sampler `seed`): renders with different seeds
+    /// are independent estimates of the same image; 0 (the default) is the usual image.
+    #[arg(long, value_name = "N")]
+    pub seed: Option<u32>,
 }
 
 impl PathArgs {
@@ -32,6 +36,7 @@ impl PathArgs {
             || self.target_error.is_some()
             || self.checkpoint.is_some()
             || self.resume.is_some()
+            || self.seed.is_some()
     }
 
     /// Checks the values before any work starts.
@@ -73,6 +78,7 @@ impl PathArgs {
         options.target_error = self.target_error;
         options.checkpoint = self.checkpoint.clone();
         options.resume = self.resume.clone();
+        options.seed = self.seed.unwrap_or(0);
         options.checkpoint_interval = Duration::from_secs(30);
     }
 }
