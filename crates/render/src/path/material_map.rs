@@ -25,12 +25,14 @@
 
 use glam::{Vec2, Vec3};
 use irradia_core::Rgb;
-use irradia_scatter::bsdfs::{self, LectureLobe as Lobe, LectureMix};
+use irradia_scatter::bsdfs::{self, LectureLobe as Lobe, LectureMix, RoughPlasticTables};
 use irradia_scatter::microfacet::{Microfacet, MicrofacetType};
 use irradia_scatter::Bsdf;
 use irradia_scene::bsdf::{self as desc, BsdfDesc, Distribution, Roughness};
 use irradia_scene::texture::{ColorTexture, FloatTexture, TextureQuery};
 use irradia_scene::{Material, Texture};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// The BSDF of `material` at world point `p` with surface coordinates `uv`: its
 /// physically based description when it has one, else the lecture mixture.
@@ -188,8 +190,99 @@ pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery) -> Option<Bsdf> {
             specular_transmittance: d.specular_transmittance.eval(q),
         }
         .into(),
-        _ => return None,
+        BsdfDesc::Plastic(p) => bsdfs::Plastic {
+            diffuse_reflectance: p.diffuse_reflectance.eval(q),
+            specular_reflectance: p.specular_reflectance.eval(q),
+            eta: p.int_ior / p.ext_ior,
+            nonlinear: p.nonlinear,
+        }
+        .into(),
+        BsdfDesc::RoughPlastic(p, r) => {
+            let distribution = Microfacet::new(
+                match r.distribution {
+                    Distribution::Beckmann => MicrofacetType::Beckmann,
+                    Distribution::Ggx => MicrofacetType::Ggx,
+                },
+                r.alpha,
+                r.alpha,
+                r.sample_visible,
+            );
+            let eta = p.int_ior / p.ext_ior;
+            bsdfs::RoughPlastic {
+                distribution,
+                eta,
+                diffuse_reflectance: p.diffuse_reflectance.eval(q),
+                specular_reflectance: p.specular_reflectance.eval(q),
+                nonlinear: p.nonlinear,
+                tables: rough_plastic_tables(&distribution, eta),
+            }
+            .into()
+        }
+        BsdfDesc::Principled(p) => bsdfs::Principled {
+            base_color: p.base_color.eval(q),
+            roughness: p.roughness.eval(q),
+            metallic: p.metallic.eval(q),
+            spec_tint: p.spec_tint.eval(q),
+            anisotropic: p.anisotropic.eval(q),
+            sheen: p.sheen.eval(q),
+            sheen_tint: p.sheen_tint.eval(q),
+            clearcoat: p.clearcoat.eval(q),
+            clearcoat_gloss: p.clearcoat_gloss.eval(q),
+            spec_trans: p.spec_trans.eval(q),
+            flatness: p.flatness.eval(q),
+            eta: p.specular.eta(),
+            main_specular_sampling_rate: p.main_specular_sampling_rate,
+            clearcoat_sampling_rate: p.clearcoat_sampling_rate,
+            diffuse_reflectance_sampling_rate: p.diffuse_reflectance_sampling_rate,
+        }
+        .into(),
+        BsdfDesc::Blend { weight, bsdfs } => bsdfs::Blend {
+            weight: weight.eval(q),
+            bsdf_0: Box::new(desc_bsdf(&bsdfs[0], q)?),
+            bsdf_1: Box::new(desc_bsdf(&bsdfs[1], q)?),
+        }
+        .into(),
+        BsdfDesc::Mask { opacity, bsdf } => bsdfs::Mask {
+            opacity: opacity.eval(q),
+            nested_bsdf: Box::new(desc_bsdf(bsdf, q)?),
+        }
+        .into(),
+        BsdfDesc::TwoSided { front, back } => bsdfs::TwoSided {
+            front: Box::new(desc_bsdf(front, q)?),
+            back: match back {
+                Some(b) => Some(Box::new(desc_bsdf(b, q)?)),
+                None => None,
+            },
+        }
+        .into(),
+        // Not yet: `principledthin` has no scatter BSDF, and `bumpmap` / `normalmap`
+        // need the surface's tangent frame (dp/du), which hits do not carry yet. The
+        // scene's derived lecture fields stand in, with a warning at load time.
+        BsdfDesc::PrincipledThin(_) | BsdfDesc::BumpMap { .. } | BsdfDesc::NormalMap { .. } => {
+            return None
+        }
     })
+}
+
+/// The internal-scattering tables of a rough plastic coating, computed once per
+/// (distribution, roughness, η) and shared: a textured rough plastic builds its BSDF
+/// at every hit, and the tables depend only on the coating (Mitsuba's `roughplastic`
+/// precomputes them at load time for the same reason).
+fn rough_plastic_tables(distribution: &Microfacet, eta: f32) -> Arc<RoughPlasticTables> {
+    type Key = (MicrofacetType, u32, u32, bool, u32);
+    static CACHE: OnceLock<Mutex<HashMap<Key, Arc<RoughPlasticTables>>>> = OnceLock::new();
+    let key = (
+        distribution.kind,
+        distribution.alpha_u.to_bits(),
+        distribution.alpha_v.to_bits(),
+        distribution.sample_visible,
+        eta.to_bits(),
+    );
+    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    let mut map = cache.lock().unwrap_or_else(|e| e.into_inner());
+    map.entry(key)
+        .or_insert_with(|| Arc::new(RoughPlasticTables::new(distribution, eta)))
+        .clone()
 }
 
 /// The BSDF of `material` at world point `p` with surface coordinates `uv`.
