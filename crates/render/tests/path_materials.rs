@@ -3,7 +3,8 @@
 //! environment of radiance 1, the scene's `background`) the lossless ones are
 //! invisible: a diffuse ball of reflectance 1, a perfect mirror (`conductor` without a
 //! `material`, Mitsuba's "none") and a smooth glass ball all return the environment's
-//! radiance.
+//! radiance; so do a blend of two of them, a mask of a two-sided one and a two-sided
+//! one. Every description becomes its own scatter BSDF (not the lecture fields).
 
 use irradia_render::driver::ProgressiveOptions;
 use irradia_render::path::{self, PathParams};
@@ -145,6 +146,22 @@ fn lossless_balls_vanish_in_a_white_furnace() {
             "type = \"thindielectric\"\nint_ior = 1.5\next_ior = 1",
             16,
         ),
+        (
+            "blend of diffuse 1 and a mirror",
+            "type = \"blendbsdf\"\nweight = 0.3\nbsdfs = [{ type = \"diffuse\", reflectance = 1 }, { type = \"conductor\" }]",
+            64,
+        ),
+        (
+            // Two-sided: light let through meets the inside of the shell.
+            "mask of two-sided diffuse 1",
+            "type = \"mask\"\nopacity = 0.4\nbsdf = { type = \"twosided\", bsdf = { type = \"diffuse\", reflectance = 1 } }",
+            64,
+        ),
+        (
+            "two-sided diffuse 1",
+            "type = \"twosided\"\nbsdf = { type = \"diffuse\", reflectance = 1 }",
+            64,
+        ),
     ] {
         let scene = ball_scene(body);
         let film = render(&scene, spp);
@@ -235,4 +252,41 @@ material = "lamp"
         "only {dark} of {} pixels black",
         im.pixels().len()
     );
+}
+
+/// Every description the scatter crate has a BSDF for becomes that BSDF in the path
+/// tracer (not the lecture fields the scene derives for the Whitted tracer), nested
+/// ones included.
+#[test]
+fn every_description_becomes_its_own_bsdf() {
+    use irradia_render::path::material_map::material_bsdf;
+    use irradia_scatter::Bsdf;
+    let cases: &[(&str, fn(&Bsdf) -> bool)] = &[
+        ("type = \"diffuse\"", |b| matches!(b, Bsdf::Diffuse(_))),
+        ("type = \"conductor\"\nmaterial = \"Au\"", |b| matches!(b, Bsdf::Conductor(_))),
+        ("type = \"roughconductor\"", |b| matches!(b, Bsdf::RoughConductor(_))),
+        ("type = \"dielectric\"", |b| matches!(b, Bsdf::Dielectric(_))),
+        ("type = \"roughdielectric\"", |b| matches!(b, Bsdf::RoughDielectric(_))),
+        ("type = \"thindielectric\"", |b| matches!(b, Bsdf::ThinDielectric(_))),
+        ("type = \"plastic\"", |b| matches!(b, Bsdf::Plastic(_))),
+        ("type = \"roughplastic\"", |b| matches!(b, Bsdf::RoughPlastic(_))),
+        ("type = \"principled\"", |b| matches!(b, Bsdf::Principled(_))),
+        (
+            "type = \"blendbsdf\"\nbsdfs = [{ type = \"plastic\" }, { type = \"diffuse\" }]",
+            |b| matches!(b, Bsdf::Blend(x) if matches!(*x.bsdf_0, Bsdf::Plastic(_))),
+        ),
+        (
+            "type = \"mask\"\nbsdf = { type = \"roughplastic\" }",
+            |b| matches!(b, Bsdf::Mask(x) if matches!(*x.nested_bsdf, Bsdf::RoughPlastic(_))),
+        ),
+        (
+            "type = \"twosided\"\nbsdf = { type = \"principled\" }",
+            |b| matches!(b, Bsdf::TwoSided(x) if matches!(*x.front, Bsdf::Principled(_))),
+        ),
+    ];
+    for (body, is_it) in cases {
+        let scene = ball_scene(body);
+        let b = material_bsdf(&scene.materials[0], glam::Vec3::ZERO, glam::Vec2::ZERO);
+        assert!(is_it(&b), "{body}: became {b:?}");
+    }
 }
