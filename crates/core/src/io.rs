@@ -107,6 +107,19 @@ pub fn load(path: &Path) -> Result<Image, ImageError> {
     }
 }
 
+/// A linear floating-point image (EXR or Radiance HDR, by the extension of `name`) held
+/// in memory, e.g. a file embedded in the binary.
+pub fn decode_float(bytes: &[u8], name: &str) -> Result<Image, ImageError> {
+    let err = |e: ::image::ImageError| file_err(Path::new(name), e);
+    let format = ::image::ImageFormat::from_path(name).map_err(err)?;
+    let im = ::image::load_from_memory_with_format(bytes, format)
+        .map_err(err)?
+        .to_rgb32f();
+    let (w, h) = im.dimensions();
+    let px = im.pixels().map(|p| Rgb::from_array(p.0)).collect();
+    Ok(Image::from_pixels(w, h, px))
+}
+
 /// A linear floating-point image file (EXR, HDR) read by the `image` crate.
 fn load_float(path: &Path) -> Result<Image, ImageError> {
     let im = ::image::open(path)

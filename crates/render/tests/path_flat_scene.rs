@@ -90,3 +90,50 @@ fn mixed_scenes_keep_curved_shapes_generic_and_agree() {
     compare("default", 5_000);
     assert!(compare("polyhedra", 10_000) > 0);
 }
+
+/// Baked triangles report barycentric uv, so a polygon whose physically based material
+/// has a texture stays with its own test (and its uv); an untextured one is baked.
+#[test]
+fn textured_polygons_keep_their_own_uv() {
+    let text = |reflectance: &str| {
+        format!(
+            r#"
+[camera]
+eye = [0, 0, 5]
+look_at = [0, 0, 0]
+
+[materials.m]
+type = "diffuse"
+reflectance = {reflectance}
+
+[[objects]]
+type = "polygon"
+vertices = [[-2, -1, 0], [2, -1, 0], [2, 1, 0], [-2, 1, 0]]
+material = "m"
+"#
+        )
+    };
+    let load = |t: &str| {
+        irradia_scene::load_str(
+            t,
+            irradia_scene::SceneSyntax::Toml,
+            std::path::Path::new("t.toml"),
+        )
+        .unwrap()
+    };
+    let plain = load(&text("0.5"));
+    assert_eq!(FlatScene::new(&plain).baked_objects(), 1);
+    let textured = load(&text(
+        r#"{ type = "checkerboard", to_uv = [{ scale = [4, 2] }] }"#,
+    ));
+    let flat = FlatScene::new(&textured);
+    assert_eq!(flat.baked_objects(), 0);
+    // The polygon's uv: u along its first edge, v across, over its extent.
+    let ray = Ray::new(Vec3::new(1.0, 0.5, 5.0), -Vec3::Z);
+    let hit = flat.intersect(&ray, f32::INFINITY).expect("the polygon");
+    assert!(
+        (hit.hit.uv - glam::Vec2::new(0.75, 0.75)).length() < 1e-5,
+        "{}",
+        hit.hit.uv
+    );
+}

@@ -263,14 +263,28 @@ fn every_description_becomes_its_own_bsdf() {
     use irradia_scatter::Bsdf;
     let cases: &[(&str, fn(&Bsdf) -> bool)] = &[
         ("type = \"diffuse\"", |b| matches!(b, Bsdf::Diffuse(_))),
-        ("type = \"conductor\"\nmaterial = \"Au\"", |b| matches!(b, Bsdf::Conductor(_))),
-        ("type = \"roughconductor\"", |b| matches!(b, Bsdf::RoughConductor(_))),
-        ("type = \"dielectric\"", |b| matches!(b, Bsdf::Dielectric(_))),
-        ("type = \"roughdielectric\"", |b| matches!(b, Bsdf::RoughDielectric(_))),
-        ("type = \"thindielectric\"", |b| matches!(b, Bsdf::ThinDielectric(_))),
+        ("type = \"conductor\"\nmaterial = \"Au\"", |b| {
+            matches!(b, Bsdf::Conductor(_))
+        }),
+        ("type = \"roughconductor\"", |b| {
+            matches!(b, Bsdf::RoughConductor(_))
+        }),
+        ("type = \"dielectric\"", |b| {
+            matches!(b, Bsdf::Dielectric(_))
+        }),
+        ("type = \"roughdielectric\"", |b| {
+            matches!(b, Bsdf::RoughDielectric(_))
+        }),
+        ("type = \"thindielectric\"", |b| {
+            matches!(b, Bsdf::ThinDielectric(_))
+        }),
         ("type = \"plastic\"", |b| matches!(b, Bsdf::Plastic(_))),
-        ("type = \"roughplastic\"", |b| matches!(b, Bsdf::RoughPlastic(_))),
-        ("type = \"principled\"", |b| matches!(b, Bsdf::Principled(_))),
+        ("type = \"roughplastic\"", |b| {
+            matches!(b, Bsdf::RoughPlastic(_))
+        }),
+        ("type = \"principled\"", |b| {
+            matches!(b, Bsdf::Principled(_))
+        }),
         (
             "type = \"blendbsdf\"\nbsdfs = [{ type = \"plastic\" }, { type = \"diffuse\" }]",
             |b| matches!(b, Bsdf::Blend(x) if matches!(*x.bsdf_0, Bsdf::Plastic(_))),

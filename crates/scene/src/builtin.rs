@@ -61,6 +61,18 @@ const SCENES: &[(&str, &str, &str)] = &[
 ];
 
 /// The built-in scenes: (name, one-line description).
+/// Files the built-in scenes name (an environment map), embedded in the binary so that
+/// a built-in renders wherever the binary is.
+const ASSETS: &[(&str, &[u8])] = &[(
+    "gallery_sky.hdr",
+    include_bytes!("../scenes/gallery_sky.hdr"),
+)];
+
+/// The embedded file a built-in scene calls `name`.
+pub fn asset(name: &str) -> Option<&'static [u8]> {
+    ASSETS.iter().find(|a| a.0 == name).map(|a| a.1)
+}
+
 pub fn names() -> Vec<(&'static str, &'static str)> {
     SCENES.iter().map(|(n, d, _)| (*n, *d)).collect()
 }

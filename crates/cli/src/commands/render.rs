@@ -1,12 +1,12 @@
 //! `irradia render`: render a scene file or a built-in scene to PNG, EXR or PFM.
 
 use crate::error::CliError;
+use crate::progress::PassStatus;
 use crate::scene_arg::{load_scene, SceneArgs};
 use clap::{Args, ValueEnum};
 use irradia_core::io::{save, Format};
 use irradia_render::{render, Aov, Progress, ProgressFn, RenderOptions};
 use std::path::{Path, PathBuf};
-use crate::progress::PassStatus;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
 

@@ -80,7 +80,16 @@ impl Polygon {
                 });
             }
         }
-        let s = normal.any_orthonormal_vector();
+        // The uv axes: u along the first edge of non-zero length (so a rectangle's
+        // texture lines up with its sides), v = n × u in the plane.
+        let s = pts
+            .iter()
+            .zip(pts.iter().cycle().skip(1))
+            .map(|(a, b)| *b - *a)
+            .map(|e| e - normal * normal.dot(e))
+            .find(|e| e.length() > 1e-9 * size)
+            .map(|e| e.normalize())
+            .unwrap_or_else(|| normal.any_orthonormal_vector());
         let t = normal.cross(s);
         let points: Vec<DVec2> = pts
             .iter()

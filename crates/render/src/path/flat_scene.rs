@@ -16,14 +16,15 @@
 //! (Wald, Benthin, Boulos, "Getting Rid of Packets", RT 2008) with packet leaves.
 //!
 //! Everything else (spheres, quadrics, tori, CSG, implicit surfaces, meshes with
-//! smooth normals, image-textured objects whose `uv` matters) stays in an [`Accel`] of
+//! smooth normals, textured objects whose `uv` matters) stays in an [`Accel`] of
 //! the remaining instances; a ray is tested against both and the nearer hit wins.
 //!
 //! The geometry is the same surface, so the image is statistically the same; hits
 //! differ from the shapes' own tests only by rounding (f32 triangles instead of the
 //! polygons' f64 plane test). Surface coordinates `uv` of baked hits are the
-//! triangle's barycentrics, which is why objects with image textures are not baked.
+//! triangle's barycentrics, which is why objects with textured materials are not baked.
 
+use super::material_map::desc_uniform;
 use super::tracer::{SubsetAccel, Tracer};
 use glam::{DVec3, Vec2, Vec3};
 use irradia_core::{Aabb, Ray};
@@ -288,11 +289,14 @@ impl FlatScene {
             .enumerate()
         {
             let material = object.material;
+            // Baked hits carry barycentric uv: only objects whose material reads no
+            // uv (no image on a lecture material, no texture in a physically based
+            // description) are baked.
             let plain = object.leaf_materials.is_empty()
-                && !matches!(
-                    scene.materials.get(material as usize).map(|m| &m.color),
-                    Some(Texture::Image { .. }) | None
-                );
+                && scene.materials.get(material as usize).is_some_and(|m| {
+                    !matches!(m.color, Texture::Image { .. })
+                        && m.bsdf.as_deref().is_none_or(desc_uniform)
+                });
             match plain.then(|| bake_instance(instance)).flatten() {
                 Some(tris) => {
                     baked_objects += 1;

@@ -71,7 +71,9 @@ fn roughness_uniform(r: &Roughness) -> bool {
     }
 }
 
-fn desc_uniform(d: &BsdfDesc) -> bool {
+/// Whether description `d` is the same at every surface point (no textures, no
+/// perturbed normals).
+pub fn desc_uniform(d: &BsdfDesc) -> bool {
     let conductor = |c: &desc::Conductor| {
         color_uniform(&c.eta) && color_uniform(&c.k) && color_uniform(&c.specular_reflectance)
     };

@@ -12,10 +12,19 @@ use glam::Vec3;
 use irradia_core::{Image, Rgb};
 use std::sync::Arc;
 
-/// An image file named by `v` (relative to the scene's folder): PNG (sRGB), EXR, HDR or
+/// An image file named by `v` (relative to the scene's folder; in a built-in scene, a file
+/// embedded in the binary when one has that name): PNG (sRGB), EXR, HDR or
 /// PFM (linear).
 fn read_image(v: &Val, what: &str) -> Result<(Arc<Image>, std::path::PathBuf)> {
-    let path = v.doc.resolve(v.str()?);
+    let name = v.str()?;
+    if v.doc.is_builtin() {
+        if let Some(bytes) = crate::builtin::asset(name) {
+            let image = irradia_core::io::decode_float(bytes, name)
+                .map_err(|e| v.err(format!("cannot load the {what}: {e}")))?;
+            return Ok((Arc::new(image), std::path::PathBuf::from(name)));
+        }
+    }
+    let path = v.doc.resolve(name);
     let image =
         irradia_core::io::load(&path).map_err(|e| v.err(format!("cannot load the {what}: {e}")))?;
     Ok((Arc::new(image), path))

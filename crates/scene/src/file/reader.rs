@@ -27,6 +27,13 @@ impl Doc<'_> {
         e
     }
 
+    /// Whether this is a built-in scene (its files are embedded: [`crate::builtin::asset`]).
+    pub fn is_builtin(&self) -> bool {
+        self.file
+            .as_ref()
+            .is_some_and(|f| f.to_string_lossy().starts_with("builtin:"))
+    }
+
     /// Resolves a path written in the scene relative to the scene file's folder.
     pub fn resolve(&self, p: &str) -> PathBuf {
         let p = Path::new(p);
