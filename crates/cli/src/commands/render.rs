@@ -74,7 +74,7 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub path: super::render_path::PathArgs,
     /// Print nothing but errors (no progress bar, no statistics).
-    #[arg(short, long)]
+    #[arg(short, long, help_heading = "General options")]
     pub quiet: bool,
 }
 
