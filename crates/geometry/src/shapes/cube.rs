@@ -127,7 +127,7 @@ impl Shape for Cube {
         // Pick a face by u.x, then a point on it.
         let k = ((u.x * 6.0) as usize).min(5);
         let a = u.x * 6.0 - k as f32;
-        let (axis, s) = (k / 2, if k % 2 == 0 { -1.0 } else { 1.0 });
+        let (axis, s) = (k / 2, if k.is_multiple_of(2) { -1.0 } else { 1.0 });
         let mut p = Vec3::ZERO;
         p[axis] = s;
         p[(axis + 1) % 3] = 2.0 * a - 1.0;

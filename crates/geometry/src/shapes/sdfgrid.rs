@@ -136,7 +136,7 @@ impl SdfGrid {
                         || x == n[0] - 1
                         || y == n[1] - 1
                         || z == n[2] - 1;
-                    if edge && !(at(x, y, z) > 0.0) {
+                    if edge && at(x, y, z) <= 0.0 {
                         closed = false;
                     }
                 }

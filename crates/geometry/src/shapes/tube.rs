@@ -33,7 +33,7 @@ impl Tube {
         positive("tube radius", radius as f64)?;
         let d = p1.as_dvec3() - p0.as_dvec3();
         let length = d.length();
-        if !(length > 0.0) || !length.is_finite() {
+        if length <= 0.0 || !length.is_finite() {
             return Err(ShapeError::Coincident {
                 what: "tube p0 and p1",
             });
