@@ -1,10 +1,18 @@
-//! A flat disk (POV-Ray's `disc`), optionally with a concentric hole: intersect the
-//! plane, then compare the squared distance from the centre with the radii.
+//! A flat disk (POV-Ray's `disc`, Mitsuba's `disk`), optionally with a concentric
+//! hole: intersect the plane, then compare the squared distance from the centre with
+//! the radii.
+//!
+//! Texture coordinates are Mitsuba 3's: `uv = (r / radius, phi / 2π)`, `phi` in
+//! `[0, 2π)` measured from `s` towards `t`, `(s, t)` Mitsuba's frame around the normal
+//! ([`mitsuba_frame`]; `+x`, `+y` for a disk facing `+z`, as Mitsuba's unit disk). A hole
+//! leaves `u` as it is (`u` starts at `hole / radius`). Mitsuba's `flip_normals` reverses
+//! the normal and keeps uv.
 
 // `!(x > 0.0)` is deliberate: it is also true for NaN, which must be refused too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use crate::shape::{Facets, Hit, Shape, Span};
+use crate::shapes::mitsuba_frame::{mitsuba_frame, turn_fraction};
 use crate::shapes::plane::{plane_crossing, plane_point_error};
 use crate::shapes::shape_error::{finite, positive, ShapeError};
 use glam::{DVec3, Vec2, Vec3};
@@ -35,12 +43,12 @@ impl Disk {
             });
         }
         let normal = n.normalize();
-        let s = normal.any_orthonormal_vector();
+        let (s, t) = mitsuba_frame(normal);
         Ok(Self {
             center: center.as_dvec3(),
             normal,
             s,
-            t: normal.cross(s),
+            t,
             radius: radius as f64,
             hole: 0.0,
         })
@@ -58,6 +66,14 @@ impl Disk {
         }
         self.hole = hole as f64;
         Ok(self)
+    }
+
+    /// The same disk facing the other way (Mitsuba's `flip_normals`); uv is unchanged.
+    pub fn with_flipped_normals(mut self, flip: bool) -> Self {
+        if flip {
+            self.normal = -self.normal;
+        }
+        self
     }
 
     fn crossing(&self, ray: &Ray, t_max: f32) -> Option<(f64, DVec3)> {
@@ -97,8 +113,8 @@ impl Shape for Disk {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let (t, p) = self.crossing(ray, t_max)?;
         let r = p - self.center;
-        let u = 0.5 + r.dot(self.t).atan2(r.dot(self.s)) / TAU;
-        let v = (r.length() - self.hole) / (self.radius - self.hole);
+        let u = (r.length() / self.radius).min(1.0);
+        let v = turn_fraction(r.dot(self.t), r.dot(self.s));
         let mut h = Hit::new(
             t as f32,
             p.as_vec3(),
@@ -135,6 +151,13 @@ impl Shape for Disk {
                 let j = (i + 1) % n;
                 f.faces
                     .push(vec![i as u32, j as u32, (n + j) as u32, (n + i) as u32]);
+            }
+        }
+        // (s, t) turn counter-clockwise about the original normal: a flipped disk's
+        // faces are wound the other way.
+        if self.s.cross(self.t).dot(self.normal) < 0.0 {
+            for face in &mut f.faces {
+                face.reverse();
             }
         }
         Some(f)

@@ -20,24 +20,35 @@
 //!   `Polyhedron::platonic(4 | 6 | 8 | 12 | 20)` with inradius 1.
 //! - `Polygon::new(vertices)`: planar, convex or not, even-odd rule (open surface).
 //! - `Disk::new(center, normal, radius)`, `.with_hole(inner_radius)` (open surface).
+//! - Mitsuba 3's shapes, with Mitsuba's parameterisation (uv) and normals:
+//!   `Rectangle::flipped(flip)` (`[-1, 1]²` at z = 0), `Cube::new(flip)` (`[-1, 1]³`),
+//!   `Tube::new(p0, p1, radius)` (Mitsuba's open `cylinder`), `SdfGrid::new(dims,
+//!   values, normals)` (a signed distance grid over `[0, 1]³`); `Sphere` and `Disk`
+//!   report Mitsuba's uv and take `with_flipped_normals`.
 //! - CSG (`crate::csg`): `Csg::union | intersection | difference | merge(operands)`, each
 //!   operand `CsgOperand::shape(Arc<dyn Shape>, to_parent)` or `CsgOperand::node(csg,
 //!   to_parent)`; `csg.leaf_count()`, `csg.leaf_paths()` map `Hit::leaf` to operands.
 
 pub mod bezier;
+pub mod cube;
 pub mod cuboid;
 pub mod disk;
 pub mod implicit;
+pub mod mitsuba_frame;
 pub mod parametric;
 pub mod plane;
 pub mod polygon;
 pub mod polyhedron;
 pub mod quadric;
+pub mod rectangle;
+pub mod sdfgrid;
 pub mod shape_error;
 pub mod sphere;
 pub mod torus;
+pub mod tube;
 
 pub use bezier::{teapot_mesh, teapot_patches, BezierPatch, BezierSurface};
+pub use cube::Cube;
 pub use cuboid::Cuboid;
 pub use disk::Disk;
 pub use implicit::{ImplicitError, ImplicitSurface, RootMethod};
@@ -46,6 +57,9 @@ pub use plane::Plane;
 pub use polygon::Polygon;
 pub use polyhedron::Polyhedron;
 pub use quadric::Quadric;
+pub use rectangle::Rectangle;
+pub use sdfgrid::{SdfGrid, SdfNormals};
 pub use shape_error::ShapeError;
 pub use sphere::Sphere;
 pub use torus::Torus;
+pub use tube::Tube;

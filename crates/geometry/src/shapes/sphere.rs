@@ -1,5 +1,11 @@
 //! The sphere `(p - c)·(p - c) - r² = 0` (lecture: "Ray Casting a Sphere"), solved as
 //! a quadratic in `t` in f64 with the numerically stable form of the roots.
+//!
+//! Texture coordinates are Mitsuba 3's: with `(x, y, z) = (p - c) / r` in the sphere's
+//! own frame, `u = phi / 2π` with `phi = atan2(y, x)` in `[0, 2π)` and `v = theta / π`
+//! with `theta = acos(z)`: the poles are on the z axis, `v = 0` at `+z`. Mitsuba's
+//! `flip_normals` turns the normals inward; such a sphere is an open surface (not a
+//! solid, so not usable in CSG and no medium inside).
 
 use crate::shape::{Boundary, Facets, Hit, Shape, Span};
 use crate::shapes::shape_error::{finite, positive, ShapeError};
@@ -11,6 +17,7 @@ use std::f64::consts::PI;
 pub struct Sphere {
     pub center: Vec3,
     pub radius: f32,
+    flipped: bool,
 }
 
 impl Sphere {
@@ -20,14 +27,30 @@ impl Sphere {
             radius > 0.0 && radius.is_finite(),
             "sphere radius must be positive"
         );
-        Self { center, radius }
+        Self {
+            center,
+            radius,
+            flipped: false,
+        }
+    }
+
+    /// The same sphere with its normals pointing inward (Mitsuba's `flip_normals`): an
+    /// open surface, no longer a solid.
+    pub fn with_flipped_normals(mut self, flip: bool) -> Self {
+        self.flipped = flip;
+        self
+    }
+
+    /// Whether the normals point inward.
+    pub fn flipped(&self) -> bool {
+        self.flipped
     }
 
     /// A sphere, or an error for a non-positive or non-finite radius or centre.
     pub fn try_new(center: Vec3, radius: f32) -> Result<Self, ShapeError> {
         finite("sphere center", &center.as_dvec3().to_array())?;
         positive("sphere radius", radius as f64)?;
-        Ok(Self { center, radius })
+        Ok(Self::new(center, radius))
     }
 
     /// Both roots `t0 <= t1` of the ray-sphere quadratic, or `None` on a miss.
@@ -61,14 +84,24 @@ impl Sphere {
         // Texture coordinates in f32: plenty for textures, and f32 atan2/acos cost a
         // fraction of the f64 ones (this runs for both ends of every CSG span).
         let nf = n.as_vec3();
-        let uv = Vec2::new(
-            0.5 + atan2_approx(nf.z, nf.x) / std::f32::consts::TAU,
-            atan2_approx((1.0 - nf.y * nf.y).max(0.0).sqrt(), nf.y) / std::f32::consts::PI,
-        );
+        let uv = mitsuba_sphere_uv(nf);
         // Project the point onto the sphere to remove the error of t.
         let p = self.center.as_dvec3() + n * self.radius as f64;
+        let n = if self.flipped { -n } else { n };
         (p.as_vec3(), n.as_vec3(), uv)
     }
+}
+
+/// Mitsuba's sphere uv of the unit direction `n` from the centre:
+/// `(atan2(y, x) / 2π` in `[0, 1)`, `acos(z) / π)`.
+#[inline]
+pub fn mitsuba_sphere_uv(n: Vec3) -> Vec2 {
+    let mut phi = atan2_approx(n.y, n.x) / std::f32::consts::TAU;
+    if phi < 0.0 {
+        phi = (phi + 1.0).min(1.0 - f32::EPSILON / 2.0);
+    }
+    let theta = atan2_approx((n.x * n.x + n.y * n.y).sqrt(), n.z);
+    Vec2::new(phi, theta / std::f32::consts::PI)
 }
 
 /// atan2 by a degree-11 odd minimax polynomial on [0, 1] and octant folding: absolute
@@ -133,13 +166,21 @@ impl Shape for Sphere {
     }
 
     fn is_solid(&self) -> bool {
-        true
+        !self.flipped
     }
 
     fn facets(&self, detail: u32) -> Option<Facets> {
         let mut f = uv_sphere(detail);
         for v in &mut f.vertices {
             *v = self.center + *v * self.radius;
+        }
+        if self.flipped {
+            for face in &mut f.faces {
+                face.reverse();
+            }
+            for n in &mut f.normals {
+                *n = -*n;
+            }
         }
         Some(f)
     }
@@ -150,10 +191,14 @@ impl Shape for Sphere {
 
     fn sample_surface(&self, u: Vec2) -> Option<(Vec3, Vec3)> {
         let n = irradia_core::sampling::uniform_sphere(u);
-        Some((self.center + n * self.radius, n))
+        let out = if self.flipped { -n } else { n };
+        Some((self.center + n * self.radius, out))
     }
 
     fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
+        if self.flipped {
+            return;
+        }
         if let Some((t0, t1)) = self.roots(ray) {
             let (_, n0, uv0) = self.surface(ray, t0);
             let (_, n1, uv1) = self.surface(ray, t1);

@@ -25,7 +25,7 @@ use irradia_geometry::generators::metaballs::{metaballs_mesh, random_balls, Ball
 use irradia_geometry::generators::random_triangles::{
     random_triangles, RandomTriangles, SizeDistribution,
 };
-use irradia_geometry::generators::{gyroid_mesh, volume_mesh, MeshData};
+use irradia_geometry::generators::{gyroid_mesh, volume_mesh, MeshData, ScalarGrid};
 use irradia_geometry::io::volume::{read_nrrd, read_raw, Endian, RawSpec, VoxelType};
 use irradia_geometry::shapes::bezier::{teapot_patches, tessellate};
 use irradia_geometry::TriangleMesh;
@@ -174,10 +174,19 @@ fn metaballs(t: &Table) -> Result<MeshData> {
 }
 
 fn volume(t: &Table) -> Result<MeshData> {
-    let path_v = t.req("path")?;
-    let path = path_v.doc.resolve(path_v.str()?);
     let iso_v = t.req("iso")?;
     let iso = iso_v.f32()?;
+    let grid = read_volume(t)?;
+    Ok(volume_mesh(&grid, iso))
+}
+
+/// The scalar volume of `path` (relative to the scene file): an NRRD file
+/// (`.nrrd`/`.nhdr`, which describes itself) or a raw one described by `dims`, `voxel`,
+/// `endian`, `header_bytes` and `spacing`. Shared by the `volume` generator and the
+/// `sdfgrid` shape.
+pub(super) fn read_volume(t: &Table) -> Result<ScalarGrid> {
+    let path_v = t.req("path")?;
+    let path = path_v.doc.resolve(path_v.str()?);
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -225,6 +234,5 @@ fn volume(t: &Table) -> Result<MeshData> {
         }
         read_raw(&path, &spec)
     };
-    let grid = grid.map_err(|e| path_v.err(format!("cannot read the volume: {e}")))?;
-    Ok(volume_mesh(&grid, iso))
+    grid.map_err(|e| path_v.err(format!("cannot read the volume: {e}")))
 }

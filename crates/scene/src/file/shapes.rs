@@ -6,7 +6,8 @@
 use super::reader::{unknown_name_message, Result, Table, Val};
 use glam::Vec3;
 use irradia_geometry::shapes::{
-    Cuboid, Disk, Plane, Polygon, Polyhedron, Quadric, ShapeError, Sphere, Torus,
+    Cube, Cuboid, Disk, Plane, Polygon, Polyhedron, Quadric, Rectangle, SdfGrid, SdfNormals,
+    ShapeError, Sphere, Torus, Tube,
 };
 use irradia_geometry::Shape;
 use std::sync::Arc;
@@ -27,6 +28,10 @@ pub const PRIMITIVES: &[&str] = &[
     "paraboloid",
     "hyperboloid",
     "torus",
+    "rectangle",
+    "cube",
+    "tube",
+    "sdfgrid",
 ];
 
 /// The constructor's refusal, reported at `at`.
@@ -40,8 +45,28 @@ pub fn build_primitive(kind: &str, t: &Table) -> Result<Option<Arc<dyn Shape>>> 
         "sphere" => {
             let r = t.req("radius")?;
             let center = t.vec3_or("center", Vec3::ZERO)?;
-            Arc::new(Sphere::try_new(center, r.positive()?).map_err(|e| refused(&r, e))?)
+            let flip = t.bool_or("flip_normals", false)?;
+            Arc::new(
+                Sphere::try_new(center, r.positive()?)
+                    .map_err(|e| refused(&r, e))?
+                    .with_flipped_normals(flip),
+            )
         }
+        "rectangle" => Arc::new(Rectangle::flipped(t.bool_or("flip_normals", false)?)),
+        "cube" => Arc::new(Cube::new(t.bool_or("flip_normals", false)?)),
+        "tube" => {
+            let radius = t.positive_or("radius", 1.0)?;
+            let p0 = t.vec3_or("p0", Vec3::ZERO)?;
+            let p1 = t.vec3_or("p1", Vec3::Z)?;
+            if p0 == p1 {
+                let at = t.get("p1").or_else(|| t.get("p0"));
+                let msg = format!("p0 and p1 must differ (both are {p0})");
+                return Err(at.map_or_else(|| t.err(msg.clone()), |v| v.err(msg.clone())));
+            }
+            let tube = Tube::new(p0, p1, radius).map_err(|e| t.err(e.to_string()))?;
+            Arc::new(tube.with_flipped_normals(t.bool_or("flip_normals", false)?))
+        }
+        "sdfgrid" => Arc::new(sdfgrid(t)?),
         "plane" => {
             let n = t.req("normal")?;
             let normal = n.direction()?;
@@ -74,7 +99,7 @@ pub fn build_primitive(kind: &str, t: &Table) -> Result<Option<Arc<dyn Shape>>> 
             if let Some(h) = t.get("hole") {
                 d = d.with_hole(h.non_negative()?).map_err(|e| refused(&h, e))?;
             }
-            Arc::new(d)
+            Arc::new(d.with_flipped_normals(t.bool_or("flip_normals", false)?))
         }
         "torus" => {
             let major = t.req("major")?.positive()?;
@@ -244,4 +269,87 @@ fn quadric(kind: &str, t: &Table) -> Result<Quadric> {
         q = q.open();
     }
     Ok(q)
+}
+
+/// `type = "sdfgrid"`: Mitsuba's signed distance grid over `[0, 1]³`, from `grid`
+/// (nested arrays `grid[z][y][x]`) or from the volume file `path` (NRRD or raw, as the
+/// `volume` generator reads it; its spacing is ignored: the grid spans `[0, 1]³`);
+/// `normals = "smooth" | "analytic"` (Mitsuba's default `smooth`).
+fn sdfgrid(t: &Table) -> Result<SdfGrid> {
+    let normals = match t.get("normals") {
+        Some(n) => match n.choice(&["smooth", "analytic"])? {
+            "analytic" => SdfNormals::Analytic,
+            _ => SdfNormals::Smooth,
+        },
+        None => SdfNormals::Smooth,
+    };
+    let (dims, values, at) = match (t.get("grid"), t.get("path")) {
+        (Some(_), Some(p)) => return Err(p.err("give either grid or path, not both")),
+        (None, None) => return Err(t.err("an sdfgrid needs grid (nested z, y, x arrays) or path")),
+        (Some(g), None) => {
+            let (dims, values) = nested_grid(&g)?;
+            (dims, values, g)
+        }
+        (None, Some(p)) => {
+            let grid = super::generators::read_volume(t)?;
+            let d = grid.dims;
+            ([d.x as usize, d.y as usize, d.z as usize], grid.values, p)
+        }
+    };
+    SdfGrid::new(dims, values, normals).map_err(|e| refused(&at, e))
+}
+
+/// `grid = [[[v, ...], ...], ...]`: `grid[z][y][x]`, every row of one length, at
+/// least 2 along each axis, at most 256 (values past the limit are not read).
+fn nested_grid(g: &Val) -> Result<([usize; 3], Vec<f32>)> {
+    const MAX: usize = 256;
+    let planes = g.array()?;
+    let mut dims = [0usize, 0, planes.len()];
+    let mut values = Vec::new();
+    if !(2..=MAX).contains(&planes.len()) {
+        return Err(g.err(format!(
+            "expected 2 to {MAX} planes along z (got {})",
+            planes.len()
+        )));
+    }
+    for (z, plane) in planes.iter().enumerate() {
+        let rows = plane.array()?;
+        if z == 0 {
+            if !(2..=MAX).contains(&rows.len()) {
+                return Err(plane.err(format!(
+                    "expected 2 to {MAX} rows along y (got {})",
+                    rows.len()
+                )));
+            }
+            dims[1] = rows.len();
+        } else if rows.len() != dims[1] {
+            return Err(plane.err(format!(
+                "the grid is not box-shaped: this plane has {} rows, the first has {}",
+                rows.len(),
+                dims[1]
+            )));
+        }
+        for (y, row) in rows.iter().enumerate() {
+            let xs = row.array()?;
+            if z == 0 && y == 0 {
+                if !(2..=MAX).contains(&xs.len()) {
+                    return Err(row.err(format!(
+                        "expected 2 to {MAX} values along x (got {})",
+                        xs.len()
+                    )));
+                }
+                dims[0] = xs.len();
+            } else if xs.len() != dims[0] {
+                return Err(row.err(format!(
+                    "the grid is not box-shaped: this row has {} values, the first has {}",
+                    xs.len(),
+                    dims[0]
+                )));
+            }
+            for x in xs {
+                values.push(x.f32()?);
+            }
+        }
+    }
+    Ok((dims, values))
 }
