@@ -22,6 +22,23 @@ impl Frame {
         Self { s, t, n }
     }
 
+    /// The frame around unit `n` whose `s` axis is `tangent` made orthogonal to `n`
+    /// (Gram-Schmidt; Mitsuba's shading frame from `dp_du`), or [`Frame::from_normal`]
+    /// when `tangent` is (nearly) zero or parallel to `n`.
+    pub fn from_normal_tangent(n: Vec3, tangent: Vec3) -> Self {
+        let s = tangent - n * n.dot(tangent);
+        let len2 = s.length_squared();
+        if !(len2 > 1e-12 * tangent.length_squared()) || !len2.is_finite() || len2 == 0.0 {
+            return Self::from_normal(n);
+        }
+        let s = s / len2.sqrt();
+        Self {
+            s,
+            t: n.cross(s),
+            n,
+        }
+    }
+
     #[inline]
     pub fn to_world(&self, v: Vec3) -> Vec3 {
         self.s * v.x + self.t * v.y + self.n * v.z

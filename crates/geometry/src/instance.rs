@@ -77,6 +77,8 @@ impl Instance {
         }
         let mut h = self.shape.intersect(&self.object_ray(ray), t_max)?;
         h.point = ray.at(h.t);
+        h.dpdu = self.to_world.transform_vector3(h.dpdu);
+        h.dpdv = self.to_world.transform_vector3(h.dpdv);
         h.normal = self
             .normal_to_world
             .mul_vec3a(h.normal.into())

@@ -19,6 +19,12 @@ pub struct Hit {
     pub shading_normal: Vec3,
     /// Surface parameterisation, for textures.
     pub uv: Vec2,
+    /// The partial derivatives of the point with respect to `uv` (Mitsuba's `dp_du`,
+    /// `dp_dv`): the tangent frame of anisotropic BSDFs and of normal and bump maps.
+    /// Zero where the shape does not report them (its frame about the normal is then
+    /// arbitrary).
+    pub dpdu: Vec3,
+    pub dpdv: Vec3,
     /// Primitive index inside the shape (triangle of a mesh, patch of a Bézier surface).
     pub prim: u32,
     /// Which CSG leaf was hit (depth-first numbering); 0 for shapes that are not CSG.
@@ -29,6 +35,14 @@ pub struct Hit {
 }
 
 impl Hit {
+    /// The same hit with `uv` derivatives `dpdu`, `dpdv`.
+    #[inline]
+    pub fn with_derivatives(mut self, dpdu: Vec3, dpdv: Vec3) -> Self {
+        self.dpdu = dpdu;
+        self.dpdv = dpdv;
+        self
+    }
+
     /// A hit with the shading normal equal to the geometric one and no error.
     pub fn new(t: f32, point: Vec3, normal: Vec3, uv: Vec2) -> Self {
         Self {
@@ -37,6 +51,8 @@ impl Hit {
             normal,
             shading_normal: normal,
             uv,
+            dpdu: Vec3::ZERO,
+            dpdv: Vec3::ZERO,
             prim: 0,
             leaf: 0,
             error: 0.0,

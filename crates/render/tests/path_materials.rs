@@ -259,7 +259,7 @@ material = "lamp"
 /// ones included.
 #[test]
 fn every_description_becomes_its_own_bsdf() {
-    use irradia_render::path::material_map::material_bsdf;
+    use irradia_render::path::material_map::{material_bsdf, Tangents};
     use irradia_scatter::Bsdf;
     let cases: &[(&str, fn(&Bsdf) -> bool)] = &[
         ("type = \"diffuse\"", |b| matches!(b, Bsdf::Diffuse(_))),
@@ -300,7 +300,12 @@ fn every_description_becomes_its_own_bsdf() {
     ];
     for (body, is_it) in cases {
         let scene = ball_scene(body);
-        let b = material_bsdf(&scene.materials[0], glam::Vec3::ZERO, glam::Vec2::ZERO);
+        let b = material_bsdf(
+            &scene.materials[0],
+            glam::Vec3::ZERO,
+            glam::Vec2::ZERO,
+            &Tangents::default(),
+        );
         assert!(is_it(&b), "{body}: became {b:?}");
     }
 }

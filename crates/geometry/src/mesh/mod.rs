@@ -283,9 +283,12 @@ impl TriangleMesh {
                 ns
             }
         };
-        let uv = match &self.uvs {
-            Some(uv) => h.b0 * uv[i0] + h.b1 * uv[i1] + h.b2 * uv[i2],
-            None => Vec2::new(h.b1, h.b2),
+        let (uv, (dpdu, dpdv)) = match &self.uvs {
+            Some(uv) => (
+                h.b0 * uv[i0] + h.b1 * uv[i1] + h.b2 * uv[i2],
+                uv_derivatives([p0, p1, p2], [uv[i0], uv[i1], uv[i2]]),
+            ),
+            None => (Vec2::new(h.b1, h.b2), (Vec3::ZERO, Vec3::ZERO)),
         };
         Hit {
             t: h.t,
@@ -293,11 +296,30 @@ impl TriangleMesh {
             normal,
             shading_normal,
             uv,
+            dpdu,
+            dpdv,
             prim: tri,
             leaf: 0,
             error,
         }
     }
+}
+
+/// The derivatives `(dp/du, dp/dv)` of a triangle's points with respect to its
+/// linearly interpolated texture coordinates (pbrt-v4's `Triangle::InteractionFromIntersection`;
+/// Mitsuba's mesh `dp_du`, `dp_dv`); zero when the uv triangle is degenerate.
+pub fn uv_derivatives(p: [Vec3; 3], uv: [Vec2; 3]) -> (Vec3, Vec3) {
+    let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
+    let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
+    let det = duv02.x * duv12.y - duv02.y * duv12.x;
+    if !det.is_finite() || det.abs() < 1e-12 {
+        return (Vec3::ZERO, Vec3::ZERO);
+    }
+    let inv = 1.0 / det;
+    (
+        (dp02 * duv12.y - dp12 * duv02.y) * inv,
+        (dp12 * duv02.x - dp02 * duv12.x) * inv,
+    )
 }
 
 /// Vertex normals as area-weighted averages of the faces around each vertex (the

@@ -52,6 +52,24 @@ pub fn cube_uv(p: Vec3, n: Vec3) -> Vec2 {
     Vec2::new(uv.0, uv.1)
 }
 
+/// `(dp/du, dp/dv)` of [`cube_uv`] on the face whose outward normal is `n`.
+pub fn cube_uv_derivatives(n: Vec3) -> (Vec3, Vec3) {
+    let (x, y, z) = (Vec3::X * 2.0, Vec3::Y * 2.0, Vec3::Z * 2.0);
+    if n.x < -0.5 {
+        (y, z)
+    } else if n.x > 0.5 {
+        (y, -z)
+    } else if n.y < -0.5 {
+        (z, x)
+    } else if n.y > 0.5 {
+        (-x, -z)
+    } else if n.z < -0.5 {
+        (-y, x)
+    } else {
+        (y, x)
+    }
+}
+
 impl Cube {
     /// The cube `[-1, 1]³`; `flip_normals` turns its normals inward.
     pub fn new(flip_normals: bool) -> Self {
@@ -82,6 +100,7 @@ impl Shape for Cube {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut h = self.cuboid.intersect(ray, t_max)?;
         h.uv = cube_uv(h.point, h.normal);
+        (h.dpdu, h.dpdv) = cube_uv_derivatives(h.normal);
         h.normal *= self.sign();
         h.shading_normal = h.normal;
         Some(h)
@@ -108,7 +127,12 @@ impl Shape for Cube {
         }
     }
 
-    // Not `facets_exact`: the flat scene would report barycentrics as uv.
+    // The facets are the surface itself (the path tracer's flat scene bakes them only
+    // for materials that read neither uv nor the tangent frame).
+    fn facets_exact(&self) -> bool {
+        true
+    }
+
     fn facets(&self, detail: u32) -> Option<Facets> {
         let mut f = self.cuboid.facets(detail)?;
         if self.flipped {

@@ -273,6 +273,10 @@ impl Shape for Polygon {
             p.as_vec3(),
             self.normal.as_vec3(),
             Vec2::new(uv.x as f32, uv.y as f32),
+        )
+        .with_derivatives(
+            (self.s * self.uv_size.x).as_vec3(),
+            (self.t * self.uv_size.y).as_vec3(),
         );
         h.error = plane_point_error(p, self.normal, self.offset);
         Some(h)

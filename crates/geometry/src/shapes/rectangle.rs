@@ -64,7 +64,8 @@ impl Shape for Rectangle {
             p.as_vec3(),
             self.normal(),
             Vec2::new(((x + 1.0) * 0.5) as f32, ((y + 1.0) * 0.5) as f32),
-        );
+        )
+        .with_derivatives(Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0));
         // z is exact; x and y carry the rounding of the f64 crossing converted to f32.
         h.error = 2.0 * f32::EPSILON;
         Some(h)
@@ -80,8 +81,12 @@ impl Shape for Rectangle {
 
     fn spans(&self, _ray: &Ray, _out: &mut Vec<Span>) {}
 
-    // Not `facets_exact`: the path tracer's flat scene would report the facets'
-    // barycentrics as uv, and Mitsuba's materials texture rectangles by uv.
+    // The facets are the surface itself (the path tracer's flat scene bakes them only
+    // for materials that read neither uv nor the tangent frame).
+    fn facets_exact(&self) -> bool {
+        true
+    }
+
     fn facets(&self, _detail: u32) -> Option<Facets> {
         let face = if self.flipped {
             vec![0, 3, 2, 1]

@@ -77,6 +77,19 @@ impl Sphere {
         Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
     }
 
+    /// `(dp/du, dp/dv)` at Mitsuba's uv: `p = c + r (sin θ cos φ, sin θ sin φ, cos θ)`
+    /// with `φ = 2π u`, `θ = π v` (zero `dp/du` at the poles, as Mitsuba's).
+    fn uv_derivatives(&self, uv: Vec2) -> (Vec3, Vec3) {
+        use std::f32::consts::{PI, TAU};
+        let (sp, cp) = (TAU * uv.x).sin_cos();
+        let (st, ct) = (PI * uv.y).sin_cos();
+        let r = self.radius;
+        (
+            Vec3::new(-st * sp, st * cp, 0.0) * (TAU * r),
+            Vec3::new(ct * cp, ct * sp, -st) * (PI * r),
+        )
+    }
+
     fn surface(&self, ray: &Ray, t: f64) -> (Vec3, Vec3, Vec2) {
         let p = ray.origin.as_dvec3() + ray.dir.as_dvec3() * t;
         let n = (p - self.center.as_dvec3()) / self.radius as f64;
@@ -154,7 +167,8 @@ impl Shape for Sphere {
             return None;
         }
         let (p, n, uv) = self.surface(ray, t);
-        let mut h = Hit::new(t as f32, p, n, uv);
+        let (dpdu, dpdv) = self.uv_derivatives(uv);
+        let mut h = Hit::new(t as f32, p, n, uv).with_derivatives(dpdu, dpdv);
         h.error = (self.center.abs().max_element() + self.radius) * 4.0 * f32::EPSILON;
         Some(h)
     }

@@ -121,7 +121,11 @@ impl Shape for Tube {
         let point = self.p0 + radial * self.radius + self.axis * p.z;
         let n = if self.flipped { -radial } else { radial };
         let uv = Vec2::new(turn_fraction(y, x) as f32, (p.z / self.length) as f32);
-        let mut h = Hit::new(t as f32, point.as_vec3(), n.as_vec3(), uv);
+        // dp/du = 2π R (−y s + x t), dp/dv = L a.
+        let dpdu = (self.t * x - self.s * y) * (std::f64::consts::TAU * self.radius);
+        let dpdv = self.axis * self.length;
+        let mut h = Hit::new(t as f32, point.as_vec3(), n.as_vec3(), uv)
+            .with_derivatives(dpdu.as_vec3(), dpdv.as_vec3());
         h.error = ((self.p0.abs().max_element() + self.radius + self.length)
             * 8.0
             * f32::EPSILON as f64) as f32;

@@ -24,7 +24,7 @@
 //! polygons' f64 plane test). Surface coordinates `uv` of baked hits are the
 //! triangle's barycentrics, which is why objects with textured materials are not baked.
 
-use super::material_map::desc_uniform;
+use super::material_map::{desc_anisotropic, desc_uniform};
 use super::tracer::{SubsetAccel, Tracer};
 use glam::{DVec3, Vec2, Vec3};
 use irradia_core::{Aabb, Ray};
@@ -289,13 +289,15 @@ impl FlatScene {
             .enumerate()
         {
             let material = object.material;
-            // Baked hits carry barycentric uv: only objects whose material reads no
-            // uv (no image on a lecture material, no texture in a physically based
-            // description) are baked.
+            // Baked hits carry barycentric uv and no tangent frame: only objects whose
+            // material reads neither (no image on a lecture material, no texture and
+            // no anisotropy in a physically based description) are baked.
             let plain = object.leaf_materials.is_empty()
                 && scene.materials.get(material as usize).is_some_and(|m| {
                     !matches!(m.color, Texture::Image { .. })
-                        && m.bsdf.as_deref().is_none_or(desc_uniform)
+                        && m.bsdf
+                            .as_deref()
+                            .is_none_or(|d| desc_uniform(d) && !desc_anisotropic(d))
                 });
             match plain.then(|| bake_instance(instance)).flatten() {
                 Some(tris) => {
@@ -436,6 +438,9 @@ impl FlatScene {
                 normal: tri.normal,
                 shading_normal: tri.normal,
                 uv: Vec2::new(b1, b2),
+                // Only materials that read neither uv nor the tangent frame are baked.
+                dpdu: Vec3::ZERO,
+                dpdv: Vec3::ZERO,
                 prim: tri.face,
                 leaf: 0,
                 error,

@@ -7,7 +7,7 @@
 //! depth `k`; `max_depth = 1` shows only emitters seen directly, `2` adds direct light.
 
 use super::lights::LightSampler;
-use super::material_map::{is_uniform, material_bsdf};
+use super::material_map::{is_uniform, material_bsdf, Tangents};
 use super::tracer::{AccelTracer, PathHit, Tracer};
 use crate::raytree::{Blocker, NoRecorder, RayKind, Recorder};
 use glam::{Vec2, Vec3};
@@ -90,7 +90,10 @@ impl<'a, T: Tracer> PathScene<'a, T> {
         let bsdfs = scene
             .materials
             .iter()
-            .map(|m| is_uniform(m).then(|| material_bsdf(m, Vec3::ZERO, Vec2::ZERO)))
+            .map(|m| {
+                is_uniform(m)
+                    .then(|| material_bsdf(m, Vec3::ZERO, Vec2::ZERO, &Tangents::default()))
+            })
             .collect();
         Self {
             scene,
@@ -102,25 +105,37 @@ impl<'a, T: Tracer> PathScene<'a, T> {
 }
 
 /// The BSDF at a hit and its local shading frame, or `None` when the surface does not
-/// scatter. The frame's +z is the shading normal kept on the side of the geometric
-/// normal (out of solids), never turned towards the viewer: Mitsuba's one-sided BSDFs
+/// scatter. The frame's +x is `dp/du` where the shape reports it (Mitsuba's shading
+/// frame, which orients anisotropic roughness and normal maps); its +z is the shading
+/// normal kept on the side of the geometric normal (out of solids), never turned
+/// towards the viewer: Mitsuba's one-sided BSDFs
 /// see light from inside as arriving on their back (`wo.z < 0`), and the lecture
 /// mixture, which scatters on both sides, renders as before.
 pub(crate) fn surface_at<T: Tracer>(ps: &PathScene<'_, T>, sh: &PathHit) -> Option<(Bsdf, Frame)> {
     let hit = &sh.hit;
-    let bsdf = match ps.bsdfs.get(sh.material as usize) {
-        Some(Some(b)) => b.clone(),
-        _ => material_bsdf(&ps.scene.materials[sh.material as usize], hit.point, hit.uv),
-    };
-    if bsdf.flags() == LobeFlags::NONE {
-        return None;
-    }
     let ns = if hit.shading_normal.dot(hit.normal) < 0.0 {
         -hit.shading_normal
     } else {
         hit.shading_normal
     };
-    Some((bsdf, Frame::from_normal(ns)))
+    // Mitsuba's shading frame: +x along dp/du where the shape has a parameterisation.
+    let frame = Frame::from_normal_tangent(ns, hit.dpdu);
+    let bsdf = match ps.bsdfs.get(sh.material as usize) {
+        Some(Some(b)) => b.clone(),
+        _ => {
+            let tangents = Tangents {
+                dpdu: frame.to_local(hit.dpdu),
+                dpdv: frame.to_local(hit.dpdv),
+                ng: frame.to_local(hit.normal),
+            };
+            let material = &ps.scene.materials[sh.material as usize];
+            material_bsdf(material, hit.point, hit.uv, &tangents)
+        }
+    };
+    if bsdf.flags() == LobeFlags::NONE {
+        return None;
+    }
+    Some((bsdf, frame))
 }
 
 /// One sample of the radiance arriving along `ray` (a camera ray), traced through the

@@ -34,11 +34,35 @@ use irradia_scene::{Material, Texture};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-/// The BSDF of `material` at world point `p` with surface coordinates `uv`: its
-/// physically based description when it has one, else the lecture mixture.
-pub fn material_bsdf(material: &Material, p: Vec3, uv: Vec2) -> Bsdf {
+/// The surface's differential geometry in the local shading frame (+z the shading
+/// normal, +x along `dp/du`): what normal and bump maps perturb.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tangents {
+    /// `dp/du`, `dp/dv` in the local frame (zero where the shape has no uv
+    /// parameterisation: then the frame's own axes stand in, as Mitsuba's
+    /// `coordinate_system(n)`).
+    pub dpdu: Vec3,
+    pub dpdv: Vec3,
+    /// The geometric normal in the local frame.
+    pub ng: Vec3,
+}
+
+impl Default for Tangents {
+    fn default() -> Self {
+        Self {
+            dpdu: Vec3::ZERO,
+            dpdv: Vec3::ZERO,
+            ng: Vec3::Z,
+        }
+    }
+}
+
+/// The BSDF of `material` at world point `p` with surface coordinates `uv` and local
+/// differential geometry `tangents`: its physically based description when it has
+/// one, else the lecture mixture.
+pub fn material_bsdf(material: &Material, p: Vec3, uv: Vec2, tangents: &Tangents) -> Bsdf {
     match &material.bsdf {
-        Some(d) => desc_bsdf(d, &TextureQuery::at_uv(uv))
+        Some(d) => desc_bsdf(d, &TextureQuery::at_uv(uv), tangents)
             .unwrap_or_else(|| bsdf_for(material, p, uv).into()),
         None => bsdf_for(material, p, uv).into(),
     }
@@ -135,6 +159,24 @@ pub fn desc_uniform(d: &BsdfDesc) -> bool {
     }
 }
 
+/// Whether description `d` depends on the surface's tangent direction (anisotropic
+/// roughness, which Mitsuba aligns with `dp/du`).
+pub fn desc_anisotropic(d: &BsdfDesc) -> bool {
+    let rough = |m: &desc::Microfacet| matches!(m.alpha, Roughness::Anisotropic { .. });
+    match d {
+        BsdfDesc::RoughConductor(_, m) | BsdfDesc::RoughDielectric(_, m) => rough(m),
+        BsdfDesc::Principled(p) => !matches!(p.anisotropic, FloatTexture::Value(a) if a == 0.0),
+        BsdfDesc::PrincipledThin(p) => !matches!(p.anisotropic, FloatTexture::Value(a) if a == 0.0),
+        BsdfDesc::Blend { bsdfs, .. } => desc_anisotropic(&bsdfs[0]) || desc_anisotropic(&bsdfs[1]),
+        BsdfDesc::Mask { bsdf, .. } => desc_anisotropic(bsdf),
+        BsdfDesc::TwoSided { front, back } => {
+            desc_anisotropic(front) || back.as_deref().is_some_and(desc_anisotropic)
+        }
+        BsdfDesc::BumpMap { .. } | BsdfDesc::NormalMap { .. } => true,
+        _ => false,
+    }
+}
+
 /// Mitsuba's microfacet parameters at a surface point.
 fn microfacet(m: &desc::Microfacet, q: &TextureQuery) -> Microfacet {
     let kind = match m.distribution {
@@ -154,7 +196,7 @@ fn microfacet(m: &desc::Microfacet, q: &TextureQuery) -> Microfacet {
 /// The scatter BSDF of description `d` with its textures evaluated at `q`; `None` for
 /// descriptions `irradia_scatter` has no BSDF for yet (the caller then uses the
 /// lecture fields the scene derived from the description).
-pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery) -> Option<Bsdf> {
+pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery, t: &Tangents) -> Option<Bsdf> {
     Some(match d {
         BsdfDesc::Diffuse(d) => bsdfs::Diffuse {
             reflectance: d.reflectance.eval(q),
@@ -240,30 +282,82 @@ pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery) -> Option<Bsdf> {
         .into(),
         BsdfDesc::Blend { weight, bsdfs } => bsdfs::Blend {
             weight: weight.eval(q),
-            bsdf_0: Box::new(desc_bsdf(&bsdfs[0], q)?),
-            bsdf_1: Box::new(desc_bsdf(&bsdfs[1], q)?),
+            bsdf_0: Box::new(desc_bsdf(&bsdfs[0], q, t)?),
+            bsdf_1: Box::new(desc_bsdf(&bsdfs[1], q, t)?),
         }
         .into(),
         BsdfDesc::Mask { opacity, bsdf } => bsdfs::Mask {
             opacity: opacity.eval(q),
-            nested_bsdf: Box::new(desc_bsdf(bsdf, q)?),
+            nested_bsdf: Box::new(desc_bsdf(bsdf, q, t)?),
         }
         .into(),
         BsdfDesc::TwoSided { front, back } => bsdfs::TwoSided {
-            front: Box::new(desc_bsdf(front, q)?),
+            front: Box::new(desc_bsdf(front, q, t)?),
             back: match back {
-                Some(b) => Some(Box::new(desc_bsdf(b, q)?)),
+                Some(b) => Some(Box::new(desc_bsdf(b, q, t)?)),
                 None => None,
             },
         }
         .into(),
-        // Not yet: `principledthin` has no scatter BSDF, and `bumpmap` / `normalmap`
-        // need the surface's tangent frame (dp/du), which hits do not carry yet. The
-        // scene's derived lecture fields stand in, with a warning at load time.
-        BsdfDesc::PrincipledThin(_) | BsdfDesc::BumpMap { .. } | BsdfDesc::NormalMap { .. } => {
-            return None
+        // Not yet: `principledthin` has no scatter BSDF; the scene's derived lecture
+        // fields stand in.
+        BsdfDesc::PrincipledThin(_) => return None,
+        // Mitsuba's `normalmap`: the texture's colour c is the normal 2c - 1 in the
+        // shading frame (+x along dp/du).
+        BsdfDesc::NormalMap { normalmap, bsdf } => {
+            let c = normalmap.eval(q);
+            let n = Vec3::new(c.r, c.g, c.b) * 2.0 - Vec3::ONE;
+            bsdfs::NormalMap::new(n, desc_bsdf(bsdf, q, t)?).into()
+        }
+        // Mitsuba's `bumpmap`: the height h = scale · texture moves the surface along
+        // its normal; the perturbed tangents are dp/du + n (∂h/∂u − n·dp/du) (and the
+        // same in v), the perturbed normal their cross product, turned to the side of
+        // the geometric normal. Neither the shadowing term nor the flip of normal maps.
+        BsdfDesc::BumpMap {
+            texture,
+            scale,
+            bsdf,
+        } => {
+            let (du, dv) = if t.dpdu == Vec3::ZERO || t.dpdv == Vec3::ZERO {
+                (Vec3::X, Vec3::Y)
+            } else {
+                (t.dpdu, t.dpdv)
+            };
+            let g = height_gradient(texture, q) * *scale;
+            let pu = du + Vec3::Z * (g.x - du.z);
+            let pv = dv + Vec3::Z * (g.y - dv.z);
+            let mut n = pu.cross(pv).normalize_or_zero();
+            if n == Vec3::ZERO {
+                n = Vec3::Z;
+            }
+            if n.dot(t.ng) < 0.0 {
+                n = -n;
+            }
+            bsdfs::NormalMap {
+                normal: n,
+                flip_invalid_normals: false,
+                use_shadowing_function: false,
+                nested_bsdf: Box::new(desc_bsdf(bsdf, q, t)?),
+            }
+            .into()
         }
     })
+}
+
+/// The gradient `(∂h/∂u, ∂h/∂v)` of a height texture at `q`, by central differences
+/// over a step far below a texel of any bitmap Irradia reads (the bilinear lookup is
+/// linear inside a texel, so the difference is its slope there).
+fn height_gradient(texture: &FloatTexture, q: &TextureQuery) -> Vec2 {
+    const H: f32 = 2e-5;
+    let at = |du: f32, dv: f32| {
+        let mut q = q.clone();
+        q.uv += Vec2::new(du, dv);
+        texture.eval(&q)
+    };
+    Vec2::new(
+        (at(H, 0.0) - at(-H, 0.0)) / (2.0 * H),
+        (at(0.0, H) - at(0.0, -H)) / (2.0 * H),
+    )
 }
 
 /// The internal-scattering tables of a rough plastic coating, computed once per
