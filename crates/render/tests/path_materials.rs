@@ -254,6 +254,25 @@ material = "lamp"
     );
 }
 
+/// A `principledthin` description with some parameters given, and the check that its
+/// BSDF has them (and Mitsuba's defaults for the rest).
+const PRINCIPLED_THIN: &str = "type = \"principledthin\"
+base_color = [0.7, 0.1, 0.1]
+spec_trans = 0.8
+diff_trans = 0.3
+eta = 1.33
+specular_transmittance_sampling_rate = 2.0";
+
+fn thin_as_given(b: &irradia_scatter::Bsdf) -> bool {
+    let irradia_scatter::Bsdf::PrincipledThin(p) = b else {
+        return false;
+    };
+    p.base_color == irradia_core::Rgb::new(0.7, 0.1, 0.1)
+        && (p.spec_trans, p.diff_trans, p.eta, p.roughness) == (0.8, 0.3, 1.33, 0.5)
+        && p.specular_transmittance_sampling_rate == 2.0
+        && p.diffuse_transmittance_sampling_rate == 1.0
+}
+
 /// Every description the scatter crate has a BSDF for becomes that BSDF in the path
 /// tracer (not the lecture fields the scene derives for the Whitted tracer), nested
 /// ones included.
@@ -285,6 +304,7 @@ fn every_description_becomes_its_own_bsdf() {
         ("type = \"principled\"", |b| {
             matches!(b, Bsdf::Principled(_))
         }),
+        (PRINCIPLED_THIN, thin_as_given),
         (
             "type = \"blendbsdf\"\nbsdfs = [{ type = \"plastic\" }, { type = \"diffuse\" }]",
             |b| matches!(b, Bsdf::Blend(x) if matches!(*x.bsdf_0, Bsdf::Plastic(_))),

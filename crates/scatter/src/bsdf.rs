@@ -157,6 +157,7 @@ bsdf_enum! {
     Plastic(Plastic),
     RoughPlastic(RoughPlastic),
     Principled(Principled),
+    PrincipledThin(PrincipledThin),
     Blend(Blend),
     Mask(Mask),
     TwoSided(TwoSided),

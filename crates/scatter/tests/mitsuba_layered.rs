@@ -1,7 +1,10 @@
-//! `plastic`, `roughplastic` and `principled` against pip Mitsuba 3.9.1 (scalar_rgb):
-//! tests/data/mitsuba_layered.csv, written by tests/data/mitsuba_layered.py, holds
-//! Mitsuba's eval (cosine divided out) and pdf at fixed directions, and the smooth
-//! plastic's specular samples.
+//! `plastic`, `roughplastic`, `principled` and `principledthin` against pip Mitsuba 3.9.1
+//! (scalar_rgb): tests/data/mitsuba_layered.csv, written by
+//! tests/data/mitsuba_layered.py, holds Mitsuba's eval (cosine divided out) and pdf at
+//! fixed directions, and the smooth plastic's specular samples;
+//! tests/data/mitsuba_principledthin.csv, written by
+//! tests/data/mitsuba_principledthin.py, the same for `principledthin` from both sides
+//! of the sheet.
 //!
 //! Rough plastic's diffuse part rests on tabulated integrals (the coating's
 //! transmittance and internal reflectance) that Irradia computes by the same
@@ -125,13 +128,69 @@ fn config(name: &str) -> (Bsdf, f32) {
             }),
             1e-3,
         ),
+        "pt_default" => (Bsdf::from(PrincipledThin::default()), 1e-3),
+        "pt_glass" => (
+            Bsdf::from(PrincipledThin {
+                base_color: Rgb::new(0.9, 0.8, 0.7),
+                roughness: 0.3,
+                spec_trans: 0.8,
+                eta: 1.33,
+                spec_tint: 0.3,
+                ..PrincipledThin::default()
+            }),
+            1e-3,
+        ),
+        "pt_aniso" => (
+            Bsdf::from(PrincipledThin {
+                base_color: Rgb::new(0.7, 0.1, 0.1),
+                roughness: 0.15,
+                spec_tint: 0.1,
+                anisotropic: 0.5,
+                spec_trans: 0.8,
+                diff_trans: 0.3,
+                eta: 1.33,
+                ..PrincipledThin::default()
+            }),
+            1e-3,
+        ),
+        "pt_leaf" => (
+            Bsdf::from(PrincipledThin {
+                base_color: Rgb::new(0.2, 0.6, 0.1),
+                roughness: 0.6,
+                diff_trans: 1.2,
+                sheen: 0.5,
+                sheen_tint: 0.4,
+                flatness: 0.5,
+                spec_trans: 0.2,
+                ..PrincipledThin::default()
+            }),
+            1e-3,
+        ),
+        "pt_rates" => (
+            Bsdf::from(PrincipledThin {
+                base_color: Rgb::new(0.5, 0.4, 0.3),
+                roughness: 0.4,
+                spec_trans: 0.5,
+                diff_trans: 0.8,
+                eta: 1.6,
+                specular_reflectance_sampling_rate: 0.5,
+                specular_transmittance_sampling_rate: 2.0,
+                diffuse_reflectance_sampling_rate: 1.5,
+                diffuse_transmittance_sampling_rate: 0.7,
+                ..PrincipledThin::default()
+            }),
+            1e-3,
+        ),
         _ => panic!("unknown config {name}"),
     }
 }
 
 fn rows(kind: &str) -> Vec<(String, Vec<f32>)> {
-    include_str!("data/mitsuba_layered.csv")
-        .lines()
+    rows_of(include_str!("data/mitsuba_layered.csv"), kind)
+}
+
+fn rows_of(csv: &str, kind: &str) -> Vec<(String, Vec<f32>)> {
+    csv.lines()
         .filter(|l| l.starts_with(kind))
         .map(|l| {
             let mut it = l.split(',').skip(1);
@@ -149,6 +208,19 @@ fn rel_err(got: f32, want: f32) -> f32 {
 fn layered_bsdfs_evaluate_as_mitsuba() {
     let rows = rows("eval");
     assert!(rows.len() >= 140, "{} rows", rows.len());
+    compare_evals(rows);
+}
+
+/// Both sides of the sheet, random pairs and pairs near the specular reflection and
+/// transmission.
+#[test]
+fn principledthin_evaluates_as_mitsuba() {
+    let rows = rows_of(include_str!("data/mitsuba_principledthin.csv"), "eval");
+    assert!(rows.len() >= 100, "{} rows", rows.len());
+    compare_evals(rows);
+}
+
+fn compare_evals(rows: Vec<(String, Vec<f32>)>) {
     let mut worst = Vec::new();
     for (name, v) in rows {
         let (b, tol) = config(&name);

@@ -280,6 +280,24 @@ pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery, t: &Tangents) -> Option<Bsdf> {
             diffuse_reflectance_sampling_rate: p.diffuse_reflectance_sampling_rate,
         }
         .into(),
+        // Two-sided by itself: a thin sheet scatters the same seen from either side.
+        BsdfDesc::PrincipledThin(p) => bsdfs::PrincipledThin {
+            base_color: p.base_color.eval(q),
+            roughness: p.roughness.eval(q),
+            anisotropic: p.anisotropic.eval(q),
+            spec_trans: p.spec_trans.eval(q),
+            spec_tint: p.spec_tint.eval(q),
+            sheen: p.sheen.eval(q),
+            sheen_tint: p.sheen_tint.eval(q),
+            flatness: p.flatness.eval(q),
+            diff_trans: p.diff_trans.eval(q),
+            eta: p.eta.eval(q),
+            specular_reflectance_sampling_rate: p.specular_reflectance_sampling_rate,
+            specular_transmittance_sampling_rate: p.specular_transmittance_sampling_rate,
+            diffuse_reflectance_sampling_rate: p.diffuse_reflectance_sampling_rate,
+            diffuse_transmittance_sampling_rate: p.diffuse_transmittance_sampling_rate,
+        }
+        .into(),
         BsdfDesc::Blend { weight, bsdfs } => bsdfs::Blend {
             weight: weight.eval(q),
             bsdf_0: Box::new(desc_bsdf(&bsdfs[0], q, t)?),
@@ -299,9 +317,6 @@ pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery, t: &Tangents) -> Option<Bsdf> {
             },
         }
         .into(),
-        // Not yet: `principledthin` has no scatter BSDF; the scene's derived lecture
-        // fields stand in.
-        BsdfDesc::PrincipledThin(_) => return None,
         // Mitsuba's `normalmap`: the texture's colour c is the normal 2c - 1 in the
         // shading frame (+x along dp/du).
         BsdfDesc::NormalMap { normalmap, bsdf } => {

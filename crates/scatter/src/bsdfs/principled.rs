@@ -132,6 +132,20 @@ pub(crate) fn mac_mic_compatible(m: Vec3, wo: Vec3, wi: Vec3, reflection: bool) 
     wo.dot(m) > 0.0 && wi_m > 0.0
 }
 
+/// The visible-normal GGX distribution of Burley's `roughness` (α = roughness²),
+/// stretched along x and squeezed along y by `anisotropic` with the aspect
+/// `√(1 - 0.9 anisotropic)`, both α at least 0.001: Mitsuba's `calc_dist_params`.
+pub(crate) fn ggx_distribution(roughness: f32, anisotropic: f32) -> Microfacet {
+    let r2 = roughness * roughness;
+    let aspect = (1.0 - 0.9 * anisotropic).sqrt();
+    Microfacet::new(
+        MicrofacetType::Ggx,
+        (r2 / aspect).max(0.001),
+        (r2 * aspect).max(0.001),
+        true,
+    )
+}
+
 /// Burley's GTR1 distribution ("generalised Trowbridge-Reitz", γ = 1) of the clearcoat.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Gtr1 {
@@ -198,16 +212,9 @@ impl Principled {
         2.0 / (1.0 - (0.08 * specular).sqrt()) - 1.0
     }
 
-    /// The main specular GGX distribution (Mitsuba's `calc_dist_params`).
+    /// The main specular GGX distribution.
     fn spec_distribution(&self) -> Microfacet {
-        let r2 = self.roughness * self.roughness;
-        let aspect = (1.0 - 0.9 * self.anisotropic).sqrt();
-        Microfacet::new(
-            MicrofacetType::Ggx,
-            (r2 / aspect).max(0.001),
-            (r2 * aspect).max(0.001),
-            true,
-        )
+        ggx_distribution(self.roughness, self.anisotropic)
     }
 
     fn clearcoat_distribution(&self) -> Gtr1 {
