@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Agreement with Mitsuba 3 on balls of physically based materials under an environment
 map: a rough conductor (gold, GGX, alpha 0.2), a rough dielectric (BK7 in air, GGX,
-alpha 0.2) and a plastic (Mitsuba's bsdf_spheres "plastic shiny": diffuse 0.1, 0.27,
-0.36, int_ior 1.9), each alone under Mitsuba's `museum.exr` (the envmap of Mitsuba's own
+alpha 0.2), a plastic (Mitsuba's bsdf_spheres "plastic shiny": diffuse 0.1, 0.27,
+0.36, int_ior 1.9), an anisotropic rough aluminium (alpha_u 0.05, alpha_v 0.3: the
+tangent frame along Mitsuba's dp/du), and Mitsuba's test normal map (on rough gold)
+and bump map (scale 0.02, on a diffuse), each alone under Mitsuba's `museum.exr` (the envmap of Mitsuba's own
 render tests), rendered by Irradia's path tracer and Mitsuba's `path` integrator
 (scalar_rgb) with the same camera, box pixel filter, max depth and samples per pixel.
 
@@ -29,7 +31,10 @@ sys.path.insert(0, HERE)
 from mitsuba_reference import (ROOT, ensure_mitsuba, eroded_labels, irradia_aovs,  # noqa: E402
                                irradia_binary, read_pfm, check_geometry)
 
-ENVMAP = os.path.join(ROOT, "..", "shared", "mitsuba-data", "common", "textures", "museum.exr")
+TEXTURES = os.path.join(ROOT, "..", "shared", "mitsuba-data", "common", "textures")
+ENVMAP = os.path.join(TEXTURES, "museum.exr")
+NORMALMAP = os.path.join(TEXTURES, "floor_tiles_normalmap.jpg")
+BUMPMAP = os.path.join(TEXTURES, "floor_tiles_bumpmap.png")
 EYE, TARGET, UP, FOV = (0.0, 0.6, 3.4), (0.0, 0.0, 0.0), (0.0, 1.0, 0.0), 45.0
 
 # name -> (Irradia material table as TOML lines, Mitsuba BSDF dict): the same parameters.
@@ -45,6 +50,24 @@ MATERIALS = {
     "plastic": (
         ['type = "plastic"', "diffuse_reflectance = [0.1, 0.27, 0.36]", "int_ior = 1.9"],
         {"type": "plastic", "diffuse_reflectance": {"type": "rgb", "value": [0.1, 0.27, 0.36]}, "int_ior": 1.9},
+    ),
+    # The tangent frame: anisotropic roughness along dp/du of Mitsuba's sphere.
+    "anisotropic": (
+        ['type = "roughconductor"', 'material = "Al"', 'distribution = "ggx"', "alpha_u = 0.05", "alpha_v = 0.3"],
+        {"type": "roughconductor", "material": "Al", "distribution": "ggx", "alpha_u": 0.05, "alpha_v": 0.3},
+    ),
+    # Mitsuba's bsdf_spheres normal map and bump map (its test textures) on rough gold.
+    "normalmap": (
+        ['type = "normalmap"', f'normalmap = {{ type = "bitmap", filename = "{NORMALMAP}", raw = true }}',
+         'bsdf = { type = "roughconductor", material = "Au", distribution = "ggx", alpha = 0.1 }'],
+        {"type": "normalmap", "normalmap": {"type": "bitmap", "filename": NORMALMAP, "raw": True},
+         "bsdf": {"type": "roughconductor", "material": "Au", "distribution": "ggx", "alpha": 0.1}},
+    ),
+    "bumpmap": (
+        ['type = "bumpmap"', "scale = 0.02", f'texture = {{ type = "bitmap", filename = "{BUMPMAP}", raw = true }}',
+         'bsdf = { type = "diffuse", reflectance = [0.6, 0.5, 0.3] }'],
+        {"type": "bumpmap", "scale": 0.02, "height": {"type": "bitmap", "filename": BUMPMAP, "raw": True},
+         "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.6, 0.5, 0.3]}}},
     ),
 }
 
@@ -173,7 +196,9 @@ def main():
             f.write(irradia_scene(name, envmap, a.res, a.spp, a.max_depth))
         ids, depth, normal = irradia_aovs(binary, [path], a.res, tmp)
         d = mitsuba_scene(name, envmap, a.res, a.spp, a.max_depth)
-        geo = check_geometry(d, eroded_labels(ids), depth, normal)
+        # The geometry alone (Mitsuba's shading-normal AOV would show a normal map).
+        plain = dict(d, ball=dict(d["ball"], bsdf={"type": "diffuse"}))
+        geo = check_geometry(plain, eroded_labels(ids), depth, normal)
         if geo["agreeing_fraction"] < 0.98:
             print(f"error: the Mitsuba and Irradia descriptions of {name} differ: {geo}")
             return 1
