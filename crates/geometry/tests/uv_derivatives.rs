@@ -87,13 +87,21 @@ fn every_parameterised_shape_reports_consistent_uv_derivatives() {
     )
     .unwrap();
     let shapes: Vec<(&str, Arc<dyn Shape>, Vec3)> = vec![
-        ("sphere", Arc::new(Sphere::new(Vec3::ZERO, 1.0)), Vec3::new(0.3, 0.4, 0.8)),
+        (
+            "sphere",
+            Arc::new(Sphere::new(Vec3::ZERO, 1.0)),
+            Vec3::new(0.3, 0.4, 0.8),
+        ),
         (
             "disk",
             Arc::new(Disk::new(Vec3::ZERO, Vec3::new(0.1, 0.2, 1.0).normalize(), 1.0).unwrap()),
             Vec3::new(0.4, 0.2, 0.0),
         ),
-        ("rectangle", Arc::new(Rectangle::new()), Vec3::new(0.3, -0.2, 0.0)),
+        (
+            "rectangle",
+            Arc::new(Rectangle::new()),
+            Vec3::new(0.3, -0.2, 0.0),
+        ),
         ("cube", Arc::new(Cube::new(false)), Vec3::new(0.2, 0.3, 1.0)),
         (
             "tube",

@@ -23,6 +23,7 @@ use irradia_scene::camera::CameraRays;
 use irradia_scene::{CropWindow, Scene};
 use rayon::prelude::*;
 use std::path::PathBuf;
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 /// When to stop and where to save.
@@ -175,8 +176,12 @@ pub fn run<I: Integrator>(
     };
     // A resumed film has its sample 0 already: its AOVs are traced on their own.
     if want_aov && film.samples() > 0 {
-        let results = sweep(integrator, &cx, setup, &tiles, &film, 0, 0, true, on_tile);
-        store(&mut film, &mut aov, &mut stats, &tiles, results);
+        let sink = Mutex::new(Sink {
+            film: &mut film,
+            aov: &mut aov,
+            stats: &mut stats,
+        });
+        sweep(integrator, &cx, setup, &tiles, &sink, 0, 0, true, on_tile);
     }
     let mut last_checkpoint = Instant::now();
     let mut pass = 1u32;
@@ -201,10 +206,14 @@ pub fn run<I: Integrator>(
             pass.min(options.spp - first)
         };
         let aov_now = want_aov && first == 0;
-        let results = sweep(
-            integrator, &cx, setup, &tiles, &film, first, n, aov_now, on_tile,
+        let sink = Mutex::new(Sink {
+            film: &mut film,
+            aov: &mut aov,
+            stats: &mut stats,
+        });
+        sweep(
+            integrator, &cx, setup, &tiles, &sink, first, n, aov_now, on_tile,
         );
-        store(&mut film, &mut aov, &mut stats, &tiles, results);
         film.finish_pass(n);
         pass = (pass * 2).min(16);
         let report = PassReport {
@@ -242,65 +251,73 @@ pub fn run<I: Integrator>(
     })
 }
 
-/// One pass over every tile in parallel.
+/// Where finished tiles go: the film, the AOV samples and the counters, behind one
+/// lock. Each tile copies its pixels out before rendering and back in as soon as it is
+/// done, so only the tiles in flight hold pixels of their own (not a second copy of
+/// the whole film).
+struct Sink<'a> {
+    film: &'a mut Film,
+    aov: &'a mut [AovSample],
+    stats: &'a mut Stats,
+}
+
+/// One pass over every tile in parallel, each stored into `sink` when done.
 #[allow(clippy::too_many_arguments)]
 fn sweep<I: Integrator>(
     integrator: &I,
     cx: &TileContext<'_>,
     setup: &DriverSetup,
     tiles: &[Tile],
-    film: &Film,
+    sink: &Mutex<Sink<'_>>,
     first: u32,
     n: u32,
     want_aov: bool,
     on_tile: &(dyn Fn(u64) + Sync),
-) -> Vec<TileResult> {
-    tiles
-        .par_iter()
-        .map(|t| {
-            let r = match setup.adaptive_threshold {
-                Some(threshold) if n > 0 => {
-                    let mut pixels = read_tile(film, *t);
-                    let mut stats = Stats::default();
-                    let aov = adaptive::render_tile(
-                        integrator,
-                        cx,
-                        *t,
-                        first + n,
-                        threshold,
-                        want_aov,
-                        &mut pixels,
-                        &mut stats,
-                    );
-                    TileResult { pixels, aov, stats }
-                }
-                _ => render_tile(integrator, cx, *t, film, first, n, want_aov),
-            };
-            on_tile((t.w * t.h) as u64 * n as u64);
-            r
-        })
-        .collect()
+) {
+    let lock = || sink.lock().unwrap_or_else(|e| e.into_inner());
+    tiles.par_iter().for_each(|t| {
+        let mut pixels = {
+            let s = lock();
+            // An empty film (the first pass of a render not resumed) has nothing to read.
+            if s.film.samples() == 0 && setup.adaptive_threshold.is_none() {
+                vec![FilmPixel::default(); (t.w * t.h) as usize]
+            } else {
+                read_tile(s.film, *t)
+            }
+        };
+        let r = match setup.adaptive_threshold {
+            Some(threshold) if n > 0 => {
+                let mut stats = Stats::default();
+                let aov = adaptive::render_tile(
+                    integrator,
+                    cx,
+                    *t,
+                    first + n,
+                    threshold,
+                    want_aov,
+                    &mut pixels,
+                    &mut stats,
+                );
+                TileResult { pixels, aov, stats }
+            }
+            _ => render_tile(integrator, cx, *t, pixels, first, n, want_aov),
+        };
+        on_tile((t.w * t.h) as u64 * n as u64);
+        store_tile(&mut lock(), *t, r);
+    });
 }
 
-/// Writes the tiles' pixels, AOVs and counters back.
-fn store(
-    film: &mut Film,
-    aov: &mut [AovSample],
-    stats: &mut Stats,
-    tiles: &[Tile],
-    results: Vec<TileResult>,
-) {
-    let fw = film.width() as usize;
-    for (t, r) in tiles.iter().zip(results) {
-        stats.merge(&r.stats);
-        let base = film.index(t.x0, t.y0);
-        for j in 0..t.h as usize {
-            let (dst, src) = (base + j * fw, j * t.w as usize);
-            let row = src..src + t.w as usize;
-            film.pixels_mut()[dst..dst + t.w as usize].copy_from_slice(&r.pixels[row.clone()]);
-            if !r.aov.is_empty() {
-                aov[dst..dst + t.w as usize].copy_from_slice(&r.aov[row]);
-            }
+/// Writes one tile's pixels, AOVs and counters back.
+fn store_tile(sink: &mut Sink<'_>, t: Tile, r: TileResult) {
+    sink.stats.merge(&r.stats);
+    let fw = sink.film.width() as usize;
+    let base = sink.film.index(t.x0, t.y0);
+    for j in 0..t.h as usize {
+        let (dst, src) = (base + j * fw, j * t.w as usize);
+        let row = src..src + t.w as usize;
+        sink.film.pixels_mut()[dst..dst + t.w as usize].copy_from_slice(&r.pixels[row.clone()]);
+        if !r.aov.is_empty() {
+            sink.aov[dst..dst + t.w as usize].copy_from_slice(&r.aov[row]);
         }
     }
 }
@@ -315,20 +332,20 @@ pub(crate) fn read_tile(film: &Film, t: Tile) -> Vec<FilmPixel> {
     out
 }
 
-/// Samples `first..first + n` of every pixel of tile `t`, added to the film's values;
+/// Samples `first..first + n` of every pixel of tile `t`, added to its `pixels` (the
+/// film's values there);
 /// with `want_aov`, sample 0 (which must be among them, or `n == 0`: AOVs only) is
 /// traced with its AOV record.
 fn render_tile<I: Integrator>(
     integrator: &I,
     cx: &TileContext<'_>,
     t: Tile,
-    film: &Film,
+    mut pixels: Vec<FilmPixel>,
     first: u32,
     n: u32,
     want_aov: bool,
 ) -> TileResult {
     let mut stats = Stats::default();
-    let mut pixels = read_tile(film, t);
     let count = pixels.len();
     let coords = |p: usize| {
         (
@@ -445,7 +462,7 @@ pub fn render_region<I: Integrator>(
                 stats,
             }
         }
-        None => render_tile(integrator, &cx, t, &film, 0, spp, false),
+        None => render_tile(integrator, &cx, t, read_tile(&film, t), 0, spp, false),
     };
     let mut stats = r.stats;
     stats.pixels = (w * h) as u64;

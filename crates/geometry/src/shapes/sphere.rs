@@ -77,17 +77,22 @@ impl Sphere {
         Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
     }
 
-    /// `(dp/du, dp/dv)` at Mitsuba's uv: `p = c + r (sin θ cos φ, sin θ sin φ, cos θ)`
-    /// with `φ = 2π u`, `θ = π v` (zero `dp/du` at the poles, as Mitsuba's).
-    fn uv_derivatives(&self, uv: Vec2) -> (Vec3, Vec3) {
+    /// `(dp/du, dp/dv)` at the point with unit direction `n` from the centre, for
+    /// Mitsuba's uv (`p = c + r (sin θ cos φ, sin θ sin φ, cos θ)`, `φ = 2π u`,
+    /// `θ = π v`): `2π r (−n_y, n_x, 0)` and `π r (n_z cos φ, n_z sin φ, −sin θ)`, with
+    /// `sin θ cos φ = n_x` (no trigonometry); at the poles `dp/du` is zero and `dp/dv`
+    /// Mitsuba's `π r (1, 0, 0)`.
+    #[inline]
+    fn uv_derivatives(&self, n: Vec3) -> (Vec3, Vec3) {
         use std::f32::consts::{PI, TAU};
-        let (sp, cp) = (TAU * uv.x).sin_cos();
-        let (st, ct) = (PI * uv.y).sin_cos();
         let r = self.radius;
-        (
-            Vec3::new(-st * sp, st * cp, 0.0) * (TAU * r),
-            Vec3::new(ct * cp, ct * sp, -st) * (PI * r),
-        )
+        let rho = (n.x * n.x + n.y * n.y).sqrt();
+        let dpdv = if rho > 0.0 {
+            Vec3::new(n.z * n.x / rho, n.z * n.y / rho, -rho)
+        } else {
+            Vec3::X
+        };
+        (Vec3::new(-n.y, n.x, 0.0) * (TAU * r), dpdv * (PI * r))
     }
 
     fn surface(&self, ray: &Ray, t: f64) -> (Vec3, Vec3, Vec2) {
@@ -167,7 +172,8 @@ impl Shape for Sphere {
             return None;
         }
         let (p, n, uv) = self.surface(ray, t);
-        let (dpdu, dpdv) = self.uv_derivatives(uv);
+        // The outward direction (the normal unless flipped).
+        let (dpdu, dpdv) = self.uv_derivatives(if self.flipped { -n } else { n });
         let mut h = Hit::new(t as f32, p, n, uv).with_derivatives(dpdu, dpdv);
         h.error = (self.center.abs().max_element() + self.radius) * 4.0 * f32::EPSILON;
         Some(h)
