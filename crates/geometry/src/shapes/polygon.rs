@@ -31,6 +31,9 @@ pub struct Polygon {
     t: DVec3,
     /// Vertices in the plane frame `(s, t)` around `origin`.
     points: Vec<DVec2>,
+    /// The texture axes in the plane (u along the first edge).
+    uv_u: DVec3,
+    uv_v: DVec3,
     uv_min: DVec2,
     uv_size: DVec2,
     convex: bool,
@@ -80,27 +83,33 @@ impl Polygon {
                 });
             }
         }
+        let s = normal.any_orthonormal_vector();
+        let t = normal.cross(s);
+        let points: Vec<DVec2> = pts
+            .iter()
+            .map(|p| DVec2::new((*p - origin).dot(s), (*p - origin).dot(t)))
+            .collect();
         // The uv axes: u along the first edge of non-zero length (so a rectangle's
-        // texture lines up with its sides), v = n × u in the plane.
-        let s = pts
+        // texture lines up with its sides), v = n × u in the plane; the inside test
+        // keeps its own frame (s, t).
+        let uv_u = pts
             .iter()
             .zip(pts.iter().cycle().skip(1))
             .map(|(a, b)| *b - *a)
             .map(|e| e - normal * normal.dot(e))
             .find(|e| e.length() > 1e-9 * size)
             .map(|e| e.normalize())
-            .unwrap_or_else(|| normal.any_orthonormal_vector());
-        let t = normal.cross(s);
-        let points: Vec<DVec2> = pts
+            .unwrap_or(s);
+        let uv_v = normal.cross(uv_u);
+        let in_uv = |p: &DVec3| DVec2::new((*p - origin).dot(uv_u), (*p - origin).dot(uv_v));
+        let uv_min = pts
             .iter()
-            .map(|p| DVec2::new((*p - origin).dot(s), (*p - origin).dot(t)))
-            .collect();
-        let uv_min = points
+            .map(in_uv)
+            .fold(DVec2::splat(f64::INFINITY), |m, p| m.min(p));
+        let uv_max = pts
             .iter()
-            .fold(DVec2::splat(f64::INFINITY), |m, p| m.min(*p));
-        let uv_max = points
-            .iter()
-            .fold(DVec2::splat(f64::NEG_INFINITY), |m, p| m.max(*p));
+            .map(in_uv)
+            .fold(DVec2::splat(f64::NEG_INFINITY), |m, p| m.max(p));
         let convex = is_convex(&points);
         let simple = convex || is_simple(&points);
         let pad = bounds.extent().max_element() * 1e-6 + 1e-30;
@@ -112,6 +121,8 @@ impl Polygon {
             s,
             t,
             points,
+            uv_u,
+            uv_v,
             uv_min,
             uv_size: (uv_max - uv_min).max(DVec2::splat(1e-300)),
             convex,
@@ -266,8 +277,9 @@ impl Shape for Polygon {
     }
 
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let (t, p, q) = self.crossing(ray, t_max)?;
-        let uv = (q - self.uv_min) / self.uv_size;
+        let (t, p, _) = self.crossing(ray, t_max)?;
+        let d = p - self.origin;
+        let uv = (DVec2::new(d.dot(self.uv_u), d.dot(self.uv_v)) - self.uv_min) / self.uv_size;
         let mut h = Hit::new(
             t as f32,
             p.as_vec3(),
@@ -275,8 +287,8 @@ impl Shape for Polygon {
             Vec2::new(uv.x as f32, uv.y as f32),
         )
         .with_derivatives(
-            (self.s * self.uv_size.x).as_vec3(),
-            (self.t * self.uv_size.y).as_vec3(),
+            (self.uv_u * self.uv_size.x).as_vec3(),
+            (self.uv_v * self.uv_size.y).as_vec3(),
         );
         h.error = plane_point_error(p, self.normal, self.offset);
         Some(h)

@@ -7,7 +7,7 @@
 //! depth `k`; `max_depth = 1` shows only emitters seen directly, `2` adds direct light.
 
 use super::lights::LightSampler;
-use super::material_map::{is_uniform, material_bsdf, Tangents};
+use super::material_map::{desc_anisotropic, is_uniform, material_bsdf, Tangents};
 use super::tracer::{AccelTracer, PathHit, Tracer};
 use crate::raytree::{Blocker, NoRecorder, RayKind, Recorder};
 use glam::{Vec2, Vec3};
@@ -105,8 +105,9 @@ impl<'a, T: Tracer> PathScene<'a, T> {
 }
 
 /// The BSDF at a hit and its local shading frame, or `None` when the surface does not
-/// scatter. The frame's +x is `dp/du` where the shape reports it (Mitsuba's shading
-/// frame, which orients anisotropic roughness and normal maps); its +z is the shading
+/// scatter. For BSDFs that are not symmetric about the normal, the frame's +x is
+/// `dp/du` where the shape reports it (Mitsuba's shading frame, which orients
+/// anisotropic roughness and normal maps); its +z is the shading
 /// normal kept on the side of the geometric normal (out of solids), never turned
 /// towards the viewer: Mitsuba's one-sided BSDFs
 /// see light from inside as arriving on their back (`wo.z < 0`), and the lecture
@@ -119,7 +120,15 @@ pub(crate) fn surface_at<T: Tracer>(ps: &PathScene<'_, T>, sh: &PathHit) -> Opti
         hit.shading_normal
     };
     // Mitsuba's shading frame: +x along dp/du where the shape has a parameterisation.
-    let frame = Frame::from_normal_tangent(ns, hit.dpdu);
+    // Only a BSDF that is not symmetric about the normal (anisotropic roughness, normal
+    // and bump maps) sees the difference; the others keep the cheaper frame about the
+    // normal alone (and their random streams, so their images are unchanged).
+    let material = &ps.scene.materials[sh.material as usize];
+    let frame = if material.bsdf.as_deref().is_some_and(desc_anisotropic) {
+        Frame::from_normal_tangent(ns, hit.dpdu)
+    } else {
+        Frame::from_normal(ns)
+    };
     let bsdf = match ps.bsdfs.get(sh.material as usize) {
         Some(Some(b)) => b.clone(),
         _ => {
@@ -128,7 +137,6 @@ pub(crate) fn surface_at<T: Tracer>(ps: &PathScene<'_, T>, sh: &PathHit) -> Opti
                 dpdv: frame.to_local(hit.dpdv),
                 ng: frame.to_local(hit.normal),
             };
-            let material = &ps.scene.materials[sh.material as usize];
             material_bsdf(material, hit.point, hit.uv, &tangents)
         }
     };
