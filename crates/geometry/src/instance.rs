@@ -70,6 +70,20 @@ impl Instance {
         )
     }
 
+    /// `(dp/du, dp/dv)` in world space at world-space hit `hit` of this instance
+    /// ([`Shape::uv_derivatives`] carried by the transform).
+    pub fn uv_derivatives(&self, hit: &Hit) -> (Vec3, Vec3) {
+        if self.identity {
+            return self.shape.uv_derivatives(hit.point, hit.uv, hit.prim);
+        }
+        let p = self.to_object.transform_point3(hit.point);
+        let (du, dv) = self.shape.uv_derivatives(p, hit.uv, hit.prim);
+        (
+            self.to_world.transform_vector3(du),
+            self.to_world.transform_vector3(dv),
+        )
+    }
+
     /// Nearest hit in world space.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         if self.identity {
@@ -77,8 +91,6 @@ impl Instance {
         }
         let mut h = self.shape.intersect(&self.object_ray(ray), t_max)?;
         h.point = ray.at(h.t);
-        h.dpdu = self.to_world.transform_vector3(h.dpdu);
-        h.dpdv = self.to_world.transform_vector3(h.dpdv);
         h.normal = self
             .normal_to_world
             .mul_vec3a(h.normal.into())

@@ -17,14 +17,9 @@ pub struct Hit {
     /// Unit shading normal (interpolated vertex normals on meshes); equals `normal`
     /// for analytic shapes.
     pub shading_normal: Vec3,
-    /// Surface parameterisation, for textures.
+    /// Surface parameterisation, for textures (its derivatives, when an integrator
+    /// needs them: [`Shape::uv_derivatives`]).
     pub uv: Vec2,
-    /// The partial derivatives of the point with respect to `uv` (Mitsuba's `dp_du`,
-    /// `dp_dv`): the tangent frame of anisotropic BSDFs and of normal and bump maps.
-    /// Zero where the shape does not report them (its frame about the normal is then
-    /// arbitrary).
-    pub dpdu: Vec3,
-    pub dpdv: Vec3,
     /// Primitive index inside the shape (triangle of a mesh, patch of a Bézier surface).
     pub prim: u32,
     /// Which CSG leaf was hit (depth-first numbering); 0 for shapes that are not CSG.
@@ -35,14 +30,6 @@ pub struct Hit {
 }
 
 impl Hit {
-    /// The same hit with `uv` derivatives `dpdu`, `dpdv`.
-    #[inline]
-    pub fn with_derivatives(mut self, dpdu: Vec3, dpdv: Vec3) -> Self {
-        self.dpdu = dpdu;
-        self.dpdv = dpdv;
-        self
-    }
-
     /// A hit with the shading normal equal to the geometric one and no error.
     pub fn new(t: f32, point: Vec3, normal: Vec3, uv: Vec2) -> Self {
         Self {
@@ -51,8 +38,6 @@ impl Hit {
             normal,
             shading_normal: normal,
             uv,
-            dpdu: Vec3::ZERO,
-            dpdv: Vec3::ZERO,
             prim: 0,
             leaf: 0,
             error: 0.0,
@@ -131,6 +116,17 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
 
     /// The nearest hit with `0 < t < t_max`.
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit>;
+
+    /// The partial derivatives `(dp/du, dp/dv)` of the surface point with respect to its
+    /// texture coordinates at the hit with object-space point `p`, `uv` and primitive
+    /// `prim` (Mitsuba's `dp_du`, `dp_dv`): the tangent frame of anisotropic BSDFs and of
+    /// normal and bump maps. Asked only by integrators that need it, so hits stay lean.
+    /// Zero where the shape has no parameterisation (the frame about the normal is then
+    /// arbitrary).
+    fn uv_derivatives(&self, p: Vec3, uv: Vec2, prim: u32) -> (Vec3, Vec3) {
+        let _ = (p, uv, prim);
+        (Vec3::ZERO, Vec3::ZERO)
+    }
 
     /// Whether any hit with `0 < t < t_max` exists (shadow rays). Shapes may override
     /// this with something cheaper than finding the nearest hit.

@@ -264,6 +264,21 @@ impl TriangleMesh {
             .get_or_init(|| spans::closed_orientation(&self.positions, &self.indices))
     }
 
+    /// `(dp/du, dp/dv)` of triangle `tri` from its vertices' uv (zero without uv).
+    pub fn triangle_uv_derivatives(&self, tri: u32) -> (Vec3, Vec3) {
+        let Some(uv) = &self.uvs else {
+            return (Vec3::ZERO, Vec3::ZERO);
+        };
+        let Some(&[i0, i1, i2]) = self.indices.get(tri as usize) else {
+            return (Vec3::ZERO, Vec3::ZERO);
+        };
+        let [i0, i1, i2] = [i0 as usize, i1 as usize, i2 as usize];
+        uv_derivatives(
+            [self.positions[i0], self.positions[i1], self.positions[i2]],
+            [uv[i0], uv[i1], uv[i2]],
+        )
+    }
+
     fn hit_record(&self, tri: u32, h: &TriangleHit) -> Hit {
         let [i0, i1, i2] = self.indices[tri as usize].map(|i| i as usize);
         let (p0, p1, p2) = (self.positions[i0], self.positions[i1], self.positions[i2]);
@@ -283,12 +298,9 @@ impl TriangleMesh {
                 ns
             }
         };
-        let (uv, (dpdu, dpdv)) = match &self.uvs {
-            Some(uv) => (
-                h.b0 * uv[i0] + h.b1 * uv[i1] + h.b2 * uv[i2],
-                uv_derivatives([p0, p1, p2], [uv[i0], uv[i1], uv[i2]]),
-            ),
-            None => (Vec2::new(h.b1, h.b2), (Vec3::ZERO, Vec3::ZERO)),
+        let uv = match &self.uvs {
+            Some(uv) => h.b0 * uv[i0] + h.b1 * uv[i1] + h.b2 * uv[i2],
+            None => Vec2::new(h.b1, h.b2),
         };
         Hit {
             t: h.t,
@@ -296,8 +308,6 @@ impl TriangleMesh {
             normal,
             shading_normal,
             uv,
-            dpdu,
-            dpdv,
             prim: tri,
             leaf: 0,
             error,
@@ -348,6 +358,10 @@ impl Shape for TriangleMesh {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let (tri, h) = self.intersect_triangle(ray, t_max)?;
         Some(self.hit_record(tri, &h))
+    }
+
+    fn uv_derivatives(&self, _p: Vec3, _uv: Vec2, prim: u32) -> (Vec3, Vec3) {
+        self.triangle_uv_derivatives(prim)
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

@@ -100,10 +100,22 @@ impl Shape for Cube {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut h = self.cuboid.intersect(ray, t_max)?;
         h.uv = cube_uv(h.point, h.normal);
-        (h.dpdu, h.dpdv) = cube_uv_derivatives(h.normal);
         h.normal *= self.sign();
         h.shading_normal = h.normal;
         Some(h)
+    }
+
+    fn uv_derivatives(&self, p: Vec3, _uv: Vec2, _prim: u32) -> (Vec3, Vec3) {
+        // The face is the axis the point lies furthest along.
+        let a = p.abs();
+        let n = if a.x >= a.y && a.x >= a.z {
+            Vec3::X * p.x.signum()
+        } else if a.y >= a.z {
+            Vec3::Y * p.y.signum()
+        } else {
+            Vec3::Z * p.z.signum()
+        };
+        cube_uv_derivatives(n)
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

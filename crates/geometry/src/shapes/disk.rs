@@ -115,20 +115,23 @@ impl Shape for Disk {
         let r = p - self.center;
         let u = (r.length() / self.radius).min(1.0);
         let v = turn_fraction(r.dot(self.t), r.dot(self.s));
-        // p = c + u R (cos φ s + sin φ t), φ = 2π v.
-        let (sp, cp) = (std::f64::consts::TAU * v).sin_cos();
-        let radial = self.s * cp + self.t * sp;
-        let dpdu = radial * self.radius;
-        let dpdv = (self.t * cp - self.s * sp) * (std::f64::consts::TAU * u * self.radius);
         let mut h = Hit::new(
             t as f32,
             p.as_vec3(),
             self.normal.as_vec3(),
             Vec2::new(u as f32, v as f32),
-        )
-        .with_derivatives(dpdu.as_vec3(), dpdv.as_vec3());
+        );
         h.error = plane_point_error(p, self.normal, self.normal.dot(self.center));
         Some(h)
+    }
+
+    /// `p = c + u R (cos φ s + sin φ t)` with φ = 2π v.
+    fn uv_derivatives(&self, _p: Vec3, uv: Vec2, _prim: u32) -> (Vec3, Vec3) {
+        let (sp, cp) = (std::f64::consts::TAU * uv.y as f64).sin_cos();
+        let dpdu = (self.s * cp + self.t * sp) * self.radius;
+        let dpdv =
+            (self.t * cp - self.s * sp) * (std::f64::consts::TAU * uv.x as f64 * self.radius);
+        (dpdu.as_vec3(), dpdv.as_vec3())
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

@@ -285,13 +285,16 @@ impl Shape for Polygon {
             p.as_vec3(),
             self.normal.as_vec3(),
             Vec2::new(uv.x as f32, uv.y as f32),
-        )
-        .with_derivatives(
-            (self.uv_u * self.uv_size.x).as_vec3(),
-            (self.uv_v * self.uv_size.y).as_vec3(),
         );
         h.error = plane_point_error(p, self.normal, self.offset);
         Some(h)
+    }
+
+    fn uv_derivatives(&self, _p: Vec3, _uv: Vec2, _prim: u32) -> (Vec3, Vec3) {
+        (
+            (self.uv_u * self.uv_size.x).as_vec3(),
+            (self.uv_v * self.uv_size.y).as_vec3(),
+        )
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

@@ -64,8 +64,7 @@ impl Shape for Rectangle {
             p.as_vec3(),
             self.normal(),
             Vec2::new(((x + 1.0) * 0.5) as f32, ((y + 1.0) * 0.5) as f32),
-        )
-        .with_derivatives(Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0));
+        );
         // z is exact; x and y carry the rounding of the f64 crossing converted to f32.
         h.error = 2.0 * f32::EPSILON;
         Some(h)
@@ -73,6 +72,11 @@ impl Shape for Rectangle {
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         self.crossing(ray, t_max).is_some()
+    }
+
+    /// uv = ((x + 1)/2, (y + 1)/2): dp/du = (2, 0, 0), dp/dv = (0, 2, 0).
+    fn uv_derivatives(&self, _p: Vec3, _uv: Vec2, _prim: u32) -> (Vec3, Vec3) {
+        (Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0))
     }
 
     fn is_solid(&self) -> bool {

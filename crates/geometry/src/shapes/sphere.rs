@@ -77,24 +77,6 @@ impl Sphere {
         Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
     }
 
-    /// `(dp/du, dp/dv)` at the point with unit direction `n` from the centre, for
-    /// Mitsuba's uv (`p = c + r (sin θ cos φ, sin θ sin φ, cos θ)`, `φ = 2π u`,
-    /// `θ = π v`): `2π r (−n_y, n_x, 0)` and `π r (n_z cos φ, n_z sin φ, −sin θ)`, with
-    /// `sin θ cos φ = n_x` (no trigonometry); at the poles `dp/du` is zero and `dp/dv`
-    /// Mitsuba's `π r (1, 0, 0)`.
-    #[inline]
-    fn uv_derivatives(&self, n: Vec3) -> (Vec3, Vec3) {
-        use std::f32::consts::{PI, TAU};
-        let r = self.radius;
-        let rho = (n.x * n.x + n.y * n.y).sqrt();
-        let dpdv = if rho > 0.0 {
-            Vec3::new(n.z * n.x / rho, n.z * n.y / rho, -rho)
-        } else {
-            Vec3::X
-        };
-        (Vec3::new(-n.y, n.x, 0.0) * (TAU * r), dpdv * (PI * r))
-    }
-
     fn surface(&self, ray: &Ray, t: f64) -> (Vec3, Vec3, Vec2) {
         let p = ray.origin.as_dvec3() + ray.dir.as_dvec3() * t;
         let n = (p - self.center.as_dvec3()) / self.radius as f64;
@@ -172,11 +154,27 @@ impl Shape for Sphere {
             return None;
         }
         let (p, n, uv) = self.surface(ray, t);
-        // The outward direction (the normal unless flipped).
-        let (dpdu, dpdv) = self.uv_derivatives(if self.flipped { -n } else { n });
-        let mut h = Hit::new(t as f32, p, n, uv).with_derivatives(dpdu, dpdv);
+        let mut h = Hit::new(t as f32, p, n, uv);
         h.error = (self.center.abs().max_element() + self.radius) * 4.0 * f32::EPSILON;
         Some(h)
+    }
+
+    /// `(dp/du, dp/dv)` at the point with unit direction `n` from the centre, for
+    /// Mitsuba's uv (`p = c + r (sin θ cos φ, sin θ sin φ, cos θ)`, `φ = 2π u`,
+    /// `θ = π v`): `2π r (−n_y, n_x, 0)` and `π r (n_z cos φ, n_z sin φ, −sin θ)`, with
+    /// `sin θ cos φ = n_x` (no trigonometry); at the poles `dp/du` is zero and `dp/dv`
+    /// Mitsuba's `π r (1, 0, 0)`.
+    fn uv_derivatives(&self, p: Vec3, _uv: Vec2, _prim: u32) -> (Vec3, Vec3) {
+        let n = (p - self.center).normalize_or_zero();
+        use std::f32::consts::{PI, TAU};
+        let r = self.radius;
+        let rho = (n.x * n.x + n.y * n.y).sqrt();
+        let dpdv = if rho > 0.0 {
+            Vec3::new(n.z * n.x / rho, n.z * n.y / rho, -rho)
+        } else {
+            Vec3::X
+        };
+        (Vec3::new(-n.y, n.x, 0.0) * (TAU * r), dpdv * (PI * r))
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

@@ -121,15 +121,18 @@ impl Shape for Tube {
         let point = self.p0 + radial * self.radius + self.axis * p.z;
         let n = if self.flipped { -radial } else { radial };
         let uv = Vec2::new(turn_fraction(y, x) as f32, (p.z / self.length) as f32);
-        // dp/du = 2π R (−y s + x t), dp/dv = L a.
-        let dpdu = (self.t * x - self.s * y) * (std::f64::consts::TAU * self.radius);
-        let dpdv = self.axis * self.length;
-        let mut h = Hit::new(t as f32, point.as_vec3(), n.as_vec3(), uv)
-            .with_derivatives(dpdu.as_vec3(), dpdv.as_vec3());
+        let mut h = Hit::new(t as f32, point.as_vec3(), n.as_vec3(), uv);
         h.error = ((self.p0.abs().max_element() + self.radius + self.length)
             * 8.0
             * f32::EPSILON as f64) as f32;
         Some(h)
+    }
+
+    /// With φ = 2π u: dp/du = 2π R (−sin φ s + cos φ t), dp/dv = L a.
+    fn uv_derivatives(&self, _p: Vec3, uv: Vec2, _prim: u32) -> (Vec3, Vec3) {
+        let (y, x) = (std::f64::consts::TAU * uv.x as f64).sin_cos();
+        let dpdu = (self.t * x - self.s * y) * (std::f64::consts::TAU * self.radius);
+        ((dpdu).as_vec3(), (self.axis * self.length).as_vec3())
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

@@ -197,9 +197,6 @@ impl Answer {
                         normal: v3(5),
                         shading_normal: v3(8),
                         uv: Vec2::new(f(11), f(12)),
-                        // The Whitted tracer reads no tangent frame: not sent.
-                        dpdu: Vec3::ZERO,
-                        dpdv: Vec3::ZERO,
                         prim: w(13),
                         leaf: w(14),
                         error: f(15),
@@ -255,8 +252,6 @@ mod tests {
                 normal: Vec3::Y,
                 shading_normal: Vec3::new(0.0, 0.6, 0.8),
                 uv: Vec2::new(0.25, 0.75),
-                dpdu: Vec3::ZERO,
-                dpdv: Vec3::ZERO,
                 prim: 11,
                 leaf: 2,
                 error: 1e-6,

@@ -438,9 +438,6 @@ impl FlatScene {
                 normal: tri.normal,
                 shading_normal: tri.normal,
                 uv: Vec2::new(b1, b2),
-                // Only materials that read neither uv nor the tangent frame are baked.
-                dpdu: Vec3::ZERO,
-                dpdv: Vec3::ZERO,
                 prim: tri.face,
                 leaf: 0,
                 error,

@@ -124,21 +124,25 @@ pub(crate) fn surface_at<T: Tracer>(ps: &PathScene<'_, T>, sh: &PathHit) -> Opti
     // and bump maps) sees the difference; the others keep the cheaper frame about the
     // normal alone (and their random streams, so their images are unchanged).
     let material = &ps.scene.materials[sh.material as usize];
-    let frame = if material.bsdf.as_deref().is_some_and(desc_anisotropic) {
-        Frame::from_normal_tangent(ns, hit.dpdu)
+    let oriented = material.bsdf.as_deref().is_some_and(desc_anisotropic);
+    let (frame, tangents) = if oriented {
+        let (dpdu, dpdv) = match ps.scene.accel.instances().get(sh.instance as usize) {
+            Some(inst) => inst.uv_derivatives(hit),
+            None => (Vec3::ZERO, Vec3::ZERO),
+        };
+        let frame = Frame::from_normal_tangent(ns, dpdu);
+        let tangents = Tangents {
+            dpdu: frame.to_local(dpdu),
+            dpdv: frame.to_local(dpdv),
+            ng: frame.to_local(hit.normal),
+        };
+        (frame, tangents)
     } else {
-        Frame::from_normal(ns)
+        (Frame::from_normal(ns), Tangents::default())
     };
     let bsdf = match ps.bsdfs.get(sh.material as usize) {
         Some(Some(b)) => b.clone(),
-        _ => {
-            let tangents = Tangents {
-                dpdu: frame.to_local(hit.dpdu),
-                dpdv: frame.to_local(hit.dpdv),
-                ng: frame.to_local(hit.normal),
-            };
-            material_bsdf(material, hit.point, hit.uv, &tangents)
-        }
+        _ => material_bsdf(material, hit.point, hit.uv, &tangents),
     };
     if bsdf.flags() == LobeFlags::NONE {
         return None;
