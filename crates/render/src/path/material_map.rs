@@ -62,8 +62,7 @@ impl Default for Tangents {
 /// one, else the lecture mixture.
 pub fn material_bsdf(material: &Material, p: Vec3, uv: Vec2, tangents: &Tangents) -> Bsdf {
     match &material.bsdf {
-        Some(d) => desc_bsdf(d, &TextureQuery::at_uv(uv), tangents)
-            .unwrap_or_else(|| bsdf_for(material, p, uv).into()),
+        Some(d) => desc_bsdf(d, &TextureQuery::at_uv(uv), tangents),
         None => bsdf_for(material, p, uv).into(),
     }
 }
@@ -193,11 +192,11 @@ fn microfacet(m: &desc::Microfacet, q: &TextureQuery) -> Microfacet {
     Microfacet::new(kind, au, av, m.sample_visible)
 }
 
-/// The scatter BSDF of description `d` with its textures evaluated at `q`; `None` for
-/// descriptions `irradia_scatter` has no BSDF for yet (the caller then uses the
-/// lecture fields the scene derived from the description).
-pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery, t: &Tangents) -> Option<Bsdf> {
-    Some(match d {
+/// The scatter BSDF of description `d` with its textures evaluated at `q` and, for
+/// normal and bump maps, the local differential geometry `t` (every description has
+/// one).
+pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery, t: &Tangents) -> Bsdf {
+    match d {
         BsdfDesc::Diffuse(d) => bsdfs::Diffuse {
             reflectance: d.reflectance.eval(q),
         }
@@ -300,19 +299,19 @@ pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery, t: &Tangents) -> Option<Bsdf> {
         .into(),
         BsdfDesc::Blend { weight, bsdfs } => bsdfs::Blend {
             weight: weight.eval(q),
-            bsdf_0: Box::new(desc_bsdf(&bsdfs[0], q, t)?),
-            bsdf_1: Box::new(desc_bsdf(&bsdfs[1], q, t)?),
+            bsdf_0: Box::new(desc_bsdf(&bsdfs[0], q, t)),
+            bsdf_1: Box::new(desc_bsdf(&bsdfs[1], q, t)),
         }
         .into(),
         BsdfDesc::Mask { opacity, bsdf } => bsdfs::Mask {
             opacity: opacity.eval(q),
-            nested_bsdf: Box::new(desc_bsdf(bsdf, q, t)?),
+            nested_bsdf: Box::new(desc_bsdf(bsdf, q, t)),
         }
         .into(),
         BsdfDesc::TwoSided { front, back } => bsdfs::TwoSided {
-            front: Box::new(desc_bsdf(front, q, t)?),
+            front: Box::new(desc_bsdf(front, q, t)),
             back: match back {
-                Some(b) => Some(Box::new(desc_bsdf(b, q, t)?)),
+                Some(b) => Some(Box::new(desc_bsdf(b, q, t))),
                 None => None,
             },
         }
@@ -322,7 +321,7 @@ pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery, t: &Tangents) -> Option<Bsdf> {
         BsdfDesc::NormalMap { normalmap, bsdf } => {
             let c = normalmap.eval(q);
             let n = Vec3::new(c.r, c.g, c.b) * 2.0 - Vec3::ONE;
-            bsdfs::NormalMap::new(n, desc_bsdf(bsdf, q, t)?).into()
+            bsdfs::NormalMap::new(n, desc_bsdf(bsdf, q, t)).into()
         }
         // Mitsuba's `bumpmap`: the height h = scale · texture moves the surface along
         // its normal; the perturbed tangents are dp/du + n (∂h/∂u − n·dp/du) (and the
@@ -352,11 +351,11 @@ pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery, t: &Tangents) -> Option<Bsdf> {
                 normal: n,
                 flip_invalid_normals: false,
                 use_shadowing_function: false,
-                nested_bsdf: Box::new(desc_bsdf(bsdf, q, t)?),
+                nested_bsdf: Box::new(desc_bsdf(bsdf, q, t)),
             }
             .into()
         }
-    })
+    }
 }
 
 /// The gradient `(∂h/∂u, ∂h/∂v)` of a height texture at `q`, by central differences
