@@ -28,7 +28,8 @@ impl Frame {
     pub fn from_normal_tangent(n: Vec3, tangent: Vec3) -> Self {
         let s = tangent - n * n.dot(tangent);
         let len2 = s.length_squared();
-        if !(len2 > 1e-12 * tangent.length_squared()) || !len2.is_finite() || len2 == 0.0 {
+        let usable = len2 > 1e-12 * tangent.length_squared() && len2.is_finite();
+        if !usable {
             return Self::from_normal(n);
         }
         let s = s / len2.sqrt();

@@ -310,10 +310,7 @@ pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery, t: &Tangents) -> Bsdf {
         .into(),
         BsdfDesc::TwoSided { front, back } => bsdfs::TwoSided {
             front: Box::new(desc_bsdf(front, q, t)),
-            back: match back {
-                Some(b) => Some(Box::new(desc_bsdf(b, q, t))),
-                None => None,
-            },
+            back: back.as_ref().map(|b| Box::new(desc_bsdf(b, q, t))),
         }
         .into(),
         // Mitsuba's `normalmap`: the texture's colour c is the normal 2c - 1 in the
@@ -364,7 +361,7 @@ pub fn desc_bsdf(d: &BsdfDesc, q: &TextureQuery, t: &Tangents) -> Bsdf {
 fn height_gradient(texture: &FloatTexture, q: &TextureQuery) -> Vec2 {
     const H: f32 = 2e-5;
     let at = |du: f32, dv: f32| {
-        let mut q = q.clone();
+        let mut q = *q;
         q.uv += Vec2::new(du, dv);
         texture.eval(&q)
     };
