@@ -79,6 +79,31 @@ impl Default for Principled {
     }
 }
 
+/// Burley's diffuse lobe without the albedo and 1/π: the Fresnel-shaped diffuse term
+/// times retro-reflection, blended with Hanrahan-Krueger's fake subsurface (flattened
+/// by Fss90 = Rr / 2) by `flatness` (Burley 2015; Mitsuba's `principled` and
+/// `principledthin`). `cos_d` is the cosine between the half vector and `wi`.
+pub(crate) fn burley_diffuse(
+    cos_o: f32,
+    cos_i: f32,
+    cos_d: f32,
+    roughness: f32,
+    flatness: f32,
+) -> f32 {
+    let (fo, fi) = (schlick_weight(cos_o), schlick_weight(cos_i));
+    let f_diff = (1.0 - 0.5 * fi) * (1.0 - 0.5 * fo);
+    let rr = 2.0 * roughness * cos_d * cos_d;
+    let f_retro = rr * (fo + fi + fo * fi * (rr - 1.0));
+    if flatness != 0.0 {
+        let fss90 = rr / 2.0;
+        let fss = (1.0 + (fss90 - 1.0) * fo) * (1.0 + (fss90 - 1.0) * fi);
+        let f_ss = 1.25 * (fss * (1.0 / (cos_o + cos_i) - 0.5) + 0.5);
+        f_diff + f_retro + (f_ss - f_diff - f_retro) * flatness
+    } else {
+        f_diff + f_retro
+    }
+}
+
 /// Schlick's weight `(1 - cos)⁵`, the argument clamped to [0, 1].
 pub(crate) fn schlick_weight(cos: f32) -> f32 {
     let m = (1.0 - cos).clamp(0.0, 1.0);
@@ -344,19 +369,8 @@ impl Scatter for Principled {
             value += Rgb::splat(self.clearcoat * 0.25 * fcc * dcc * gcc * cos_i);
         }
         if brdf > 0.0 && g.reflect && g.front {
-            let (fo, fi) = (schlick_weight(cos_o), schlick_weight(cos_i));
-            let f_diff = (1.0 - 0.5 * fi) * (1.0 - 0.5 * fo);
             let cos_d = wh.dot(wi);
-            let rr = 2.0 * self.roughness * cos_d * cos_d;
-            let f_retro = rr * (fo + fi + fo * fi * (rr - 1.0));
-            let lobe = if self.flatness != 0.0 {
-                let fss90 = rr / 2.0;
-                let fss = (1.0 + (fss90 - 1.0) * fo) * (1.0 + (fss90 - 1.0) * fi);
-                let f_ss = 1.25 * (fss * (1.0 / (cos_o + cos_i) - 0.5) + 0.5);
-                f_diff + f_retro + (f_ss - f_diff - f_retro) * self.flatness
-            } else {
-                f_diff + f_retro
-            };
+            let lobe = burley_diffuse(cos_o, cos_i, cos_d, self.roughness, self.flatness);
             value += self.base_color * (brdf * cos_i * FRAC_1_PI * lobe);
             if self.sheen > 0.0 && 1.0 - self.metallic > 0.0 {
                 let fd = schlick_weight(cos_d.abs());

@@ -33,7 +33,8 @@
 
 use crate::bsdf::{BsdfSample, LobeFlags, Scatter};
 use crate::bsdfs::principled::{
-    calc_schlick, ggx_distribution, mac_mic_compatible, schlick_r0_eta, schlick_weight, tint_color,
+    burley_diffuse, calc_schlick, ggx_distribution, mac_mic_compatible, schlick_r0_eta,
+    schlick_weight, tint_color,
 };
 use crate::microfacet::Microfacet;
 use crate::optics::{fresnel_dielectric, reflect_about};
@@ -202,20 +203,8 @@ impl Scatter for PrincipledThin {
             }
         }
         if reflect && st < 1.0 && dt < 1.0 {
-            let (fo, fi) = (schlick_weight(cos_o), schlick_weight(cos_i));
-            let f_diff = (1.0 - 0.5 * fi) * (1.0 - 0.5 * fo);
             let cos_d = wh.dot(wi);
-            let rr = 2.0 * self.roughness * cos_d * cos_d;
-            let f_retro = rr * (fo + fi + fo * fi * (rr - 1.0));
-            let lobe = if self.flatness != 0.0 {
-                // Hanrahan-Krueger's fake subsurface, flattened by Fss90 = Rr / 2.
-                let fss90 = rr / 2.0;
-                let fss = (1.0 + (fss90 - 1.0) * fo) * (1.0 + (fss90 - 1.0) * fi);
-                let f_ss = 1.25 * (fss * (1.0 / (cos_o + cos_i) - 0.5) + 0.5);
-                f_diff + f_retro + (f_ss - f_diff - f_retro) * self.flatness
-            } else {
-                f_diff + f_retro
-            };
+            let lobe = burley_diffuse(cos_o, cos_i, cos_d, self.roughness, self.flatness);
             let weight = (1.0 - st) * (1.0 - dt);
             value += self.base_color * (weight * cos_i * FRAC_1_PI * lobe);
             if self.sheen > 0.0 {
