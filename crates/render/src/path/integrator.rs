@@ -82,6 +82,9 @@ pub struct PathScene<'a, T: Tracer> {
     /// Per material: its BSDF when it does not vary over surfaces (solid colour);
     /// `None`, or an empty table, means it is built at each hit.
     pub bsdfs: Vec<Option<Bsdf>>,
+    /// Per material: whether its BSDF needs the surface's tangent frame (anisotropic
+    /// roughness, normal and bump maps); an empty table means it is found at each hit.
+    pub oriented: Vec<bool>,
 }
 
 impl<'a, T: Tracer> PathScene<'a, T> {
@@ -95,13 +98,21 @@ impl<'a, T: Tracer> PathScene<'a, T> {
                     .then(|| material_bsdf(m, Vec3::ZERO, Vec2::ZERO, &Tangents::default()))
             })
             .collect();
+        let oriented = scene.materials.iter().map(needs_tangent_frame).collect();
         Self {
             scene,
             tracer,
             lights,
             bsdfs,
+            oriented,
         }
     }
+}
+
+/// Whether `material`'s BSDF is not symmetric about the normal, so that it needs the
+/// surface's tangent frame.
+fn needs_tangent_frame(material: &irradia_scene::Material) -> bool {
+    material.bsdf.as_deref().is_some_and(desc_anisotropic)
 }
 
 /// The BSDF at a hit and its local shading frame, or `None` when the surface does not
@@ -124,7 +135,10 @@ pub(crate) fn surface_at<T: Tracer>(ps: &PathScene<'_, T>, sh: &PathHit) -> Opti
     // and bump maps) sees the difference; the others keep the cheaper frame about the
     // normal alone (and their random streams, so their images are unchanged).
     let material = &ps.scene.materials[sh.material as usize];
-    let oriented = material.bsdf.as_deref().is_some_and(desc_anisotropic);
+    let oriented = match ps.oriented.get(sh.material as usize) {
+        Some(&o) => o,
+        None => needs_tangent_frame(material),
+    };
     let (frame, tangents) = if oriented {
         let (dpdu, dpdv) = match ps.scene.accel.instances().get(sh.instance as usize) {
             Some(inst) => inst.uv_derivatives(hit),
@@ -165,6 +179,7 @@ pub fn radiance(
         tracer: AccelTracer { scene },
         lights,
         bsdfs: Vec::new(),
+        oriented: Vec::new(),
     };
     radiance_in(&ps, params, ray, rng, counters)
 }
