@@ -29,6 +29,8 @@ struct Cli {
 enum Command {
     /// Render a scene file or a built-in scene to an image (PNG, EXR or PFM).
     Render(commands::render::RenderArgs),
+    /// Write any scene Irradia reads (Mitsuba XML, pbrt, glTF, OBJ, PLY) as Irradia's TOML.
+    Convert(commands::convert::ConvertArgs),
     /// Print the ray tree of one pixel (text, JSON or Graphviz dot).
     TracePixel(commands::trace_pixel::TracePixelArgs),
     /// List the built-in scenes.
@@ -99,6 +101,7 @@ fn main() {
     };
     let result = match cli.command {
         Command::Render(a) => commands::render::run(a),
+        Command::Convert(a) => commands::convert::run(a),
         Command::TracePixel(a) => commands::trace_pixel::run(a),
         Command::Scenes(a) => commands::scenes::run(a),
         Command::Radiosity(a) => commands::radiosity::run(a),

@@ -28,6 +28,38 @@ pub struct SceneArgs {
     /// Maximum ray depth, camera rays being depth 1 (overrides the scene's).
     #[arg(long, value_name = "D", value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub max_depth: Option<u32>,
+    #[command(flatten)]
+    pub import: ImportArgs,
+}
+
+/// Options for reading scene files of other renderers (Mitsuba XML, pbrt, glTF, ...).
+#[derive(Args, Debug, Clone, Default)]
+pub struct ImportArgs {
+    /// Set a scene parameter (Mitsuba's `$name` and `<default name=...>`); repeatable.
+    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
+    pub defines: Vec<(String, String)>,
+    /// Refuse a scene that uses a feature Irradia does not render (default: warn and
+    /// render the rest).
+    #[arg(long)]
+    pub strict: bool,
+}
+
+impl ImportArgs {
+    pub fn options(&self) -> irradia_import::Options {
+        irradia_import::Options {
+            defines: self.defines.clone(),
+            strict: self.strict,
+        }
+    }
+}
+
+fn parse_define(s: &str) -> Result<(String, String), String> {
+    match s.split_once('=') {
+        Some((name, value)) if !name.trim().is_empty() => {
+            Ok((name.trim().to_string(), value.to_string()))
+        }
+        _ => Err(format!("expected NAME=VALUE, got '{s}'")),
+    }
 }
 
 /// The integrators `--integrator` accepts.
@@ -44,8 +76,13 @@ pub enum IntegratorArg {
 pub fn check_scene_path(path: &Path) -> Result<(), CliError> {
     if path.is_dir() {
         return Err(CliError::Input(format!(
-            "{}: is a directory, not a scene file (give a .toml or .json file)",
-            path.display()
+            "{}: is a directory, not a scene file (give a file ending in {})",
+            path.display(),
+            irradia_import::EXTENSIONS
+                .iter()
+                .map(|e| format!(".{e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
         )));
     }
     if !path.exists() {
@@ -57,6 +94,25 @@ pub fn check_scene_path(path: &Path) -> Result<(), CliError> {
     Ok(())
 }
 
+/// Reads a scene file of any format Irradia imports; prints the importer's warnings
+/// and notes (what it added) on stderr, one line each.
+pub fn import_scene(path: &Path, args: &ImportArgs) -> Result<Scene, CliError> {
+    check_scene_path(path)?;
+    let (scene, imported) = irradia_import::load(path, &args.options())?;
+    report_import(&imported);
+    Ok(scene)
+}
+
+/// The importer's warnings and notes, on stderr.
+pub fn report_import(imported: &irradia_import::Imported) {
+    for w in &imported.warnings {
+        eprintln!("irradia: warning: {w}");
+    }
+    for n in &imported.notes {
+        eprintln!("irradia: {n}");
+    }
+}
+
 /// Loads the scene named by `file` or `args.builtin` (the built-in `default` when
 /// neither is given) and applies the overrides.
 pub fn load_scene(file: Option<&PathBuf>, args: &SceneArgs) -> Result<Scene, CliError> {
@@ -66,10 +122,7 @@ pub fn load_scene(file: Option<&PathBuf>, args: &SceneArgs) -> Result<Scene, Cli
                 "give either a scene file or --builtin, not both".into(),
             ))
         }
-        (Some(path), None) => {
-            check_scene_path(path)?;
-            irradia_scene::load_file(path)?
-        }
+        (Some(path), None) => import_scene(path, &args.import)?,
         (None, Some(name)) => irradia_scene::builtin::load(name)?,
         (None, None) => irradia_scene::builtin::load("default")?,
     };

@@ -20,7 +20,7 @@ pub use bsdf::BsdfDesc;
 pub use camera::{Camera, FovAxis, Projection};
 pub use envmap::EnvMap;
 pub use error::{ErrorKind, SceneError};
-pub use file::{load_file, load_str, SceneSyntax};
+pub use file::{load_file, load_str, load_tree, SceneSyntax};
 pub use label::Label;
 pub use light::{spot_falloff, Light, SpotProfile};
 pub use material::{image_texel, Material, ShadingModel, Texture};

@@ -74,12 +74,21 @@ pub fn load_str(text: &str, format: SceneSyntax, origin: &Path) -> Result<Scene,
         SceneSyntax::Json => json_tree::parse_json(text),
     }
     .map_err(|e| e.with_file(origin))?;
+    load_tree(&tree, text, origin)
+}
+
+/// Reads a scene from its document tree: the seam every scene format goes through.
+/// The TOML and JSON readers parse into a [`tree::Node`]; importers of other formats
+/// (Mitsuba XML, pbrt, glTF, ...) build one in Irradia's schema. Positions in `tree`
+/// are byte offsets into `text`, the text of `origin` (empty text for binary files:
+/// errors then name line 1), and relative paths are resolved against `origin`'s folder.
+pub fn load_tree(tree: &tree::Node, text: &str, origin: &Path) -> Result<Scene, SceneError> {
     let doc = Doc {
         text,
         file: Some(origin.to_path_buf()),
         dir: origin.parent().map(Path::to_path_buf).unwrap_or_default(),
     };
-    let mut scene = read_scene(&doc, &tree)?;
+    let mut scene = read_scene(&doc, tree)?;
     scene.source = Some(origin.to_path_buf());
     Ok(scene)
 }

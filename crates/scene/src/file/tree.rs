@@ -142,3 +142,151 @@ fn floor_char_boundary(text: &str, mut pos: usize) -> usize {
     }
     pos
 }
+
+/// Building trees in code (the importers of other scene formats build Irradia's
+/// schema this way): every node carries the byte offset, in the source text, of the
+/// thing it was made from, so later errors still point into that file.
+impl Node {
+    pub fn new(value: impl Into<Value>, pos: usize) -> Node {
+        let mut value = value.into();
+        if let Value::Array(items) = &mut value {
+            // Numbers made into a list without a place of their own take the list's.
+            for item in items.iter_mut().filter(|i| i.pos == 0) {
+                item.pos = pos;
+            }
+        }
+        Node { value, pos }
+    }
+
+    /// An empty table at `pos`.
+    pub fn table(pos: usize) -> Node {
+        Node {
+            value: Value::Table(Vec::new()),
+            pos,
+        }
+    }
+
+    /// Sets `key` of a table (replacing an earlier value of the same key), the key
+    /// itself located at the value's position. Panics when `self` is not a table.
+    pub fn set(&mut self, key: &str, node: Node) -> &mut Node {
+        let Value::Table(entries) = &mut self.value else {
+            panic!("Node::set on {}", self.value.type_name());
+        };
+        let entry = Entry {
+            key: key.to_string(),
+            key_pos: node.pos,
+            node,
+        };
+        match entries.iter().position(|e| e.key == key) {
+            Some(i) => entries[i] = entry,
+            None => entries.push(entry),
+        }
+        self
+    }
+
+    /// Sets `key` to `value`, located at `pos`.
+    pub fn put(&mut self, key: &str, value: impl Into<Value>, pos: usize) -> &mut Node {
+        self.set(key, Node::new(value, pos))
+    }
+
+    /// The value of `key` in a table.
+    pub fn get(&self, key: &str) -> Option<&Node> {
+        match &self.value {
+            Value::Table(entries) => entries.iter().find(|e| e.key == key).map(|e| &e.node),
+            _ => None,
+        }
+    }
+
+    /// The value of `key` in a table, mutable.
+    pub fn get_mut(&mut self, key: &str) -> Option<&mut Node> {
+        match &mut self.value {
+            Value::Table(entries) => entries
+                .iter_mut()
+                .find(|e| e.key == key)
+                .map(|e| &mut e.node),
+            _ => None,
+        }
+    }
+
+    /// Appends `node` to the array under `key`, creating the array when absent.
+    pub fn push(&mut self, key: &str, node: Node) -> &mut Node {
+        if self.get(key).is_none() {
+            let pos = node.pos;
+            self.set(key, Node::new(Value::Array(Vec::new()), pos));
+        }
+        match &mut self.get_mut(key).expect("just set").value {
+            Value::Array(items) => items.push(node),
+            other => panic!("Node::push onto {}", other.type_name()),
+        }
+        self
+    }
+
+    /// The same tree with every position and key position set to 0 (to compare two
+    /// trees by content alone).
+    pub fn without_positions(&self) -> Node {
+        let value = match &self.value {
+            Value::Array(items) => {
+                Value::Array(items.iter().map(Node::without_positions).collect())
+            }
+            Value::Table(entries) => Value::Table(
+                entries
+                    .iter()
+                    .map(|e| Entry {
+                        key: e.key.clone(),
+                        key_pos: 0,
+                        node: e.node.without_positions(),
+                    })
+                    .collect(),
+            ),
+            v => v.clone(),
+        };
+        Node { value, pos: 0 }
+    }
+}
+
+impl From<bool> for Value {
+    fn from(v: bool) -> Value {
+        Value::Bool(v)
+    }
+}
+impl From<i64> for Value {
+    fn from(v: i64) -> Value {
+        Value::Int(v)
+    }
+}
+impl From<u32> for Value {
+    fn from(v: u32) -> Value {
+        Value::Int(v as i64)
+    }
+}
+impl From<f64> for Value {
+    fn from(v: f64) -> Value {
+        Value::Float(v)
+    }
+}
+impl From<f32> for Value {
+    fn from(v: f32) -> Value {
+        Value::Float(v as f64)
+    }
+}
+impl From<&str> for Value {
+    fn from(v: &str) -> Value {
+        Value::Str(v.to_string())
+    }
+}
+impl From<String> for Value {
+    fn from(v: String) -> Value {
+        Value::Str(v)
+    }
+}
+impl<const N: usize> From<[f64; N]> for Value {
+    /// A fixed-size list of numbers (a vector, a colour, a matrix row).
+    fn from(v: [f64; N]) -> Value {
+        Value::Array(v.iter().map(|x| Node::new(*x, 0)).collect())
+    }
+}
+impl From<Vec<Node>> for Value {
+    fn from(v: Vec<Node>) -> Value {
+        Value::Array(v)
+    }
+}
