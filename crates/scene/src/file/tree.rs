@@ -221,23 +221,23 @@ impl Node {
         self
     }
 
-    /// The same tree with every position and key position set to 0 (to compare two
-    /// trees by content alone).
-    pub fn without_positions(&self) -> Node {
+    /// The same tree with every position set to 0 and every table's keys sorted (a
+    /// table's key order carries no meaning): two trees with the same content are equal.
+    pub fn canonical(&self) -> Node {
         let value = match &self.value {
-            Value::Array(items) => {
-                Value::Array(items.iter().map(Node::without_positions).collect())
-            }
-            Value::Table(entries) => Value::Table(
-                entries
+            Value::Array(items) => Value::Array(items.iter().map(Node::canonical).collect()),
+            Value::Table(entries) => {
+                let mut entries: Vec<Entry> = entries
                     .iter()
                     .map(|e| Entry {
                         key: e.key.clone(),
                         key_pos: 0,
-                        node: e.node.without_positions(),
+                        node: e.node.canonical(),
                     })
-                    .collect(),
-            ),
+                    .collect();
+                entries.sort_by(|a, b| a.key.cmp(&b.key));
+                Value::Table(entries)
+            }
             v => v.clone(),
         };
         Node { value, pos: 0 }
