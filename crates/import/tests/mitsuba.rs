@@ -271,3 +271,30 @@ fn obj_texture_coordinates_are_flipped_as_mitsuba_does() {
     assert!(objs[0].get("flip_tex_coords").is_some());
     assert!(objs[1].get("flip_tex_coords").is_none());
 }
+
+/// Every prefix of a scene, and the scene with each byte replaced by a few
+/// troublesome ones, parses or fails cleanly: never a panic (a quick stand-in for the
+/// fuzz target `fuzz/fuzz_targets/mitsuba.rs`, whose corpus is `fuzz/corpus/mitsuba`).
+#[test]
+fn truncated_and_mutated_scenes_never_panic() {
+    let text = std::fs::read_to_string(data("box.xml")).unwrap();
+    let opts = Options::default();
+    let origin = data("box.xml");
+    for cut in (0..text.len()).filter(|&i| text.is_char_boundary(i)) {
+        if let Ok(i) = mitsuba::parse_str(&text[..cut], &origin, &opts) {
+            let _ = i.scene();
+        }
+    }
+    let bytes = text.as_bytes();
+    for i in (0..bytes.len()).step_by(5) {
+        for b in [b'"', b'<', b'0', b'$', b'-'] {
+            let mut m = bytes.to_vec();
+            m[i] = b;
+            if let Ok(s) = std::str::from_utf8(&m) {
+                if let Ok(i) = mitsuba::parse_str(s, &origin, &opts) {
+                    let _ = i.scene();
+                }
+            }
+        }
+    }
+}

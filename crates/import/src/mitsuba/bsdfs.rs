@@ -392,13 +392,15 @@ fn spectrum_object<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<Node, SceneEr
             }
             Node::new(1.0, pos)
         }
-        k => return Err(e.err_at(
-            "type",
-            "type",
-            format!(
+        k => {
+            return Err(e.err_at(
+                "type",
+                "type",
+                format!(
                 "unknown spectrum `{k}` (valid: uniform, srgb, blackbody, d65, regular, irregular)"
             ),
-        )),
+            ))
+        }
     };
     o.finish(&["value", "color"])?;
     Ok(out)

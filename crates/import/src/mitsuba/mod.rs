@@ -106,7 +106,11 @@ impl<'e> Builder<'e> {
 
     /// A feature Irradia does not render.
     pub fn warn(&mut self, e: &Elem, field: &str, msg: impl Into<String>) {
-        self.warnings.push(e.err(field, msg));
+        let w = e.err(field, msg);
+        // A declared texture or BSDF is read again where it is used: one warning.
+        if !self.warnings.iter().any(|x| x.to_string() == w.to_string()) {
+            self.warnings.push(w);
+        }
     }
 
     fn collect_ids(&mut self, e: &'e Elem) -> Result<(), SceneError> {

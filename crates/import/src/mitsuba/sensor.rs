@@ -295,13 +295,15 @@ fn rfilter<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<Node, SceneError> {
             o.accept(&["B", "C", "lobes"]);
             return Ok(gaussian(pos));
         }
-        k => return Err(e.err_at(
-            "type",
-            "type",
-            format!(
+        k => {
+            return Err(e.err_at(
+                "type",
+                "type",
+                format!(
                 "unknown rfilter `{k}` (valid: box, tent, gaussian, mitchell, catmullrom, lanczos)"
             ),
-        )),
+            ))
+        }
     }
     o.finish(&["radius", "stddev"])?;
     Ok(f)
