@@ -77,7 +77,12 @@ fn our_scene_imports_renders_and_round_trips() {
     assert!(imported.warnings.is_empty(), "{:?}", imported.warnings);
     let scene = imported.scene().unwrap();
     // Two instances of a group of two shapes, the floor, the lamp, a cube, a disk.
-    assert_eq!(scene.objects.len(), 8);
+    assert_eq!(scene.objects.len(), 6);
+    let Value::Array(groups) = &imported.tree.get("shape_groups").unwrap().value else {
+        panic!("no shape_groups")
+    };
+    assert_eq!(groups.len(), 1);
+    assert!(matches!(&groups[0].get("objects").unwrap().value, Value::Array(m) if m.len() == 2));
     let t = &imported.tree;
     // The included camera, its $res from the included <default>, $spp from the main file.
     let cam = t.get("camera").unwrap();

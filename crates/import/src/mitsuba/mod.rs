@@ -80,6 +80,9 @@ pub struct Builder<'e> {
     pub converting: Vec<*const Elem>,
     pub lights: Vec<Node>,
     pub objects: Vec<Node>,
+    pub shape_groups: Vec<Node>,
+    /// Shape groups left out (their instances are too).
+    pub empty_groups: HashSet<String>,
     pub warnings: Vec<SceneError>,
     pub notes: Vec<String>,
 }
@@ -99,6 +102,8 @@ impl<'e> Builder<'e> {
             converting: Vec::new(),
             lights: Vec::new(),
             objects: Vec::new(),
+            shape_groups: Vec::new(),
+            empty_groups: HashSet::new(),
             warnings: Vec::new(),
             notes: Vec::new(),
         }
@@ -185,7 +190,7 @@ impl<'e> Builder<'e> {
                     sensor::sensor(self, c)?;
                 }
                 "integrator" => sensor::integrator(self, c)?,
-                "shape" => shapes::shape(self, c, None)?,
+                "shape" => shapes::shape(self, c)?,
                 "emitter" => emitters::emitter(self, c)?,
                 // Declared for reference (a BSDF becomes a named material).
                 "bsdf" => {
@@ -242,6 +247,9 @@ impl<'e> Builder<'e> {
         }
         for l in self.lights.drain(..) {
             tree.push("lights", l);
+        }
+        for g in self.shape_groups.drain(..) {
+            tree.push("shape_groups", g);
         }
         for o in self.objects.drain(..) {
             tree.push("objects", o);

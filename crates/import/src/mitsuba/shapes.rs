@@ -35,12 +35,22 @@ const UNRENDERED: &[&str] = &[
     "merge",
 ];
 
-/// Reads a `<shape>`; `parent` is the transform of the instance placing it.
-pub fn shape<'e>(
+/// Reads a top-level `<shape>` into `[[objects]]` (a `shapegroup` into
+/// `[[shape_groups]]`).
+pub fn shape<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<(), SceneError> {
+    if let Some(obj) = object(b, e, false)? {
+        b.objects.push(obj);
+    }
+    Ok(())
+}
+
+/// A `<shape>` as an object table (`None` when left out); `in_group` for the members
+/// of a shape group.
+fn object<'e>(
     b: &mut Builder<'e>,
     e: &'e Elem,
-    parent: Option<&Xform>,
-) -> Result<(), SceneError> {
+    in_group: bool,
+) -> Result<Option<Node>, SceneError> {
     let o = Obj::read(e)?;
     let pos = e.main_pos;
     let kind = o.plugin.as_str();
@@ -51,7 +61,7 @@ pub fn shape<'e>(
                 "type",
                 format!("the `{kind}` shape is not rendered: left out"),
             );
-            return Ok(());
+            return Ok(None);
         }
         let valid: Vec<&str> = SHAPES.iter().chain(UNRENDERED).copied().collect();
         return Err(e.err_at(
@@ -61,10 +71,13 @@ pub fn shape<'e>(
         ));
     }
     if kind == "shapegroup" {
-        // Placed by its instances; only checked here.
-        if parent.is_none() && e.get("id").is_none() {
-            return Err(e.err("id", "a shapegroup needs an id (its instances refer to it)"));
+        if in_group {
+            return Err(e.err("type", "a shapegroup cannot hold another shapegroup"));
         }
+        let id = e
+            .get("id")
+            .ok_or_else(|| e.err("id", "a shapegroup needs an id (its instances refer to it)"))?;
+        let mut members = Vec::new();
         for c in &o.nested {
             if c.tag != "shape" {
                 return Err(c.err(
@@ -72,21 +85,36 @@ pub fn shape<'e>(
                     format!("a shapegroup holds shapes, not <{}>", c.tag),
                 ));
             }
+            if let Some(m) = object(b, c, true)? {
+                members.push(m);
+            }
         }
         o.finish(&[])?;
-        return Ok(());
+        if members.is_empty() {
+            b.warn(
+                e,
+                "shapegroup",
+                "the shapegroup holds nothing Irradia renders: left out",
+            );
+            b.empty_groups.insert(id.to_string());
+            return Ok(None);
+        }
+        let mut g = Node::table(pos);
+        g.put("name", id, pos);
+        g.set("objects", Node::new(members, pos));
+        b.shape_groups.push(g);
+        return Ok(None);
     }
-    let mut xf = match o.get("to_world") {
+    let xf = match o.get("to_world") {
         Some(p) => p.transform()?.clone(),
         None => Xform::identity(),
     };
-    if let Some(p) = parent {
-        xf = xf.then(p);
-    }
     if kind == "instance" {
+        if in_group {
+            return Err(e.err("type", "an instance cannot be part of a shapegroup"));
+        }
         let group = match o.nested.as_slice() {
             [r] if r.tag == "ref" => b.lookup(r, r.req("id")?)?,
-            [g] if g.tag == "shape" => g,
             _ => {
                 return Err(e.err(
                     "ref",
@@ -94,25 +122,20 @@ pub fn shape<'e>(
                 ))
             }
         };
-        if group.get("type") != Some("shapegroup") {
-            return Err(e.err("ref", "an instance refers to a shapegroup"));
+        if group.tag != "shape" || group.get("type") != Some("shapegroup") {
+            return Err(o.nested[0].err_at("id", "id", "an instance refers to a shapegroup"));
         }
         o.finish(&["to_world"])?;
-        if b.converting.len() > 64 {
-            return Err(e.err("ref", "instances nest too deep"));
+        let id = group.get("id").unwrap_or_default();
+        if b.empty_groups.contains(id) {
+            return Ok(None);
         }
-        b.converting.push(e as *const Elem);
-        for c in &group.children {
-            if c.tag == "shape" {
-                let r = shape(b, c, Some(&xf));
-                if r.is_err() {
-                    b.converting.pop();
-                    return r;
-                }
-            }
+        let mut inst = Node::table(pos);
+        inst.put("type", "instance", pos).put("group", id, pos);
+        if !xf.steps.is_empty() {
+            inst.set("transform", Node::new(xf.steps.clone(), pos));
         }
-        b.converting.pop();
-        return Ok(());
+        return Ok(Some(inst));
     }
 
     let mut obj = Node::table(pos);
@@ -250,7 +273,16 @@ pub fn shape<'e>(
         Some(m) => material_name(b, m)?,
         None => default_material(b),
     };
-    if let Some(a) = area {
+    if let Some(a) = area.filter(|a| {
+        if in_group {
+            b.warn(
+                a,
+                "emitter",
+                "an emitter in a shapegroup is not rendered (as in Mitsuba): left out",
+            );
+        }
+        !in_group
+    }) {
         if let Some(emission) = super::emitters::area_radiance(b, a)? {
             let base = b
                 .materials
@@ -266,6 +298,5 @@ pub fn shape<'e>(
     }
     obj.put("material", material, pos);
     o.finish(&params)?;
-    b.objects.push(obj);
-    Ok(())
+    Ok(Some(obj))
 }
