@@ -8,6 +8,7 @@
 mod error;
 pub mod obj;
 pub mod ply;
+pub mod serialized;
 pub mod volume;
 
 pub use error::MeshFileError;
@@ -41,25 +42,30 @@ impl MeshFile {
     }
 }
 
-/// Reads an OBJ or PLY file (chosen by the extension) into a mesh.
+/// Reads an OBJ, PLY or Mitsuba `.serialized` file (chosen by the extension) into a
+/// mesh.
 pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshFileError> {
+    read_mesh_file(path, 0)?.into_mesh(path)
+}
+
+/// Reads a mesh file's contents (chosen by the extension); `shape_index` picks the
+/// shape of a `.serialized` file that holds several.
+pub fn read_mesh_file(path: &Path, shape_index: usize) -> Result<MeshFile, MeshFileError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
-    let data = match ext.as_deref() {
-        Some("obj") => obj::read_obj(path)?,
-        Some("ply") => ply::read_ply(path)?,
-        _ => {
-            return Err(MeshFileError::new(
-                path,
-                None,
-                None,
-                "unknown mesh format: the name must end in .obj or .ply",
-            ))
-        }
-    };
-    data.into_mesh(path)
+    match ext.as_deref() {
+        Some("obj") => obj::read_obj(path),
+        Some("ply") => ply::read_ply(path),
+        Some("serialized") => serialized::read_serialized(path, shape_index),
+        _ => Err(MeshFileError::new(
+            path,
+            None,
+            None,
+            "unknown mesh format: the name must end in .obj, .ply or .serialized",
+        )),
+    }
 }
 
 /// Reads a whole file, naming it in the error.
