@@ -10,20 +10,22 @@
 //! `PASSING` lists the scenes that pass today: they must keep passing. The others are
 //! rendered and reported (with the features they need that Irradia does not render);
 //! `IRRADIA_MITSUBA_SUITE_OUT=dir` writes each render and reference as PNG.
-//! The whole suite takes a few minutes, so it runs on request:
-//! `cargo test --release -p irradia-import --test mitsuba_suite -- --ignored --nocapture`.
+//! It runs with the rest of `bash scripts/test.sh` (about a minute on two cores); the
+//! table: `cargo test --release -p irradia-import --test mitsuba_suite -- --nocapture`.
+//! The data is the copy in `tests/mitsuba-data` (from mitsuba-data commit 01100fa).
 
 use irradia_core::Image;
 use irradia_import::{import, Options};
 use irradia_render::{render, RenderOptions};
 use std::path::{Path, PathBuf};
 
-fn mitsuba_data() -> Option<PathBuf> {
+/// The suite's data: `$IRRADIA_MITSUBA_DATA`, else the copy in the repository
+/// (`tests/mitsuba-data`, the scenes, references and the files they name).
+fn mitsuba_data() -> PathBuf {
     if let Some(d) = std::env::var_os("IRRADIA_MITSUBA_DATA") {
-        return Some(PathBuf::from(d));
+        return PathBuf::from(d);
     }
-    let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/mitsuba-data");
-    d.is_dir().then_some(d)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/mitsuba-data")
 }
 
 /// Scenes that pass Mitsuba's criterion today.
@@ -59,12 +61,13 @@ fn xyz(c: irradia_core::Rgb) -> [f64; 3] {
     ]
 }
 
-/// The fraction of pixel-channels that pass, Mitsuba's way.
-pub fn pass_fraction(img: &Image, reference: &Image, var: &Image, spp: u32) -> f64 {
+/// The fraction of pixel-channels that pass, Mitsuba's way, and the smallest p-value.
+pub fn pass_fraction(img: &Image, reference: &Image, var: &Image, spp: u32) -> (f64, f64) {
     let n = (img.width() * img.height()) as f64;
     let alpha = 1.0 - (1.0f64 - 0.01).powf(1.0 / n);
     let mut ok = 0usize;
     let mut total = 0usize;
+    let mut min_p = 1.0f64;
     for ((a, r), v) in img
         .pixels()
         .iter()
@@ -76,10 +79,11 @@ pub fn pass_fraction(img: &Image, reference: &Image, var: &Image, spp: u32) -> f
             let z = (a[k] - r[k]).abs() * (f64::from(spp) / v[k].max(1e-4)).sqrt();
             let p = libm::erfc(z / std::f64::consts::SQRT_2);
             ok += usize::from(p > alpha);
+            min_p = min_p.min(p);
             total += 1;
         }
     }
-    ok as f64 / total as f64
+    (ok as f64 / total as f64, min_p)
 }
 
 fn references(xml: &Path) -> Option<(PathBuf, PathBuf)> {
@@ -95,12 +99,13 @@ fn references(xml: &Path) -> Option<(PathBuf, PathBuf)> {
 }
 
 #[test]
-#[ignore = "renders Mitsuba's whole test suite (minutes); run with --ignored"]
 fn mitsuba_render_suite() {
-    let Some(root) = mitsuba_data() else {
-        eprintln!("SKIP: shared/mitsuba-data not found (set IRRADIA_MITSUBA_DATA)");
-        return;
-    };
+    let root = mitsuba_data();
+    assert!(
+        root.join("tests/scenes").is_dir(),
+        "{}: Mitsuba's test scenes are missing",
+        root.display()
+    );
     let out_dir = std::env::var_os("IRRADIA_MITSUBA_SUITE_OUT").map(PathBuf::from);
     let mut scenes: Vec<PathBuf> = Vec::new();
     for dir in std::fs::read_dir(root.join("tests/scenes")).unwrap() {
@@ -113,8 +118,8 @@ fn mitsuba_render_suite() {
     }
     scenes.sort();
     let mut failed_gate = Vec::new();
-    println!("| scene | spp | pixel-channels passing | verdict | warnings |");
-    println!("|---|---|---|---|---|");
+    println!("| scene | spp | pixel-channels passing | smallest p | verdict | seconds | warnings |");
+    println!("|---|---|---|---|---|---|---|");
     for xml in &scenes {
         let name = xml.file_stem().unwrap().to_str().unwrap().to_string();
         let Some((r, v)) = references(xml) else {
@@ -131,13 +136,15 @@ fn mitsuba_render_suite() {
             spp: Some(spp),
             ..RenderOptions::default()
         };
+        let start = std::time::Instant::now();
         let out = render(&scene, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(
             (out.image.width(), out.image.height()),
             (reference.width(), reference.height()),
             "{name}: image size"
         );
-        let frac = pass_fraction(&out.image, &reference, &var, spp);
+        let seconds = start.elapsed().as_secs_f64();
+        let (frac, min_p) = pass_fraction(&out.image, &reference, &var, spp);
         let pass = frac >= 0.9975;
         let warnings: Vec<String> = imported
             .warnings
@@ -145,7 +152,7 @@ fn mitsuba_render_suite() {
             .map(|w| format!("{}: {}", w.field, w.message))
             .collect();
         println!(
-            "| {name} | {spp} | {:.2}% | {} | {} |",
+            "| {name} | {spp} | {:.2}% | {min_p:.2e} | {} | {seconds:.1} | {} |",
             100.0 * frac,
             if pass { "pass" } else { "FAIL" },
             warnings.join("; ")
