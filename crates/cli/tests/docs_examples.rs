@@ -25,7 +25,10 @@ const SKIP: &[(&str, &str)] = &[
     ),
     ("cargo run --release", "builds the release binary (minutes)"),
     ("irradia render [SCENE]", "a synopsis with placeholders"),
-    ("irradia convert SCENE -o OUT.toml", "a synopsis with placeholders"),
+    (
+        "irradia convert SCENE -o OUT.toml",
+        "a synopsis with placeholders",
+    ),
     (
         "irradia trace-pixel [SCENE]",
         "a synopsis with placeholders",

@@ -50,6 +50,8 @@ const PASSING: &[&str] = &[
     "test_instancing_path",
     "test_projector_constant_direct",
     "test_texture_interp_direct",
+    "test_orthographic_path",
+    "test_various_shapes_path",
 ];
 
 fn xyz(c: irradia_core::Rgb) -> [f64; 3] {
@@ -118,7 +120,9 @@ fn mitsuba_render_suite() {
     }
     scenes.sort();
     let mut failed_gate = Vec::new();
-    println!("| scene | spp | pixel-channels passing | smallest p | verdict | seconds | warnings |");
+    println!(
+        "| scene | spp | pixel-channels passing | smallest p | verdict | seconds | warnings |"
+    );
     println!("|---|---|---|---|---|---|---|");
     for xml in &scenes {
         let name = xml.file_stem().unwrap().to_str().unwrap().to_string();

@@ -255,7 +255,9 @@ pub fn parse_mitsuba_vol(bytes: &[u8], path: &str) -> Result<ScalarGrid, VolumeE
         });
     }
     let values = decode(&bytes[48..], VoxelType::F32, Endian::Little, n);
-    let bounds = if lo.is_finite() && hi.is_finite() && hi.cmpgt(lo).all() {
+    // Some files (Mitsuba's own torus_sdfgrid.vol) hold integers where the box's
+    // floats belong: a box that is not a sane float box is the unit cube.
+    let bounds = if lo.is_finite() && hi.is_finite() && (hi - lo).min_element() > 1e-20 {
         Aabb::new(lo, hi)
     } else {
         Aabb::new(Vec3::ZERO, Vec3::ONE)

@@ -21,6 +21,7 @@ const SHAPES: &[&str] = &[
     "disk",
     "cube",
     "cylinder",
+    "sdfgrid",
     "shapegroup",
     "instance",
 ];
@@ -29,7 +30,6 @@ const SHAPES: &[&str] = &[
 const UNRENDERED: &[&str] = &[
     "bsplinecurve",
     "linearcurve",
-    "sdfgrid",
     "ellipsoids",
     "ellipsoidsmesh",
     "merge",
@@ -220,6 +220,30 @@ fn object<'e>(
                 }
             }
             params.extend(["p0", "p1", "radius"]);
+        }
+        "sdfgrid" => {
+            // Mitsuba's grid over [0, 1]³ from its binary `.vol` file (or inline `data`).
+            obj.put("type", "sdfgrid", pos);
+            let f = o.get("filename").ok_or_else(|| {
+                e.err(
+                    "filename",
+                    "an sdfgrid needs `filename` (a .vol grid; Irradia does not read `data`)",
+                )
+            })?;
+            let path = b.file(e, f.elem, f.str()?)?;
+            obj.put("path", path, f.elem.main_pos);
+            if let Some(n) = o.get("normals") {
+                let v = n.str()?;
+                if !matches!(v, "smooth" | "analytic") {
+                    return Err(n.elem.err_at(
+                        "value",
+                        "normals",
+                        format!("normals `{v}`: expected smooth or analytic"),
+                    ));
+                }
+                obj.put("normals", v, n.elem.main_pos);
+            }
+            params.extend(["filename", "normals"]);
         }
         _ => unreachable!("checked against SHAPES"),
     }
