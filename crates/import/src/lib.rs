@@ -12,6 +12,7 @@
 //! known feature that Irradia does not render; [`Options::strict`] turns warnings into
 //! errors.
 
+pub mod pbrt;
 pub mod toml_out;
 
 use irradia_scene::file::tree::Node;
@@ -23,10 +24,12 @@ use std::path::{Path, PathBuf};
 pub enum Format {
     /// Irradia's own TOML or JSON.
     Irradia(SceneSyntax),
+    /// pbrt-v4's scene format (`.pbrt`).
+    Pbrt,
 }
 
 /// Every extension [`Format::of`] accepts, for messages and `--help`.
-pub const EXTENSIONS: &[&str] = &["toml", "json"];
+pub const EXTENSIONS: &[&str] = &["toml", "json", "pbrt"];
 
 impl Format {
     /// The format named by `path`'s extension.
@@ -39,6 +42,7 @@ impl Format {
         Ok(match ext.as_str() {
             "toml" => Format::Irradia(SceneSyntax::Toml),
             "json" => Format::Irradia(SceneSyntax::Json),
+            "pbrt" => Format::Pbrt,
             _ => {
                 let list: Vec<String> = EXTENSIONS.iter().map(|e| format!(".{e}")).collect();
                 return Err(SceneError::input(
@@ -104,6 +108,7 @@ pub fn import(path: &Path, opts: &Options) -> Result<Imported, SceneError> {
     let format = Format::of(path)?;
     let imported = match format {
         Format::Irradia(syntax) => import_irradia(path, syntax)?,
+        Format::Pbrt => pbrt::import(path, opts)?,
     };
     imported.check_strict(opts.strict)
 }

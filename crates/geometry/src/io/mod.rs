@@ -41,8 +41,23 @@ impl MeshFile {
     }
 }
 
-/// Reads an OBJ or PLY file (chosen by the extension) into a mesh.
+/// Reads an OBJ or PLY file (chosen by the extension) into a mesh; a gzip-compressed
+/// PLY file (`.ply.gz`, as pbrt-v4's scenes ship them) is decompressed first.
 pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshFileError> {
+    let name = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .map(|n| n.to_ascii_lowercase())
+        .unwrap_or_default();
+    if name.ends_with(".ply.gz") {
+        let packed = read_file(path)?;
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut flate2::read::GzDecoder::new(&packed[..]), &mut bytes)
+            .map_err(|e| {
+                MeshFileError::new(path, None, None, format!("cannot decompress (gzip): {e}"))
+            })?;
+        return ply::parse_ply(&bytes, path)?.into_mesh(path);
+    }
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -55,7 +70,7 @@ pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshFileError> {
                 path,
                 None,
                 None,
-                "unknown mesh format: the name must end in .obj or .ply",
+                "unknown mesh format: the name must end in .obj, .ply or .ply.gz",
             ))
         }
     };
