@@ -10,7 +10,7 @@ use super::surfaces::build_surface;
 use super::transform::read_transform;
 use crate::material::Material;
 use crate::scene::Object;
-use irradia_geometry::{Csg, CsgOp, CsgOperand, Instance, Shape, TriangleMesh};
+use irradia_geometry::{Csg, CsgOp, CsgOperand, Instance, Shape, ShapeGroup, TriangleMesh};
 use std::sync::Arc;
 
 /// CSG operations (their shapes come from the geometry crate's CSG module).
@@ -30,6 +30,7 @@ pub const OTHER_KINDS: &[&str] = &[
     "intersection",
     "difference",
     "merge",
+    "instance",
 ];
 
 /// Materials, with a default one added on first use by an object that names none.
@@ -62,9 +63,56 @@ impl MaterialTable {
     }
 }
 
+/// The shape groups of `[[shape_groups]]` by name: the shared group and the material
+/// of each of its leaves.
+pub type Groups = std::collections::HashMap<String, (Arc<ShapeGroup>, Vec<u32>)>;
+
+/// `[[shape_groups]]`: each a `name` and `objects` (object tables as in `[[objects]]`,
+/// placed in the group's own space), rendered only where an object of `type =
+/// "instance"` places the group.
+pub fn read_shape_groups(v: Option<Val>, mats: &mut MaterialTable) -> Result<Groups> {
+    let mut groups = Groups::new();
+    let Some(v) = v else {
+        return Ok(groups);
+    };
+    for g in v.array()?.iter() {
+        let t = g.table()?;
+        let name_v = t.req("name")?;
+        let name = name_v.str()?.to_string();
+        if groups.contains_key(&name) {
+            return Err(name_v.err(format!("a second shape group named '{name}'")));
+        }
+        let objects_v = t.req("objects")?;
+        let list = objects_v.array()?;
+        if list.is_empty() {
+            return Err(objects_v.err("a shape group needs at least one object"));
+        }
+        let mut members = Vec::new();
+        let mut leaf_materials = Vec::new();
+        for (i, o) in list.iter().enumerate() {
+            let (object, instance, leaves) = read_object(o, i, mats, &groups)?;
+            for leaf in 0..leaves {
+                let m = object.material_for_leaf(leaf);
+                if mats.materials[m as usize].emission.max_component() > 0.0 {
+                    return Err(o.err(
+                        "an object in a shape group cannot emit light (as in Mitsuba, \
+                         emitters are not instanced): place it as an object of its own",
+                    ));
+                }
+                leaf_materials.push(m);
+            }
+            members.push((instance, leaves));
+        }
+        t.finish()?;
+        groups.insert(name, (Arc::new(ShapeGroup::new(members)), leaf_materials));
+    }
+    Ok(groups)
+}
+
 pub fn read_objects(
     v: Option<Val>,
     mats: &mut MaterialTable,
+    groups: &Groups,
 ) -> Result<(Vec<Object>, Vec<Instance>)> {
     let mut objects = Vec::new();
     let mut instances = Vec::new();
@@ -72,37 +120,78 @@ pub fn read_objects(
         return Ok((objects, instances));
     };
     for (i, o) in v.array()?.iter().enumerate() {
-        let t = o.table()?;
-        let name = match t.get("name") {
-            Some(n) => n.str()?.to_string(),
-            None => format!("objects[{i}]"),
-        };
-        let material = mats.lookup(t.get("material"))?;
-        let transform = read_transform(t.get("transform"))?;
-        let kind_v = t.req("type")?;
-        let kind = kind_v.str()?;
-        let mut leaf_materials = Vec::new();
-        let shape = if CSG_KINDS.contains(&kind) {
-            let csg = read_csg(kind, &t, material, mats, &mut leaf_materials)?;
-            if leaf_materials.iter().all(|m| *m == material) {
-                leaf_materials.clear();
-            }
-            Arc::new(csg)
-        } else {
-            match build_shape(kind, &t)? {
-                Some(s) => s,
-                None => return Err(unknown_kind(&kind_v, kind, OTHER_KINDS)),
-            }
-        };
-        t.finish()?;
-        objects.push(Object {
-            name,
-            material,
-            leaf_materials,
-        });
-        instances.push(Instance::new(shape, transform));
+        let (object, instance, _) = read_object(o, i, mats, groups)?;
+        objects.push(object);
+        instances.push(instance);
     }
     Ok((objects, instances))
+}
+
+/// One object table: the object, its placement, and how many leaves its hits report.
+fn read_object(
+    o: &Val,
+    i: usize,
+    mats: &mut MaterialTable,
+    groups: &Groups,
+) -> Result<(Object, Instance, u32)> {
+    let t = o.table()?;
+    let name = match t.get("name") {
+        Some(n) => n.str()?.to_string(),
+        None => format!("objects[{i}]"),
+    };
+    let transform = read_transform(t.get("transform"))?;
+    let kind_v = t.req("type")?;
+    let kind = kind_v.str()?;
+    if kind == "instance" {
+        if let Some(m) = t.get("material") {
+            return Err(m.err("an instance takes its materials from its shape group's objects"));
+        }
+        let group_v = t.req("group")?;
+        let group_name = group_v.str()?;
+        let Some((group, leaf_materials)) = groups.get(group_name) else {
+            let mut known: Vec<&str> = groups.keys().map(String::as_str).collect();
+            known.sort();
+            return Err(group_v.err(format!(
+                "no shape group named '{group_name}' (groups: {})",
+                if known.is_empty() {
+                    "none".to_string()
+                } else {
+                    known.join(", ")
+                }
+            )));
+        };
+        t.finish()?;
+        let object = Object {
+            name,
+            material: leaf_materials[0],
+            leaf_materials: leaf_materials.clone(),
+        };
+        let shape: Arc<dyn Shape> = group.clone();
+        return Ok((object, Instance::new(shape, transform), group.leaf_count()));
+    }
+    let material = mats.lookup(t.get("material"))?;
+    let mut leaf_materials = Vec::new();
+    let mut leaves = 1;
+    let shape: Arc<dyn Shape> = if CSG_KINDS.contains(&kind) {
+        let csg = read_csg(kind, &t, material, mats, &mut leaf_materials)?;
+        if leaf_materials.iter().all(|m| *m == material) {
+            leaf_materials.clear();
+        }
+        leaves = csg.leaf_count();
+        Arc::new(csg)
+    } else {
+        match build_shape(kind, &t)? {
+            Some(s) => s,
+            None => return Err(unknown_kind(&kind_v, kind, OTHER_KINDS)),
+        }
+    };
+    t.finish()?;
+    let object = Object {
+        name,
+        material,
+        leaf_materials,
+    };
+    Ok((object, Instance::new(shape, transform), leaves))
 }
 
 /// Reads a CSG node: `children` is an array of objects (primitives or CSG nodes), each
