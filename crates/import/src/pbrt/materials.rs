@@ -160,6 +160,10 @@ impl Builder {
         }
         let normal_map = p.string("normalmap")?;
         self.finish_params(p, &format!("Material \"{ty}\""), &ignored)?;
+        let reflective = matches!(
+            m.get("type").map(|t| &t.value),
+            Some(Value::Str(t)) if ["diffuse", "conductor", "roughconductor", "plastic", "roughplastic", "principled"].contains(&t.as_str())
+        );
         let node = match normal_map {
             Some(file) => {
                 let mut bm = Node::table(tp);
@@ -178,6 +182,16 @@ impl Builder {
                 nm
             }
             None => m,
+        };
+        // pbrt's reflective BSDFs reflect on both sides of a surface, Mitsuba's on the
+        // front only: `twosided` makes them agree.
+        let node = if reflective {
+            let mut t = Node::table(tp);
+            t.put("type", "twosided", tp);
+            t.set("bsdf", node);
+            t
+        } else {
+            node
         };
         self.add_material(name, node);
         Ok(MatRef {
