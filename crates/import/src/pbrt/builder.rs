@@ -304,7 +304,7 @@ impl Builder {
             )));
         }
         let path = self.resolve(name);
-        let text = crate::read_text(&path).map_err(|e| {
+        let text = read_maybe_gz(&path).map_err(|e| {
             let f = self.files.last().expect("a file");
             let (l, c) = line_col(&f.text, d.pos);
             SceneError {
@@ -816,4 +816,16 @@ pub(super) fn transform_node(m: &DMat4, pos: usize) -> Option<Node> {
 /// `[x, y, z]` as a node.
 pub(super) fn vec_node(v: DVec3, pos: usize) -> Node {
     Node::new(v.to_array(), pos)
+}
+
+/// A text file, gunzipped when its name ends in `.gz` (pbrt-v4 reads such includes).
+fn read_maybe_gz(path: &Path) -> Result<String, SceneError> {
+    if !path.to_string_lossy().to_ascii_lowercase().ends_with(".gz") {
+        return crate::read_text(path);
+    }
+    let bytes = crate::read_bytes(path)?;
+    let mut text = String::new();
+    std::io::Read::read_to_string(&mut flate2::read::GzDecoder::new(&bytes[..]), &mut text)
+        .map_err(|e| SceneError::input("", format!("cannot decompress (gzip): {e}")).with_file(path))?;
+    Ok(text)
 }

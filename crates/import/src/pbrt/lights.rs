@@ -101,7 +101,8 @@ impl Builder {
             }
             "infinite" => {
                 let file = p.string("filename")?;
-                if let Some((_, at)) = p.spec("portal")?.or(None) {
+                if let Some(portal) = p.get("portal") {
+                    let at = portal.pos;
                     self.warn(at, "portal", "infinite light: portals are not used (the map is sampled whole)");
                 }
                 match file {

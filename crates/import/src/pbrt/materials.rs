@@ -371,6 +371,15 @@ impl Builder {
                 None => Ior::Named(default.to_string()),
                 Some((Spec::Named(n), at)) => match spectra::metal(&n) {
                     Some((metal, _)) => Ior::Named(metal.to_string()),
+                    None if n.to_ascii_lowercase().ends_with(".spd") => {
+                        match self.spectrum_file(&n) {
+                            Some(v) => Ior::Rgb(spectra::reflectance_rgb(&v)),
+                            None => {
+                                self.warn(at, &format!("spd:{n}"), format!("{full}: the spectrum file \"{n}\" was not read; copper's is used"));
+                                Ior::Named("Cu".into())
+                            }
+                        }
+                    }
                     None => return Err(At::new(at, format!("{full}: unknown named spectrum \"{n}\""))),
                 },
                 Some((Spec::Rgb(c), _)) => Ior::Rgb(c),
@@ -486,3 +495,15 @@ impl Ior {
         }
     }
 }
+
+impl Builder {
+    /// A spectrum file (`.spd`: wavelength and value pairs), when files may be read.
+    pub(super) fn spectrum_file(&self, name: &str) -> Option<Vec<(f64, f64)>> {
+        if !self.loads_files() {
+            return None;
+        }
+        let text = std::fs::read_to_string(self.resolve(name)).ok()?;
+        irradia_scatter::ior::parse_spd(&text).ok().filter(|v| v.len() >= 2)
+    }
+}
+
