@@ -31,7 +31,12 @@ fn assert_round_trip(path: &Path) -> Imported {
 }
 
 /// Writes `text` as `scene.pbrt` in a fresh folder and imports it.
-fn import_text(text: &str) -> (tempfile::TempDir, Result<Imported, irradia_scene::SceneError>) {
+fn import_text(
+    text: &str,
+) -> (
+    tempfile::TempDir,
+    Result<Imported, irradia_scene::SceneError>,
+) {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("scene.pbrt");
     std::fs::write(&path, text).unwrap();
@@ -72,10 +77,13 @@ fn num(n: &Node) -> f64 {
 
 fn nums(n: &Node) -> Vec<f64> {
     match &n.value {
-        Value::Array(a) => a.iter().flat_map(|x| match &x.value {
-            Value::Array(_) => nums(x),
-            _ => vec![num(x)],
-        }).collect(),
+        Value::Array(a) => a
+            .iter()
+            .flat_map(|x| match &x.value {
+                Value::Array(_) => nums(x),
+                _ => vec![num(x)],
+            })
+            .collect(),
         _ => vec![num(n)],
     }
 }
@@ -92,7 +100,9 @@ fn matrix(o: &Node) -> [f64; 12] {
     match o.get("transform") {
         None => [1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1., 0.],
         Some(t) => {
-            let Value::Array(steps) = &t.value else { panic!() };
+            let Value::Array(steps) = &t.value else {
+                panic!()
+            };
             let v = nums(steps[0].get("matrix").unwrap());
             v.try_into().unwrap()
         }
@@ -126,16 +136,40 @@ fn transforms_against_hand_computed_matrices() {
     ));
     let o = objects(&i);
     assert_eq!(o.len(), 8);
-    assert_close(&matrix(&o[0]), &[1., 0., 0., 1., 0., 1., 0., 2., 0., 0., -1., -3.]);
-    assert_close(&matrix(&o[1]), &[2., 0., 0., 0., 0., 3., 0., 0., 0., 0., -4., 0.]);
+    assert_close(
+        &matrix(&o[0]),
+        &[1., 0., 0., 1., 0., 1., 0., 2., 0., 0., -1., -3.],
+    );
+    assert_close(
+        &matrix(&o[1]),
+        &[2., 0., 0., 0., 0., 3., 0., 0., 0., 0., -4., 0.],
+    );
     // Rotate 90 about z: x -> y, y -> -x.
-    assert_close(&matrix(&o[2]), &[0., -1., 0., 0., 1., 0., 0., 0., 0., 0., -1., 0.]);
+    assert_close(
+        &matrix(&o[2]),
+        &[0., -1., 0., 0., 1., 0., 0., 0., 0., 0., -1., 0.],
+    );
     // T(1,0,0) R_y(90): z -> x, x -> -z; then z negated.
-    assert_close(&matrix(&o[3]), &[0., 0., 1., 1., 0., 1., 0., 0., 1., 0., 0., 0.]);
-    assert_close(&matrix(&o[4]), &[1., 0., 0., 5., 0., 1., 0., 6., 0., 0., -1., -7.]);
-    assert_close(&matrix(&o[5]), &[2., 0., 0., 1., 0., 2., 0., 0., 0., 0., -2., -1.]);
-    assert_close(&matrix(&o[6]), &[1., 0., 0., 0., 0., 1., 0., 0., 0., 0., -1., 0.]);
-    assert_close(&matrix(&o[7]), &[1., 0., 0., 0., 0., 1., 0., 0., 0., 0., -1., 0.]);
+    assert_close(
+        &matrix(&o[3]),
+        &[0., 0., 1., 1., 0., 1., 0., 0., 1., 0., 0., 0.],
+    );
+    assert_close(
+        &matrix(&o[4]),
+        &[1., 0., 0., 5., 0., 1., 0., 6., 0., 0., -1., -7.],
+    );
+    assert_close(
+        &matrix(&o[5]),
+        &[2., 0., 0., 1., 0., 2., 0., 0., 0., 0., -2., -1.],
+    );
+    assert_close(
+        &matrix(&o[6]),
+        &[1., 0., 0., 0., 0., 1., 0., 0., 0., 0., -1., 0.],
+    );
+    assert_close(
+        &matrix(&o[7]),
+        &[1., 0., 0., 0., 0., 1., 0., 0., 0., 0., -1., 0.],
+    );
 }
 
 #[test]
@@ -148,7 +182,10 @@ fn coordinate_systems_and_transform_blocks() {
         CoordSysTransform \"camera\" Shape \"sphere\"\n"
     ));
     let o = objects(&i);
-    assert_close(&matrix(&o[0]), &[1., 0., 0., 1., 0., 1., 0., 0., 0., 0., -1., 0.]);
+    assert_close(
+        &matrix(&o[0]),
+        &[1., 0., 0., 1., 0., 1., 0., 0., 0., 0., -1., 0.],
+    );
     // The camera's frame: at (0, 0, -5) in pbrt, looking along +z: (0, 0, 5) here.
     let m = matrix(&o[1]);
     assert_close(&[m[3], m[7], m[11]], &[0., 0., 5.]);
@@ -224,7 +261,10 @@ fn an_object_on_pbrts_right_stays_on_the_right() {
     let flipped = sphere_column("Scale -1 1 1\n", 1.5);
     assert!(flipped < 0.4, "{flipped}");
     let i = ok("Scale -1 1 1\nLookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\nTranslate 1 2 3\nShape \"sphere\"\n");
-    assert_close(&matrix(&objects(&i)[0]), &[1., 0., 0., 1., 0., 1., 0., 2., 0., 0., 1., 3.]);
+    assert_close(
+        &matrix(&objects(&i)[0]),
+        &[1., 0., 0., 1., 0., 1., 0., 2., 0., 0., 1., 3.],
+    );
 }
 
 // ---- the Cornell box: import, round trip, render against the TOML ------------
@@ -251,14 +291,24 @@ fn cornell_box_renders_as_the_same_scene_written_in_toml() {
         }
     }
     assert!(total > 0.0);
-    assert!(diff / total < 1e-4, "relative difference {} (worst pixel {worst})", diff / total);
+    assert!(
+        diff / total < 1e-4,
+        "relative difference {} (worst pixel {worst})",
+        diff / total
+    );
 }
 
 // ---- materials and textures ---------------------------------------------------
 
 /// Material `name`'s BSDF (inside the `twosided` that reflective ones are wrapped in).
 fn material(i: &Imported, name: &str) -> Node {
-    let m = i.tree.get("materials").unwrap().get(name).cloned().unwrap_or_else(|| panic!("no material {name}"));
+    let m = i
+        .tree
+        .get("materials")
+        .unwrap()
+        .get(name)
+        .cloned()
+        .unwrap_or_else(|| panic!("no material {name}"));
     if m.get("type").map(string).as_deref() == Some("twosided") {
         let mut inner = m.get("bsdf").unwrap().clone();
         if let Some(e) = m.get("emission") {
@@ -298,23 +348,42 @@ fn named_materials_and_textures() {
     assert_eq!(string(r.get("filter_type").unwrap()), "nearest");
     // pbrt reads (s, 1 - t): uv' = (2u, 1 - 3v).
     let to_uv = r.get("to_uv").unwrap();
-    let Value::Array(steps) = &to_uv.value else { panic!() };
+    let Value::Array(steps) = &to_uv.value else {
+        panic!()
+    };
     assert_close(&nums(steps[0].get("scale").unwrap()), &[2., -3.]);
     assert_close(&nums(steps[1].get("translate").unwrap()), &[0., 1.]);
     let board = material(&i, "board").get("reflectance").cloned().unwrap();
     assert_close(&nums(board.get("color0").unwrap()), &[0., 0., 1.]);
     assert_close(&nums(board.get("color1").unwrap()), &[1., 0., 0.]);
-    let Value::Array(steps) = &board.get("to_uv").unwrap().value else { panic!() };
+    let Value::Array(steps) = &board.get("to_uv").unwrap().value else {
+        panic!()
+    };
     assert_close(&nums(steps[0].get("scale").unwrap()), &[2., 2.]);
     assert_eq!(string(material(&i, "gold").get("material").unwrap()), "Au");
     let brushed = material(&i, "brushed");
     assert_eq!(string(brushed.get("type").unwrap()), "roughconductor");
     assert_eq!(string(brushed.get("material").unwrap()), "Cu");
-    assert_close(&[num(brushed.get("alpha_u").unwrap()), num(brushed.get("alpha_v").unwrap())], &[0.04, 0.16]);
+    assert_close(
+        &[
+            num(brushed.get("alpha_u").unwrap()),
+            num(brushed.get("alpha_v").unwrap()),
+        ],
+        &[0.04, 0.16],
+    );
     let glass = material(&i, "glass");
     assert_eq!(string(glass.get("type").unwrap()), "roughdielectric");
-    assert_close(&[num(glass.get("alpha").unwrap()), num(glass.get("int_ior").unwrap())], &[0.5, 1.33]);
-    assert_eq!(string(material(&i, "window").get("type").unwrap()), "thindielectric");
+    assert_close(
+        &[
+            num(glass.get("alpha").unwrap()),
+            num(glass.get("int_ior").unwrap()),
+        ],
+        &[0.5, 1.33],
+    );
+    assert_eq!(
+        string(material(&i, "window").get("type").unwrap()),
+        "thindielectric"
+    );
     let paint = material(&i, "paint");
     assert_eq!(string(paint.get("type").unwrap()), "roughplastic");
     assert_close(&[num(paint.get("alpha").unwrap())], &[0.1]);
@@ -322,7 +391,10 @@ fn named_materials_and_textures() {
     assert_eq!(string(mixed.get("type").unwrap()), "blendbsdf");
     assert_eq!(num(mixed.get("weight").unwrap()), 0.25);
     assert_eq!(num(material(&i, "grey").get("reflectance").unwrap()), 0.25);
-    assert!(i.warnings.iter().any(|w| w.to_string().contains("coateddiffuse")));
+    assert!(i
+        .warnings
+        .iter()
+        .any(|w| w.to_string().contains("coateddiffuse")));
     assert_eq!(string(objects(&i)[0].get("material").unwrap()), "board");
 }
 
@@ -335,7 +407,9 @@ fn spectra_become_rgb() {
         LightSource \"spot\" \"rgb I\" [1 2 3] \"point3 from\" [0 4 0] \"point3 to\" [0 0 0] \"float coneangle\" 20 \"float conedelta\" 5\n\
         LightSource \"infinite\" \"rgb L\" [0.1 0.2 0.3]\n"
     ));
-    let Value::Array(l) = &i.tree.get("lights").unwrap().value else { panic!() };
+    let Value::Array(l) = &i.tree.get("lights").unwrap().value else {
+        panic!()
+    };
     let warm = nums(l[0].get("intensity").unwrap());
     let lum = 0.2126 * warm[0] + 0.7152 * warm[1] + 0.0722 * warm[2];
     assert!((lum - 3.0).abs() < 0.05 && warm[0] > warm[2], "{warm:?}");
@@ -344,7 +418,13 @@ fn spectra_become_rgb() {
     let s = 0.5f64.sqrt();
     assert_close(&d, &[0., -s, -s]);
     assert_eq!(num(l[1].get("irradiance").unwrap()), 1.0);
-    assert_close(&[num(l[2].get("outer_angle").unwrap()), num(l[2].get("inner_angle").unwrap())], &[20., 15.]);
+    assert_close(
+        &[
+            num(l[2].get("outer_angle").unwrap()),
+            num(l[2].get("inner_angle").unwrap()),
+        ],
+        &[20., 15.],
+    );
     assert_eq!(string(l[3].get("type").unwrap()), "constant");
     i.scene().unwrap();
 }
@@ -372,10 +452,19 @@ fn attributes_scope_the_material_the_area_light_and_the_ctm() {
     let m = material(&i, &lit);
     assert_eq!(string(m.get("type").unwrap()), "conductor");
     assert_eq!(num(m.get("emission").unwrap()), 4.0);
-    assert_eq!(m.get("emission_two_sided").map(|b| b.value.clone()), Some(Value::Bool(true)));
-    assert_eq!(o[0].get("flip_normals").map(|b| b.value.clone()), Some(Value::Bool(true)));
+    assert_eq!(
+        m.get("emission_two_sided").map(|b| b.value.clone()),
+        Some(Value::Bool(true))
+    );
+    assert_eq!(
+        o[0].get("flip_normals").map(|b| b.value.clone()),
+        Some(Value::Bool(true))
+    );
     assert!(o[1].get("flip_normals").is_none());
-    assert_close(&matrix(&o[1]), &[1., 0., 0., 0., 0., 1., 0., 0., 0., 0., -1., 0.]);
+    assert_close(
+        &matrix(&o[1]),
+        &[1., 0., 0., 0., 0., 1., 0., 0., 0., 0., -1., 0.],
+    );
     i.scene().unwrap();
 }
 
@@ -397,15 +486,25 @@ fn object_instances_become_shape_groups() {
         AttributeBegin Translate 2 0 0 ObjectInstance \"tree\" AttributeEnd\n\
         ObjectInstance \"tree\"\n"
     ));
-    let Value::Array(groups) = &i.tree.get("shape_groups").unwrap().value else { panic!() };
+    let Value::Array(groups) = &i.tree.get("shape_groups").unwrap().value else {
+        panic!()
+    };
     assert_eq!(groups.len(), 1);
     assert_eq!(string(groups[0].get("name").unwrap()), "tree");
-    let Value::Array(members) = &groups[0].get("objects").unwrap().value else { panic!() };
+    let Value::Array(members) = &groups[0].get("objects").unwrap().value else {
+        panic!()
+    };
     // Members keep pbrt's coordinates; the instance carries the mirror.
-    assert_close(&matrix(&members[1]), &[1., 0., 0., 0., 0., 1., 0., 1., 0., 0., 1., 0.]);
+    assert_close(
+        &matrix(&members[1]),
+        &[1., 0., 0., 0., 0., 1., 0., 1., 0., 0., 1., 0.],
+    );
     let o = objects(&i);
     assert_eq!(string(o[0].get("type").unwrap()), "instance");
-    assert_close(&matrix(&o[0]), &[1., 0., 0., 2., 0., 1., 0., 0., 0., 0., -1., 0.]);
+    assert_close(
+        &matrix(&o[0]),
+        &[1., 0., 0., 2., 0., 1., 0., 0., 0., 0., -1., 0.],
+    );
     i.scene().unwrap();
     let e = err(&format!("{HEAD}ObjectInstance \"nope\"\n"));
     assert!(e.contains("scene.pbrt:4:16") && e.contains("nope"), "{e}");
@@ -422,18 +521,32 @@ fn include_and_import_read_other_files_and_errors_name_them() {
         "# the ball\nShape \"sphere\" \"float radius\" 2\n",
     )
     .unwrap();
-    std::fs::write(dir.path().join("geometry/bad.pbrt"), "Shape \"sphere\"\n  Shape \"cube\"\n").unwrap();
+    std::fs::write(
+        dir.path().join("geometry/bad.pbrt"),
+        "Shape \"sphere\"\n  Shape \"cube\"\n",
+    )
+    .unwrap();
     let main = dir.path().join("main.pbrt");
-    std::fs::write(&main, format!("{HEAD}Include \"geometry/ball.pbrt\"\nImport \"geometry/ball.pbrt\"\n")).unwrap();
+    std::fs::write(
+        &main,
+        format!("{HEAD}Include \"geometry/ball.pbrt\"\nImport \"geometry/ball.pbrt\"\n"),
+    )
+    .unwrap();
     let i = import(&main, &Options::default()).unwrap();
     assert_eq!(objects(&i).len(), 2);
     assert_eq!(num(objects(&i)[0].get("radius").unwrap()), 2.0);
     std::fs::write(&main, format!("{HEAD}Include \"geometry/bad.pbrt\"\n")).unwrap();
     let e = import(&main, &Options::default()).unwrap_err().to_string();
-    assert!(e.contains("bad.pbrt:2:3") && e.contains("unknown shape \"cube\""), "{e}");
+    assert!(
+        e.contains("bad.pbrt:2:3") && e.contains("unknown shape \"cube\""),
+        "{e}"
+    );
     std::fs::write(&main, format!("{HEAD}Include \"geometry/missing.pbrt\"\n")).unwrap();
     let e = import(&main, &Options::default()).unwrap_err().to_string();
-    assert!(e.contains("main.pbrt:4:1") && e.contains("missing.pbrt"), "{e}");
+    assert!(
+        e.contains("main.pbrt:4:1") && e.contains("missing.pbrt"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -460,13 +573,26 @@ fn plymesh_and_gzipped_plymesh_load() {
 #[test]
 fn errors_name_the_line_and_column() {
     let e = err("WorldBegin\n  Shap \"sphere\"\n");
-    assert!(e.contains("scene.pbrt:2:3") && e.contains("unknown directive `Shap`; did you mean `Shape`?"), "{e}");
+    assert!(
+        e.contains("scene.pbrt:2:3")
+            && e.contains("unknown directive `Shap`; did you mean `Shape`?"),
+        "{e}"
+    );
     let e = err("WorldBegin\nShape \"sphere\" \"flaot radius\" 1\n");
-    assert!(e.contains("scene.pbrt:2:16") && e.contains("unknown parameter type `flaot`"), "{e}");
+    assert!(
+        e.contains("scene.pbrt:2:16") && e.contains("unknown parameter type `flaot`"),
+        "{e}"
+    );
     let e = err("WorldBegin\nShape \"cube\"\n");
-    assert!(e.contains("scene.pbrt:2:1") && e.contains("unknown shape \"cube\""), "{e}");
+    assert!(
+        e.contains("scene.pbrt:2:1") && e.contains("unknown shape \"cube\""),
+        "{e}"
+    );
     let e = err("WorldBegin\nShape \"sphere\" \"float radus\" 1\n");
-    assert!(e.contains("scene.pbrt:2:16") && e.contains("unknown parameter \"float radus\""), "{e}");
+    assert!(
+        e.contains("scene.pbrt:2:16") && e.contains("unknown parameter \"float radus\""),
+        "{e}"
+    );
     let e = err("WorldBegin\nShape \"sphere\" \"float radius\" \"big\"\n");
     assert!(e.contains("scene.pbrt:2:31"), "{e}");
     let e = err("WorldBegin\nNamedMaterial \"nope\"\n");
@@ -474,13 +600,19 @@ fn errors_name_the_line_and_column() {
     let e = err("WorldBegin\nMaterial \"plastik\"\n");
     assert!(e.contains("unknown material type \"plastik\""), "{e}");
     let e = err("Translate 1 2\n");
-    assert!(e.contains("scene.pbrt:2:1") || e.contains("scene.pbrt:1:"), "{e}");
+    assert!(
+        e.contains("scene.pbrt:2:1") || e.contains("scene.pbrt:1:"),
+        "{e}"
+    );
     let e = err("WorldBegin\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 3]\n");
     assert!(e.contains("out of range"), "{e}");
     let e = err("WorldBegin\nAttributeEnd\n");
     assert!(e.contains("scene.pbrt:2:1"), "{e}");
     let e = err("Shape \"sphere\" \"string s\" \"unterminated\n");
-    assert!(e.contains("scene.pbrt:1:27") && e.contains("unterminated"), "{e}");
+    assert!(
+        e.contains("scene.pbrt:1:27") && e.contains("unterminated"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -499,7 +631,14 @@ fn unrendered_features_warn_and_strict_refuses_them() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("scene.pbrt");
     std::fs::write(&path, &text).unwrap();
-    let e = import(&path, &Options { strict: true, ..Options::default() }).unwrap_err();
+    let e = import(
+        &path,
+        &Options {
+            strict: true,
+            ..Options::default()
+        },
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("--strict"), "{e}");
 }
 
@@ -507,7 +646,11 @@ fn unrendered_features_warn_and_strict_refuses_them() {
 
 #[test]
 fn parse_str_touches_no_files() {
-    let i = parse_str(&format!("{HEAD}Include \"nowhere.pbrt\"\nShape \"sphere\"\n"), Path::new("mem.pbrt")).unwrap();
+    let i = parse_str(
+        &format!("{HEAD}Include \"nowhere.pbrt\"\nShape \"sphere\"\n"),
+        Path::new("mem.pbrt"),
+    )
+    .unwrap();
     assert_eq!(objects(&i).len(), 1);
     assert!(i.notes.iter().any(|n| n.contains("nowhere.pbrt")));
 }
@@ -519,8 +662,14 @@ fn coverage_counts_and_goes_on_after_errors() {
         Path::new("c.pbrt"),
     );
     assert_eq!(c.total("shape", "sphere"), 2);
-    assert_eq!(c.counts[&("shape".to_string(), "cube".to_string())].get(&Status::Refused), Some(&1));
-    assert_eq!(c.counts[&("material".to_string(), "coateddiffuse".to_string())].get(&Status::Warned), Some(&1));
+    assert_eq!(
+        c.counts[&("shape".to_string(), "cube".to_string())].get(&Status::Refused),
+        Some(&1)
+    );
+    assert_eq!(
+        c.counts[&("material".to_string(), "coateddiffuse".to_string())].get(&Status::Warned),
+        Some(&1)
+    );
     assert_eq!(c.errors.len(), 1);
 }
 
@@ -539,4 +688,3 @@ fn real_scene_excerpts_import() {
         assert!(c.errors.is_empty(), "{}: {:?}", path.display(), c.errors);
     }
 }
-

@@ -101,10 +101,7 @@ const MAX_INCLUDE_DEPTH: usize = 32;
 
 impl Builder {
     pub fn new(origin: &Path, text: &str, mode: Mode) -> Builder {
-        let dir = origin
-            .parent()
-            .map(Path::to_path_buf)
-            .unwrap_or_default();
+        let dir = origin.parent().map(Path::to_path_buf).unwrap_or_default();
         Builder {
             mode,
             origin: origin.to_path_buf(),
@@ -188,7 +185,9 @@ impl Builder {
     pub(super) fn error(&self, at: At) -> SceneError {
         let f = self.files.last().expect("a file");
         let (l, c) = line_col(&f.text, at.pos);
-        SceneError::input("", at.message).at(l, c).with_file(&f.path)
+        SceneError::input("", at.message)
+            .at(l, c)
+            .with_file(&f.path)
     }
 
     /// The position in the main file's text a tree node made now carries.
@@ -225,7 +224,9 @@ impl Builder {
     /// The mirror between pbrt's world and Irradia's, fixed by the camera (the
     /// default camera when none came).
     pub(super) fn mirror(&mut self) -> DMat4 {
-        *self.mirror.get_or_insert_with(|| mirror_for(&DMat4::IDENTITY))
+        *self
+            .mirror
+            .get_or_insert_with(|| mirror_for(&DMat4::IDENTITY))
     }
 
     /// Whether referenced files may be opened.
@@ -258,7 +259,10 @@ impl Builder {
                 self.warn(
                     u.pos,
                     &format!("{what}:{}", u.name),
-                    format!("{what}: parameter `{}` is not rendered by Irradia (ignored)", u.name),
+                    format!(
+                        "{what}: parameter `{}` is not rendered by Irradia (ignored)",
+                        u.name
+                    ),
                 );
             } else {
                 return Err(At::new(
@@ -300,7 +304,10 @@ impl Builder {
         if self.files.len() > MAX_INCLUDE_DEPTH {
             return Err(self.error(At::new(
                 d.pos,
-                format!("{} nested more than {MAX_INCLUDE_DEPTH} deep (a cycle?)", d.name),
+                format!(
+                    "{} nested more than {MAX_INCLUDE_DEPTH} deep (a cycle?)",
+                    d.name
+                ),
             )));
         }
         let path = self.resolve(name);
@@ -456,7 +463,10 @@ impl Builder {
                 if !TARGETS.contains(&target.as_str()) {
                     return Err(At::new(
                         d.args[0].1,
-                        format!("Attribute: unknown target \"{target}\" (valid: {})", TARGETS.join(", ")),
+                        format!(
+                            "Attribute: unknown target \"{target}\" (valid: {})",
+                            TARGETS.join(", ")
+                        ),
                     ));
                 }
                 let p = Params::new(d.params.clone())?;
@@ -484,7 +494,10 @@ impl Builder {
                     self.warn(
                         param.pos,
                         &format!("option:{}", param.name),
-                        format!("Option \"{}\" is a pbrt run-time option (ignored)", param.name),
+                        format!(
+                            "Option \"{}\" is a pbrt run-time option (ignored)",
+                            param.name
+                        ),
                     );
                 }
                 Ok(())
@@ -560,7 +573,10 @@ impl Builder {
                 let p = self.params(d, "material")?;
                 let ty_pos = p.pos("type", pos);
                 let ty = p.string("type")?.ok_or_else(|| {
-                    At::new(pos, format!("MakeNamedMaterial \"{name}\" needs \"string type\""))
+                    At::new(
+                        pos,
+                        format!("MakeNamedMaterial \"{name}\" needs \"string type\""),
+                    )
                 })?;
                 if self.named_materials.contains_key(&name) {
                     self.warn(
@@ -646,7 +662,8 @@ impl Builder {
                 let m = self.mirror() * self.gs.ctm;
                 let tp = self.tp(pos);
                 let mut o = Node::table(tp);
-                o.put("type", "instance", tp).put("group", name.as_str(), tp);
+                o.put("type", "instance", tp)
+                    .put("group", name.as_str(), tp);
                 if let Some(t) = transform_node(&m, tp) {
                     o.set("transform", t);
                 }
@@ -739,7 +756,8 @@ impl Builder {
             let (_, kind, pos) = self.stack[self.stack.len() - 1];
             // The main file's stack only: positions are in the main text.
             let (l, c) = line_col(&text, pos);
-            self.notes.push(format!("{kind} at {l}:{c} is never closed"));
+            self.notes
+                .push(format!("{kind} at {l}:{c} is never closed"));
         }
         let mut root = Node::table(0);
         let (camera, image, render) = self.view_nodes();
@@ -826,6 +844,8 @@ fn read_maybe_gz(path: &Path) -> Result<String, SceneError> {
     let bytes = crate::read_bytes(path)?;
     let mut text = String::new();
     std::io::Read::read_to_string(&mut flate2::read::GzDecoder::new(&bytes[..]), &mut text)
-        .map_err(|e| SceneError::input("", format!("cannot decompress (gzip): {e}")).with_file(path))?;
+        .map_err(|e| {
+            SceneError::input("", format!("cannot decompress (gzip): {e}")).with_file(path)
+        })?;
     Ok(text)
 }

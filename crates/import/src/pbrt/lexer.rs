@@ -146,7 +146,7 @@ mod tests {
                 Kind::Close
             ]
         );
-        assert_eq!(t[2].pos, 21);
+        assert_eq!(t[2].pos, 20);
     }
 
     #[test]

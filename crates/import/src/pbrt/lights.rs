@@ -19,15 +19,26 @@ impl Builder {
             None => [1.0; 3],
             Some((Spec::Rgb(c), _)) => c,
             Some((Spec::Float(x), _)) => [x; 3],
-            Some((Spec::Blackbody(t), at)) => spectra::blackbody_rgb(t)
-                .ok_or_else(|| At::new(at, format!("{key}: a blackbody needs a positive temperature")))?,
-            Some((Spec::Named(n), at)) => spectra::illuminant_rgb(&n)
-                .ok_or_else(|| At::new(at, format!("{key}: unknown named spectrum \"{n}\" for a light")))?,
+            Some((Spec::Blackbody(t), at)) => spectra::blackbody_rgb(t).ok_or_else(|| {
+                At::new(
+                    at,
+                    format!("{key}: a blackbody needs a positive temperature"),
+                )
+            })?,
+            Some((Spec::Named(n), at)) => spectra::illuminant_rgb(&n).ok_or_else(|| {
+                At::new(
+                    at,
+                    format!("{key}: unknown named spectrum \"{n}\" for a light"),
+                )
+            })?,
             Some((Spec::Sampled(v), _)) => {
                 spectra::emission_rgb(|w| spectra::sample(&v, w)).unwrap_or([0.0; 3])
             }
             Some((Spec::Texture(_), at)) => {
-                return Err(At::new(at, format!("{key}: a light's colour cannot be a texture")))
+                return Err(At::new(
+                    at,
+                    format!("{key}: a light's colour cannot be a texture"),
+                ))
             }
         };
         let s = match p.spec("scale")? {
@@ -126,7 +137,11 @@ impl Builder {
             }
             _ => return Err(At::new(pos, format!("unknown light \"{ty}\" (valid: point, spot, distant, infinite, goniometric, projection)"))),
         }
-        self.finish_params(p, &format!("LightSource \"{ty}\""), &["power", "illuminance"])?;
+        self.finish_params(
+            p,
+            &format!("LightSource \"{ty}\""),
+            &["power", "illuminance"],
+        )?;
         self.lights.push(l);
         Ok(())
     }
@@ -135,7 +150,15 @@ impl Builder {
     /// which Irradia's `envmap` (latitude-longitude) does not read: such a map becomes a
     /// `constant` light of its mean radiance, with a warning. A 2:1 map (pbrt-v3's
     /// latitude-longitude, +z up) becomes an `envmap` turned into place.
-    fn envmap(&mut self, l: &mut Node, file: &str, scale: [f64; 3], world: DMat4, pos: usize, tp: usize) -> Result<(), At> {
+    fn envmap(
+        &mut self,
+        l: &mut Node,
+        file: &str,
+        scale: [f64; 3],
+        world: DMat4,
+        pos: usize,
+        tp: usize,
+    ) -> Result<(), At> {
         let path = self.resolve(file);
         let dims = if self.loads_files() {
             image::image_dimensions(&path).ok()
@@ -147,7 +170,11 @@ impl Builder {
         let lin = DMat3::from_mat4(world);
         let r = lin * a;
         let rot = {
-            let c = [r.x_axis.normalize(), r.y_axis.normalize(), r.z_axis.normalize()];
+            let c = [
+                r.x_axis.normalize(),
+                r.y_axis.normalize(),
+                r.z_axis.normalize(),
+            ];
             DMat3::from_cols(c[0], c[1], c[2])
         };
         let orthonormal = (rot.transpose() * rot - DMat3::IDENTITY)
@@ -160,7 +187,11 @@ impl Builder {
                 l.put("type", "envmap", tp).put("filename", file, tp);
                 let s = (scale[0] + scale[1] + scale[2]) / 3.0;
                 if scale.iter().any(|c| (c - s).abs() > 1e-12) {
-                    self.warn(pos, "envmap-tint", "infinite light: a coloured scale on an image is applied as its mean");
+                    self.warn(
+                        pos,
+                        "envmap-tint",
+                        "infinite light: a coloured scale on an image is applied as its mean",
+                    );
                 }
                 if s != 1.0 {
                     l.put("scale", s, tp);
@@ -176,7 +207,11 @@ impl Builder {
                 l.set("to_world", Node::new(vec![step], tp));
             }
             _ => {
-                let mean = if self.loads_files() { mean_radiance(&path) } else { None };
+                let mean = if self.loads_files() {
+                    mean_radiance(&path)
+                } else {
+                    None
+                };
                 let c = mean.unwrap_or([1.0; 3]);
                 self.warn(
                     pos,
@@ -187,7 +222,10 @@ impl Builder {
                     ),
                 );
                 l.put("type", "constant", tp);
-                l.set("radiance", rgb_node([c[0] * scale[0], c[1] * scale[1], c[2] * scale[2]], tp));
+                l.set(
+                    "radiance",
+                    rgb_node([c[0] * scale[0], c[1] * scale[1], c[2] * scale[2]], tp),
+                );
             }
         }
         Ok(())
@@ -196,13 +234,20 @@ impl Builder {
     pub(super) fn area_light(&mut self, ty: &str, p: &Params, pos: usize) -> Result<(), At> {
         self.kind_now = Some(("arealight", ty.to_string()));
         if ty != "diffuse" {
-            return Err(At::new(pos, format!("unknown area light \"{ty}\" (valid: diffuse)")));
+            return Err(At::new(
+                pos,
+                format!("unknown area light \"{ty}\" (valid: diffuse)"),
+            ));
         }
         let radiance = self.light_rgb(p, "L")?;
         let two_sided = p.bool("twosided", false)?;
         if p.has("filename") {
             let _ = p.string("filename")?;
-            self.warn(pos, "area-image", "area light: an image of emission is not rendered (L is used)");
+            self.warn(
+                pos,
+                "area-image",
+                "area light: an image of emission is not rendered (L is used)",
+            );
         }
         self.finish_params(p, "AreaLightSource \"diffuse\"", &["power"])?;
         self.gs.area = Some(super::builder::AreaLight {
@@ -223,8 +268,8 @@ fn mean_radiance(path: &std::path::Path) -> Option<[f64; 3]> {
     }
     let mut s = [0.0f64; 3];
     for px in img.pixels() {
-        for k in 0..3 {
-            s[k] += px.0[k] as f64;
+        for (acc, c) in s.iter_mut().zip(px.0) {
+            *acc += c as f64;
         }
     }
     Some(s.map(|x| x / n))

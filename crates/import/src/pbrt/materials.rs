@@ -98,7 +98,10 @@ impl Builder {
                         })
                         .collect::<Vec<_>>(),
                     Some(par) => {
-                        return Err(At::new(par.pos, "mix: \"string materials\" takes two names"))
+                        return Err(At::new(
+                            par.pos,
+                            "mix: \"string materials\" takes two names",
+                        ))
                     }
                     None => return Err(At::new(pos, "mix needs \"string materials\" [a b]")),
                 };
@@ -143,12 +146,7 @@ impl Builder {
                 m.set("reflectance", refl);
                 ignored.push("*");
             }
-            _ => {
-                return Err(At::new(
-                    pos,
-                    format!("unknown material type \"{ty}\""),
-                ))
-            }
+            _ => return Err(At::new(pos, format!("unknown material type \"{ty}\""))),
         }
         if p.has("displacement") {
             let _ = p.get("displacement");
@@ -215,7 +213,12 @@ impl Builder {
                     );
                     x
                 }
-                None => return Err(At::new(at, format!("{key}: unknown named spectrum \"{n}\""))),
+                None => {
+                    return Err(At::new(
+                        at,
+                        format!("{key}: unknown named spectrum \"{n}\""),
+                    ))
+                }
             },
             Some((Spec::Sampled(v), at)) => {
                 self.warn(
@@ -227,11 +230,18 @@ impl Builder {
             }
             Some((Spec::Rgb(c), _)) => (c[0] + c[1] + c[2]) / 3.0,
             Some((Spec::Texture(_), at)) => {
-                self.warn(at, "eta-tex", format!("{key}: a textured index of refraction is rendered as 1.5"));
+                self.warn(
+                    at,
+                    "eta-tex",
+                    format!("{key}: a textured index of refraction is rendered as 1.5"),
+                );
                 1.5
             }
             Some((Spec::Blackbody(_), at)) => {
-                return Err(At::new(at, format!("{key}: a blackbody is not an index of refraction")))
+                return Err(At::new(
+                    at,
+                    format!("{key}: a blackbody is not an index of refraction"),
+                ))
             }
         };
         if !(eta > 0.0 && eta.is_finite()) {
@@ -246,8 +256,8 @@ impl Builder {
     /// `roughness`, `uroughness`, `vroughness`, `remaproughness` (with `prefix`:
     /// `interface.` or `conductor.` of coatedconductor).
     fn roughness(&mut self, p: &Params, prefix: &str, pos: usize) -> Result<Rough, At> {
-        let remap = p.bool(&format!("{prefix}remaproughness"), true)?
-            && p.bool("remaproughness", true)?;
+        let remap =
+            p.bool(&format!("{prefix}remaproughness"), true)? && p.bool("remaproughness", true)?;
         let base = p.spec(&format!("{prefix}roughness"))?;
         let u = p.spec(&format!("{prefix}uroughness"))?.or(base.clone());
         let v = p.spec(&format!("{prefix}vroughness"))?.or(base);
@@ -256,7 +266,10 @@ impl Builder {
                 None => Node::new(0.0, 0),
                 Some((Spec::Float(r), at)) => {
                     if r < 0.0 {
-                        return Err(At::new(at, format!("roughness must not be negative (got {r})")));
+                        return Err(At::new(
+                            at,
+                            format!("roughness must not be negative (got {r})"),
+                        ));
                     }
                     Node::new(if remap { r.sqrt() } else { r }, self.tp(at))
                 }
@@ -335,7 +348,15 @@ impl Builder {
     ) -> Result<(), At> {
         let rough = self.roughness(p, prefix, pos)?;
         let smooth = matches!(rough, Rough::Smooth);
-        m.put("type", if smooth { "conductor" } else { "roughconductor" }, tp);
+        m.put(
+            "type",
+            if smooth {
+                "conductor"
+            } else {
+                "roughconductor"
+            },
+            tp,
+        );
         let (eta, k) = self.conductor_ior(p, prefix, pos)?;
         match (eta, k) {
             (Ior::Named(a), Ior::Named(b)) if a == b && a != "CuZn" => {
@@ -351,12 +372,15 @@ impl Builder {
     }
 
     fn conductor_ior(&mut self, p: &Params, prefix: &str, pos: usize) -> Result<(Ior, Ior), At> {
-        let refl_key = if prefix.is_empty() { "reflectance".to_string() } else { "reflectance".to_string() };
-        if let Some((s, at)) = p.spec(&refl_key)? {
+        if let Some((s, at)) = p.spec("reflectance")? {
             // pbrt-v4: eta = 1, k = 2 sqrt(r) / sqrt(1 - r).
             let n = self.spec_node(&s, at, Want::Color, "reflectance")?;
             let r = constant(&n).unwrap_or_else(|| {
-                self.warn(at, "conductor-refl-tex", "a textured conductor reflectance is rendered as 0.8");
+                self.warn(
+                    at,
+                    "conductor-refl-tex",
+                    "a textured conductor reflectance is rendered as 0.8",
+                );
                 [0.8; 3]
             });
             let k = r.map(|r| {
@@ -380,17 +404,29 @@ impl Builder {
                             }
                         }
                     }
-                    None => return Err(At::new(at, format!("{full}: unknown named spectrum \"{n}\""))),
+                    None => {
+                        return Err(At::new(
+                            at,
+                            format!("{full}: unknown named spectrum \"{n}\""),
+                        ))
+                    }
                 },
                 Some((Spec::Rgb(c), _)) => Ior::Rgb(c),
                 Some((Spec::Float(x), _)) => Ior::Rgb([x; 3]),
                 Some((Spec::Sampled(v), _)) => Ior::Rgb(spectra::reflectance_rgb(&v)),
                 Some((Spec::Texture(_), at)) => {
-                    self.warn(at, "ior-tex", format!("{full}: a textured {key} is rendered as copper's"));
+                    self.warn(
+                        at,
+                        "ior-tex",
+                        format!("{full}: a textured {key} is rendered as copper's"),
+                    );
                     Ior::Named("Cu".into())
                 }
                 Some((Spec::Blackbody(_), at)) => {
-                    return Err(At::new(at, format!("{full}: a blackbody is not an index of refraction")))
+                    return Err(At::new(
+                        at,
+                        format!("{full}: a blackbody is not an index of refraction"),
+                    ))
                 }
             })
         };
@@ -402,7 +438,13 @@ impl Builder {
 
     /// coatedconductor → `principled`: metallic, the conductor's normal-incidence
     /// reflectance as base colour, its roughness, and a clear coat for the interface.
-    fn coated_conductor(&mut self, m: &mut Node, p: &Params, tp: usize, pos: usize) -> Result<(), At> {
+    fn coated_conductor(
+        &mut self,
+        m: &mut Node,
+        p: &Params,
+        tp: usize,
+        pos: usize,
+    ) -> Result<(), At> {
         let (eta, k) = self.conductor_ior(p, "conductor.", pos)?;
         let (e, k) = (eta.rgb("eta"), k.rgb("k"));
         let f0: [f64; 3] = std::array::from_fn(|i| {
@@ -428,7 +470,13 @@ impl Builder {
     }
 
     /// The emitting twin of material `base` (an area light on a shape).
-    pub(super) fn emitting(&mut self, base: &str, radiance: [f64; 3], two_sided: bool, tp: usize) -> String {
+    pub(super) fn emitting(
+        &mut self,
+        base: &str,
+        radiance: [f64; 3],
+        two_sided: bool,
+        tp: usize,
+    ) -> String {
         let key = format!(
             "{base}+emit({},{},{}{})",
             fmt(radiance[0]),
@@ -503,7 +551,8 @@ impl Builder {
             return None;
         }
         let text = std::fs::read_to_string(self.resolve(name)).ok()?;
-        irradia_scatter::ior::parse_spd(&text).ok().filter(|v| v.len() >= 2)
+        irradia_scatter::ior::parse_spd(&text)
+            .ok()
+            .filter(|v| v.len() >= 2)
     }
 }
-

@@ -9,8 +9,23 @@ use std::cell::Cell;
 /// Every parameter type of pbrt-v4 (with v3's spellings `point`, `vector`, `normal`,
 /// `color`).
 pub const TYPES: &[&str] = &[
-    "integer", "float", "point2", "vector2", "point3", "vector3", "normal3", "normal", "point",
-    "vector", "rgb", "color", "spectrum", "blackbody", "string", "texture", "bool",
+    "integer",
+    "float",
+    "point2",
+    "vector2",
+    "point3",
+    "vector3",
+    "normal3",
+    "normal",
+    "point",
+    "vector",
+    "rgb",
+    "color",
+    "spectrum",
+    "blackbody",
+    "string",
+    "texture",
+    "bool",
 ];
 
 /// A colour-like value of a parameter.
@@ -169,7 +184,12 @@ impl Params {
     pub fn vec3s(&self, name: &str) -> Result<Option<Vec<[f64; 3]>>, At> {
         Ok(self
             .typed(name, &["point3", "vector3", "normal3"])?
-            .map(|p| nums(&p.values).chunks(3).map(|c| [c[0], c[1], c[2]]).collect()))
+            .map(|p| {
+                nums(&p.values)
+                    .chunks(3)
+                    .map(|c| [c[0], c[1], c[2]])
+                    .collect()
+            }))
     }
 
     pub fn vec3(&self, name: &str, default: [f64; 3]) -> Result<[f64; 3], At> {
@@ -286,7 +306,7 @@ fn check_values(p: &Param) -> Result<(), At> {
                 return Err(at(i, format!("parameter {decl} takes numbers")));
             }
         }
-        if p.values.len() % group != 0 {
+        if !p.values.len().is_multiple_of(group) {
             return Err(At::new(
                 p.pos,
                 format!(
@@ -326,16 +346,14 @@ fn check_values(p: &Param) -> Result<(), At> {
                 ));
             }
         }
-        "spectrum" => {
-            if !matches!(&p.values[..], [PVal::Str(_)]) {
-                numeric(2)?;
-                let w: Vec<f64> = nums(&p.values).iter().step_by(2).copied().collect();
-                if w.windows(2).any(|w| w[1] <= w[0]) {
-                    return Err(At::new(
-                        p.pos,
-                        format!("parameter {decl}: the wavelengths must increase"),
-                    ));
-                }
+        "spectrum" if !matches!(&p.values[..], [PVal::Str(_)]) => {
+            numeric(2)?;
+            let w: Vec<f64> = nums(&p.values).iter().step_by(2).copied().collect();
+            if w.windows(2).any(|w| w[1] <= w[0]) {
+                return Err(At::new(
+                    p.pos,
+                    format!("parameter {decl}: the wavelengths must increase"),
+                ));
             }
         }
         "string" | "texture" => {

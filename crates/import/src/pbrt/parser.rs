@@ -115,8 +115,8 @@ fn shape_of(name: &str) -> Option<Shape> {
         "Transform" | "ConcatTransform" => Shape::Numbers(16),
         "TransformTimes" => Shape::Numbers(2),
         "ActiveTransform" => Shape::Word,
-        "CoordinateSystem" | "CoordSysTransform" | "ObjectBegin" | "ObjectInstance"
-        | "Include" | "Import" | "NamedMaterial" | "ColorSpace" => Shape::Strings(1),
+        "CoordinateSystem" | "CoordSysTransform" | "ObjectBegin" | "ObjectInstance" | "Include"
+        | "Import" | "NamedMaterial" | "ColorSpace" => Shape::Strings(1),
         "MediumInterface" => Shape::OneOrTwoStrings,
         "Camera" | "Sampler" | "Film" | "Integrator" | "PixelFilter" | "Accelerator" | "Shape"
         | "Material" | "LightSource" | "AreaLightSource" | "MakeNamedMaterial"
@@ -219,7 +219,13 @@ impl<'t> Parser<'t> {
             Shape::Strings(n) => self.strings(&mut d, n)?,
             Shape::OneOrTwoStrings => {
                 self.strings(&mut d, 1)?;
-                if matches!(self.peek(), Some(Token { kind: Kind::Str(_), .. })) {
+                if matches!(
+                    self.peek(),
+                    Some(Token {
+                        kind: Kind::Str(_),
+                        ..
+                    })
+                ) {
                     self.strings(&mut d, 1)?;
                 }
             }
@@ -233,7 +239,13 @@ impl<'t> Parser<'t> {
     }
 
     fn numbers(&mut self, d: &mut Directive, n: usize) -> Result<(), SyntaxError> {
-        let bracketed = matches!(self.peek(), Some(Token { kind: Kind::Open, .. }));
+        let bracketed = matches!(
+            self.peek(),
+            Some(Token {
+                kind: Kind::Open,
+                ..
+            })
+        );
         if bracketed {
             self.i += 1;
         }
@@ -255,7 +267,8 @@ impl<'t> Parser<'t> {
                     }
                 },
                 other => {
-                    let found = other.map_or("the end of the file".to_string(), |t| describe(&t.kind));
+                    let found =
+                        other.map_or("the end of the file".to_string(), |t| describe(&t.kind));
                     return err(
                         self.next_pos(),
                         format!("{} expects {n} numbers, found {k} and then {found}", d.name),
@@ -290,7 +303,8 @@ impl<'t> Parser<'t> {
                     self.i += 1;
                 }
                 other => {
-                    let found = other.map_or("the end of the file".to_string(), |t| describe(&t.kind));
+                    let found =
+                        other.map_or("the end of the file".to_string(), |t| describe(&t.kind));
                     return err(
                         self.next_pos(),
                         format!("{} expects a quoted string here, found {found}", d.name),
@@ -345,10 +359,12 @@ impl<'t> Parser<'t> {
                         }
                     }
                 }
-                Some(t @ Token {
-                    kind: Kind::Str(_) | Kind::Word(_),
-                    ..
-                }) => {
+                Some(
+                    t @ Token {
+                        kind: Kind::Str(_) | Kind::Word(_),
+                        ..
+                    },
+                ) => {
                     // A bare word that is a directive name ends the list: the value
                     // is missing.
                     if let Kind::Word(w) = &t.kind {
@@ -360,7 +376,12 @@ impl<'t> Parser<'t> {
                     value_pos.push(t.pos);
                     self.i += 1;
                 }
-                _ => return err(self.next_pos(), format!("parameter \"{decl}\" has no value")),
+                _ => {
+                    return err(
+                        self.next_pos(),
+                        format!("parameter \"{decl}\" has no value"),
+                    )
+                }
             }
             d.params.push(Param {
                 ty,

@@ -31,7 +31,7 @@ impl Builder {
         match ty {
             "sphere" => {
                 let r = p.float("radius", 1.0)?;
-                if !(r > 0.0) {
+                if r <= 0.0 {
                     return Err(At::new(p.pos("radius", pos), format!("sphere: radius must be positive (got {r})")));
                 }
                 self.partial(p, pos, ty, r)?;
@@ -44,7 +44,7 @@ impl Builder {
                 let h = p.float("height", 0.0)?;
                 let r = p.float("radius", 1.0)?;
                 let ri = p.float("innerradius", 0.0)?;
-                if !(r > 0.0) || ri < 0.0 || ri >= r {
+                if r <= 0.0 || ri < 0.0 || ri >= r {
                     return Err(At::new(pos, format!("disk: need 0 <= innerradius < radius (got {ri}, {r})")));
                 }
                 if p.float("phimax", 360.0)? < 360.0 {
@@ -65,7 +65,7 @@ impl Builder {
                 let r = p.float("radius", 1.0)?;
                 let z0 = p.float("zmin", -1.0)?;
                 let z1 = p.float("zmax", 1.0)?;
-                if !(r > 0.0) || z0 == z1 {
+                if r <= 0.0 || z0 == z1 {
                     return Err(At::new(pos, "cylinder: need radius > 0 and zmin != zmax"));
                 }
                 if p.float("phimax", 360.0)? < 360.0 {
@@ -221,7 +221,11 @@ impl Builder {
         let z1 = p.float("zmax", r)?;
         let phi = p.float("phimax", 360.0)?;
         if z0 > -r || z1 < r || phi < 360.0 {
-            self.warn(pos, "partial", format!("{ty}: partial quadrics (zmin, zmax, phimax) are rendered whole"));
+            self.warn(
+                pos,
+                "partial",
+                format!("{ty}: partial quadrics (zmin, zmax, phimax) are rendered whole"),
+            );
         }
         Ok(())
     }
@@ -236,20 +240,44 @@ impl Builder {
         }
     }
 
-    fn per_vertex3(&mut self, p: &Params, key: &str, n: usize, pos: usize) -> Result<Option<Vec<[f64; 3]>>, At> {
+    fn per_vertex3(
+        &mut self,
+        p: &Params,
+        key: &str,
+        n: usize,
+        pos: usize,
+    ) -> Result<Option<Vec<[f64; 3]>>, At> {
         match p.vec3s(key)? {
             None => Ok(None),
             Some(v) if v.len() == n => Ok(Some(v)),
-            Some(v) => Err(At::new(p.pos(key, pos), format!("{key}: {} values for {n} vertices", v.len()))),
+            Some(v) => Err(At::new(
+                p.pos(key, pos),
+                format!("{key}: {} values for {n} vertices", v.len()),
+            )),
         }
     }
 
-    fn per_vertex2(&mut self, p: &Params, key: &str, n: usize, pos: usize) -> Result<Option<Vec<[f64; 2]>>, At> {
-        let key = if p.has(key) { key } else if p.has("st") { "st" } else { key };
+    fn per_vertex2(
+        &mut self,
+        p: &Params,
+        key: &str,
+        n: usize,
+        pos: usize,
+    ) -> Result<Option<Vec<[f64; 2]>>, At> {
+        let key = if p.has(key) {
+            key
+        } else if p.has("st") {
+            "st"
+        } else {
+            key
+        };
         match p.vec2s(key)? {
             None => Ok(None),
             Some(v) if v.len() == n => Ok(Some(v)),
-            Some(v) => Err(At::new(p.pos(key, pos), format!("{key}: {} values for {n} vertices", v.len()))),
+            Some(v) => Err(At::new(
+                p.pos(key, pos),
+                format!("{key}: {} values for {n} vertices", v.len()),
+            )),
         }
     }
 
@@ -270,21 +298,40 @@ impl Builder {
             }
         }
         o.put("type", "triangles", tp);
-        o.set("positions", Node::new(pts.iter().map(|p| Node::new(*p, tp)).collect::<Vec<_>>(), tp));
+        o.set(
+            "positions",
+            Node::new(
+                pts.iter().map(|p| Node::new(*p, tp)).collect::<Vec<_>>(),
+                tp,
+            ),
+        );
         o.set(
             "indices",
             Node::new(
                 tris.iter()
-                    .map(|t| Node::new(t.iter().map(|i| Node::new(*i as i64, tp)).collect::<Vec<_>>(), tp))
+                    .map(|t| {
+                        Node::new(
+                            t.iter()
+                                .map(|i| Node::new(*i as i64, tp))
+                                .collect::<Vec<_>>(),
+                            tp,
+                        )
+                    })
                     .collect::<Vec<_>>(),
                 tp,
             ),
         );
         if let Some(n) = normals {
-            o.set("normals", Node::new(n.iter().map(|v| Node::new(*v, tp)).collect::<Vec<_>>(), tp));
+            o.set(
+                "normals",
+                Node::new(n.iter().map(|v| Node::new(*v, tp)).collect::<Vec<_>>(), tp),
+            );
         }
         if let Some(uv) = uv {
-            o.set("uv", Node::new(uv.iter().map(|v| Node::new(*v, tp)).collect::<Vec<_>>(), tp));
+            o.set(
+                "uv",
+                Node::new(uv.iter().map(|v| Node::new(*v, tp)).collect::<Vec<_>>(), tp),
+            );
         }
     }
 }
@@ -295,7 +342,10 @@ fn check_indices(idx: &[i64], n: usize, k: usize, pos: usize) -> Result<Vec<Vec<
     for (j, c) in idx.chunks(k).enumerate() {
         for &i in c {
             if i < 0 || i as usize >= n {
-                return Err(At::new(pos, format!("index {i} (in face {j}) is out of range: there are {n} vertices")));
+                return Err(At::new(
+                    pos,
+                    format!("index {i} (in face {j}) is out of range: there are {n} vertices"),
+                ));
             }
         }
         out.push(c.iter().map(|&i| i as u32).collect());

@@ -46,7 +46,7 @@ pub fn planck(lambda_nm: f64, t: f64) -> f64 {
 
 /// A blackbody's RGB of luminance 1.
 pub fn blackbody_rgb(t: f64) -> Option<[f64; 3]> {
-    if !(t > 0.0) {
+    if t.is_nan() || t <= 0.0 {
         return None;
     }
     emission_rgb(|w| planck(w, t))

@@ -73,7 +73,9 @@ impl Builder {
             _ => {
                 return Err(At::new(
                     ty_pos,
-                    format!("Texture \"{name}\": unknown texture type \"{ty}\" (valid: float, spectrum)"),
+                    format!(
+                    "Texture \"{name}\": unknown texture type \"{ty}\" (valid: float, spectrum)"
+                ),
                 ))
             }
         };
@@ -119,9 +121,7 @@ impl Builder {
                 let a = self.tex_param(p, "tex", want, 1.0)?;
                 let b = self.tex_param(p, "scale", Want::Float, 1.0)?;
                 match (constant(&a), constant(&b)) {
-                    (Some(x), Some(y)) => {
-                        rgb_node([x[0] * y[0], x[1] * y[1], x[2] * y[2]], tp)
-                    }
+                    (Some(x), Some(y)) => rgb_node([x[0] * y[0], x[1] * y[1], x[2] * y[2]], tp),
                     (None, Some(y)) => {
                         if y != [1.0; 3] {
                             self.warn(
@@ -225,7 +225,13 @@ impl Builder {
     /// pbrt's uv mapping (`uscale`, `vscale`, `udelta`, `vdelta`) as `to_uv`, each
     /// factor times `k` (Mitsuba's checkerboard cells are half as large); `None` for
     /// the identity.
-    fn uv_mapping(&mut self, p: &Params, pos: usize, tp: usize, k: f64) -> Result<Option<Node>, At> {
+    fn uv_mapping(
+        &mut self,
+        p: &Params,
+        pos: usize,
+        tp: usize,
+        k: f64,
+    ) -> Result<Option<Node>, At> {
         if let Some(m) = p.string("mapping")? {
             if m != "uv" {
                 self.warn(
@@ -259,7 +265,8 @@ impl Builder {
             .string("filename")?
             .ok_or_else(|| At::new(pos, "imagemap texture needs \"string filename\""))?;
         let mut t = Node::table(tp);
-        t.put("type", "bitmap", tp).put("filename", file.as_str(), tp);
+        t.put("type", "bitmap", tp)
+            .put("filename", file.as_str(), tp);
         match p.string("filter")?.as_deref() {
             None | Some("bilinear") | Some("trilinear") | Some("ewa") | Some("EWA") => {}
             Some("point") => {
@@ -268,7 +275,9 @@ impl Builder {
             Some(f) => {
                 return Err(At::new(
                     p.pos("filter", pos),
-                    format!("imagemap: unknown filter \"{f}\" (valid: point, bilinear, trilinear, ewa)"),
+                    format!(
+                        "imagemap: unknown filter \"{f}\" (valid: point, bilinear, trilinear, ewa)"
+                    ),
                 ))
             }
         }
@@ -382,7 +391,10 @@ impl Builder {
             },
             Spec::Blackbody(t) => {
                 let c = spectra::blackbody_rgb(*t).ok_or_else(|| {
-                    At::new(pos, format!("`{what}`: a blackbody needs a positive temperature"))
+                    At::new(
+                        pos,
+                        format!("`{what}`: a blackbody needs a positive temperature"),
+                    )
                 })?;
                 rgb_node(c, tp)
             }
@@ -413,14 +425,8 @@ impl Builder {
             }
             Spec::Texture(name) => {
                 let found = match want {
-                    Want::Color => self
-                        .spec_tex
-                        .get(name)
-                        .or_else(|| self.float_tex.get(name)),
-                    Want::Float => self
-                        .float_tex
-                        .get(name)
-                        .or_else(|| self.spec_tex.get(name)),
+                    Want::Color => self.spec_tex.get(name).or_else(|| self.float_tex.get(name)),
+                    Want::Float => self.float_tex.get(name).or_else(|| self.spec_tex.get(name)),
                 };
                 match found {
                     Some(n) => n.clone(),

@@ -56,7 +56,10 @@ impl Builder {
     ) -> Result<(), At> {
         self.kind_now = Some(("camera", ty.to_string()));
         if !super::transform::is_invertible(&ctm) {
-            return Err(At::new(pos, "Camera: the camera transformation is not invertible"));
+            return Err(At::new(
+                pos,
+                "Camera: the camera transformation is not invertible",
+            ));
         }
         let mut orthographic = false;
         match ty {
@@ -236,7 +239,7 @@ impl Builder {
         } else {
             p.int("pixelsamples", 16)?
         };
-        if spp < 1 || spp > 1 << 24 {
+        if !(1..=1 << 24).contains(&spp) {
             return Err(At::new(pos, format!("Sampler: {spp} samples per pixel")));
         }
         self.view.spp = spp;
@@ -264,7 +267,9 @@ impl Builder {
                 self.warn(
                     pos,
                     &format!("integrator:{ty}"),
-                    format!("Integrator \"{ty}\" is not available: the path tracer renders the scene"),
+                    format!(
+                        "Integrator \"{ty}\" is not available: the path tracer renders the scene"
+                    ),
                 );
             }
             _ => return Err(At::new(pos, format!("unknown integrator \"{ty}\""))),
@@ -397,15 +402,16 @@ impl Builder {
         } else {
             c.put("fov", cam.fov, tp).put("fov_axis", "smaller", tp);
             if cam.lens_radius > 0.0 {
-                c.put("aperture_radius", cam.lens_radius, tp)
-                    .put("focus_distance", cam.focal_distance, tp);
+                c.put("aperture_radius", cam.lens_radius, tp).put(
+                    "focus_distance",
+                    cam.focal_distance,
+                    tp,
+                );
             }
         }
         let ip = self.tp_main(v.pos);
         let mut image = Node::table(ip);
-        image
-            .put("width", v.width, ip)
-            .put("height", v.height, ip);
+        image.put("width", v.width, ip).put("height", v.height, ip);
         let filter = v.filter.clone().unwrap_or_else(|| {
             let mut f = Node::table(ip);
             f.put("type", "gaussian", ip).put("stddev", 0.5, ip);

@@ -309,10 +309,7 @@ fn read_triangles(t: &Table) -> Result<TriangleMesh> {
     for tri in indices_v.array()? {
         let items = tri.array()?;
         if items.len() != 3 {
-            return Err(tri.err(format!(
-                "expected 3 vertex indices, found {}",
-                items.len()
-            )));
+            return Err(tri.err(format!("expected 3 vertex indices, found {}", items.len())));
         }
         let mut ids = [0u32; 3];
         for (slot, item) in ids.iter_mut().zip(&items) {
