@@ -70,7 +70,7 @@ pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshFileError> {
                 path,
                 None,
                 None,
-                "unknown mesh format: the name must end in .obj, .ply or .ply.gz",
+                "unknown mesh format: the name must end in .obj or .ply (or .ply.gz)",
             ))
         }
     };
