@@ -688,3 +688,62 @@ fn real_scene_excerpts_import() {
         assert!(c.errors.is_empty(), "{}: {:?}", path.display(), c.errors);
     }
 }
+
+// ---- environment maps ---------------------------------------------------------
+
+/// The brightest image column's position (fraction of the width) of a render of a
+/// pbrt-v4 equal-area environment map with one bright patch, seen by pbrt's default
+/// camera (at the origin, looking along +z) after `camera_prefix`.
+fn envmap_patch_column(camera_prefix: &str) -> f64 {
+    let dir = tempfile::tempdir().unwrap();
+    // The patch at the square's (0.683, 0.5): pbrt's direction (sin 30°, 0, cos 30°),
+    // 30° to the right of the view axis (+x is pbrt's right for this camera).
+    let n = 64u32;
+    let img = image::RgbImage::from_fn(n, n, |x, y| {
+        let (u, v) = ((x as f64 + 0.5) / n as f64, (y as f64 + 0.5) / n as f64);
+        if (u - 0.683).abs() < 0.04 && (v - 0.5).abs() < 0.04 {
+            image::Rgb([255, 255, 255])
+        } else {
+            image::Rgb([2, 2, 2])
+        }
+    });
+    img.save(dir.path().join("sky.png")).unwrap();
+    let path = dir.path().join("scene.pbrt");
+    std::fs::write(
+        &path,
+        format!(
+            "{camera_prefix}Camera \"perspective\" \"float fov\" 90\n\
+            Film \"rgb\" \"integer xresolution\" 48 \"integer yresolution\" 48\n\
+            Sampler \"independent\" \"integer pixelsamples\" 4\nIntegrator \"path\" \"integer maxdepth\" 0\n\
+            WorldBegin\nLightSource \"infinite\" \"string filename\" \"sky.png\"\n"
+        ),
+    )
+    .unwrap();
+    let i = import(&path, &Options::default()).unwrap();
+    let Value::Array(l) = &i.tree.get("lights").unwrap().value else {
+        panic!()
+    };
+    assert_eq!(string(l[0].get("mapping").unwrap()), "equal_area");
+    let img = render(&i.scene().unwrap());
+    // The centroid of the bright pixels.
+    let (mut sum, mut count) = (0.0, 0.0);
+    for y in 0..img.height() {
+        for x in 0..img.width() {
+            if img.get(x, y).g > 0.5 {
+                sum += x as f64 + 0.5;
+                count += 1.0;
+            }
+        }
+    }
+    assert!(count > 0.0, "the patch is not in view");
+    sum / count / img.width() as f64
+}
+
+#[test]
+fn equal_area_environment_maps_keep_pbrts_orientation() {
+    // tan 30° / tan 45° = 0.577: the patch is near 0.79 of the width.
+    let right = envmap_patch_column("");
+    assert!((right - 0.79).abs() < 0.06, "{right}");
+    let flipped = envmap_patch_column("Scale -1 1 1\n");
+    assert!((flipped - 0.21).abs() < 0.06, "{flipped}");
+}

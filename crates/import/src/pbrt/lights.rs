@@ -146,10 +146,11 @@ impl Builder {
         Ok(())
     }
 
-    /// An image-based infinite light. pbrt-v4's maps are equal-area octahedral squares,
-    /// which Irradia's `envmap` (latitude-longitude) does not read: such a map becomes a
-    /// `constant` light of its mean radiance, with a warning. A 2:1 map (pbrt-v3's
-    /// latitude-longitude, +z up) becomes an `envmap` turned into place.
+    /// An image-based infinite light: pbrt-v4's equal-area octahedral square map
+    /// becomes an `envmap` with `mapping = "equal_area"` (resampled by the scene
+    /// reader), a 2:1 map (pbrt-v3's latitude-longitude, +z up) a plain `envmap`; each
+    /// turned into place by `to_world` (the mirror, the CTM's rotation and the map's
+    /// frame). Without the file system the map is taken to be pbrt-v4's square.
     fn envmap(
         &mut self,
         l: &mut Node,
@@ -161,73 +162,77 @@ impl Builder {
     ) -> Result<(), At> {
         let path = self.resolve(file);
         let dims = if self.loads_files() {
-            image::image_dimensions(&path).ok()
+            match image::image_dimensions(&path) {
+                Ok(d) => Some(d),
+                Err(e) => {
+                    return Err(At::new(
+                        pos,
+                        format!("infinite light: cannot read \"{file}\": {e}"),
+                    ))
+                }
+            }
         } else {
             None
         };
-        // pbrt-v3's map frame from Irradia's: x -> y, y -> z, z -> -x.
-        let a = DMat3::from_cols(DVec3::Y, DVec3::Z, -DVec3::X);
-        let lin = DMat3::from_mat4(world);
-        let r = lin * a;
-        let rot = {
-            let c = [
-                r.x_axis.normalize(),
-                r.y_axis.normalize(),
-                r.z_axis.normalize(),
-            ];
-            DMat3::from_cols(c[0], c[1], c[2])
+        let latlong = matches!(dims, Some((w, h)) if w == 2 * h);
+        if let Some((w, h)) = dims {
+            if !latlong && w != h {
+                return Err(At::new(
+                    pos,
+                    format!("infinite light \"{file}\": the image must be square (pbrt-v4's equal-area map) or 2:1 (latitude-longitude), not {w}x{h}"),
+                ));
+            }
+        }
+        // The pbrt light frame from the envmap's frame (y up in both of Irradia's).
+        let frame = if latlong {
+            // pbrt-v3: u = phi / 2pi from +x towards +y, v = theta / pi from +z.
+            DMat3::from_cols(DVec3::Y, DVec3::Z, -DVec3::X)
+        } else {
+            // The scene reader reads the square at (x, -z, y).
+            DMat3::from_cols(DVec3::X, DVec3::Z, -DVec3::Y)
         };
+        let lin = DMat3::from_mat4(world);
+        let r = lin * frame;
+        let rot = DMat3::from_cols(
+            r.x_axis.normalize_or_zero(),
+            r.y_axis.normalize_or_zero(),
+            r.z_axis.normalize_or_zero(),
+        );
         let orthonormal = (rot.transpose() * rot - DMat3::IDENTITY)
             .to_cols_array()
             .iter()
-            .all(|x| x.abs() < 1e-6)
-            && rot.determinant() > 0.0;
-        match dims {
-            Some((w, h)) if w == 2 * h && orthonormal => {
-                l.put("type", "envmap", tp).put("filename", file, tp);
-                let s = (scale[0] + scale[1] + scale[2]) / 3.0;
-                if scale.iter().any(|c| (c - s).abs() > 1e-12) {
-                    self.warn(
-                        pos,
-                        "envmap-tint",
-                        "infinite light: a coloured scale on an image is applied as its mean",
-                    );
-                }
-                if s != 1.0 {
-                    l.put("scale", s, tp);
-                }
-                let rows: Vec<Node> = (0..3)
-                    .map(|i| {
-                        let row = rot.row(i);
-                        Node::new([row.x, row.y, row.z, 0.0], tp)
-                    })
-                    .collect();
-                let mut step = Node::table(tp);
-                step.set("matrix", Node::new(rows, tp));
-                l.set("to_world", Node::new(vec![step], tp));
-            }
-            _ => {
-                let mean = if self.loads_files() {
-                    mean_radiance(&path)
-                } else {
-                    None
-                };
-                let c = mean.unwrap_or([1.0; 3]);
-                self.warn(
-                    pos,
-                    &format!("envmap:{file}"),
-                    format!(
-                        "infinite light \"{file}\": pbrt-v4's equal-area octahedral map is not read by Irradia (latitude-longitude maps only); rendered as constant radiance {}",
-                        if mean.is_some() { "of its mean" } else { "1 (the image was not read)" }
-                    ),
-                );
-                l.put("type", "constant", tp);
-                l.set(
-                    "radiance",
-                    rgb_node([c[0] * scale[0], c[1] * scale[1], c[2] * scale[2]], tp),
-                );
-            }
+            .all(|x| x.abs() < 1e-6);
+        if !orthonormal {
+            return Err(At::new(
+                pos,
+                "infinite light: the transformation is not a rotation (with a uniform scale)",
+            ));
         }
+        l.put("type", "envmap", tp).put("filename", file, tp);
+        if !latlong {
+            l.put("mapping", "equal_area", tp);
+        }
+        let s = (scale[0] + scale[1] + scale[2]) / 3.0;
+        if scale.iter().any(|c| (c - s).abs() > 1e-12) {
+            self.warn(
+                pos,
+                "envmap-tint",
+                "infinite light: a coloured scale on an image is applied as its mean",
+            );
+        }
+        if s != 1.0 {
+            l.put("scale", s, tp);
+        }
+        let rows: Vec<Node> = (0..3)
+            .map(|i| {
+                let row = rot.row(i);
+                let z = |x: f64| if x.abs() < 1e-14 { 0.0 } else { x };
+                Node::new([z(row.x), z(row.y), z(row.z), 0.0], tp)
+            })
+            .collect();
+        let mut step = Node::table(tp);
+        step.set("matrix", Node::new(rows, tp));
+        l.set("to_world", Node::new(vec![step], tp));
         Ok(())
     }
 
@@ -257,20 +262,4 @@ impl Builder {
         });
         Ok(())
     }
-}
-
-/// The mean of an image's pixels (linear).
-fn mean_radiance(path: &std::path::Path) -> Option<[f64; 3]> {
-    let img = image::open(path).ok()?.to_rgb32f();
-    let n = (img.width() as f64) * (img.height() as f64);
-    if n == 0.0 {
-        return None;
-    }
-    let mut s = [0.0f64; 3];
-    for px in img.pixels() {
-        for (acc, c) in s.iter_mut().zip(px.0) {
-            *acc += c as f64;
-        }
-    }
-    Some(s.map(|x| x / n))
 }
