@@ -95,7 +95,8 @@ fn string(n: &Node) -> String {
     }
 }
 
-/// The 3x4 matrix of an object's transform (identity when absent), row-major.
+/// The 3x4 matrix step of an object's transform (identity when absent), row-major
+/// (a sphere's first step, its uv turn `scale [1, 1, -1]`, is not part of it).
 fn matrix(o: &Node) -> [f64; 12] {
     match o.get("transform") {
         None => [1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1., 0.],
@@ -103,8 +104,10 @@ fn matrix(o: &Node) -> [f64; 12] {
             let Value::Array(steps) = &t.value else {
                 panic!()
             };
-            let v = nums(steps[0].get("matrix").unwrap());
-            v.try_into().unwrap()
+            match steps.iter().find_map(|s| s.get("matrix")) {
+                Some(m) => nums(m).try_into().unwrap(),
+                None => [1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1., 0.],
+            }
         }
     }
 }
@@ -746,4 +749,27 @@ fn equal_area_environment_maps_keep_pbrts_orientation() {
     assert!((right - 0.79).abs() < 0.06, "{right}");
     let flipped = envmap_patch_column("Scale -1 1 1\n");
     assert!((flipped - 0.21).abs() < 0.06, "{flipped}");
+}
+
+#[test]
+fn spheres_are_turned_over_for_pbrts_texture_coordinates() {
+    // pbrt: v = 1 − θ/π (θ from +z); Irradia: θ/π. The object-space turn z → −z
+    // makes the sphere's v pbrt's, leaving its surface and normals as they were.
+    let i = ok(&format!(
+        "{HEAD}Translate 1 0 0 Shape \"sphere\"\nShape \"cylinder\"\n"
+    ));
+    let o = objects(&i);
+    let Value::Array(steps) = &o[0].get("transform").unwrap().value else {
+        panic!()
+    };
+    assert_close(&nums(steps[0].get("scale").unwrap()), &[1., 1., -1.]);
+    assert_close(
+        &matrix(&o[0]),
+        &[1., 0., 0., 1., 0., 1., 0., 0., 0., 0., -1., 0.],
+    );
+    let Value::Array(steps) = &o[1].get("transform").unwrap().value else {
+        panic!()
+    };
+    assert_eq!(steps.len(), 1, "only spheres are turned");
+    i.scene().unwrap();
 }

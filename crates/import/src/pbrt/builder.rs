@@ -712,14 +712,24 @@ impl Builder {
 
     /// Adds an object (already in pbrt's world or object-definition space) with the
     /// current CTM: to the object being defined, or to the scene mirrored.
-    pub(super) fn push_object(&mut self, mut o: Node, ctm: DMat4, pos: usize) {
+    /// `first` is a transform step applied before the CTM (a sphere's uv turn).
+    pub(super) fn push_object(&mut self, mut o: Node, ctm: DMat4, pos: usize, first: Option<Node>) {
         let tp = self.tp(pos);
         let m = match self.current_group {
             Some(_) => ctm,
             None => self.mirror() * ctm,
         };
-        if let Some(t) = transform_node(&m, tp) {
-            o.set("transform", t);
+        let mut steps = Vec::new();
+        steps.extend(first);
+        if let Some(Node {
+            value: Value::Array(t),
+            ..
+        }) = transform_node(&m, tp)
+        {
+            steps.extend(t);
+        }
+        if !steps.is_empty() {
+            o.set("transform", Node::new(steps, tp));
         }
         match self.current_group {
             Some(g) => self.groups[g].1.push(o),

@@ -2,6 +2,11 @@
 //! `tube`), `trianglemesh` (inline `triangles`), `bilinearmesh` (two triangles per
 //! quad), `plymesh` (`mesh` with the file's path), `loopsubdiv` (its control mesh).
 //!
+//! Texture coordinates: spheres and cylinders get pbrt's (a sphere is turned over in its
+//! own frame for it); a disk's are Mitsuba's (u and v of pbrt's swapped), and a
+//! triangle mesh without `uv` gets Irradia's default `(b1, b2)` where pbrt's is
+//! `(0,0), (1,0), (1,1)` per triangle.
+//!
 //! Orientation: pbrt's quadrics face out (in when `ReverseOrientation` differs from
 //! whether the CTM swaps handedness, pbrt-v4's `flipNormal`), which Irradia's
 //! `flip_normals` reproduces; a triangle without normals faces `(p1 − p0) × (p2 − p0)`
@@ -212,7 +217,14 @@ impl Builder {
         }
         self.finish_params(p, &format!("Shape \"{ty}\""), &["emissionfilename"])?;
         o.put("material", mat.as_str(), tp);
-        self.push_object(o, ctm, pos);
+        // pbrt's sphere has v = 1 − θ/π where Irradia's (Mitsuba's) has θ/π: turning
+        // the sphere over in its own frame (z → −z, the same sphere) makes them agree.
+        let first = (ty == "sphere").then(|| {
+            let mut step = Node::table(tp);
+            step.put("scale", [1.0, 1.0, -1.0], tp);
+            step
+        });
+        self.push_object(o, ctm, pos, first);
         Ok(())
     }
 
