@@ -12,6 +12,7 @@
 //! known feature that Irradia does not render; [`Options::strict`] turns warnings into
 //! errors.
 
+pub mod mitsuba;
 pub mod pbrt;
 pub mod toml_out;
 
@@ -24,12 +25,14 @@ use std::path::{Path, PathBuf};
 pub enum Format {
     /// Irradia's own TOML or JSON.
     Irradia(SceneSyntax),
+    /// Mitsuba 3's XML scene format.
+    Mitsuba,
     /// pbrt-v4's scene format (`.pbrt`).
     Pbrt,
 }
 
 /// Every extension [`Format::of`] accepts, for messages and `--help`.
-pub const EXTENSIONS: &[&str] = &["toml", "json", "pbrt"];
+pub const EXTENSIONS: &[&str] = &["toml", "json", "xml", "pbrt"];
 
 impl Format {
     /// The format named by `path`'s extension.
@@ -42,6 +45,7 @@ impl Format {
         Ok(match ext.as_str() {
             "toml" => Format::Irradia(SceneSyntax::Toml),
             "json" => Format::Irradia(SceneSyntax::Json),
+            "xml" => Format::Mitsuba,
             "pbrt" => Format::Pbrt,
             _ => {
                 let list: Vec<String> = EXTENSIONS.iter().map(|e| format!(".{e}")).collect();
@@ -108,6 +112,7 @@ pub fn import(path: &Path, opts: &Options) -> Result<Imported, SceneError> {
     let format = Format::of(path)?;
     let imported = match format {
         Format::Irradia(syntax) => import_irradia(path, syntax)?,
+        Format::Mitsuba => mitsuba::import(path, opts)?,
         Format::Pbrt => pbrt::import(path, opts)?,
     };
     imported.check_strict(opts.strict)

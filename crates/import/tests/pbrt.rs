@@ -332,6 +332,7 @@ fn named_materials_and_textures() {
         "{HEAD}\
         Texture \"wood\" \"spectrum\" \"imagemap\" \"string filename\" \"wood.png\" \"float uscale\" 2 \"float vscale\" 3 \"string filter\" \"point\"\n\
         Texture \"check\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [1 0 0] \"rgb tex2\" [0 0 1] \"float uscale\" 4 \"float vscale\" 4\n\
+        Texture \"fcheck\" \"float\" \"checkerboard\" \"float tex1\" 0.2 \"float tex2\" 0.6\n\
         Texture \"half\" \"float\" \"scale\" \"float tex\" 0.5 \"float scale\" 0.5\n\
         Texture \"blend\" \"spectrum\" \"mix\" \"rgb tex1\" [0 0 0] \"rgb tex2\" [1 1 1] \"float amount\" 0.25\n\
         MakeNamedMaterial \"floor\" \"string type\" \"diffuse\" \"texture reflectance\" \"wood\"\n\
@@ -343,6 +344,7 @@ fn named_materials_and_textures() {
         MakeNamedMaterial \"paint\" \"string type\" \"coateddiffuse\" \"rgb reflectance\" [0.8 0.1 0.1] \"float roughness\" 0.01\n\
         MakeNamedMaterial \"mixed\" \"string type\" \"mix\" \"string materials\" [\"gold\" \"floor\"] \"texture amount\" \"half\"\n\
         MakeNamedMaterial \"grey\" \"string type\" \"diffuse\" \"texture reflectance\" \"blend\"\n\
+        MakeNamedMaterial \"patchy\" \"string type\" \"mix\" \"string materials\" [\"gold\" \"floor\"] \"texture amount\" \"fcheck\"\n\
         NamedMaterial \"board\" Shape \"sphere\"\n"
     ));
     let floor = material(&i, "floor");
@@ -357,8 +359,8 @@ fn named_materials_and_textures() {
     assert_close(&nums(steps[0].get("scale").unwrap()), &[2., -3.]);
     assert_close(&nums(steps[1].get("translate").unwrap()), &[0., 1.]);
     let board = material(&i, "board").get("reflectance").cloned().unwrap();
-    assert_close(&nums(board.get("color0").unwrap()), &[0., 0., 1.]);
-    assert_close(&nums(board.get("color1").unwrap()), &[1., 0., 0.]);
+    assert_close(&nums(board.get("color0").unwrap()), &[1., 0., 0.]);
+    assert_close(&nums(board.get("color1").unwrap()), &[0., 0., 1.]);
     let Value::Array(steps) = &board.get("to_uv").unwrap().value else {
         panic!()
     };
@@ -394,6 +396,12 @@ fn named_materials_and_textures() {
     assert_eq!(string(mixed.get("type").unwrap()), "blendbsdf");
     assert_eq!(num(mixed.get("weight").unwrap()), 0.25);
     assert_eq!(num(material(&i, "grey").get("reflectance").unwrap()), 0.25);
+    // As a number Mitsuba's checkerboard is the other way round: tex1 is color1.
+    let w = material(&i, "patchy").get("weight").cloned().unwrap();
+    assert_eq!(
+        (num(w.get("color0").unwrap()), num(w.get("color1").unwrap())),
+        (0.6, 0.2)
+    );
     assert!(i
         .warnings
         .iter()

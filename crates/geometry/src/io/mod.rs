@@ -8,6 +8,7 @@
 mod error;
 pub mod obj;
 pub mod ply;
+pub mod serialized;
 pub mod volume;
 
 pub use error::MeshFileError;
@@ -41,9 +42,16 @@ impl MeshFile {
     }
 }
 
-/// Reads an OBJ or PLY file (chosen by the extension) into a mesh; a gzip-compressed
-/// PLY file (`.ply.gz`, as pbrt-v4's scenes ship them) is decompressed first.
+/// Reads an OBJ, PLY or Mitsuba `.serialized` file (chosen by the extension) into a
+/// mesh.
 pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshFileError> {
+    read_mesh_file(path, 0)?.into_mesh(path)
+}
+
+/// Reads a mesh file's contents (chosen by the extension); `shape_index` picks the
+/// shape of a `.serialized` file that holds several.
+pub fn read_mesh_file(path: &Path, shape_index: usize) -> Result<MeshFile, MeshFileError> {
+    // A gzip-compressed PLY file (`.ply.gz`, as pbrt-v4's scenes ship them).
     let name = path
         .file_name()
         .and_then(|n| n.to_str())
@@ -56,25 +64,23 @@ pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshFileError> {
             .map_err(|e| {
                 MeshFileError::new(path, None, None, format!("cannot decompress (gzip): {e}"))
             })?;
-        return ply::parse_ply(&bytes, path)?.into_mesh(path);
+        return ply::parse_ply(&bytes, path);
     }
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
-    let data = match ext.as_deref() {
-        Some("obj") => obj::read_obj(path)?,
-        Some("ply") => ply::read_ply(path)?,
-        _ => {
-            return Err(MeshFileError::new(
-                path,
-                None,
-                None,
-                "unknown mesh format: the name must end in .obj or .ply (or .ply.gz)",
-            ))
-        }
-    };
-    data.into_mesh(path)
+    match ext.as_deref() {
+        Some("obj") => obj::read_obj(path),
+        Some("ply") => ply::read_ply(path),
+        Some("serialized") => serialized::read_serialized(path, shape_index),
+        _ => Err(MeshFileError::new(
+            path,
+            None,
+            None,
+            "unknown mesh format: the name must end in .obj or .ply (also .ply.gz), or .serialized",
+        )),
+    }
 }
 
 /// Reads a whole file, naming it in the error.

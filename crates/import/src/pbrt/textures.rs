@@ -6,8 +6,10 @@
 //!   Irradia and Mitsuba at `(u, v)` with `v` down, so `to_uv` is
 //!   `scale [uscale, −vscale]` then `translate [udelta, 1 − vdelta]`.
 //! - `checkerboard` (2D) → `checkerboard`: pbrt has one cell per unit of `(s, t)`,
-//!   Mitsuba two, and pbrt's `tex1` is on the cells where `floor(s) + floor(t)` is even,
-//!   Mitsuba's `color1`: so `color0 = tex2`, `color1 = tex1`, and `to_uv` halves.
+//!   Mitsuba two (its `color0` where u and v are in the same halves of their cells),
+//!   and pbrt's `tex1` is on the cells where `floor(s) + floor(t)` is even: so
+//!   `color0 = tex1`, `color1 = tex2` (swapped for a float texture, which Mitsuba
+//!   evaluates the other way round), and `to_uv` halves.
 //! - `constant`, and `scale` and `mix` of constants, become the constant; `scale`
 //!   or `mix` of a texture and a constant keep the texture, with a warning unless the
 //!   constant changes nothing.
@@ -109,7 +111,13 @@ impl Builder {
                 let to_uv = self.uv_mapping(p, pos, tp, 0.5)?;
                 let mut t = Node::table(tp);
                 t.put("type", "checkerboard", tp);
-                t.set("color0", rgb_node(c2, tp));
+                // Mitsuba evaluates a checkerboard as a number (a roughness, a mix
+                // amount) the other way round from a colour.
+                let (c0, c1) = match want {
+                    Want::Color => (c1, c2),
+                    Want::Float => (c2, c1),
+                };
+                t.set("color0", rgb_node(c0, tp));
                 t.set("color1", rgb_node(c1, tp));
                 if let Some(u) = to_uv {
                     t.set("to_uv", u);

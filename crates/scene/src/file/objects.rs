@@ -286,11 +286,46 @@ fn gyroid_mesh(t: &Table) -> Result<TriangleMesh> {
         .map_err(|e| t.err(format!("gyroid mesh: {e}")))
 }
 
-/// `type = "mesh"`, `path = "bunny.ply"` (OBJ or PLY, relative to the scene file).
+/// `type = "mesh"`, `path = "bunny.ply"` (OBJ, PLY or Mitsuba `.serialized`, relative
+/// to the scene file); `shape_index` (0) picks a `.serialized` file's shape,
+/// `flip_tex_coords` (false) turns v into 1 − v, `face_normals` (false) shades flat.
 fn read_mesh(t: &Table) -> Result<TriangleMesh> {
     let path_v = t.req("path")?;
     let path = path_v.doc.resolve(path_v.str()?);
-    irradia_geometry::io::load_mesh(&path)
+    let index = t.u32_or("shape_index", 0)? as usize;
+    let flip = t.bool_or("flip_tex_coords", false)?;
+    let flat = t.bool_or("face_normals", false)?;
+    let mut data = irradia_geometry::io::read_mesh_file(&path, index)
+        .map_err(|e| path_v.err(format!("cannot load the mesh: {e}")))?;
+    if flip {
+        for uv in data.uvs.iter_mut().flatten() {
+            uv.y = 1.0 - uv.y;
+        }
+    }
+    if flat
+        && data
+            .indices
+            .iter()
+            .flatten()
+            .all(|&i| (i as usize) < data.positions.len())
+    {
+        // Every triangle its own corners, each with the face's normal.
+        let mut out = irradia_geometry::io::MeshFile::default();
+        for tri in &data.indices {
+            let p = tri.map(|i| data.positions.get(i as usize).copied().unwrap_or_default());
+            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or(glam::Vec3::Z);
+            let base = out.positions.len() as u32;
+            out.positions.extend(p);
+            out.normals.get_or_insert_with(Vec::new).extend([n; 3]);
+            if let Some(uv) = &data.uvs {
+                let t = tri.map(|i| uv.get(i as usize).copied().unwrap_or_default());
+                out.uvs.get_or_insert_with(Vec::new).extend(t);
+            }
+            out.indices.push([base, base + 1, base + 2]);
+        }
+        data = out;
+    }
+    data.into_mesh(&path)
         .map_err(|e| path_v.err(format!("cannot load the mesh: {e}")))
 }
 
