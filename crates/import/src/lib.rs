@@ -13,6 +13,7 @@
 //! errors.
 
 pub mod mitsuba;
+pub mod pbrt;
 pub mod toml_out;
 
 use irradia_scene::file::tree::Node;
@@ -26,10 +27,12 @@ pub enum Format {
     Irradia(SceneSyntax),
     /// Mitsuba 3's XML scene format.
     Mitsuba,
+    /// pbrt-v4's scene format (`.pbrt`).
+    Pbrt,
 }
 
 /// Every extension [`Format::of`] accepts, for messages and `--help`.
-pub const EXTENSIONS: &[&str] = &["toml", "json", "xml"];
+pub const EXTENSIONS: &[&str] = &["toml", "json", "xml", "pbrt"];
 
 impl Format {
     /// The format named by `path`'s extension.
@@ -43,6 +46,7 @@ impl Format {
             "toml" => Format::Irradia(SceneSyntax::Toml),
             "json" => Format::Irradia(SceneSyntax::Json),
             "xml" => Format::Mitsuba,
+            "pbrt" => Format::Pbrt,
             _ => {
                 let list: Vec<String> = EXTENSIONS.iter().map(|e| format!(".{e}")).collect();
                 return Err(SceneError::input(
@@ -109,6 +113,7 @@ pub fn import(path: &Path, opts: &Options) -> Result<Imported, SceneError> {
     let imported = match format {
         Format::Irradia(syntax) => import_irradia(path, syntax)?,
         Format::Mitsuba => mitsuba::import(path, opts)?,
+        Format::Pbrt => pbrt::import(path, opts)?,
     };
     imported.check_strict(opts.strict)
 }

@@ -51,6 +51,21 @@ pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshFileError> {
 /// Reads a mesh file's contents (chosen by the extension); `shape_index` picks the
 /// shape of a `.serialized` file that holds several.
 pub fn read_mesh_file(path: &Path, shape_index: usize) -> Result<MeshFile, MeshFileError> {
+    // A gzip-compressed PLY file (`.ply.gz`, as pbrt-v4's scenes ship them).
+    let name = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .map(|n| n.to_ascii_lowercase())
+        .unwrap_or_default();
+    if name.ends_with(".ply.gz") {
+        let packed = read_file(path)?;
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut flate2::read::GzDecoder::new(&packed[..]), &mut bytes)
+            .map_err(|e| {
+                MeshFileError::new(path, None, None, format!("cannot decompress (gzip): {e}"))
+            })?;
+        return ply::parse_ply(&bytes, path);
+    }
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -63,7 +78,7 @@ pub fn read_mesh_file(path: &Path, shape_index: usize) -> Result<MeshFile, MeshF
             path,
             None,
             None,
-            "unknown mesh format: the name must end in .obj, .ply or .serialized",
+            "unknown mesh format: the name must end in .obj or .ply (also .ply.gz), or .serialized",
         )),
     }
 }

@@ -19,6 +19,7 @@ pub const CSG_KINDS: &[&str] = &["union", "intersection", "difference", "merge"]
 /// Object types besides the primitives and CSG.
 pub const OTHER_KINDS: &[&str] = &[
     "mesh",
+    "triangles",
     "gyroid_mesh",
     "generator",
     "implicit",
@@ -251,6 +252,9 @@ fn build_shape(kind: &str, t: &Table) -> Result<Option<Arc<dyn Shape>>> {
     if kind == "mesh" {
         return Ok(Some(Arc::new(read_mesh(t)?)));
     }
+    if kind == "triangles" {
+        return Ok(Some(Arc::new(read_triangles(t)?)));
+    }
     if kind == "gyroid_mesh" {
         return Ok(Some(Arc::new(gyroid_mesh(t)?)));
     }
@@ -323,4 +327,58 @@ fn read_mesh(t: &Table) -> Result<TriangleMesh> {
     }
     data.into_mesh(&path)
         .map_err(|e| path_v.err(format!("cannot load the mesh: {e}")))
+}
+
+/// `type = "triangles"`: a triangle mesh written in the scene file itself (the pbrt
+/// importer's `trianglemesh`): `positions = [[x, y, z], ...]`, `indices = [[a, b, c],
+/// ...]` (0-based), optional `normals` (one per position) and `uv` (`[u, v]` each).
+fn read_triangles(t: &Table) -> Result<TriangleMesh> {
+    let positions_v = t.req("positions")?;
+    let positions: Vec<glam::Vec3> = positions_v
+        .array()?
+        .iter()
+        .map(|p| p.vec3())
+        .collect::<Result<_>>()?;
+    let indices_v = t.req("indices")?;
+    let mut indices = Vec::new();
+    for tri in indices_v.array()? {
+        let items = tri.array()?;
+        if items.len() != 3 {
+            return Err(tri.err(format!("expected 3 vertex indices, found {}", items.len())));
+        }
+        let mut ids = [0u32; 3];
+        for (slot, item) in ids.iter_mut().zip(&items) {
+            *slot = item.u32()?;
+        }
+        indices.push(ids);
+    }
+    let per_vertex = |key: &'static str| -> Result<Option<(Val, Vec<Val>)>> {
+        let Some(v) = t.get(key) else {
+            return Ok(None);
+        };
+        let items = v.array()?;
+        if items.len() != positions.len() {
+            return Err(v.err(format!(
+                "expected one entry per position ({}), found {}",
+                positions.len(),
+                items.len()
+            )));
+        }
+        Ok(Some((v, items)))
+    };
+    let normals = match per_vertex("normals")? {
+        Some((_, items)) => Some(items.iter().map(|n| n.vec3()).collect::<Result<_>>()?),
+        None => None,
+    };
+    let uvs = match per_vertex("uv")? {
+        Some((_, items)) => Some(
+            items
+                .iter()
+                .map(|uv| uv.numbers(2).map(|c| glam::Vec2::new(c[0], c[1])))
+                .collect::<Result<_>>()?,
+        ),
+        None => None,
+    };
+    TriangleMesh::new(positions, indices, normals, uvs)
+        .map_err(|e| indices_v.err(format!("the triangles: {e}")))
 }
