@@ -128,6 +128,14 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         (Vec3::ZERO, Vec3::ZERO)
     }
 
+    /// The colour of the surface's vertices interpolated at object-space point `p` of
+    /// primitive `prim` (a mesh with vertex colours), for the `mesh_attribute` texture;
+    /// `None` for shapes without them.
+    fn vertex_color(&self, p: Vec3, prim: u32) -> Option<Vec3> {
+        let _ = (p, prim);
+        None
+    }
+
     /// Whether any hit with `0 < t < t_max` exists (shadow rays). Shapes may override
     /// this with something cheaper than finding the nearest hit.
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
