@@ -12,6 +12,10 @@
 //! known feature that Irradia does not render; [`Options::strict`] turns warnings into
 //! errors.
 
+pub mod gltf;
+pub mod model;
+pub mod obj;
+pub mod ply;
 pub mod toml_out;
 
 use irradia_scene::file::tree::Node;
@@ -23,10 +27,16 @@ use std::path::{Path, PathBuf};
 pub enum Format {
     /// Irradia's own TOML or JSON.
     Irradia(SceneSyntax),
+    /// Wavefront OBJ with its MTL materials.
+    Obj,
+    /// glTF 2.0, JSON (`.gltf`) or binary (`.glb`).
+    Gltf,
+    /// A PLY mesh.
+    Ply,
 }
 
 /// Every extension [`Format::of`] accepts, for messages and `--help`.
-pub const EXTENSIONS: &[&str] = &["toml", "json"];
+pub const EXTENSIONS: &[&str] = &["toml", "json", "obj", "gltf", "glb", "ply"];
 
 impl Format {
     /// The format named by `path`'s extension.
@@ -39,6 +49,9 @@ impl Format {
         Ok(match ext.as_str() {
             "toml" => Format::Irradia(SceneSyntax::Toml),
             "json" => Format::Irradia(SceneSyntax::Json),
+            "obj" => Format::Obj,
+            "gltf" | "glb" => Format::Gltf,
+            "ply" => Format::Ply,
             _ => {
                 let list: Vec<String> = EXTENSIONS.iter().map(|e| format!(".{e}")).collect();
                 return Err(SceneError::input(
@@ -104,6 +117,9 @@ pub fn import(path: &Path, opts: &Options) -> Result<Imported, SceneError> {
     let format = Format::of(path)?;
     let imported = match format {
         Format::Irradia(syntax) => import_irradia(path, syntax)?,
+        Format::Obj => obj::import(path)?,
+        Format::Gltf => gltf::import(path)?,
+        Format::Ply => ply::import(path)?,
     };
     imported.check_strict(opts.strict)
 }

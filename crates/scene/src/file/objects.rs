@@ -193,10 +193,29 @@ fn gyroid_mesh(t: &Table) -> Result<TriangleMesh> {
         .map_err(|e| t.err(format!("gyroid mesh: {e}")))
 }
 
-/// `type = "mesh"`, `path = "bunny.ply"` (OBJ or PLY, relative to the scene file).
+/// `type = "mesh"`, `path = "bunny.ply"` (OBJ, PLY, glTF or GLB, relative to the scene
+/// file); `group = "name"` picks an OBJ file's faces that use one material, `mesh = N`
+/// and `primitive = N` a glTF file's primitive.
 fn read_mesh(t: &Table) -> Result<TriangleMesh> {
     let path_v = t.req("path")?;
     let path = path_v.doc.resolve(path_v.str()?);
-    irradia_geometry::io::load_mesh(&path)
-        .map_err(|e| path_v.err(format!("cannot load the mesh: {e}")))
+    let group = t.get("group");
+    let mesh = t.get("mesh");
+    let primitive = t.get("primitive");
+    let part = irradia_geometry::io::MeshPart {
+        group: group.as_ref().map(|g| g.str().map(str::to_string)).transpose()?,
+        mesh: mesh.as_ref().map(|m| m.u32().map(|x| x as usize)).transpose()?,
+        primitive: primitive.as_ref().map(|p| p.u32().map(|x| x as usize)).transpose()?,
+    };
+    irradia_geometry::io::load_mesh_part(&path, &part).map_err(|e| {
+        // A selector that does not fit the file is the selector's error.
+        let at = match e.field.as_deref() {
+            Some("group") => group.as_ref(),
+            Some("mesh") => mesh.as_ref(),
+            Some("primitive") => primitive.as_ref(),
+            _ => None,
+        };
+        at.unwrap_or(&path_v)
+            .err(format!("cannot load the mesh: {e}"))
+    })
 }
