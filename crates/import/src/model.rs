@@ -24,17 +24,26 @@ pub fn framing_direction() -> Vec3 {
     Vec3::new(0.55, 0.45, 1.0).normalize()
 }
 
+/// An `f32` as the `f64` with the same shortest decimal form (0.8, not
+/// 0.800000011920929), so that converted files read as the source wrote them.
+pub fn num(x: f32) -> f64 {
+    if x == 0.0 {
+        return 0.0;
+    }
+    x.to_string().parse().unwrap_or(x as f64)
+}
+
 /// `[x, y, z]`.
 pub fn vec3(v: Vec3) -> Node {
-    Node::new([v.x as f64, v.y as f64, v.z as f64], 0)
+    Node::new([num(v.x), num(v.y), num(v.z)], 0)
 }
 
 /// A colour `[r, g, b]` (or one number when grey).
 pub fn color(c: [f32; 3]) -> Node {
     if c[0] == c[1] && c[1] == c[2] {
-        Node::new(c[0] as f64, 0)
+        Node::new(num(c[0]), 0)
     } else {
-        Node::new([c[0] as f64, c[1] as f64, c[2] as f64], 0)
+        Node::new([num(c[0]), num(c[1]), num(c[2])], 0)
     }
 }
 
@@ -47,7 +56,7 @@ pub fn matrix_transform(m: &Mat4) -> Option<Node> {
     let rows: Vec<Node> = (0..3)
         .map(|r| {
             let row = m.row(r);
-            Node::new([row.x as f64, row.y as f64, row.z as f64, row.w as f64], 0)
+            Node::new([num(row.x), num(row.y), num(row.z), num(row.w)], 0)
         })
         .collect();
     let mut step = Node::table(0);
@@ -97,10 +106,15 @@ impl Bounds {
     }
 }
 
-/// Adds what a bare model lacks: a camera framing `bounds` when `tree` has none, and
-/// a constant environment light with the path tracer when `lit` is false and the tree
-/// has no lights. Each addition is a line in `notes`.
-pub fn complete_bare_model(tree: &mut Node, bounds: Bounds, lit: bool, notes: &mut Vec<String>) {
+/// Adds what a bare model lacks: a camera framing `bounds` when `tree` has none; when
+/// it has no lights, the path tracer, and a constant environment light unless
+/// `emissive` (some material emits). Each addition is a line in `notes`.
+pub fn complete_bare_model(
+    tree: &mut Node,
+    bounds: Bounds,
+    emissive: bool,
+    notes: &mut Vec<String>,
+) {
     if tree.get("camera").is_none() {
         let (center, radius) = if bounds.is_empty() {
             (Vec3::ZERO, 1.0)
@@ -126,23 +140,28 @@ pub fn complete_bare_model(tree: &mut Node, bounds: Bounds, lit: bool, notes: &m
         ));
     }
     let has_lights = matches!(tree.get("lights").map(|l| &l.value), Some(Value::Array(a)) if !a.is_empty());
-    if !lit && !has_lights {
+    if has_lights {
+        return;
+    }
+    if !emissive {
         let mut light = Node::table(0);
         light.put("type", "constant", 0).put("radiance", 1.0, 0);
         tree.push("lights", light);
-        let mut render = match tree.get("render") {
-            Some(r) => r.clone(),
-            None => Node::table(0),
-        };
-        render
-            .put("integrator", "path", 0)
-            .put("spp", 16i64, 0)
-            .put("max_depth", 8i64, 0);
-        tree.set("render", render);
-        notes.push(
-            "the file has no light: added a constant environment light (radiance 1) and the path tracer (16 spp)".into(),
-        );
     }
+    let mut render = match tree.get("render") {
+        Some(r) => r.clone(),
+        None => Node::table(0),
+    };
+    render
+        .put("integrator", "path", 0)
+        .put("spp", 16i64, 0)
+        .put("max_depth", 8i64, 0);
+    tree.set("render", render);
+    notes.push(if emissive {
+        "the file has no light sources but emissive materials: rendered with the path tracer (16 spp), which they light".into()
+    } else {
+        "the file has no light: added a constant environment light (radiance 1) and the path tracer (16 spp)".into()
+    });
 }
 
 /// A mesh file's error as the importer reports it: at its line and column when it has

@@ -17,11 +17,13 @@ use glam::{Vec2, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
 
+/// Marks the stand-in materials that keep `usemtl` names (never in [`ObjData::materials`]).
+const PLACEHOLDER: &str = "\u{0}irradia-placeholder";
+
 /// One `usemtl` group of an OBJ file: its faces as one mesh.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ObjGroup {
-    /// The `usemtl` name; `None` for faces before any `usemtl` (and for names that no
-    /// `mtllib` file defines, which `tobj` does not keep).
+    /// The `usemtl` name; `None` for faces before any `usemtl`.
     pub material: Option<String>,
     pub mesh: MeshFile,
 }
@@ -31,6 +33,7 @@ pub struct ObjGroup {
 pub struct ObjData {
     /// In the order the materials are first used.
     pub groups: Vec<ObjGroup>,
+    /// The materials its MTL files define (a `usemtl` name may be missing here).
     pub materials: Vec<tobj::Material>,
     /// The `mtllib` files named (relative to the OBJ file's folder), in order.
     pub mtllibs: Vec<String>,
@@ -73,9 +76,9 @@ pub fn read_obj_group(path: &Path, group: Option<&str>) -> Result<MeshFile, Mesh
         return Err(MeshFileError::new(
             path,
             None,
-            Some(format!("group \"{name}\"")),
+            Some("group".into()),
             format!(
-                "no faces use this material (the groups are {})",
+                "no faces use material \"{name}\" (the groups are {})",
                 list.join(", ")
             ),
         ));
@@ -110,7 +113,41 @@ pub fn parse_obj_groups(
         ignore_lines: true,
         ..Default::default()
     };
-    let (models, materials) = tobj::load_obj_buf(&mut text.as_bytes(), &opts, mtl)
+    // tobj keeps a `usemtl` name only when an MTL file defines it; a first, made-up
+    // `mtllib` defines every name used (as placeholders, which the real MTL files read
+    // after it replace), so that groups keep their names without their MTL files.
+    let used: Vec<String> = text
+        .lines()
+        .filter_map(|l| {
+            let l = l.split('#').next().unwrap_or("").trim();
+            l.strip_prefix("usemtl")
+                .filter(|r| r.starts_with(char::is_whitespace))
+                .map(|r| r.trim().to_string())
+        })
+        .filter(|n| !n.is_empty())
+        .collect();
+    let names_lib = "\u{0}irradia-usemtl-names";
+    let source = format!("mtllib {names_lib}\n{text}");
+    let loader = |name: &Path| {
+        if name == Path::new(names_lib) {
+            let mut mats = Vec::new();
+            let mut map = HashMap::new();
+            for n in &used {
+                if !map.contains_key(n) {
+                    map.insert(n.clone(), mats.len());
+                    let mut m = tobj::Material {
+                        name: n.clone(),
+                        ..Default::default()
+                    };
+                    m.unknown_param.insert(PLACEHOLDER.into(), String::new());
+                    mats.push(m);
+                }
+            }
+            return Ok((mats, map));
+        }
+        mtl(name)
+    };
+    let (models, materials) = tobj::load_obj_buf(&mut source.as_bytes(), &opts, loader)
         .map_err(|e| MeshFileError::new(path, None, None, format!("tobj: {e}")))?;
     let materials = materials.unwrap_or_default();
     let mut groups: Vec<ObjGroup> = Vec::new();
@@ -129,9 +166,18 @@ pub fn parse_obj_groups(
             None => groups.push(ObjGroup { material, mesh }),
         }
     }
+    // The materials MTL files define (the last definition of a name wins, as in tobj).
+    let mut defined: Vec<tobj::Material> = Vec::new();
+    for m in materials {
+        if m.unknown_param.contains_key(PLACEHOLDER) {
+            continue;
+        }
+        defined.retain(|d| d.name != m.name);
+        defined.push(m);
+    }
     Ok(ObjData {
         groups,
-        materials,
+        materials: defined,
         mtllibs,
     })
 }

@@ -16,7 +16,7 @@
 //! wrap modes and nearest filtering are kept. A primitive without a material gets
 //! glTF's default (white, metallic 1, roughness 1).
 
-use crate::model::{color, rel_name};
+use crate::model::{color, num, rel_name};
 use irradia_geometry::io::gltf::GltfFile;
 use irradia_scene::file::tree::Node;
 use irradia_scene::SceneError;
@@ -134,8 +134,8 @@ impl<'a> Materials<'a> {
                 bsdf.set("roughness", self.bitmap(&tex, t.tex_coord(), true, Some("g"), &mut warn));
             }
             None => {
-                bsdf.put("metallic", pbr.metallic_factor() as f64, 0)
-                    .put("roughness", pbr.roughness_factor() as f64, 0);
+                bsdf.put("metallic", num(pbr.metallic_factor()), 0)
+                    .put("roughness", num(pbr.roughness_factor()), 0);
             }
         }
         if let Some(n) = m.normal_texture() {
@@ -166,7 +166,7 @@ impl<'a> Materials<'a> {
                 }
                 let opacity = match &base_tex {
                     Some(t) => self.bitmap(&t.texture(), t.tex_coord(), true, Some("a"), &mut warn),
-                    None => Node::new(factor[3] as f64, 0),
+                    None => Node::new(num(factor[3]), 0),
                 };
                 let mut mask = Node::table(0);
                 mask.put("type", "mask", 0)

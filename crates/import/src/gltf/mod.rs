@@ -134,7 +134,7 @@ pub fn parse_bytes(bytes: &[u8], origin: &Path) -> Result<Imported, SceneError> 
     if tree.get("objects").is_none() {
         return Err(warn("", "the scene has no triangle meshes".into()));
     }
-    let lit = mats.emissive || !view.lights.is_empty();
+    let lit = mats.emissive;
     mats.write(&mut tree);
     view.write(&mut tree);
     let mut notes = Vec::new();

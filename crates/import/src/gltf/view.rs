@@ -14,7 +14,7 @@
 //! `inner_angle = innerConeAngle`, `outer_angle = outerConeAngle` (degrees; the fall-off
 //! between them is smooth in cos θ). `range` is not applied (a warning).
 
-use crate::model::{color, vec3};
+use crate::model::{color, num, vec3};
 use glam::{Mat4, Vec3};
 use irradia_scene::file::tree::Node;
 use irradia_scene::SceneError;
@@ -66,10 +66,10 @@ impl View {
             gltf::camera::Projection::Perspective(p) => {
                 let fov = p.yfov().to_degrees().clamp(1e-3, 179.0);
                 c.put("type", "perspective", 0)
-                    .put("fov", fov as f64, 0)
+                    .put("fov", num(fov), 0)
                     .put("fov_axis", "y", 0);
                 if p.znear() > 0.0 && p.znear().is_finite() {
-                    c.put("near_clip", p.znear() as f64, 0);
+                    c.put("near_clip", num(p.znear()), 0);
                 }
                 if let Some(a) = p.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0) {
                     let h = 480i64;
@@ -81,9 +81,9 @@ impl View {
             }
             gltf::camera::Projection::Orthographic(o) => {
                 c.put("type", "orthographic", 0)
-                    .put("height", (2.0 * o.ymag().abs()).max(1e-6) as f64, 0);
+                    .put("height", num((2.0 * o.ymag().abs()).max(1e-6)), 0);
                 if o.znear() > 0.0 && o.znear().is_finite() {
-                    c.put("near_clip", o.znear() as f64, 0);
+                    c.put("near_clip", num(o.znear()), 0);
                 }
             }
         }
@@ -133,8 +133,8 @@ impl View {
                     .set("position", vec3(position))
                     .set("direction", vec3(dir))
                     .set("intensity", power)
-                    .put("outer_angle", outer as f64, 0)
-                    .put("inner_angle", inner as f64, 0);
+                    .put("outer_angle", num(outer), 0)
+                    .put("inner_angle", num(inner), 0);
             }
         }
         self.lights.push(l);

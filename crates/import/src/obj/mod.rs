@@ -99,6 +99,15 @@ pub fn parse_str(text: &str, origin: &Path) -> Result<Imported, SceneError> {
         if uses_mtl {
             obj.put("group", g.material.clone().unwrap_or_default(), 0);
         }
+        if let Some(m) = g.material.as_ref().filter(|m| !names.contains_key(*m)) {
+            warnings.push(
+                SceneError::input(
+                    "usemtl",
+                    format!("no MTL file defines material `{m}`: its faces are grey"),
+                )
+                .with_file(origin),
+            );
+        }
         if let Some(key) = g.material.as_ref().and_then(|m| names.get(m)) {
             obj.put("material", key.as_str(), 0)
                 .put("name", g.material.clone().unwrap_or_default(), 0);

@@ -14,7 +14,7 @@
 //! material's `emission`. `map_Kd` replaces `Kd` (as most renderers do). Texture
 //! options (`-bm`, `-s`, ...) other than `-bm` are ignored, with a warning.
 
-use crate::model::{color, rel_name};
+use crate::model::{color, num, rel_name};
 use irradia_geometry::io::obj::tokens;
 use irradia_scene::file::tree::Node;
 use irradia_scene::SceneError;
@@ -175,7 +175,7 @@ pub fn material(
     let mut bsdf = Node::table(0);
     if dielectric {
         bsdf.put("type", "dielectric", 0)
-            .put("int_ior", ni.filter(|n| *n > 0.0).unwrap_or(1.5) as f64, 0);
+            .put("int_ior", num(ni.filter(|n| *n > 0.0).unwrap_or(1.5)), 0);
     } else if matches!(illum, 3 | 5) && kd.iter().all(|&x| x == 0.0) {
         bsdf.put("type", "conductor", 0)
             .set("specular_reflectance", color(ks));
@@ -186,7 +186,7 @@ pub fn material(
             .set("diffuse_reflectance", diffuse_tex(warnings))
             .set("specular_reflectance", color(ks))
             .put("distribution", "beckmann", 0)
-            .put("alpha", alpha as f64, 0);
+            .put("alpha", num(alpha), 0);
     } else {
         bsdf.put("type", "diffuse", 0)
             .set("reflectance", diffuse_tex(warnings));
@@ -203,7 +203,7 @@ pub fn material(
     if !dielectric && (d < 1.0 || m.dissolve_texture.is_some()) {
         let opacity = match &m.dissolve_texture {
             Some(spec) => bitmap(spec, true, mtl_dir, scene_dir, warnings, origin).0,
-            None => Node::new(d as f64, 0),
+            None => Node::new(num(d), 0),
         };
         let mut mask = Node::table(0);
         mask.put("type", "mask", 0)
