@@ -95,7 +95,7 @@ impl Bounds {
         }
     }
     pub fn is_empty(&self) -> bool {
-        !(self.min.x <= self.max.x)
+        !matches!(self.min.x.partial_cmp(&self.max.x), Some(o) if o.is_le())
     }
     pub fn center(&self) -> Vec3 {
         0.5 * (self.min + self.max)
@@ -139,7 +139,8 @@ pub fn complete_bare_model(
             bounds.max.to_array()
         ));
     }
-    let has_lights = matches!(tree.get("lights").map(|l| &l.value), Some(Value::Array(a)) if !a.is_empty());
+    let has_lights =
+        matches!(tree.get("lights").map(|l| &l.value), Some(Value::Array(a)) if !a.is_empty());
     if has_lights {
         return;
     }

@@ -52,7 +52,12 @@ fn textured_box_refers_to_the_glb_for_mesh_and_image() {
     assert_eq!(s(&objs[0], "path"), "textured_box.glb");
     assert_eq!(f(&objs[0], "mesh"), 0.0);
     assert_eq!(f(&objs[0], "primitive"), 0.0);
-    let mat = imp.tree.get("materials").unwrap().get(&s(&objs[0], "material")).unwrap();
+    let mat = imp
+        .tree
+        .get("materials")
+        .unwrap()
+        .get(&s(&objs[0], "material"))
+        .unwrap();
     assert_eq!(s(mat, "type"), "principled");
     let tex = mat.get("base_color").unwrap();
     assert_eq!(s(tex, "filename"), "textured_box.glb");
@@ -74,17 +79,32 @@ fn node_hierarchy_composes_trs_and_matrices() {
     let imp = imported(&data("gltf/hierarchy.gltf"));
     let objs = objects(&imp.tree);
     assert_eq!(objs.len(), 2, "two primitives of one mesh");
-    let Value::Array(steps) = &objs[0].get("transform").unwrap().value else { panic!() };
-    let Value::Array(rows) = &steps[0].get("matrix").unwrap().value else { panic!() };
+    let Value::Array(steps) = &objs[0].get("transform").unwrap().value else {
+        panic!()
+    };
+    let Value::Array(rows) = &steps[0].get("matrix").unwrap().value else {
+        panic!()
+    };
     let row = |r: usize| -> Vec<f64> {
         match &rows[r].value {
-            Value::Array(a) => a.iter().map(|x| match x.value { Value::Float(v) => v, Value::Int(v) => v as f64, _ => panic!() }).collect(),
+            Value::Array(a) => a
+                .iter()
+                .map(|x| match x.value {
+                    Value::Float(v) => v,
+                    Value::Int(v) => v as f64,
+                    _ => panic!(),
+                })
+                .collect(),
             _ => panic!(),
         }
     };
     // parent: rotate y 90°, translate (2, 0, 0); child: scale 0.5, translate (0, 1, 0).
     // x → -z: world = T(2,0,0) R_y(90) T(0,1,0) S(0.5).
-    let expect = [[0.0, 0.0, 0.5, 2.0], [0.0, 0.5, 0.0, 1.0], [-0.5, 0.0, 0.0, 0.0]];
+    let expect = [
+        [0.0, 0.0, 0.5, 2.0],
+        [0.0, 0.5, 0.0, 1.0],
+        [-0.5, 0.0, 0.0, 0.0],
+    ];
     for (r, e) in expect.iter().enumerate() {
         for (a, b) in row(r).iter().zip(e) {
             assert!((a - b).abs() < 1e-6, "row {r}: {:?} vs {e:?}", row(r));
@@ -116,10 +136,15 @@ fn camera_and_punctual_lights() {
     assert_eq!(s(cam, "fov_axis"), "y");
     let img = imp.tree.get("image").unwrap();
     assert_eq!((f(img, "width"), f(img, "height")), (720.0, 480.0));
-    let Value::Array(lights) = &imp.tree.get("lights").unwrap().value else { panic!() };
+    let Value::Array(lights) = &imp.tree.get("lights").unwrap().value else {
+        panic!()
+    };
     assert_eq!(lights.len(), 3);
     assert_eq!(s(&lights[0], "type"), "point");
-    assert_eq!(vec3(lights[0].get("intensity").unwrap()), [100.0, 90.0, 80.0]);
+    assert_eq!(
+        vec3(lights[0].get("intensity").unwrap()),
+        [100.0, 90.0, 80.0]
+    );
     assert_eq!(vec3(lights[0].get("position").unwrap()), [0.0, 3.0, 0.0]);
     assert_eq!(s(&lights[1], "type"), "spot");
     assert!((f(&lights[1], "outer_angle") - 30.0).abs() < 1e-4);
@@ -137,7 +162,12 @@ fn orthographic_camera() {
     let cam = imp.tree.get("camera").unwrap();
     assert_eq!(s(cam, "type"), "orthographic");
     assert_eq!(f(cam, "height"), 4.0);
-    assert_eq!(imp.notes.len(), 1, "a light is added, not a camera: {:?}", imp.notes);
+    assert_eq!(
+        imp.notes.len(),
+        1,
+        "a light is added, not a camera: {:?}",
+        imp.notes
+    );
 }
 
 #[test]
@@ -150,17 +180,26 @@ fn errors_name_the_file_and_the_accessor() {
     let p = dir.path().join("bad.gltf");
     std::fs::write(&p, &bad).unwrap();
     let e = import(&p, &Options::default()).unwrap_err().to_string();
-    assert!(e.contains("bad.gltf") && e.contains("POSITION (accessor 0)"), "{e}");
+    assert!(
+        e.contains("bad.gltf") && e.contains("POSITION (accessor 0)"),
+        "{e}"
+    );
     // Not JSON at all.
     std::fs::write(&p, "{ nope").unwrap();
     let e = import(&p, &Options::default()).unwrap_err();
-    assert!(e.is_bad_input() && e.to_string().contains("bad.gltf"), "{e}");
+    assert!(
+        e.is_bad_input() && e.to_string().contains("bad.gltf"),
+        "{e}"
+    );
     // A mesh index past the file's meshes, at the selector of a scene file.
     std::fs::copy(data("gltf/ortho.gltf"), dir.path().join("o.gltf")).unwrap();
     let s = dir.path().join("s.toml");
     std::fs::write(&s, "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n[[objects]]\ntype = \"mesh\"\npath = \"o.gltf\"\nmesh = 4\n").unwrap();
     let e = irradia_scene::load_file(&s).unwrap_err().to_string();
-    assert!(e.contains(":7:") && e.contains("mesh 4 does not exist"), "{e}");
+    assert!(
+        e.contains(":7:") && e.contains("mesh 4 does not exist"),
+        "{e}"
+    );
     // Truncated GLB and garbage never panic.
     let glb = std::fs::read(data("gltf/textured_box.glb")).unwrap();
     for cut in (0..glb.len()).step_by(7) {

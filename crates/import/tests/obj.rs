@@ -22,16 +22,22 @@ fn every_obj_test_file_round_trips() {
 #[test]
 fn usemtl_groups_become_objects_with_their_materials() {
     let imp = imported(&data("obj/scene.obj"));
-    let Value::Array(objs) = &imp.tree.get("objects").unwrap().value else { panic!() };
+    let Value::Array(objs) = &imp.tree.get("objects").unwrap().value else {
+        panic!()
+    };
     let groups: Vec<String> = objs.iter().map(|o| s(o, "group")).collect();
-    assert_eq!(groups, ["textured", "red", "shiny", "glass", "leaf", "lamp"]);
+    assert_eq!(
+        groups,
+        ["textured", "red", "shiny", "glass", "leaf", "lamp"]
+    );
     for o in objs {
         assert_eq!(s(o, "path"), "scene.obj");
         assert_eq!(s(o, "material"), s(o, "group"));
     }
     // The cube's red half is 3 quads = 6 triangles.
     let scene = imp.scene().unwrap();
-    let red = irradia_geometry::io::obj::read_obj_group(&data("obj/scene.obj"), Some("red")).unwrap();
+    let red =
+        irradia_geometry::io::obj::read_obj_group(&data("obj/scene.obj"), Some("red")).unwrap();
     assert_eq!(red.indices.len(), 6);
     assert!(scene.objects.len() >= 6);
     // A group no face uses is an error at the selector.
@@ -41,7 +47,10 @@ fn usemtl_groups_become_objects_with_their_materials() {
     let p = dir.path().join("s.toml");
     std::fs::write(&p, "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n[[objects]]\ntype = \"mesh\"\npath = \"scene.obj\"\ngroup = \"blue\"\n").unwrap();
     let e = irradia_scene::load_file(&p).unwrap_err().to_string();
-    assert!(e.contains(":7:") && e.contains("objects[0].group") && e.contains("\"red\""), "{e}");
+    assert!(
+        e.contains(":7:") && e.contains("objects[0].group") && e.contains("\"red\""),
+        "{e}"
+    );
 }
 
 #[test]
@@ -51,7 +60,9 @@ fn mtl_maps_to_mitsuba_bsdfs_by_the_rule() {
     assert_eq!(s(m.get("red").unwrap(), "type"), "diffuse");
     let shiny = m.get("shiny").unwrap();
     assert_eq!(s(shiny, "type"), "roughplastic");
-    let Value::Float(alpha) = shiny.get("alpha").unwrap().value else { panic!() };
+    let Value::Float(alpha) = shiny.get("alpha").unwrap().value else {
+        panic!()
+    };
     assert!((alpha - (2.0f64 / 202.0).sqrt()).abs() < 1e-6, "{alpha}");
     let glass = m.get("glass").unwrap();
     assert_eq!(s(glass, "type"), "dielectric");
@@ -64,7 +75,10 @@ fn mtl_maps_to_mitsuba_bsdfs_by_the_rule() {
     assert_eq!(tex.get("scale").unwrap().value, Value::Float(0.02));
     assert_eq!(s(tex.get("texture").unwrap(), "filename"), "height.png");
     let inner = tex.get("bsdf").unwrap();
-    assert_eq!(s(inner.get("reflectance").unwrap(), "filename"), "checker.png");
+    assert_eq!(
+        s(inner.get("reflectance").unwrap(), "filename"),
+        "checker.png"
+    );
     let lamp = m.get("lamp").unwrap();
     assert_eq!(lamp.get("emission").unwrap().value, Value::Float(4.0));
     // Emissive materials light the scene: the path tracer, no environment added.
@@ -72,8 +86,19 @@ fn mtl_maps_to_mitsuba_bsdfs_by_the_rule() {
     assert_eq!(s(imp.tree.get("render").unwrap(), "integrator"), "path");
     // `Ka` is known and not rendered: a warning naming the MTL file, line and column.
     let w: Vec<String> = imp.warnings.iter().map(|w| w.to_string()).collect();
-    assert!(w.iter().any(|w| w.contains("scene.mtl:33:1") && w.contains("Ka")), "{w:?}");
-    let e = import(&data("obj/scene.obj"), &Options { strict: true, ..Default::default() }).unwrap_err();
+    assert!(
+        w.iter()
+            .any(|w| w.contains("scene.mtl:33:1") && w.contains("Ka")),
+        "{w:?}"
+    );
+    let e = import(
+        &data("obj/scene.obj"),
+        &Options {
+            strict: true,
+            ..Default::default()
+        },
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("strict"), "{e}");
 }
 
@@ -90,18 +115,46 @@ fn obj_error(obj: &str, mtl: &str) -> String {
 #[test]
 fn text_errors_name_file_line_and_column() {
     let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-    assert!(obj_error(&format!("{tri}v 1 x 0\n"), "").starts_with("m.obj:4:5:"), "{}", obj_error(&format!("{tri}v 1 x 0\n"), ""));
+    assert!(
+        obj_error(&format!("{tri}v 1 x 0\n"), "").starts_with("m.obj:4:5:"),
+        "{}",
+        obj_error(&format!("{tri}v 1 x 0\n"), "")
+    );
     let e = obj_error(&format!("{tri}f 1 2 9\n"), "");
-    assert!(e.starts_with("m.obj:4:7:") && e.contains("out of range"), "{e}");
+    assert!(
+        e.starts_with("m.obj:4:7:") && e.contains("out of range"),
+        "{e}"
+    );
     let e = obj_error(&format!("{tri}  frob 1\n"), "");
-    assert!(e.starts_with("m.obj:4:3:") && e.contains("unknown OBJ statement `frob`"), "{e}");
-    let e = obj_error(&format!("mtllib m.mtl\n{tri}usemtl a\nf 1 2 3\n"), "newmtl a\nKd 1 0.5\n");
-    assert!(e.starts_with("m.mtl:2:1:") && e.contains("takes 3 numbers"), "{e}");
-    let e = obj_error(&format!("mtllib m.mtl\n{tri}f 1 2 3\n"), "newmtl a\nKd 1 0.5 zz\n");
+    assert!(
+        e.starts_with("m.obj:4:3:") && e.contains("unknown OBJ statement `frob`"),
+        "{e}"
+    );
+    let e = obj_error(
+        &format!("mtllib m.mtl\n{tri}usemtl a\nf 1 2 3\n"),
+        "newmtl a\nKd 1 0.5\n",
+    );
+    assert!(
+        e.starts_with("m.mtl:2:1:") && e.contains("takes 3 numbers"),
+        "{e}"
+    );
+    let e = obj_error(
+        &format!("mtllib m.mtl\n{tri}f 1 2 3\n"),
+        "newmtl a\nKd 1 0.5 zz\n",
+    );
     assert!(e.starts_with("m.mtl:2:10:") && e.contains("'zz'"), "{e}");
-    let e = obj_error(&format!("mtllib m.mtl\n{tri}f 1 2 3\n"), "newmtl a\n  Kq 1\n");
-    assert!(e.starts_with("m.mtl:2:3:") && e.contains("unknown MTL directive"), "{e}");
-    let e = obj_error(&format!("mtllib m.mtl\n{tri}f 1 2 3\n"), "newmtl a\nillum 2.5\n");
+    let e = obj_error(
+        &format!("mtllib m.mtl\n{tri}f 1 2 3\n"),
+        "newmtl a\n  Kq 1\n",
+    );
+    assert!(
+        e.starts_with("m.mtl:2:3:") && e.contains("unknown MTL directive"),
+        "{e}"
+    );
+    let e = obj_error(
+        &format!("mtllib m.mtl\n{tri}f 1 2 3\n"),
+        "newmtl a\nillum 2.5\n",
+    );
     assert!(e.starts_with("m.mtl:2:7:"), "{e}");
     let e = obj_error("v 0 0 0\n", "");
     assert!(e.contains("no faces"), "{e}");
@@ -114,9 +167,20 @@ fn lines_are_a_warning_and_the_rest_renders() {
     std::fs::write(&p, "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nf 1 2 3\n").unwrap();
     let imp = import(&p, &Options::default()).unwrap();
     assert_eq!(imp.warnings.len(), 1);
-    assert!(imp.warnings[0].to_string().contains("l.obj:4:1"), "{}", imp.warnings[0]);
+    assert!(
+        imp.warnings[0].to_string().contains("l.obj:4:1"),
+        "{}",
+        imp.warnings[0]
+    );
     imp.scene().unwrap();
-    assert!(import(&p, &Options { strict: true, ..Default::default() }).is_err());
+    assert!(import(
+        &p,
+        &Options {
+            strict: true,
+            ..Default::default()
+        }
+    )
+    .is_err());
 }
 
 #[test]
@@ -126,7 +190,9 @@ fn a_bare_obj_is_framed_and_lit() {
     assert_eq!(imp.notes.len(), 2, "{:?}", imp.notes);
     assert!(imp.notes[0].contains("camera") && imp.notes[1].contains("light"));
     assert!(imp.tree.get("materials").is_none());
-    let Value::Array(objs) = &imp.tree.get("objects").unwrap().value else { panic!() };
+    let Value::Array(objs) = &imp.tree.get("objects").unwrap().value else {
+        panic!()
+    };
     assert!(objs[0].get("group").is_none(), "no usemtl: the whole file");
     let imp = imported(&data("obj/scene.obj"));
     assert_frames(&imp.tree, [-3.0, 0.0, -3.0], [3.0, 3.0, 3.0], 640.0, 480.0);

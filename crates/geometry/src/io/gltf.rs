@@ -33,7 +33,8 @@ impl GltfFile {
     /// to `path`'s folder.
     pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<GltfFile, MeshFileError> {
         let err = |msg: String| MeshFileError::new(path, None, None, msg);
-        let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| err(format!("not a valid glTF file: {e}")))?;
+        let gltf = gltf::Gltf::from_slice(bytes)
+            .map_err(|e| err(format!("not a valid glTF file: {e}")))?;
         let base = path.parent().unwrap_or(Path::new("."));
         let gltf::Gltf { document, blob } = gltf;
         let buffers = gltf::import_buffers(&document, Some(base), blob)
@@ -64,7 +65,7 @@ impl GltfFile {
             .get(view.buffer().index())
             .ok_or_else(|| self.err(name(), "the buffer view's buffer is missing"))?;
         let view_end = view.offset().checked_add(view.length());
-        if view_end.map_or(true, |e| e > buffer.len()) {
+        if !matches!(view_end, Some(e) if e <= buffer.len()) {
             return Err(self.err(
                 name(),
                 format!(
@@ -77,14 +78,17 @@ impl GltfFile {
         let elem = a.size();
         let stride = view.stride().unwrap_or(elem);
         if stride < elem && a.count() > 1 {
-            return Err(self.err(name(), format!("stride {stride} is shorter than an element ({elem} bytes)")));
+            return Err(self.err(
+                name(),
+                format!("stride {stride} is shorter than an element ({elem} bytes)"),
+            ));
         }
         if a.count() > 0 {
             let need = (a.count() - 1)
                 .checked_mul(stride)
                 .and_then(|x| x.checked_add(elem))
                 .and_then(|x| x.checked_add(a.offset()));
-            if need.map_or(true, |n| n > view.length()) {
+            if !matches!(need, Some(n) if n <= view.length()) {
                 return Err(self.err(
                     name(),
                     format!(
@@ -118,7 +122,10 @@ impl GltfFile {
         let here = format!("mesh {mesh}, primitive {primitive}");
         use gltf::mesh::Mode;
         let mode = p.mode();
-        if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+        if !matches!(
+            mode,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+        ) {
             return Err(self.err(
                 here,
                 format!("{mode:?} primitives are not surfaces (only triangles are read)"),
@@ -146,7 +153,13 @@ impl GltfFile {
             Mode::TriangleStrip => list
                 .windows(3)
                 .enumerate()
-                .map(|(k, w)| if k % 2 == 0 { [w[0], w[1], w[2]] } else { [w[1], w[0], w[2]] })
+                .map(|(k, w)| {
+                    if k % 2 == 0 {
+                        [w[0], w[1], w[2]]
+                    } else {
+                        [w[1], w[0], w[2]]
+                    }
+                })
                 .collect(),
             _ => (1..list.len().saturating_sub(1))
                 .map(|k| [list[0], list[k], list[k + 1]])
@@ -208,7 +221,10 @@ impl GltfFile {
         let count = self.document.images().len();
         let field = format!("image {index}");
         let img = self.document.images().nth(index).ok_or_else(|| {
-            self.err(field.clone(), format!("image {index} does not exist (the file has {count})"))
+            self.err(
+                field.clone(),
+                format!("image {index} does not exist (the file has {count})"),
+            )
         })?;
         match img.source() {
             gltf::image::Source::View { view, .. } => {

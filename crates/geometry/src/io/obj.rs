@@ -111,7 +111,6 @@ pub fn parse_obj_groups(
         triangulate: true,
         ignore_points: true,
         ignore_lines: true,
-        ..Default::default()
     };
     // tobj keeps a `usemtl` name only when an MTL file defines it; a first, made-up
     // `mtllib` defines every name used (as placeholders, which the real MTL files read
@@ -302,26 +301,27 @@ pub fn check_obj(text: &str, path: &Path) -> Result<Vec<String>, MeshFileError> 
                     count += 1;
                     let field = format!("f: corner {}", k + 1);
                     let mut parts = c.split('/');
-                    let check = |s: Option<&str>, count: usize, what: &str, required: bool| {
-                        match s {
-                            None | Some("") if !required => Ok(()),
-                            None | Some("") => {
-                                Err(err(&field, col, format!("missing {what} index in '{c}'")))
+                    let check = |s: Option<&str>, count: usize, what: &str, required: bool| match s
+                    {
+                        None | Some("") if !required => Ok(()),
+                        None | Some("") => {
+                            Err(err(&field, col, format!("missing {what} index in '{c}'")))
+                        }
+                        Some(s) => {
+                            let i: i64 = s.parse().map_err(|_| {
+                                err(&field, col, format!("'{s}' is not a {what} index"))
+                            })?;
+                            let resolved = if i > 0 { i - 1 } else { count as i64 + i };
+                            if i == 0 || resolved < 0 || resolved >= count as i64 {
+                                return Err(err(
+                                    &field,
+                                    col,
+                                    format!(
+                                        "{what} index {i} is out of range ({count} defined so far)"
+                                    ),
+                                ));
                             }
-                            Some(s) => {
-                                let i: i64 = s.parse().map_err(|_| {
-                                    err(&field, col, format!("'{s}' is not a {what} index"))
-                                })?;
-                                let resolved = if i > 0 { i - 1 } else { count as i64 + i };
-                                if i == 0 || resolved < 0 || resolved >= count as i64 {
-                                    return Err(err(
-                                        &field,
-                                        col,
-                                        format!("{what} index {i} is out of range ({count} defined so far)"),
-                                    ));
-                                }
-                                Ok(())
-                            }
+                            Ok(())
                         }
                     };
                     check(parts.next(), nv, "vertex", true)?;

@@ -65,7 +65,11 @@ impl<'a> Materials<'a> {
             (Some(_), Some(n)) if !n.is_empty() => n.to_string(),
             (Some(i), _) => format!("material_{i}"),
         };
-        let base = if colored { format!("{base}_vertex_color") } else { base };
+        let base = if colored {
+            format!("{base}_vertex_color")
+        } else {
+            base
+        };
         let mut key = base.clone();
         let mut k = 2;
         while self.keys.values().any(|v| v == &key) {
@@ -107,9 +111,14 @@ impl<'a> Materials<'a> {
         match &base_tex {
             Some(t) => {
                 if factor[..3] != [1.0, 1.0, 1.0] {
-                    warn("baseColorFactor beside baseColorTexture: the texture alone is used".into());
+                    warn(
+                        "baseColorFactor beside baseColorTexture: the texture alone is used".into(),
+                    );
                 }
-                bsdf.set("base_color", self.bitmap(&t.texture(), t.tex_coord(), false, None, &mut warn));
+                bsdf.set(
+                    "base_color",
+                    self.bitmap(&t.texture(), t.tex_coord(), false, None, &mut warn),
+                );
             }
             None if colored => {
                 let mut attr = Node::table(0);
@@ -130,12 +139,21 @@ impl<'a> Materials<'a> {
                     warn("metallic or roughness factor beside metallicRoughnessTexture: the texture alone is used".into());
                 }
                 let tex = t.texture();
-                bsdf.set("metallic", self.bitmap(&tex, t.tex_coord(), true, Some("b"), &mut warn));
-                bsdf.set("roughness", self.bitmap(&tex, t.tex_coord(), true, Some("g"), &mut warn));
+                bsdf.set(
+                    "metallic",
+                    self.bitmap(&tex, t.tex_coord(), true, Some("b"), &mut warn),
+                );
+                bsdf.set(
+                    "roughness",
+                    self.bitmap(&tex, t.tex_coord(), true, Some("g"), &mut warn),
+                );
             }
             None => {
-                bsdf.put("metallic", num(pbr.metallic_factor()), 0)
-                    .put("roughness", num(pbr.roughness_factor()), 0);
+                bsdf.put("metallic", num(pbr.metallic_factor()), 0).put(
+                    "roughness",
+                    num(pbr.roughness_factor()),
+                    0,
+                );
             }
         }
         if let Some(n) = m.normal_texture() {
@@ -202,7 +220,10 @@ impl<'a> Materials<'a> {
         warn: &mut dyn FnMut(String),
     ) -> Node {
         if tex_coord != 0 {
-            warn(format!("texture {} uses TEXCOORD_{tex_coord}: TEXCOORD_0 is used", t.index()));
+            warn(format!(
+                "texture {} uses TEXCOORD_{tex_coord}: TEXCOORD_0 is used",
+                t.index()
+            ));
         }
         let image = t.source().index();
         let mut b = Node::table(0);

@@ -16,10 +16,12 @@
 pub mod materials;
 pub mod view;
 
+pub use irradia_geometry::io::gltf::GltfFile;
+pub use irradia_geometry::io::MeshFileError;
+
 use crate::model::{self, Bounds};
 use crate::Imported;
 use glam::{Mat4, Vec3};
-use irradia_geometry::io::gltf::GltfFile;
 use irradia_scene::file::tree::Node;
 use irradia_scene::SceneError;
 use std::path::Path;
@@ -56,7 +58,11 @@ pub fn parse_bytes(bytes: &[u8], origin: &Path) -> Result<Imported, SceneError> 
 
     // The nodes to draw, with their world matrices: the default scene's, else the
     // first scene's, else every root node.
-    let roots: Vec<gltf::Node> = match file.document.default_scene().or_else(|| file.document.scenes().next()) {
+    let roots: Vec<gltf::Node> = match file
+        .document
+        .default_scene()
+        .or_else(|| file.document.scenes().next())
+    {
         Some(s) => s.nodes().collect(),
         None => {
             let mut child = vec![false; file.document.nodes().len()];
@@ -65,11 +71,17 @@ pub fn parse_bytes(bytes: &[u8], origin: &Path) -> Result<Imported, SceneError> 
                     child[c.index()] = true;
                 }
             }
-            file.document.nodes().filter(|n| !child[n.index()]).collect()
+            file.document
+                .nodes()
+                .filter(|n| !child[n.index()])
+                .collect()
         }
     };
-    let mut stack: Vec<(gltf::Node, Mat4, usize)> =
-        roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY, 0)).collect();
+    let mut stack: Vec<(gltf::Node, Mat4, usize)> = roots
+        .into_iter()
+        .rev()
+        .map(|n| (n, Mat4::IDENTITY, 0))
+        .collect();
     let mut visits = 0usize;
     while let Some((node, parent, depth)) = stack.pop() {
         visits += 1;
@@ -91,15 +103,24 @@ pub fn parse_bytes(bytes: &[u8], origin: &Path) -> Result<Imported, SceneError> 
             for prim in mesh.primitives() {
                 let here = format!("mesh {}, primitive {}", mesh.index(), prim.index());
                 use gltf::mesh::Mode;
-                if !matches!(prim.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+                if !matches!(
+                    prim.mode(),
+                    Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+                ) {
                     warnings.push(warn(
                         &here,
-                        format!("{:?} primitives are not rendered (only triangles)", prim.mode()),
+                        format!(
+                            "{:?} primitives are not rendered (only triangles)",
+                            prim.mode()
+                        ),
                     ));
                     continue;
                 }
                 let Some(pos) = prim.get(&gltf::Semantic::Positions) else {
-                    return Err(warn(&here, "the primitive has no POSITION attribute".into()));
+                    return Err(warn(
+                        &here,
+                        "the primitive has no POSITION attribute".into(),
+                    ));
                 };
                 file.check_accessor(&pos, &format!("{here}: POSITION"))
                     .map_err(model::mesh_error)?;

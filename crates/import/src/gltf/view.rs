@@ -80,8 +80,11 @@ impl View {
                 }
             }
             gltf::camera::Projection::Orthographic(o) => {
-                c.put("type", "orthographic", 0)
-                    .put("height", num((2.0 * o.ymag().abs()).max(1e-6)), 0);
+                c.put("type", "orthographic", 0).put(
+                    "height",
+                    num((2.0 * o.ymag().abs()).max(1e-6)),
+                    0,
+                );
                 if o.znear() > 0.0 && o.znear().is_finite() {
                     c.put("near_clip", num(o.znear()), 0);
                 }
@@ -101,8 +104,11 @@ impl View {
         let label = format!("light {}", light.index());
         if light.range().is_some() {
             warnings.push(
-                SceneError::input(label.as_str(), "range is not applied (the light reaches everywhere)")
-                    .with_file(origin),
+                SceneError::input(
+                    label.as_str(),
+                    "range is not applied (the light reaches everywhere)",
+                )
+                .with_file(origin),
             );
         }
         let c = light.color();

@@ -26,9 +26,34 @@ use std::path::Path;
 const READ: &[&str] = &["v", "vt", "vn", "f", "o", "g", "s", "usemtl", "mtllib"];
 /// Statements of the format that Irradia does not render: a warning each (once).
 const NOT_RENDERED: &[&str] = &[
-    "l", "p", "vp", "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim",
-    "hole", "scrv", "sp", "end", "con", "mg", "lod", "bevel", "c_interp", "d_interp", "usemap",
-    "maplib", "shadow_obj", "trace_obj", "ctech", "stech",
+    "l",
+    "p",
+    "vp",
+    "cstype",
+    "deg",
+    "bmat",
+    "step",
+    "curv",
+    "curv2",
+    "surf",
+    "parm",
+    "trim",
+    "hole",
+    "scrv",
+    "sp",
+    "end",
+    "con",
+    "mg",
+    "lod",
+    "bevel",
+    "c_interp",
+    "d_interp",
+    "usemap",
+    "maplib",
+    "shadow_obj",
+    "trace_obj",
+    "ctech",
+    "stech",
 ];
 
 /// Imports `path`.
@@ -95,7 +120,8 @@ pub fn parse_str(text: &str, origin: &Path) -> Result<Imported, SceneError> {
             bounds.add(*p);
         }
         let mut obj = Node::table(0);
-        obj.put("type", "mesh", 0).put("path", file_name.as_str(), 0);
+        obj.put("type", "mesh", 0)
+            .put("path", file_name.as_str(), 0);
         if uses_mtl {
             obj.put("group", g.material.clone().unwrap_or_default(), 0);
         }
@@ -109,8 +135,11 @@ pub fn parse_str(text: &str, origin: &Path) -> Result<Imported, SceneError> {
             );
         }
         if let Some(key) = g.material.as_ref().and_then(|m| names.get(m)) {
-            obj.put("material", key.as_str(), 0)
-                .put("name", g.material.clone().unwrap_or_default(), 0);
+            obj.put("material", key.as_str(), 0).put(
+                "name",
+                g.material.clone().unwrap_or_default(),
+                0,
+            );
         }
         tree.push("objects", obj);
     }
@@ -181,7 +210,9 @@ fn check_statements(
                 warnings.push(
                     SceneError::input(
                         key,
-                        format!("`{key}` statements are not rendered (Irradia reads surfaces: faces)"),
+                        format!(
+                            "`{key}` statements are not rendered (Irradia reads surfaces: faces)"
+                        ),
                     )
                     .at(n + 1, col)
                     .with_file(origin),
@@ -189,12 +220,11 @@ fn check_statements(
             }
             continue;
         }
-        return Err(SceneError::input(
-            key,
-            format!("unknown OBJ statement `{key}`"),
-        )
-        .at(n + 1, col)
-        .with_file(origin));
+        return Err(
+            SceneError::input(key, format!("unknown OBJ statement `{key}`"))
+                .at(n + 1, col)
+                .with_file(origin),
+        );
     }
     Ok(())
 }

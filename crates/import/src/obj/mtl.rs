@@ -34,46 +34,82 @@ const READ: &[&str] = &[
 ];
 /// Directives of MTL (and its common PBR extension) that Irradia does not map.
 const NOT_RENDERED: &[&str] = &[
-    "Ka", "Tf", "map_Ka", "map_Ks", "map_Ke", "map_Ns", "disp", "decal", "refl", "sharpness",
-    "Pr", "Pm", "Ps", "Pc", "Pcr", "aniso", "anisor", "map_Pr", "map_Pm", "map_Ps", "norm",
-    "map_RMA", "map_ORM", "map_refl",
+    "Ka",
+    "Tf",
+    "map_Ka",
+    "map_Ks",
+    "map_Ke",
+    "map_Ns",
+    "disp",
+    "decal",
+    "refl",
+    "sharpness",
+    "Pr",
+    "Pm",
+    "Ps",
+    "Pc",
+    "Pcr",
+    "aniso",
+    "anisor",
+    "map_Pr",
+    "map_Pm",
+    "map_Ps",
+    "norm",
+    "map_RMA",
+    "map_ORM",
+    "map_refl",
 ];
 
 /// Checks MTL text: known directives, numbers where numbers belong (file, line and
 /// column of the first problem); warnings for directives not rendered.
-pub fn check(text: &str, path: &Path, warnings: &mut Vec<SceneError>) -> Result<MtlFile, SceneError> {
+pub fn check(
+    text: &str,
+    path: &Path,
+    warnings: &mut Vec<SceneError>,
+) -> Result<MtlFile, SceneError> {
     let mut materials = Vec::new();
     let mut warned: Vec<String> = Vec::new();
     for (n, raw) in text.lines().enumerate() {
         let line = n + 1;
         let content = raw.split('#').next().unwrap_or("");
         let mut tok = tokens(content);
-        let Some((col, key)) = tok.next() else { continue };
+        let Some((col, key)) = tok.next() else {
+            continue;
+        };
         let err = |field: &str, col: usize, msg: String| {
             SceneError::input(field, msg).at(line, col).with_file(path)
         };
-        let numbers = |tok: &mut dyn Iterator<Item = (usize, &str)>, count: usize, integer: bool| {
-            let vals: Vec<(usize, &str)> = tok.collect();
-            if vals.len() != count {
-                return Err(err(
-                    key,
-                    col,
-                    format!("`{key}` takes {count} number{}, found {}", if count > 1 { "s" } else { "" }, vals.len()),
-                ));
-            }
-            for (c, s) in vals {
-                let ok = if integer {
-                    s.parse::<u8>().is_ok()
-                } else {
-                    s.parse::<f32>().is_ok_and(f32::is_finite)
-                };
-                if !ok {
-                    let what = if integer { "an illumination model (0 to 10)" } else { "a finite number" };
-                    return Err(err(key, c, format!("'{s}' is not {what}")));
+        let numbers =
+            |tok: &mut dyn Iterator<Item = (usize, &str)>, count: usize, integer: bool| {
+                let vals: Vec<(usize, &str)> = tok.collect();
+                if vals.len() != count {
+                    return Err(err(
+                        key,
+                        col,
+                        format!(
+                            "`{key}` takes {count} number{}, found {}",
+                            if count > 1 { "s" } else { "" },
+                            vals.len()
+                        ),
+                    ));
                 }
-            }
-            Ok(())
-        };
+                for (c, s) in vals {
+                    let ok = if integer {
+                        s.parse::<u8>().is_ok()
+                    } else {
+                        s.parse::<f32>().is_ok_and(f32::is_finite)
+                    };
+                    if !ok {
+                        let what = if integer {
+                            "an illumination model (0 to 10)"
+                        } else {
+                            "a finite number"
+                        };
+                        return Err(err(key, c, format!("'{s}' is not {what}")));
+                    }
+                }
+                Ok(())
+            };
         match key {
             "newmtl" => {
                 let name = content.trim_start()[6..].trim();
@@ -140,13 +176,19 @@ fn bitmap(
     let (file, bm, other) = texture_ref(spec);
     if other {
         warnings.push(
-            SceneError::input("", format!("texture options of `{spec}` other than -bm are ignored"))
-                .with_file(origin),
+            SceneError::input(
+                "",
+                format!("texture options of `{spec}` other than -bm are ignored"),
+            )
+            .with_file(origin),
         );
     }
     let mut t = Node::table(0);
-    t.put("type", "bitmap", 0)
-        .put("filename", rel_name(&mtl_dir.join(file.replace('\\', "/")), scene_dir), 0);
+    t.put("type", "bitmap", 0).put(
+        "filename",
+        rel_name(&mtl_dir.join(file.replace('\\', "/")), scene_dir),
+        0,
+    );
     if raw {
         t.put("raw", true, 0);
     }
@@ -164,8 +206,15 @@ pub fn material(
     let kd = m.diffuse.unwrap_or([0.8; 3]);
     let ks = m.specular.unwrap_or([0.0; 3]);
     let illum = m.illumination_model.unwrap_or(2);
-    let tr = m.unknown_param.get("Tr").and_then(|s| s.trim().parse::<f32>().ok());
-    let d = m.dissolve.or(tr.map(|t| 1.0 - t)).unwrap_or(1.0).clamp(0.0, 1.0);
+    let tr = m
+        .unknown_param
+        .get("Tr")
+        .and_then(|s| s.trim().parse::<f32>().ok());
+    let d = m
+        .dissolve
+        .or(tr.map(|t| 1.0 - t))
+        .unwrap_or(1.0)
+        .clamp(0.0, 1.0);
     let ni = m.optical_density;
     let diffuse_tex = |warnings: &mut Vec<SceneError>| match &m.diffuse_texture {
         Some(spec) => bitmap(spec, false, mtl_dir, scene_dir, warnings, origin).0,
@@ -174,8 +223,11 @@ pub fn material(
     let dielectric = matches!(illum, 4 | 6 | 7 | 9) || (ni.is_some_and(|n| n != 1.0) && d < 1.0);
     let mut bsdf = Node::table(0);
     if dielectric {
-        bsdf.put("type", "dielectric", 0)
-            .put("int_ior", num(ni.filter(|n| *n > 0.0).unwrap_or(1.5)), 0);
+        bsdf.put("type", "dielectric", 0).put(
+            "int_ior",
+            num(ni.filter(|n| *n > 0.0).unwrap_or(1.5)),
+            0,
+        );
     } else if matches!(illum, 3 | 5) && kd.iter().all(|&x| x == 0.0) {
         bsdf.put("type", "conductor", 0)
             .set("specular_reflectance", color(ks));

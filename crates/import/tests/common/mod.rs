@@ -7,7 +7,9 @@ use irradia_scene::file::tree::{parse_toml, Node, Value};
 use std::path::{Path, PathBuf};
 
 pub fn data(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(rel)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(rel)
 }
 
 pub fn imported(path: &Path) -> Imported {
@@ -30,7 +32,12 @@ pub fn assert_round_trip(path: &Path) {
     irradia_scene::load_tree(&back, &text, &dir.join("converted.toml"))
         .unwrap_or_else(|e| panic!("{}: converted scene: {e}\n{text}", path.display()));
     // Mesh data stays in the model file: the TOML is small.
-    assert!(text.len() < 8000, "{}: {} bytes of TOML", path.display(), text.len());
+    assert!(
+        text.len() < 8000,
+        "{}: {} bytes of TOML",
+        path.display(),
+        text.len()
+    );
 }
 
 pub fn vec3(n: &Node) -> [f32; 3] {
@@ -63,7 +70,11 @@ pub fn assert_frames(tree: &Node, lo: [f32; 3], hi: [f32; 3], w: f32, h: f32) {
     let up = right.cross(fwd);
     // fov spans the shorter side.
     let t = (fov.to_radians() / 2.0).tan();
-    let (tx, ty) = if w >= h { (t * w / h, t) } else { (t, t * h / w) };
+    let (tx, ty) = if w >= h {
+        (t * w / h, t)
+    } else {
+        (t, t * h / w)
+    };
     for k in 0..8 {
         let p = Vec3::new(
             if k & 1 == 0 { lo[0] } else { hi[0] },
@@ -74,7 +85,10 @@ pub fn assert_frames(tree: &Node, lo: [f32; 3], hi: [f32; 3], w: f32, h: f32) {
         let z = d.dot(fwd);
         assert!(z > 0.0, "corner {p} behind the camera");
         let (x, y) = (d.dot(right) / z, d.dot(up) / z);
-        assert!(x.abs() <= tx && y.abs() <= ty, "corner {p} outside the image: ({x}, {y}) vs ({tx}, {ty})");
+        assert!(
+            x.abs() <= tx && y.abs() <= ty,
+            "corner {p} outside the image: ({x}, {y}) vs ({tx}, {ty})"
+        );
     }
     // And not lost in the middle: the box spans a fair part of the view.
     let c = 0.5 * (Vec3::from(lo) + Vec3::from(hi));

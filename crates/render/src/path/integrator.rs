@@ -10,12 +10,12 @@ use super::lights::LightSampler;
 use super::material_map::{
     desc_anisotropic, is_uniform, material_bsdf, material_bsdf_query, Tangents,
 };
-use irradia_scene::texture::TextureQuery;
 use super::tracer::{AccelTracer, PathHit, Tracer};
 use crate::raytree::{Blocker, NoRecorder, RayKind, Recorder};
 use glam::{Vec2, Vec3};
 use irradia_core::{offset_ray_origin, Frame, Ray, Rgb, Rng};
 use irradia_scatter::{Bsdf, LobeFlags, Scatter};
+use irradia_scene::texture::TextureQuery;
 use irradia_scene::Scene;
 
 /// Parameters of the estimator.

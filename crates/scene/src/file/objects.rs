@@ -203,9 +203,18 @@ fn read_mesh(t: &Table) -> Result<TriangleMesh> {
     let mesh = t.get("mesh");
     let primitive = t.get("primitive");
     let part = irradia_geometry::io::MeshPart {
-        group: group.as_ref().map(|g| g.str().map(str::to_string)).transpose()?,
-        mesh: mesh.as_ref().map(|m| m.u32().map(|x| x as usize)).transpose()?,
-        primitive: primitive.as_ref().map(|p| p.u32().map(|x| x as usize)).transpose()?,
+        group: group
+            .as_ref()
+            .map(|g| g.str().map(str::to_string))
+            .transpose()?,
+        mesh: mesh
+            .as_ref()
+            .map(|m| m.u32().map(|x| x as usize))
+            .transpose()?,
+        primitive: primitive
+            .as_ref()
+            .map(|p| p.u32().map(|x| x as usize))
+            .transpose()?,
     };
     irradia_geometry::io::load_mesh_part(&path, &part).map_err(|e| {
         // A selector that does not fit the file is the selector's error.

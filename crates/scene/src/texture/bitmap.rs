@@ -167,16 +167,20 @@ pub fn read_texels_selected(
                         .map_err(|e| format!("cannot open {}: {e}", dir.join(&uri).display()))?
                 }
             };
-            image::load_from_memory(&bytes).map_err(|e| {
-                format!("cannot decode image {index} of {}: {e}", path.display())
-            })?
+            image::load_from_memory(&bytes)
+                .map_err(|e| format!("cannot decode image {index} of {}: {e}", path.display()))?
         }
     };
     // One channel of the image as a grey one (16 bits keep 8- and 16-bit files exact;
     // a float file keeps its values).
     let img = match channel {
         None => img,
-        Some(c) if matches!(img.color(), image::ColorType::Rgb32F | image::ColorType::Rgba32F) => {
+        Some(c)
+            if matches!(
+                img.color(),
+                image::ColorType::Rgb32F | image::ColorType::Rgba32F
+            ) =>
+        {
             let rgba = img.to_rgba32f();
             let (w, h) = (rgba.width(), rgba.height());
             image::DynamicImage::ImageRgb32F(image::ImageBuffer::from_fn(w, h, |x, y| {
