@@ -206,3 +206,25 @@ fn errors_name_the_file_and_the_accessor() {
         let _ = irradia_import::gltf::parse_bytes(&glb[..cut], &dir.path().join("cut.glb"));
     }
 }
+
+/// Findings of `cargo fuzz run gltf`, kept as regression tests: what the fuzz target
+/// does (import; read every primitive and embedded image) ends in errors, not panics.
+#[test]
+fn fuzz_findings_do_not_panic() {
+    let dir = data("gltf/fuzz");
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let p = entry.unwrap().path();
+        let bytes = std::fs::read(&p).unwrap();
+        let imported = irradia_import::gltf::parse_bytes(&bytes, &p);
+        let mut failed = imported.is_err();
+        if let Ok(file) = irradia_import::gltf::GltfFile::from_bytes(&bytes, &p) {
+            for m in 0..file.document.meshes().len() {
+                failed |= file.primitive(m, 0).is_err();
+            }
+            for i in 0..file.document.images().len() {
+                failed |= file.embedded_image(i).is_err();
+            }
+        }
+        assert!(failed, "{}: no error found", p.display());
+    }
+}

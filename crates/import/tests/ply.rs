@@ -114,3 +114,16 @@ fn errors_name_the_file_and_element() {
     );
     let _ = Path::new("");
 }
+
+/// Findings of `cargo fuzz run ply`, kept as regression tests: each ends quickly in an
+/// error or a scene, never a panic or a hang.
+#[test]
+fn fuzz_findings_end_quickly() {
+    for entry in std::fs::read_dir(data("ply/fuzz")).unwrap() {
+        let p = entry.unwrap().path();
+        let bytes = std::fs::read(&p).unwrap();
+        let t = std::time::Instant::now();
+        let _ = irradia_import::ply::parse_bytes(&bytes, &p);
+        assert!(t.elapsed().as_secs_f64() < 1.0, "{}", p.display());
+    }
+}

@@ -33,10 +33,33 @@ impl GltfFile {
     /// to `path`'s folder.
     pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<GltfFile, MeshFileError> {
         let err = |msg: String| MeshFileError::new(path, None, None, msg);
-        let gltf = gltf::Gltf::from_slice(bytes)
+        let gltf = gltf::Gltf::from_slice_without_validation(bytes)
+            .map_err(|e| err(format!("not a valid glTF file: {e}")))?;
+        let gltf::Gltf { document, blob } = gltf;
+        let root = document.into_json();
+        // gltf-json 1.4.1's validation indexes a primitive's POSITION accessor before
+        // checking that it exists (a panic on such a file): checked here first.
+        for (m, mesh) in root.meshes.iter().enumerate() {
+            for (p, prim) in mesh.primitives.iter().enumerate() {
+                for (sem, a) in &prim.attributes {
+                    if a.value() >= root.accessors.len() {
+                        return Err(MeshFileError::new(
+                            path,
+                            None,
+                            Some(format!("mesh {m}, primitive {p}: {sem:?}")),
+                            format!(
+                                "accessor {} does not exist (the file has {})",
+                                a.value(),
+                                root.accessors.len()
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        let document = gltf::Document::from_json(root)
             .map_err(|e| err(format!("not a valid glTF file: {e}")))?;
         let base = path.parent().unwrap_or(Path::new("."));
-        let gltf::Gltf { document, blob } = gltf;
         let buffers = gltf::import_buffers(&document, Some(base), blob)
             .map_err(|e| err(format!("cannot load a buffer: {e}")))?;
         Ok(GltfFile {
@@ -103,6 +126,42 @@ impl GltfFile {
         Ok(())
     }
 
+    /// Checks the accessors of primitive `p` that are read (bounds, as
+    /// [`GltfFile::check_accessor`], and the component type and dimensions the format
+    /// allows for each: the `gltf` crate's readers assume both).
+    pub fn check_primitive(&self, p: &gltf::Primitive, here: &str) -> Result<(), MeshFileError> {
+        use gltf::accessor::{DataType as T, Dimensions as D};
+        use gltf::Semantic as S;
+        let check = |a: &gltf::Accessor, what: &str, types: &[T], dims: &[D]| {
+            let field = format!("{here}: {what}");
+            self.check_accessor(a, &field)?;
+            if !types.contains(&a.data_type()) || !dims.contains(&a.dimensions()) {
+                return Err(self.err(
+                    format!("{field} (accessor {})", a.index()),
+                    format!(
+                        "{:?} {:?} is not a type this attribute may have",
+                        a.data_type(),
+                        a.dimensions()
+                    ),
+                ));
+            }
+            Ok(())
+        };
+        for (sem, a) in p.attributes() {
+            let name = sem.to_string();
+            match sem {
+                S::Positions | S::Normals => check(&a, &name, &[T::F32], &[D::Vec3])?,
+                S::TexCoords(0) => check(&a, &name, &[T::F32, T::U8, T::U16], &[D::Vec2])?,
+                S::Colors(0) => check(&a, &name, &[T::F32, T::U8, T::U16], &[D::Vec3, D::Vec4])?,
+                _ => {}
+            }
+        }
+        if let Some(a) = p.indices() {
+            check(&a, "indices", &[T::U8, T::U16, T::U32], &[D::Scalar])?;
+        }
+        Ok(())
+    }
+
     /// Primitive `primitive` of mesh `mesh`.
     pub fn primitive(&self, mesh: usize, primitive: usize) -> Result<MeshFile, MeshFileError> {
         let meshes = self.document.meshes().len();
@@ -131,12 +190,7 @@ impl GltfFile {
                 format!("{mode:?} primitives are not surfaces (only triangles are read)"),
             ));
         }
-        for (sem, a) in p.attributes() {
-            self.check_accessor(&a, &format!("{here}: {}", sem.to_string()))?;
-        }
-        if let Some(a) = p.indices() {
-            self.check_accessor(&a, &format!("{here}: indices"))?;
-        }
+        self.check_primitive(&p, &here)?;
         let reader = p.reader(|b| self.buffers.get(b.index()).map(|d| &d.0[..]));
         let positions: Vec<Vec3> = reader
             .read_positions()
@@ -226,6 +280,12 @@ impl GltfFile {
                 format!("image {index} does not exist (the file has {count})"),
             )
         })?;
+        if !self.source_readable(index) {
+            return Err(self.err(
+                field,
+                "an image needs a uri, or a bufferView with a mimeType",
+            ));
+        }
         match img.source() {
             gltf::image::Source::View { view, .. } => {
                 let buffer = self
@@ -254,8 +314,20 @@ impl GltfFile {
         }
     }
 
+    /// Whether image `index` has what the `gltf` crate's `Image::source` unwraps.
+    fn source_readable(&self, index: usize) -> bool {
+        match self.document.as_json().images.get(index) {
+            Some(i) if i.buffer_view.is_some() => i.mime_type.is_some(),
+            Some(i) => i.uri.is_some(),
+            None => false,
+        }
+    }
+
     /// The URI of image `index` when it is a file of its own (percent-decoded).
     pub fn image_uri(&self, index: usize) -> Option<String> {
+        if !self.source_readable(index) {
+            return None;
+        }
         match self.document.images().nth(index)?.source() {
             gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => {
                 Some(percent_decode(uri))

@@ -279,6 +279,9 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
                     reader.end_instance(el, i)?;
                 }
             }
+            // A binary element without properties takes no bytes: nothing to read (and
+            // its count, which nothing bounds, must not be looped over).
+            _ if format != Encoding::Ascii && el.props.is_empty() => {}
             _ => {
                 for i in 0..el.count {
                     reader.start_instance(el, i)?;

@@ -122,7 +122,7 @@ pub fn parse_bytes(bytes: &[u8], origin: &Path) -> Result<Imported, SceneError> 
                         "the primitive has no POSITION attribute".into(),
                     ));
                 };
-                file.check_accessor(&pos, &format!("{here}: POSITION"))
+                file.check_primitive(&prim, &here)
                     .map_err(model::mesh_error)?;
                 add_bounds(&file, &prim, &pos, &world, &mut bounds);
                 let colored = prim.get(&gltf::Semantic::Colors(0)).is_some();
