@@ -26,6 +26,10 @@ const SKIP: &[(&str, &str)] = &[
     ("cargo run --release", "builds the release binary (minutes)"),
     ("irradia render [SCENE]", "a synopsis with placeholders"),
     (
+        "irradia convert SCENE -o OUT.toml",
+        "a synopsis with placeholders",
+    ),
+    (
         "irradia trace-pixel [SCENE]",
         "a synopsis with placeholders",
     ),
@@ -175,7 +179,7 @@ fn every_quick_documented_example_runs_as_written() {
         );
     }
     let dir = tempfile::tempdir().unwrap();
-    for name in ["docs", "crates"] {
+    for name in ["docs", "crates", "tests"] {
         std::os::unix::fs::symlink(root().join(name), dir.path().join(name)).unwrap();
     }
     let bin = PathBuf::from(env!("CARGO_BIN_EXE_irradia"));

@@ -74,10 +74,11 @@ impl Instance {
     /// ([`Shape::uv_derivatives`] carried by the transform).
     pub fn uv_derivatives(&self, hit: &Hit) -> (Vec3, Vec3) {
         if self.identity {
-            return self.shape.uv_derivatives(hit.point, hit.uv, hit.prim);
+            return self.shape.uv_derivatives_at(hit);
         }
-        let p = self.to_object.transform_point3(hit.point);
-        let (du, dv) = self.shape.uv_derivatives(p, hit.uv, hit.prim);
+        let mut object_hit = *hit;
+        object_hit.point = self.to_object.transform_point3(hit.point);
+        let (du, dv) = self.shape.uv_derivatives_at(&object_hit);
         (
             self.to_world.transform_vector3(du),
             self.to_world.transform_vector3(dv),

@@ -10,6 +10,7 @@ pub mod bvh;
 pub mod csg;
 pub mod expr;
 pub mod generators;
+pub mod group;
 pub mod instance;
 pub mod io;
 pub mod mesh;
@@ -22,6 +23,7 @@ pub mod triangle;
 
 pub use accel::{Accel, SceneHit};
 pub use csg::{Csg, CsgOp, CsgOperand};
+pub use group::ShapeGroup;
 pub use instance::Instance;
 pub use mesh::{MeshError, TriangleMesh};
 pub use query::{ObjectSet, RayQuery, RaySegment};

@@ -136,6 +136,12 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         None
     }
 
+    /// [`Shape::uv_derivatives`] at an object-space hit; shapes made of other placed
+    /// shapes (a [`crate::ShapeGroup`]) find the member from the hit's `leaf`.
+    fn uv_derivatives_at(&self, hit: &Hit) -> (Vec3, Vec3) {
+        self.uv_derivatives(hit.point, hit.uv, hit.prim)
+    }
+
     /// Whether any hit with `0 < t < t_max` exists (shadow rays). Shapes may override
     /// this with something cheaper than finding the nearest hit.
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

@@ -13,8 +13,10 @@
 //! errors.
 
 pub mod gltf;
+pub mod mitsuba;
 pub mod model;
 pub mod obj;
+pub mod pbrt;
 pub mod ply;
 pub mod toml_out;
 
@@ -33,10 +35,14 @@ pub enum Format {
     Gltf,
     /// A PLY mesh.
     Ply,
+    /// Mitsuba 3's XML scene format.
+    Mitsuba,
+    /// pbrt-v4's scene format (`.pbrt`).
+    Pbrt,
 }
 
 /// Every extension [`Format::of`] accepts, for messages and `--help`.
-pub const EXTENSIONS: &[&str] = &["toml", "json", "obj", "gltf", "glb", "ply"];
+pub const EXTENSIONS: &[&str] = &["toml", "json", "xml", "pbrt", "obj", "gltf", "glb", "ply"];
 
 impl Format {
     /// The format named by `path`'s extension.
@@ -52,6 +58,8 @@ impl Format {
             "obj" => Format::Obj,
             "gltf" | "glb" => Format::Gltf,
             "ply" => Format::Ply,
+            "xml" => Format::Mitsuba,
+            "pbrt" => Format::Pbrt,
             _ => {
                 let list: Vec<String> = EXTENSIONS.iter().map(|e| format!(".{e}")).collect();
                 return Err(SceneError::input(
@@ -120,6 +128,8 @@ pub fn import(path: &Path, opts: &Options) -> Result<Imported, SceneError> {
         Format::Obj => obj::import(path)?,
         Format::Gltf => gltf::import(path)?,
         Format::Ply => ply::import(path)?,
+        Format::Mitsuba => mitsuba::import(path, opts)?,
+        Format::Pbrt => pbrt::import(path, opts)?,
     };
     imported.check_strict(opts.strict)
 }

@@ -107,7 +107,7 @@ pub fn rebase_paths(node: &mut Node, from: &Path, to: &Path) {
 
 /// `p` (relative to `from`, or absolute) as seen from `to`: relative when both folders
 /// can be made absolute, else absolute.
-fn rebase(p: &str, from: &Path, to: &Path) -> String {
+pub(crate) fn rebase(p: &str, from: &Path, to: &Path) -> String {
     let path = Path::new(p);
     if path.is_absolute() {
         return p.to_string();

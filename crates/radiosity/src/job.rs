@@ -25,7 +25,7 @@ use std::time::Duration;
 pub const DETAIL: u32 = 32;
 
 /// Where the scene comes from.
-#[derive(Clone, Copy, Debug)]
+#[derive(Debug)]
 pub enum SceneSource<'a> {
     /// The measured Cornell box (no file, no `--builtin`).
     Default,
@@ -34,6 +34,8 @@ pub enum SceneSource<'a> {
     Builtin(&'a str),
     /// A scene file (TOML or JSON).
     File(&'a Path),
+    /// A scene already read (by `irradia_import`, from any format it reads).
+    Scene(Box<Scene>),
 }
 
 /// How the solved radiosity becomes an image.
@@ -146,10 +148,7 @@ pub fn load_scene(source: SceneSource<'_>, two_pass: bool, closed: bool) -> Resu
                 job.specular = Some(s);
             } else if irradia_scene::builtin::source(name).is_some() {
                 let scene = irradia_scene::builtin::load(name).map_err(scene_error)?;
-                let (specs, _, w) = scene_patches(&scene, two_pass, &mut job)?;
-                job.specs = specs;
-                job.warnings.extend(w);
-                job.scene = Some(scene);
+                take_scene(&mut job, scene, two_pass, false)?;
             } else {
                 let names: Vec<String> = builtin_names().into_iter().map(|(n, _)| n).collect();
                 return Err(RadiosityError::Input(format!(
@@ -160,16 +159,23 @@ pub fn load_scene(source: SceneSource<'_>, two_pass: bool, closed: bool) -> Resu
         }
         SceneSource::File(path) => {
             let scene = irradia_scene::load_file(path).map_err(scene_error)?;
-            let (specs, objects, w) = scene_patches(&scene, two_pass, &mut job)?;
-            if closed {
-                scene_input::check_closed(&specs, Some((&scene, &objects)))?;
-            }
-            job.specs = specs;
-            job.warnings.extend(w);
-            job.scene = Some(scene);
+            take_scene(&mut job, scene, two_pass, closed)?;
         }
+        SceneSource::Scene(scene) => take_scene(&mut job, *scene, two_pass, closed)?,
     }
     Ok(job)
+}
+
+/// Makes `scene` the job's: its patches (checked closed when asked) and warnings.
+fn take_scene(job: &mut JobScene, scene: Scene, two_pass: bool, closed: bool) -> Result<()> {
+    let (specs, objects, w) = scene_patches(&scene, two_pass, job)?;
+    if closed {
+        scene_input::check_closed(&specs, Some((&scene, &objects)))?;
+    }
+    job.specs = specs;
+    job.warnings.extend(w);
+    job.scene = Some(scene);
+    Ok(())
 }
 
 /// A scene's patches, the object of each, and the warnings; with `two_pass` the

@@ -166,3 +166,60 @@ fn a_grid_from_a_raw_volume_is_the_inline_grid() {
     assert_eq!(ha.t, hb.t);
     assert_eq!(ha.normal, hb.normal);
 }
+
+/// An `sdfgrid` read from Mitsuba's `.vol` file is the same shape as one given inline.
+#[test]
+fn an_sdfgrid_from_a_mitsuba_vol_file_equals_the_inline_grid() {
+    let n = 6usize;
+    let value = |x: usize, y: usize, z: usize| {
+        let p = glam::Vec3::new(x as f32, y as f32, z as f32) / (n - 1) as f32;
+        (p - glam::Vec3::splat(0.5)).length() - 0.35
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mut bytes = b"VOL\x03".to_vec();
+    for v in [1i32, n as i32, n as i32, n as i32, 1] {
+        bytes.extend(v.to_le_bytes());
+    }
+    for v in [0.0f32, 0.0, 0.0, 1.0, 1.0, 1.0] {
+        bytes.extend(v.to_le_bytes());
+    }
+    let mut planes = Vec::new();
+    for z in 0..n {
+        let mut rows = Vec::new();
+        for y in 0..n {
+            let row: Vec<String> = (0..n).map(|x| format!("{}", value(x, y, z))).collect();
+            for x in 0..n {
+                bytes.extend(value(x, y, z).to_le_bytes());
+            }
+            rows.push(format!("[{}]", row.join(", ")));
+        }
+        planes.push(format!("[{}]", rows.join(", ")));
+    }
+    std::fs::write(dir.path().join("ball.vol"), &bytes).unwrap();
+    let scene = |shape: &str| {
+        let text = format!("{HEAD}[[objects]]\ntype = \"sdfgrid\"\n{shape}\n");
+        load_str(&text, SceneSyntax::Toml, &dir.path().join("s.toml"))
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let from_file = scene("path = \"ball.vol\"");
+    let inline = scene(&format!("grid = [{}]", planes.join(", ")));
+    let (a, b) = (
+        &from_file.accel.instances()[0],
+        &inline.accel.instances()[0],
+    );
+    for i in 0..20 {
+        let o = glam::Vec3::new(0.1 + 0.04 * i as f32, 0.5, 3.0);
+        let ray = irradia_core::Ray::new(o, -glam::Vec3::Z);
+        let (ha, hb) = (
+            a.intersect(&ray, f32::INFINITY),
+            b.intersect(&ray, f32::INFINITY),
+        );
+        assert_eq!(ha.map(|h| h.t), hb.map(|h| h.t), "ray {i}");
+    }
+    assert!(a
+        .intersect(
+            &irradia_core::Ray::new(glam::Vec3::new(0.5, 0.5, 3.0), -glam::Vec3::Z),
+            f32::INFINITY
+        )
+        .is_some());
+}

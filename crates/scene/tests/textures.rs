@@ -132,7 +132,8 @@ fn to_uv_scales_then_translates_like_mitsuba() {
 
 #[test]
 fn checkerboard_cells_as_mitsuba() {
-    // Mitsuba: color0 = 1, color1 = 0 at these uvs gave 0 1 1 0 0 1 0 1.
+    // Mitsuba 3.9.1, color0 = 1, color1 = 0: `eval_1` at these uvs gave 0 1 1 0 0 1 0 1,
+    // and `eval` (a colour) the opposite cells (white at (0.25, 0.25) and (0, 0)).
     let c = Checkerboard {
         color0: Rgb::WHITE,
         color1: Rgb::BLACK,
@@ -149,13 +150,20 @@ fn checkerboard_cells_as_mitsuba() {
         ((-0.25, 0.25), 1.0),
     ];
     for ((u, v), want) in cases {
-        assert_eq!(c.eval(Vec2::new(u, v)).r, want, "at ({u}, {v})");
+        assert_eq!(
+            c.eval_1_color(Vec2::new(u, v)).r,
+            want,
+            "eval_1 at ({u}, {v})"
+        );
+        assert_eq!(c.eval(Vec2::new(u, v)).r, 1.0 - want, "eval at ({u}, {v})");
     }
+    assert_eq!(c.eval(Vec2::ZERO).r, 1.0);
     let scaled = Checkerboard {
         to_uv: UvTransform(Affine2::from_scale(Vec2::splat(2.0))),
         ..c
     };
-    assert_eq!(scaled.eval(Vec2::new(0.3, 0.1)).r, 1.0);
+    assert_eq!(scaled.eval_1_color(Vec2::new(0.3, 0.1)).r, 1.0);
+    assert_eq!(scaled.eval(Vec2::new(0.3, 0.1)).r, 0.0);
     assert_eq!(Checkerboard::default().color0, Rgb::splat(0.4));
 }
 

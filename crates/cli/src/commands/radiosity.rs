@@ -106,6 +106,8 @@ pub struct RadiosityArgs {
     /// ray-tracer built-in (the list is at the end of --help).
     #[arg(long, value_name = "NAME", long_help = builtin_help())]
     pub builtin: Option<String>,
+    #[command(flatten)]
+    pub import: crate::scene_arg::ImportArgs,
     /// Form-factor method (matrix solvers).
     #[arg(long = "form-factors", value_enum, default_value = "hemicube")]
     pub form_factors: FormFactorArg,
@@ -250,8 +252,7 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
         (None, None) => SceneSource::Default,
         (None, Some(name)) => SceneSource::Builtin(name),
         (Some(path), None) => {
-            crate::scene_arg::check_scene_path(path)?;
-            SceneSource::File(path)
+            SceneSource::Scene(Box::new(crate::scene_arg::import_scene(path, &a.import)?))
         }
     };
     let two_pass = a.display == DisplayArg::TwoPass;

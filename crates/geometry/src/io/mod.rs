@@ -10,6 +10,7 @@ mod error;
 pub mod gltf;
 pub mod obj;
 pub mod ply;
+pub mod serialized;
 pub mod volume;
 
 pub use error::MeshFileError;
@@ -39,6 +40,8 @@ pub struct MeshPart {
     pub mesh: Option<usize>,
     /// glTF: the primitive's index in the mesh (default 0).
     pub primitive: Option<usize>,
+    /// Mitsuba `.serialized`: the shape's index in the file.
+    pub shape_index: usize,
 }
 
 impl MeshFile {
@@ -63,18 +66,38 @@ impl MeshFile {
     }
 }
 
-/// Reads an OBJ or PLY file (chosen by the extension) into a mesh.
+/// Reads an OBJ, PLY or Mitsuba `.serialized` file (chosen by the extension) into a
+/// mesh.
 pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshFileError> {
-    load_mesh_part(path, &MeshPart::default())
+    read_mesh_file(path, 0)?.into_mesh(path)
 }
 
-/// Reads `part` of an OBJ, PLY, glTF or GLB file (chosen by the extension) into a mesh.
+/// Reads `part` of an OBJ, PLY, `.serialized`, glTF or GLB file (chosen by the
+/// extension) into a mesh.
 pub fn load_mesh_part(path: &Path, part: &MeshPart) -> Result<TriangleMesh, MeshFileError> {
     read_mesh_part(path, part)?.into_mesh(path)
 }
 
+/// Reads a mesh file's contents (chosen by the extension); `shape_index` picks the
+/// shape of a `.serialized` file that holds several.
+pub fn read_mesh_file(path: &Path, shape_index: usize) -> Result<MeshFile, MeshFileError> {
+    read_mesh_part(
+        path,
+        &MeshPart {
+            shape_index,
+            ..Default::default()
+        },
+    )
+}
+
 /// [`load_mesh_part`] before the mesh is checked and built.
 pub fn read_mesh_part(path: &Path, part: &MeshPart) -> Result<MeshFile, MeshFileError> {
+    // A gzip-compressed PLY file (`.ply.gz`, as pbrt-v4's scenes ship them).
+    let name = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .map(|n| n.to_ascii_lowercase())
+        .unwrap_or_default();
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -104,9 +127,19 @@ pub fn read_mesh_part(path: &Path, part: &MeshPart) -> Result<MeshFile, MeshFile
             "a `group` selector needs an OBJ file",
         ));
     }
+    if name.ends_with(".ply.gz") {
+        let packed = read_file(path)?;
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut flate2::read::GzDecoder::new(&packed[..]), &mut bytes)
+            .map_err(|e| {
+                MeshFileError::new(path, None, None, format!("cannot decompress (gzip): {e}"))
+            })?;
+        return ply::parse_ply(&bytes, path);
+    }
     match ext.as_deref() {
         Some("obj") => obj::read_obj_group(path, part.group.as_deref()),
         Some("ply") => ply::read_ply(path),
+        Some("serialized") => serialized::read_serialized(path, part.shape_index),
         Some("gltf" | "glb") => {
             let Some(mesh) = part.mesh else {
                 return Err(MeshFileError::new(
@@ -123,7 +156,7 @@ pub fn read_mesh_part(path: &Path, part: &MeshPart) -> Result<MeshFile, MeshFile
             path,
             None,
             None,
-            "unknown mesh format: the name must end in .obj or .ply (or .gltf, .glb)",
+            "unknown mesh format: the name must end in .obj or .ply (also .ply.gz), .serialized, .gltf or .glb",
         )),
     }
 }

@@ -3,9 +3,9 @@
 //! 1-based or negative, relative to the end), split into groups by `usemtl`
 //! ([`ObjData::groups`]); `mtllib` files are read by `tobj` as well. A corner
 //! `v/vt/vn` that combines attributes differently from another becomes its own
-//! vertex. Texture coordinates are flipped (`v' = 1 − v`), as Mitsuba's OBJ loader
-//! does: OBJ's `vt` origin is the image's bottom-left corner, Irradia's bitmap uv the
-//! top-left.
+//! vertex. Texture coordinates are kept as written (OBJ's `vt` origin is the image's
+//! bottom-left corner, Irradia's bitmap uv the top-left: the scene schema's
+//! `flip_tex_coords` turns them, as Mitsuba's OBJ loader does by default).
 //!
 //! `tobj` reports no positions, so a first pass over the text ([`check_obj`]) finds
 //! the line and column of anything malformed (a number that does not parse or is not
@@ -197,7 +197,7 @@ fn mesh_of(m: &tobj::Mesh) -> MeshFile {
         uvs: (m.texcoords.len() == 2 * n && n > 0).then(|| {
             m.texcoords
                 .chunks_exact(2)
-                .map(|t| Vec2::new(t[0], 1.0 - t[1]))
+                .map(|t| Vec2::new(t[0], t[1]))
                 .collect()
         }),
         colors: (m.vertex_color.len() == 3 * n && n > 0).then(|| v3(&m.vertex_color)),

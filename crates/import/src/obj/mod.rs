@@ -1,7 +1,8 @@
 //! Wavefront OBJ with its MTL materials, as a scene.
 //!
 //! The geometry stays in the OBJ file: each `usemtl` group becomes one object
-//! `{ type = "mesh", path = "model.obj", group = "name", material = "name" }` (the
+//! `{ type = "mesh", path = "model.obj", group = "name", material = "name" }`, with
+//! `flip_tex_coords = true` when it has texture coordinates (the
 //! scene reader loads the group's faces with `tobj`), so `irradia convert` writes a
 //! small file that points at the original. Each MTL material becomes a Mitsuba-style
 //! BSDF by the rule of [`mtl`]. A file without a camera or light gets the framing
@@ -122,6 +123,10 @@ pub fn parse_str(text: &str, origin: &Path) -> Result<Imported, SceneError> {
         let mut obj = Node::table(0);
         obj.put("type", "mesh", 0)
             .put("path", file_name.as_str(), 0);
+        if g.mesh.uvs.is_some() {
+            // OBJ's texture origin is the image's bottom-left corner (Mitsuba's default).
+            obj.put("flip_tex_coords", true, 0);
+        }
         if uses_mtl {
             obj.put("group", g.material.clone().unwrap_or_default(), 0);
         }

@@ -181,7 +181,8 @@ fn volume(t: &Table) -> Result<MeshData> {
 }
 
 /// The scalar volume of `path` (relative to the scene file): an NRRD file
-/// (`.nrrd`/`.nhdr`, which describes itself) or a raw one described by `dims`, `voxel`,
+/// (`.nrrd`/`.nhdr`, which describes itself), Mitsuba's grid volume (`.vol`, likewise)
+/// or a raw one described by `dims`, `voxel`,
 /// `endian`, `header_bytes` and `spacing`. Shared by the `volume` generator and the
 /// `sdfgrid` shape.
 pub(super) fn read_volume(t: &Table) -> Result<ScalarGrid> {
@@ -193,15 +194,25 @@ pub(super) fn read_volume(t: &Table) -> Result<ScalarGrid> {
         .unwrap_or("")
         .to_ascii_lowercase();
     let nrrd = ext == "nrrd" || ext == "nhdr";
+    let mitsuba = ext == "vol";
     let raw_fields = ["dims", "voxel", "endian", "header_bytes", "spacing"];
-    let grid = if nrrd {
+    let grid = if nrrd || mitsuba {
         if let Some(k) = raw_fields.iter().find(|k| t.has(k)) {
             let v = t.get(k).expect("present");
+            let what = if nrrd {
+                "an NRRD file"
+            } else {
+                "a Mitsuba .vol file"
+            };
             return Err(v.err(format!(
-                "{k} belongs to raw volumes; an NRRD file describes itself"
+                "{k} belongs to raw volumes; {what} describes itself"
             )));
         }
-        read_nrrd(&path)
+        if nrrd {
+            read_nrrd(&path)
+        } else {
+            irradia_geometry::io::volume::read_mitsuba_vol(&path)
+        }
     } else {
         let d_v = t.req("dims")?;
         let d = d_v.array()?;

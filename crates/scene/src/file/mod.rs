@@ -100,7 +100,8 @@ fn read_scene(doc: &Doc, tree: &tree::Node) -> Result<Scene, SceneError> {
     let materials = materials::read_materials(root.get("materials"))?;
     let lights = lights::read_lights(root.get("lights"))?;
     let mut mats = objects::MaterialTable::new(materials);
-    let (objects, instances) = objects::read_objects(root.get("objects"), &mut mats)?;
+    let groups = objects::read_shape_groups(root.get("shape_groups"), &mut mats)?;
+    let (objects, instances) = objects::read_objects(root.get("objects"), &mut mats, &groups)?;
     let labels = labels::read_labels(root.get("labels"))?;
     root.finish()?;
     let mut scene = Scene::new(camera, settings, mats.materials, lights, objects, instances);

@@ -68,6 +68,7 @@ impl TextureMap {
     pub fn eval_1(&self, q: &TextureQuery) -> f32 {
         match self {
             TextureMap::Bitmap(b) if b.texels.channels == 1 => b.eval(q.uv).r,
+            TextureMap::Checkerboard(c) => mitsuba_luminance(c.eval_1_color(q.uv)),
             _ => mitsuba_luminance(self.eval(q)),
         }
     }

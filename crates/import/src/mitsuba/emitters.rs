@@ -1,0 +1,255 @@
+//! `<emitter>` into `[[lights]]` (Irradia's lights are Mitsuba's, with Mitsuba's
+//! parameter names); a position and direction given by `to_world` are taken from
+//! it. An `area` emitter belongs to a shape: its radiance becomes the material's
+//! `emission` ([`area_radiance`]).
+
+use super::bsdfs::value;
+use super::props::{Obj, Val};
+use super::xml::Elem;
+use super::Builder;
+use glam::DVec3;
+use irradia_scene::file::tree::Node;
+use irradia_scene::SceneError;
+
+const EMITTERS: &[&str] = &[
+    "point",
+    "spot",
+    "directional",
+    "constant",
+    "envmap",
+    "projector",
+    "area",
+];
+
+const UNRENDERED: &[&str] = &["directionalarea", "sunsky", "sky", "sun"];
+
+fn v3(v: DVec3, pos: usize) -> Node {
+    Node::new([v.x, v.y, v.z], pos)
+}
+
+/// The radiance of a shape's `area` emitter, as an emission colour (`None` with a
+/// warning when it is a texture).
+pub fn area_radiance<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<Option<Node>, SceneError> {
+    let o = Obj::read(e)?;
+    if o.plugin != "area" {
+        if EMITTERS.contains(&o.plugin.as_str()) || UNRENDERED.contains(&o.plugin.as_str()) {
+            return Err(e.err_at(
+                "type",
+                "type",
+                format!("a shape's emitter must be `area`, not `{}`", o.plugin),
+            ));
+        }
+        return Err(e.err_at("type", "type", format!("unknown emitter `{}`", o.plugin)));
+    }
+    let r = match o.get("radiance") {
+        None => Node::new(1.0, e.main_pos),
+        Some(p) => match &p.val {
+            Val::Object(t) if t.tag == "texture" => {
+                b.warn(
+                    p.elem,
+                    "radiance",
+                    "a textured area emitter is not rendered: radiance 1 stands in",
+                );
+                for q in &o.props {
+                    q.used.set(true);
+                }
+                Node::new(1.0, e.main_pos)
+            }
+            Val::Ref(_) => {
+                b.warn(
+                    p.elem,
+                    "radiance",
+                    "a textured area emitter is not rendered: radiance 1 stands in",
+                );
+                Node::new(1.0, e.main_pos)
+            }
+            _ => value(b, p, true)?,
+        },
+    };
+    if let Some(n) = o.nested.first() {
+        return Err(n.err(
+            &n.tag,
+            format!("<{}> does not belong in an area emitter", n.tag),
+        ));
+    }
+    o.finish(&["radiance"])?;
+    Ok(Some(r))
+}
+
+pub fn emitter<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<(), SceneError> {
+    let o = Obj::read(e)?;
+    let pos = e.main_pos;
+    let kind = o.plugin.as_str();
+    if !EMITTERS.contains(&kind) {
+        if UNRENDERED.contains(&kind) {
+            b.warn(
+                e,
+                "type",
+                format!("the `{kind}` emitter is not rendered: left out"),
+            );
+            return Ok(());
+        }
+        let valid: Vec<&str> = EMITTERS.iter().chain(UNRENDERED).copied().collect();
+        return Err(e.err_at(
+            "type",
+            "type",
+            format!("unknown emitter `{kind}` (valid: {})", valid.join(", ")),
+        ));
+    }
+    if kind == "area" {
+        return Err(e.err("type", "an `area` emitter belongs inside a <shape>"));
+    }
+    if let Some(n) = o.nested.first() {
+        return Err(n.err(&n.tag, format!("<{}> does not belong in an emitter", n.tag)));
+    }
+    let xf = match o.get("to_world") {
+        Some(p) => Some(p.transform()?.clone()),
+        None => None,
+    };
+    let mut l = Node::table(pos);
+    l.put("type", kind, pos);
+    let params: &[&str] = match kind {
+        "point" => {
+            let p = match (o.get("position"), &xf) {
+                (Some(p), None) => p.vec3()?,
+                (None, Some(x)) => x.point(DVec3::ZERO),
+                (None, None) => DVec3::ZERO,
+                (Some(p), Some(_)) => {
+                    return Err(p.err("give either position or to_world, not both"))
+                }
+            };
+            l.set("position", v3(p, pos));
+            copy(b, &o, &mut l, &["intensity"])?;
+            &["position", "to_world", "intensity"]
+        }
+        "spot" => {
+            let x = xf.clone().unwrap_or_else(super::transform::Xform::identity);
+            l.set("position", v3(x.point(DVec3::ZERO), pos));
+            l.set("direction", v3(x.vector(DVec3::Z).normalize(), pos));
+            copy(b, &o, &mut l, &["intensity", "cutoff_angle", "beam_width"])?;
+            if let Some(p) = o.get("texture") {
+                b.warn(
+                    p.elem,
+                    "texture",
+                    "a spot light's texture is not rendered: it shines its intensity uniformly",
+                );
+            }
+            &[
+                "to_world",
+                "intensity",
+                "cutoff_angle",
+                "beam_width",
+                "texture",
+            ]
+        }
+        "directional" => {
+            let d = match (o.get("direction"), &xf) {
+                (Some(p), None) => p.vec3()?,
+                (None, Some(x)) => x.vector(DVec3::Z),
+                (None, None) => DVec3::Z,
+                (Some(p), Some(_)) => {
+                    return Err(p.err("give either direction or to_world, not both"))
+                }
+            };
+            l.set("direction", v3(d, pos));
+            copy(b, &o, &mut l, &["irradiance"])?;
+            &["direction", "to_world", "irradiance"]
+        }
+        "constant" => {
+            copy(b, &o, &mut l, &["radiance"])?;
+            &["radiance"]
+        }
+        "envmap" => {
+            let f = o
+                .get("filename")
+                .ok_or_else(|| e.err("filename", "`envmap` needs `filename`"))?;
+            let path = b.file(e, f.elem, f.str()?)?;
+            l.put("filename", path, f.elem.main_pos);
+            copy(b, &o, &mut l, &["scale"])?;
+            if let Some(x) = &xf {
+                if !x.steps.is_empty() {
+                    l.set("to_world", Node::new(x.steps.clone(), pos));
+                }
+            }
+            if o.get("bitmap").is_some() {
+                return Err(e.err(
+                    "bitmap",
+                    "an envmap from an in-memory bitmap cannot be read from a file",
+                ));
+            }
+            &["filename", "scale", "to_world"]
+        }
+        "projector" => {
+            let x = xf.clone().unwrap_or_else(super::transform::Xform::identity);
+            l.set("position", v3(x.point(DVec3::ZERO), pos));
+            l.set("direction", v3(x.vector(DVec3::Z).normalize(), pos));
+            l.set("up", v3(x.vector(DVec3::Y).normalize(), pos));
+            if let Some(p) = o.get("irradiance") {
+                let v = value(b, p, true)?;
+                // Irradia's projector takes an image file or a colour.
+                let v = match v.get("filename") {
+                    Some(f) => {
+                        let name = match &f.value {
+                            irradia_scene::file::tree::Value::Str(s) => s.to_ascii_lowercase(),
+                            _ => String::new(),
+                        };
+                        if [".png", ".exr", ".pfm"].iter().any(|x| name.ends_with(x)) {
+                            f.clone()
+                        } else {
+                            b.warn(p.elem, "irradiance", "a projector reads PNG, EXR or PFM images only: irradiance 1 stands in");
+                            Node::new(1.0, pos)
+                        }
+                    }
+                    None => v,
+                };
+                l.set("irradiance", v);
+            }
+            match (o.get("fov"), o.get("focal_length")) {
+                (Some(f), _) => {
+                    l.put("fov", f.f64()?, f.elem.main_pos);
+                }
+                (None, _) => {
+                    let diag = (36.0f64 * 36.0 + 24.0 * 24.0).sqrt();
+                    l.put("fov", 2.0 * (diag / 100.0).atan().to_degrees(), pos);
+                    l.put("fov_axis", "diagonal", pos);
+                    if let Some(p) = o.get("focal_length") {
+                        b.warn(
+                            p.elem,
+                            "focal_length",
+                            "a projector's focal_length is read as 50mm",
+                        );
+                    }
+                }
+            }
+            copy(b, &o, &mut l, &["scale", "fov_axis"])?;
+            &[
+                "to_world",
+                "irradiance",
+                "fov",
+                "fov_axis",
+                "focal_length",
+                "scale",
+            ]
+        }
+        _ => unreachable!("area is handled above"),
+    };
+    o.finish(params)?;
+    b.lights.push(l);
+    Ok(())
+}
+
+/// Copies parameters of the same name and meaning.
+fn copy<'e>(
+    b: &mut Builder<'e>,
+    o: &Obj<'e>,
+    l: &mut Node,
+    names: &[&str],
+) -> Result<(), SceneError> {
+    for n in names {
+        if let Some(p) = o.get(n) {
+            let v = value(b, p, true)?;
+            l.set(n, v);
+        }
+    }
+    Ok(())
+}
