@@ -85,6 +85,15 @@ impl Instance {
         )
     }
 
+    /// The shape's vertex colour at world-space hit `hit` ([`Shape::vertex_color`]).
+    pub fn vertex_color(&self, hit: &Hit) -> Option<Vec3> {
+        if self.identity {
+            return self.shape.vertex_color(hit.point, hit.prim);
+        }
+        let p = self.to_object.transform_point3(hit.point);
+        self.shape.vertex_color(p, hit.prim)
+    }
+
     /// Nearest hit in world space.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         if self.identity {

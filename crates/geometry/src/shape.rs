@@ -128,6 +128,14 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         (Vec3::ZERO, Vec3::ZERO)
     }
 
+    /// The colour of the surface's vertices interpolated at object-space point `p` of
+    /// primitive `prim` (a mesh with vertex colours), for the `mesh_attribute` texture;
+    /// `None` for shapes without them.
+    fn vertex_color(&self, p: Vec3, prim: u32) -> Option<Vec3> {
+        let _ = (p, prim);
+        None
+    }
+
     /// [`Shape::uv_derivatives`] at an object-space hit; shapes made of other placed
     /// shapes (a [`crate::ShapeGroup`]) find the member from the hit's `leaf`.
     fn uv_derivatives_at(&self, hit: &Hit) -> (Vec3, Vec3) {

@@ -12,8 +12,12 @@
 //! known feature that Irradia does not render; [`Options::strict`] turns warnings into
 //! errors.
 
+pub mod gltf;
 pub mod mitsuba;
+pub mod model;
+pub mod obj;
 pub mod pbrt;
+pub mod ply;
 pub mod toml_out;
 
 use irradia_scene::file::tree::Node;
@@ -25,6 +29,12 @@ use std::path::{Path, PathBuf};
 pub enum Format {
     /// Irradia's own TOML or JSON.
     Irradia(SceneSyntax),
+    /// Wavefront OBJ with its MTL materials.
+    Obj,
+    /// glTF 2.0, JSON (`.gltf`) or binary (`.glb`).
+    Gltf,
+    /// A PLY mesh.
+    Ply,
     /// Mitsuba 3's XML scene format.
     Mitsuba,
     /// pbrt-v4's scene format (`.pbrt`).
@@ -32,7 +42,7 @@ pub enum Format {
 }
 
 /// Every extension [`Format::of`] accepts, for messages and `--help`.
-pub const EXTENSIONS: &[&str] = &["toml", "json", "xml", "pbrt"];
+pub const EXTENSIONS: &[&str] = &["toml", "json", "xml", "pbrt", "obj", "gltf", "glb", "ply"];
 
 impl Format {
     /// The format named by `path`'s extension.
@@ -45,6 +55,9 @@ impl Format {
         Ok(match ext.as_str() {
             "toml" => Format::Irradia(SceneSyntax::Toml),
             "json" => Format::Irradia(SceneSyntax::Json),
+            "obj" => Format::Obj,
+            "gltf" | "glb" => Format::Gltf,
+            "ply" => Format::Ply,
             "xml" => Format::Mitsuba,
             "pbrt" => Format::Pbrt,
             _ => {
@@ -112,6 +125,9 @@ pub fn import(path: &Path, opts: &Options) -> Result<Imported, SceneError> {
     let format = Format::of(path)?;
     let imported = match format {
         Format::Irradia(syntax) => import_irradia(path, syntax)?,
+        Format::Obj => obj::import(path)?,
+        Format::Gltf => gltf::import(path)?,
+        Format::Ply => ply::import(path)?,
         Format::Mitsuba => mitsuba::import(path, opts)?,
         Format::Pbrt => pbrt::import(path, opts)?,
     };

@@ -9,6 +9,9 @@ pub struct MeshFileError {
     pub path: PathBuf,
     /// 1-based line of a text file (OBJ, ASCII PLY, any PLY header).
     pub line: Option<usize>,
+    /// 1-based column (in characters) on `line`, where the reader knows it; not part
+    /// of the message (importers place it in their own `file:line:col`).
+    pub column: Option<usize>,
     /// What was being read: "v: y", "face 12: vertex_indices", "element vertex".
     pub field: Option<String>,
     pub message: String,
@@ -24,9 +27,18 @@ impl MeshFileError {
         Self {
             path: path.to_path_buf(),
             line,
+            column: None,
             field,
             message: message.into(),
         }
+    }
+}
+
+impl MeshFileError {
+    /// The error with a column on its line.
+    pub fn at_column(mut self, column: usize) -> Self {
+        self.column = Some(column);
+        self
     }
 }
 

@@ -1,6 +1,7 @@
 //! PLY (Turk, "The PLY Polygon File Format", 1994): ASCII, binary little-endian and
 //! binary big-endian. Reads `vertex` (x, y, z; optional nx, ny, nz and u, v / s, t /
-//! texture_u, texture_v), `face` (a list property `vertex_indices` or `vertex_index`;
+//! texture_u, texture_v; red, green, blue as integers (sRGB, made linear) or floats
+//! (linear)), `face` (a list property `vertex_indices` or `vertex_index`;
 //! polygons are fanned into triangles) and `tristrips` (the Stanford scans' triangle
 //! strips, e.g. igea.ply: one list `vertex_indices` per element, -1 ending a strip;
 //! the winding alternates along a strip, and triangles that repeat a vertex are the
@@ -148,6 +149,20 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
                     find(&["v", "t", "texture_v", "texture_t"]),
                 ];
                 let has_uv = uv.iter().all(|p| p.is_some());
+                let rgb = [
+                    find(&["red", "diffuse_red", "r"]),
+                    find(&["green", "diffuse_green", "g"]),
+                    find(&["blue", "diffuse_blue", "b"]),
+                ];
+                let has_rgb = rgb.iter().all(|p| p.is_some());
+                // Integer colours are 0..=max of their type (uchar: 255); float ones 0..1.
+                let rgb_scale: [f64; 3] = rgb.map(|k| match k.map(|k| el.props[k].ty) {
+                    Some(Scalar::U8) | Some(Scalar::I8) => 1.0 / 255.0,
+                    Some(Scalar::U16) | Some(Scalar::I16) => 1.0 / 65535.0,
+                    Some(Scalar::U32) | Some(Scalar::I32) => 1.0 / 4294967295.0,
+                    _ => 1.0,
+                });
+                let mut colors = Vec::new();
                 out.positions.reserve(capacity);
                 let mut vals = vec![0f64; el.props.len()];
                 for i in 0..el.count {
@@ -177,6 +192,19 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
                     if has_uv {
                         uvs.push(Vec2::new(get(uv[0]), get(uv[1])));
                     }
+                    if has_rgb {
+                        let c = |k: usize| (vals[rgb[k].unwrap()] * rgb_scale[k]) as f32;
+                        let c = Vec3::new(c(0), c(1), c(2));
+                        // sRGB-encoded 8-bit colours, as viewers show them: made linear.
+                        colors.push(if rgb_scale[0] < 1.0 {
+                            c.to_array().map(irradia_core::color::srgb_to_linear).into()
+                        } else {
+                            c
+                        });
+                    }
+                }
+                if has_rgb {
+                    out.colors = Some(colors);
                 }
                 if has_n {
                     out.normals = Some(std::mem::take(&mut normals));
@@ -251,6 +279,9 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
                     reader.end_instance(el, i)?;
                 }
             }
+            // A binary element without properties takes no bytes: nothing to read (and
+            // its count, which nothing bounds, must not be looped over).
+            _ if format != Encoding::Ascii && el.props.is_empty() => {}
             _ => {
                 for i in 0..el.count {
                     reader.start_instance(el, i)?;

@@ -57,6 +57,9 @@ pub struct TriangleMesh {
     /// on first use (it hashes every edge, which ray casting alone does not need).
     orientation: std::sync::OnceLock<i8>,
     uvs: Option<Vec<Vec2>>,
+    /// Linear RGB colours per vertex (PLY's red/green/blue, glTF's COLOR_0), read by
+    /// the `mesh_attribute` texture.
+    colors: Option<Vec<Vec3>>,
     /// Leaves index `packets`: a leaf of n triangles owns ceil(n / 4) consecutive
     /// packets.
     bvh: Bvh,
@@ -186,11 +189,62 @@ impl TriangleMesh {
             normals_given,
             orientation,
             uvs,
+            colors: None,
             bvh,
             packets,
             packet_triangles,
             bounds,
         })
+    }
+
+    /// The mesh with a colour per vertex (linear RGB, finite, not negative).
+    pub fn with_colors(mut self, colors: Vec<Vec3>) -> Result<TriangleMesh, MeshError> {
+        if colors.len() != self.positions.len() {
+            return Err(MeshError::CountMismatch {
+                what: "colours",
+                got: colors.len(),
+                expected: self.positions.len(),
+            });
+        }
+        if let Some(v) = colors
+            .iter()
+            .position(|c| !c.is_finite() || c.min_element() < 0.0)
+        {
+            return Err(MeshError::NonFiniteAttribute {
+                vertex: v,
+                what: "colour",
+                value: format!("{:?}", colors[v].to_array()),
+            });
+        }
+        self.colors = Some(colors);
+        Ok(self)
+    }
+
+    pub fn colors(&self) -> Option<&[Vec3]> {
+        self.colors.as_deref()
+    }
+
+    /// The vertex colour interpolated at object-space point `p` of triangle `tri`
+    /// (barycentric coordinates of `p` in the triangle's plane).
+    pub fn color_at(&self, p: Vec3, tri: u32) -> Option<Vec3> {
+        let colors = self.colors.as_ref()?;
+        let t = self.indices.get(tri as usize)?;
+        let [a, b, c] = t.map(|i| self.positions[i as usize]);
+        let (e1, e2, d) = (b - a, c - a, p - a);
+        let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+        let (d1, d2) = (d.dot(e1), d.dot(e2));
+        let det = d11 * d22 - d12 * d12;
+        let (b1, b2) = if det.abs() > 0.0 && det.is_finite() {
+            (
+                ((d22 * d1 - d12 * d2) / det).clamp(0.0, 1.0),
+                ((d11 * d2 - d12 * d1) / det).clamp(0.0, 1.0),
+            )
+        } else {
+            (0.0, 0.0)
+        };
+        let b0 = (1.0 - b1 - b2).max(0.0);
+        let [ca, cb, cc] = t.map(|i| colors[i as usize]);
+        Some(ca * b0 + cb * b1 + cc * b2)
     }
 
     pub fn positions(&self) -> &[Vec3] {
@@ -362,6 +416,10 @@ impl Shape for TriangleMesh {
 
     fn uv_derivatives(&self, _p: Vec3, _uv: Vec2, prim: u32) -> (Vec3, Vec3) {
         self.triangle_uv_derivatives(prim)
+    }
+
+    fn vertex_color(&self, p: Vec3, prim: u32) -> Option<Vec3> {
+        self.color_at(p, prim)
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

@@ -7,12 +7,15 @@
 //! depth `k`; `max_depth = 1` shows only emitters seen directly, `2` adds direct light.
 
 use super::lights::LightSampler;
-use super::material_map::{desc_anisotropic, is_uniform, material_bsdf, Tangents};
+use super::material_map::{
+    desc_anisotropic, is_uniform, material_bsdf, material_bsdf_query, Tangents,
+};
 use super::tracer::{AccelTracer, PathHit, Tracer};
 use crate::raytree::{Blocker, NoRecorder, RayKind, Recorder};
 use glam::{Vec2, Vec3};
 use irradia_core::{offset_ray_origin, Frame, Ray, Rgb, Rng};
 use irradia_scatter::{Bsdf, LobeFlags, Scatter};
+use irradia_scene::texture::TextureQuery;
 use irradia_scene::Scene;
 
 /// Parameters of the estimator.
@@ -156,7 +159,17 @@ pub(crate) fn surface_at<T: Tracer>(ps: &PathScene<'_, T>, sh: &PathHit) -> Opti
     };
     let bsdf = match ps.bsdfs.get(sh.material as usize) {
         Some(Some(b)) => b.clone(),
-        _ => material_bsdf(material, hit.point, hit.uv, &tangents),
+        _ => {
+            let instance = ps.scene.accel.instances().get(sh.instance as usize);
+            let q = TextureQuery {
+                uv: hit.uv,
+                vertex_color: instance
+                    .and_then(|inst| inst.vertex_color(hit))
+                    .map(|c| Rgb::new(c.x, c.y, c.z)),
+                face_color: None,
+            };
+            material_bsdf_query(material, hit.point, &q, &tangents)
+        }
     };
     if bsdf.flags() == LobeFlags::NONE {
         return None;

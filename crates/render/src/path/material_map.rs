@@ -61,9 +61,20 @@ impl Default for Tangents {
 /// differential geometry `tangents`: its physically based description when it has
 /// one, else the lecture mixture.
 pub fn material_bsdf(material: &Material, p: Vec3, uv: Vec2, tangents: &Tangents) -> Bsdf {
+    material_bsdf_query(material, p, &TextureQuery::at_uv(uv), tangents)
+}
+
+/// [`material_bsdf`] with everything a texture lookup may read (a mesh's vertex colour
+/// as well as the uv).
+pub fn material_bsdf_query(
+    material: &Material,
+    p: Vec3,
+    q: &TextureQuery,
+    tangents: &Tangents,
+) -> Bsdf {
     match &material.bsdf {
-        Some(d) => desc_bsdf(d, &TextureQuery::at_uv(uv), tangents),
-        None => bsdf_for(material, p, uv).into(),
+        Some(d) => desc_bsdf(d, q, tangents),
+        None => bsdf_for(material, p, q.uv).into(),
     }
 }
 

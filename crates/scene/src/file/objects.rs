@@ -286,17 +286,46 @@ fn gyroid_mesh(t: &Table) -> Result<TriangleMesh> {
         .map_err(|e| t.err(format!("gyroid mesh: {e}")))
 }
 
-/// `type = "mesh"`, `path = "bunny.ply"` (OBJ, PLY or Mitsuba `.serialized`, relative
-/// to the scene file); `shape_index` (0) picks a `.serialized` file's shape,
-/// `flip_tex_coords` (false) turns v into 1 − v, `face_normals` (false) shades flat.
+/// `type = "mesh"`, `path = "bunny.ply"` (OBJ, PLY, Mitsuba `.serialized`, glTF or GLB,
+/// relative to the scene file); `shape_index` (0) picks a `.serialized` file's shape,
+/// `group = "name"` an OBJ file's faces that use one material, `mesh = N` and
+/// `primitive = N` a glTF file's primitive; `flip_tex_coords` (false) turns v into
+/// 1 − v, `face_normals` (false) shades flat.
 fn read_mesh(t: &Table) -> Result<TriangleMesh> {
     let path_v = t.req("path")?;
     let path = path_v.doc.resolve(path_v.str()?);
     let index = t.u32_or("shape_index", 0)? as usize;
     let flip = t.bool_or("flip_tex_coords", false)?;
     let flat = t.bool_or("face_normals", false)?;
-    let mut data = irradia_geometry::io::read_mesh_file(&path, index)
-        .map_err(|e| path_v.err(format!("cannot load the mesh: {e}")))?;
+    let group = t.get("group");
+    let mesh = t.get("mesh");
+    let primitive = t.get("primitive");
+    let part = irradia_geometry::io::MeshPart {
+        group: group
+            .as_ref()
+            .map(|g| g.str().map(str::to_string))
+            .transpose()?,
+        mesh: mesh
+            .as_ref()
+            .map(|m| m.u32().map(|x| x as usize))
+            .transpose()?,
+        primitive: primitive
+            .as_ref()
+            .map(|p| p.u32().map(|x| x as usize))
+            .transpose()?,
+        shape_index: index,
+    };
+    let mut data = irradia_geometry::io::read_mesh_part(&path, &part).map_err(|e| {
+        // A selector that does not fit the file is the selector's error.
+        let at = match e.field.as_deref() {
+            Some("group") => group.as_ref(),
+            Some("mesh") => mesh.as_ref(),
+            Some("primitive") => primitive.as_ref(),
+            _ => None,
+        };
+        at.unwrap_or(&path_v)
+            .err(format!("cannot load the mesh: {e}"))
+    })?;
     if flip {
         for uv in data.uvs.iter_mut().flatten() {
             uv.y = 1.0 - uv.y;
@@ -320,6 +349,10 @@ fn read_mesh(t: &Table) -> Result<TriangleMesh> {
             if let Some(uv) = &data.uvs {
                 let t = tri.map(|i| uv.get(i as usize).copied().unwrap_or_default());
                 out.uvs.get_or_insert_with(Vec::new).extend(t);
+            }
+            if let Some(c) = &data.colors {
+                let t = tri.map(|i| c.get(i as usize).copied().unwrap_or_default());
+                out.colors.get_or_insert_with(Vec::new).extend(t);
             }
             out.indices.push([base, base + 1, base + 2]);
         }

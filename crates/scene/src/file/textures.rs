@@ -4,7 +4,7 @@
 //! (docs/scene-format.md, "Textures").
 
 use super::reader::{Result, Table, Val};
-use crate::texture::bitmap::read_texels;
+use crate::texture::bitmap::read_texels_selected;
 use crate::texture::spectrum::{parse_spectrum, spectrum_to_rgb};
 use crate::texture::{
     Bitmap, Checkerboard, ColorTexture, FilterType, FloatTexture, MeshAttribute, MeshAttributeName,
@@ -118,7 +118,30 @@ fn read_bitmap(t: &Table) -> Result<Bitmap> {
     };
     let raw = t.bool_or("raw", false)?;
     let to_uv = read_to_uv(t.get("to_uv"))?;
-    let texels = read_texels(&filename, raw)
+    // `image = N`: the file is a glTF/GLB and the bitmap its image N.
+    let image = match t.get("image") {
+        Some(i) => {
+            let ext = filename
+                .extension()
+                .and_then(|e| e.to_str())
+                .map(str::to_ascii_lowercase);
+            if !matches!(ext.as_deref(), Some("gltf" | "glb")) {
+                return Err(i.err("`image` selects an image of a .gltf or .glb file"));
+            }
+            Some(i.u32()? as usize)
+        }
+        None => None,
+    };
+    let channel = match t.get("channel") {
+        Some(c) => Some(match c.choice(&["r", "g", "b", "a"])? {
+            "r" => 0,
+            "g" => 1,
+            "b" => 2,
+            _ => 3,
+        }),
+        None => None,
+    };
+    let texels = read_texels_selected(&filename, raw, image, channel)
         .map_err(|e| file_v.err(format!("cannot load the bitmap: {e}")))?;
     Ok(Bitmap {
         filename,

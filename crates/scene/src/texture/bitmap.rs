@@ -136,12 +136,66 @@ impl Bitmap {
 /// Reads and decodes an image file (PNG, JPEG, EXR, HDR, and the other formats the
 /// `image` crate was built with): sRGB-decoded unless `raw` or a float format.
 pub fn read_texels(path: &Path, raw: bool) -> Result<Texels, String> {
-    let img = image::ImageReader::open(path)
-        .map_err(|e| format!("cannot open {}: {e}", path.display()))?
-        .with_guessed_format()
-        .map_err(|e| format!("cannot read {}: {e}", path.display()))?
-        .decode()
-        .map_err(|e| format!("cannot decode {}: {e}", path.display()))?;
+    read_texels_selected(path, raw, None, None)
+}
+
+/// [`read_texels`] of image `image` embedded in a glTF or GLB file (`None`: `path` is
+/// the image file), keeping only colour channel `channel` (0 to 3: R, G, B, A; `None`:
+/// the image as it is).
+pub fn read_texels_selected(
+    path: &Path,
+    raw: bool,
+    image: Option<usize>,
+    channel: Option<usize>,
+) -> Result<Texels, String> {
+    let img = match image {
+        None => image::ImageReader::open(path)
+            .map_err(|e| format!("cannot open {}: {e}", path.display()))?
+            .with_guessed_format()
+            .map_err(|e| format!("cannot read {}: {e}", path.display()))?
+            .decode()
+            .map_err(|e| format!("cannot decode {}: {e}", path.display()))?,
+        Some(index) => {
+            let file =
+                irradia_geometry::io::gltf::GltfFile::open(path).map_err(|e| e.to_string())?;
+            let bytes = match file.embedded_image(index).map_err(|e| e.to_string())? {
+                Some(b) => b,
+                None => {
+                    let uri = file.image_uri(index).unwrap_or_default();
+                    let dir = path.parent().unwrap_or(Path::new("."));
+                    std::fs::read(dir.join(&uri))
+                        .map_err(|e| format!("cannot open {}: {e}", dir.join(&uri).display()))?
+                }
+            };
+            image::load_from_memory(&bytes)
+                .map_err(|e| format!("cannot decode image {index} of {}: {e}", path.display()))?
+        }
+    };
+    // One channel of the image as a grey one (16 bits keep 8- and 16-bit files exact;
+    // a float file keeps its values).
+    let img = match channel {
+        None => img,
+        Some(c)
+            if matches!(
+                img.color(),
+                image::ColorType::Rgb32F | image::ColorType::Rgba32F
+            ) =>
+        {
+            let rgba = img.to_rgba32f();
+            let (w, h) = (rgba.width(), rgba.height());
+            image::DynamicImage::ImageRgb32F(image::ImageBuffer::from_fn(w, h, |x, y| {
+                let v = rgba.get_pixel(x, y).0[c.min(3)];
+                image::Rgb([v, v, v])
+            }))
+        }
+        Some(c) => {
+            let rgba = img.to_rgba16();
+            let (w, h) = (rgba.width(), rgba.height());
+            image::DynamicImage::ImageLuma16(image::ImageBuffer::from_fn(w, h, |x, y| {
+                image::Luma([rgba.get_pixel(x, y).0[c.min(3)]])
+            }))
+        }
+    };
     let color = img.color();
     let float = matches!(color, image::ColorType::Rgb32F | image::ColorType::Rgba32F);
     let channels: u8 = if color.has_color() { 3 } else { 1 };
