@@ -25,4 +25,6 @@ pub use label::Label;
 pub use light::{spot_falloff, Light, SpotProfile};
 pub use material::{image_texel, Material, ShadingModel, Texture};
 pub use projector::{Projector, ProjectorSample};
-pub use scene::{CropWindow, Integrator, Object, PixelFilter, RenderSettings, Scene};
+pub use scene::{
+    CropWindow, Integrator, LightSelection, Object, PixelFilter, RenderSettings, Scene,
+};

@@ -2,7 +2,7 @@
 //! projector and directional lights, rectangle and sphere area lights, emissive
 //! objects, the constant environment (the background plus Mitsuba's `constant`
 //! emitters) and importance-sampled environment maps), chosen in proportion to its
-//! power. Each emitter gives a direction, its radiance and its solid-angle density
+//! power, or all equally often (`light_selection = "uniform"`, Mitsuba's way). Each emitter gives a direction, its radiance and its solid-angle density
 //! (`sample`), and the density of a BSDF-sampled ray that reaches it (`pdf_object` for
 //! surfaces, `pdf_environment` for rays that leave the scene), for multiple importance
 //! sampling (Veach 1997, 9.2).
@@ -15,7 +15,7 @@ use super::envmap::EnvmapSampler;
 use glam::{Affine3A, Vec2, Vec3};
 use irradia_core::{sampling, Rgb};
 use irradia_geometry::Instance;
-use irradia_scene::{Light, Projector, Scene, SpotProfile};
+use irradia_scene::{Light, LightSelection, Projector, Scene, SpotProfile};
 use std::f32::consts::PI;
 use std::sync::Arc;
 
@@ -227,7 +227,8 @@ pub(crate) struct FacetEmitter<'a> {
     pub probability: f32,
 }
 
-/// The emitters of a scene with a discrete distribution proportional to power.
+/// The emitters of a scene with a discrete distribution proportional to power (or
+/// uniform, [`LightSelection::Uniform`]).
 #[derive(Clone, Debug, Default)]
 pub struct LightSampler {
     emitters: Vec<Emitter>,
@@ -413,6 +414,11 @@ impl LightSampler {
                 }
             })
             .map(|p| if p.is_finite() && p > 0.0 { p } else { 0.0 })
+            // Mitsuba's choice: every emitter that gives light, equally often.
+            .map(|p| match scene.settings.light_selection {
+                LightSelection::Uniform if p > 0.0 => 1.0,
+                _ => p,
+            })
             .collect();
         let total: f32 = powers.iter().sum();
         let probability: Vec<f32> = powers
@@ -725,5 +731,71 @@ impl LightSampler {
             }
         }
         pdf
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use irradia_scene::{Camera, FovAxis, Projection, RenderSettings};
+
+    /// Two point lights of intensity 1 and 3 seen from the origin: the probability of
+    /// choosing each, read from the delta sample's pdf.
+    fn pick_probabilities(selection: LightSelection) -> Vec<f32> {
+        let camera = Camera {
+            eye: Vec3::Z,
+            look_at: Vec3::ZERO,
+            up: Vec3::Y,
+            projection: Projection::Perspective {
+                fov_degrees: 45.0,
+                axis: FovAxis::Vertical,
+            },
+            near_clip: 0.0,
+        };
+        let settings = RenderSettings {
+            light_selection: selection,
+            ..RenderSettings::default()
+        };
+        let light = |x: f32, i: f32| Light::Point {
+            position: Vec3::new(x, 1.0, 0.0),
+            intensity: Rgb::splat(i),
+        };
+        let scene = Scene::new(
+            camera,
+            settings,
+            vec![],
+            vec![light(-1.0, 1.0), light(1.0, 3.0)],
+            vec![],
+            vec![],
+        );
+        let lights = LightSampler::new(&scene);
+        [0.1, 0.9]
+            .iter()
+            .map(|&u| {
+                let s = lights
+                    .sample(&scene, Vec3::ZERO, u, Vec2::splat(0.5))
+                    .unwrap();
+                assert!(s.delta);
+                s.pdf
+            })
+            .collect()
+    }
+
+    #[test]
+    fn power_selection_follows_intensity() {
+        let p = pick_probabilities(LightSelection::Power);
+        assert!(
+            (p[0] - 0.25).abs() < 1e-6 && (p[1] - 0.75).abs() < 1e-6,
+            "{p:?}"
+        );
+    }
+
+    #[test]
+    fn uniform_selection_is_mitsubas() {
+        let p = pick_probabilities(LightSelection::Uniform);
+        assert!(
+            (p[0] - 0.5).abs() < 1e-6 && (p[1] - 0.5).abs() < 1e-6,
+            "{p:?}"
+        );
     }
 }
