@@ -54,6 +54,7 @@ const PASSING: &[&str] = &[
     "test_various_shapes_path",
     "test_roughplastic_linear_path",
     "test_roughplastic_nonlinear_path",
+    "test_spot_direct",
 ];
 
 fn xyz(c: irradia_core::Rgb) -> [f64; 3] {

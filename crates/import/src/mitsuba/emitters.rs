@@ -128,11 +128,18 @@ pub fn emitter<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<(), SceneError> {
             l.set("direction", v3(x.vector(DVec3::Z).normalize(), pos));
             copy(b, &o, &mut l, &["intensity", "cutoff_angle", "beam_width"])?;
             if let Some(p) = o.get("texture") {
-                b.warn(
-                    p.elem,
-                    "texture",
-                    "a spot light's texture is not rendered: it shines its intensity uniformly",
-                );
+                // Mitsuba's image across the cone, in the frame of `to_world`.
+                let v = value(b, p, true)?;
+                if v.get("type").is_some() {
+                    l.set("texture", v);
+                    l.set("up", v3(x.vector(DVec3::Y).normalize(), pos));
+                } else {
+                    b.warn(
+                        p.elem,
+                        "texture",
+                        "a spot light's texture must be a bitmap Irradia reads: it shines its intensity uniformly",
+                    );
+                }
             }
             &[
                 "to_world",

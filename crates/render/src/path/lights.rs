@@ -15,7 +15,7 @@ use super::envmap::EnvmapSampler;
 use glam::{Affine3A, Vec2, Vec3};
 use irradia_core::{sampling, Rgb};
 use irradia_geometry::Instance;
-use irradia_scene::{Light, LightSelection, Projector, Scene, SpotProfile};
+use irradia_scene::{Light, LightSelection, Projector, Scene, SpotProfile, SpotTexture};
 use std::f32::consts::PI;
 use std::sync::Arc;
 
@@ -47,6 +47,7 @@ enum Emitter {
         cos_inner: f32,
         cos_outer: f32,
         profile: SpotProfile,
+        texture: Option<Arc<SpotTexture>>,
     },
     /// Mitsuba's `projector`: a delta-position emitter with an image for intensity.
     Projector(Arc<Projector>),
@@ -284,6 +285,7 @@ impl LightSampler {
                     cos_inner,
                     cos_outer,
                     profile,
+                    ref texture,
                 } => Emitter::Spot {
                     position,
                     direction: direction.normalize(),
@@ -291,6 +293,7 @@ impl LightSampler {
                     cos_inner,
                     cos_outer,
                     profile,
+                    texture: texture.clone(),
                 },
                 Light::Projector(ref p) => Emitter::Projector(p.clone()),
                 // Gathered below with the background.
@@ -511,15 +514,22 @@ impl LightSampler {
                 cos_inner,
                 cos_outer,
                 profile,
+                ref texture,
             } => {
                 let d = position - p;
                 let dist2 = d.length_squared();
                 let wi = d / dist2.sqrt();
-                let f = profile.falloff((-wi).dot(direction), cos_inner, cos_outer);
+                let cos = (-wi).dot(direction);
+                let f = profile.falloff(cos, cos_inner, cos_outer);
+                if f <= 0.0 {
+                    return None;
+                }
+                // Mitsuba's spot texture: the image across the cone, read only inside it.
+                let tint = texture.as_ref().map_or(Rgb::WHITE, |t| t.eval(-wi, cos));
                 (f > 0.0).then_some(LightSample {
                     wi,
                     target: Some(position),
-                    li: intensity * (f / dist2),
+                    li: intensity * tint * (f / dist2),
                     pdf: pick,
                     delta: true,
                 })
