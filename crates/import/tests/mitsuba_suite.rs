@@ -55,6 +55,7 @@ const PASSING: &[&str] = &[
     "test_roughplastic_linear_path",
     "test_roughplastic_nonlinear_path",
     "test_spot_direct",
+    "test_projector_textured_direct",
 ];
 
 fn xyz(c: irradia_core::Rgb) -> [f64; 3] {

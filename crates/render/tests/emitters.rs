@@ -465,6 +465,53 @@ fn projector_irradiance_on_a_facing_plane() {
     assert_eq!(outside, 0.0);
 }
 
+/// Mitsuba's projector reads its image as its `bitmap` texture does: bilinearly, with
+/// indices wrapping around at the borders. A 3 x 2 image (raw floats) projected on the
+/// floor from 2.5 above (fov 60° across x, up = -z), at points between texel centres
+/// and near every edge, against pip Mitsuba 3.9.1's `sample_direction` (scalar_rgb).
+#[test]
+fn projector_image_is_filtered_as_mitsuba() {
+    let px: Vec<Rgb> = (0..6)
+        .map(|i| {
+            Rgb::new(
+                0.3 * i as f32 + 0.1,
+                0.3 * i as f32 + 0.2,
+                0.3 * i as f32 + 0.3,
+            )
+        })
+        .collect();
+    let proj = Projector::new(
+        Vec3::new(0.0, 2.5, 0.0),
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.0, -1.0),
+        60.0,
+        FovAxis::Horizontal,
+        Arc::new(Image::from_pixels(3, 2, px)),
+        0.8,
+    );
+    let scene = scene_with(vec![Light::Projector(Arc::new(proj))], vec![], Rgb::BLACK);
+    let lights = LightSampler::new(&scene);
+    let mitsuba = [
+        ([0.1, 0.0, 0.2], [0.431279, 0.47165188, 0.51202482]),
+        ([-0.9, 0.0, -0.3], [0.12422054, 0.16723089, 0.21024121]),
+        ([1.3, 0.0, 0.05], [0.44704193, 0.49237329, 0.53770459]),
+        ([0.45, 0.0, -0.8], [0.35920671, 0.40204373, 0.44488078]),
+        ([-1.4, 0.0, 0.9], [0.4256829, 0.47399139, 0.52229983]),
+    ];
+    for (p, want) in mitsuba {
+        let s = lights
+            .sample(&scene, Vec3::from(p), 0.5, Vec2::splat(0.5))
+            .unwrap();
+        for k in 0..3 {
+            assert!(
+                (s.li[k] - want[k]).abs() <= 2e-4 * want[k],
+                "projector at {p:?}: {:?} vs Mitsuba {want:?}",
+                s.li
+            );
+        }
+    }
+}
+
 /// A white diffuse floor under an environment map whose lower half is hidden by the
 /// floor: its radiance is E / π with E = ∫ L cos θ dω over the upper hemisphere. With
 /// Mitsuba's lookup (pixels at the vertices of a periodic grid, linear in between),
