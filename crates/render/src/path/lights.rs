@@ -15,6 +15,7 @@ use super::envmap::EnvmapSampler;
 use glam::{Affine3A, Vec2, Vec3};
 use irradia_core::{sampling, Rgb};
 use irradia_geometry::Instance;
+use irradia_scene::texture::{TextureMap, TextureQuery};
 use irradia_scene::{Light, LightSelection, Projector, Scene, SpotProfile, SpotTexture};
 use std::f32::consts::PI;
 use std::sync::Arc;
@@ -71,6 +72,8 @@ enum Emitter {
     Object {
         instance: u32,
         radiance: Rgb,
+        /// Emission read at the sampled point's uv (Mitsuba's textured `area`).
+        texture: Option<TextureMap>,
         area: f32,
         two_sided: bool,
         surface: SurfaceSampler,
@@ -228,6 +231,33 @@ pub(crate) struct FacetEmitter<'a> {
     pub probability: f32,
 }
 
+/// The radiance of an emissive object at its sampled world point `q` (normal `n`):
+/// `radiance`, or its emission texture at the point's surface coordinates, found by a
+/// short ray back onto the instance along the normal (from outside, then from inside),
+/// so every shape and mesh reports the uv its own hits do. The texture's mean stands in
+/// if neither ray finds the surface.
+fn textured(
+    scene: &Scene,
+    instance: u32,
+    texture: &Option<TextureMap>,
+    q: Vec3,
+    n: Vec3,
+    radiance: Rgb,
+) -> Rgb {
+    let Some(t) = texture else {
+        return radiance;
+    };
+    let inst = &scene.accel.instances()[instance as usize];
+    let eps = 1e-3 * (1.0 + q.abs().max_element());
+    let hit = [n, -n].iter().find_map(|&side| {
+        inst.intersect(&irradia_core::Ray::new(q + side * eps, -side), 2.0 * eps)
+    });
+    match hit {
+        Some(h) => t.eval(&TextureQuery::at_uv(h.uv)),
+        None => radiance,
+    }
+}
+
 /// The emitters of a scene with a discrete distribution proportional to power (or
 /// uniform, [`LightSelection::Uniform`]).
 #[derive(Clone, Debug, Default)]
@@ -361,6 +391,7 @@ impl LightSampler {
                 emitters.push(Emitter::Object {
                     instance: i as u32,
                     radiance: e,
+                    texture: material.emission_texture.clone(),
                     area,
                     two_sided: material.emission_two_sided,
                     surface,
@@ -593,17 +624,21 @@ impl LightSampler {
                 )
             }
             Emitter::Object {
+                instance,
                 radiance,
+                ref texture,
                 two_sided,
                 world: Some(ref world),
                 ..
             } => {
                 let (q, n, pdf_area) = world.sample(u)?;
+                let radiance = textured(scene, instance, texture, q, n, radiance);
                 on_surface(q, n, radiance, pdf_area, two_sided)
             }
             Emitter::Object {
                 instance,
                 radiance,
+                ref texture,
                 area,
                 two_sided,
                 ref surface,
@@ -614,6 +649,7 @@ impl LightSampler {
                 let q = inst.to_world().transform_point3(qo);
                 let n = Vec3::from(inst.to_object().matrix3.transpose() * glam::Vec3A::from(no))
                     .normalize();
+                let radiance = textured(scene, instance, texture, q, n, radiance);
                 on_surface(
                     q,
                     n,
