@@ -294,6 +294,7 @@ fn incident(light: &Light, p: Vec3, fade: bool) -> Option<(Vec3, Rgb)> {
             cos_inner,
             cos_outer,
             profile,
+            ..
         } => point(position).map(|(l, r2)| {
             let f = profile.falloff((-l).dot(direction.normalize()), cos_inner, cos_outer);
             (l, intensity * (f / r2))

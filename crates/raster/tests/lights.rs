@@ -156,6 +156,7 @@ fn spot() -> Light {
         cos_inner: 20f32.to_radians().cos(),
         cos_outer: 35f32.to_radians().cos(),
         profile: irradia_scene::SpotProfile::Smooth,
+        texture: None,
     }
 }
 

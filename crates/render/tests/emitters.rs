@@ -350,6 +350,7 @@ fn point_directional_and_spot_irradiance_on_a_diffuse_plane() {
         cos_inner: (beam as f32).cos(),
         cos_outer: (cutoff as f32).cos(),
         profile: SpotProfile::Linear,
+        texture: None,
     };
     for deg in [0.0f64, 5.0, 12.0, 20.0, 27.0, 29.5, 31.0, 50.0] {
         let theta = deg.to_radians();
@@ -368,6 +369,55 @@ fn point_directional_and_spot_irradiance_on_a_diffuse_plane() {
             (got - want).abs() <= 1e-4 * want.max(1e-3),
             "spot at {deg}°: {got} vs {want}"
         );
+    }
+}
+
+/// Mitsuba's spot `texture`: what the light sends to points around its cone (a
+/// checkerboard across the image, the spot looking down with up = +z, so that every
+/// quadrant and the transition region are read), against pip Mitsuba 3.9.1's
+/// `sample_direction` (scalar_rgb; `intensity * texture * falloff / r²`).
+#[test]
+fn spot_texture_as_mitsuba() {
+    use irradia_scene::texture::{Checkerboard, TextureMap};
+    use irradia_scene::SpotTexture;
+    let (position, direction, up) = (Vec3::new(1.0, 2.0, 3.0), -Vec3::Y, Vec3::Z);
+    let cos_outer = 30f32.to_radians().cos();
+    let map = TextureMap::Checkerboard(Checkerboard {
+        color0: Rgb::new(0.9, 0.5, 0.1),
+        color1: Rgb::new(0.1, 0.3, 0.7),
+        ..Checkerboard::default()
+    });
+    let spot = Light::Spot {
+        position,
+        direction,
+        intensity: Rgb::splat(5.0),
+        cos_inner: 15f32.to_radians().cos(),
+        cos_outer,
+        profile: SpotProfile::Linear,
+        texture: Some(Arc::new(SpotTexture::new(map, direction, up, cos_outer))),
+    };
+    let scene = scene_with(vec![spot], vec![], Rgb::BLACK);
+    let lights = LightSampler::new(&scene);
+    // (point, Mitsuba's value), measured with pip Mitsuba (see above).
+    let mitsuba = [
+        ([1.3, 0.0, 3.6], [0.7724521, 0.42914006, 0.08582801]),
+        ([0.5, 0.0, 3.4], [0.0925716, 0.27771479, 0.64800119]),
+        ([0.6, 0.0, 2.5], [0.83314443, 0.46285802, 0.0925716]),
+        ([1.5, 0.0, 2.8], [0.11600672, 0.34802017, 0.81204706]),
+        ([1.1, 0.0, 3.05], [1.12149537, 0.62305295, 0.12461060]),
+        ([2.0, 0.0, 3.0], [0.02289976, 0.06869927, 0.16029829]),
+    ];
+    for (p, want) in mitsuba {
+        let s = lights
+            .sample(&scene, Vec3::from(p), 0.5, Vec2::splat(0.5))
+            .unwrap();
+        for k in 0..3 {
+            assert!(
+                (s.li[k] - want[k]).abs() <= 1e-4 * want[k].max(1e-2),
+                "spot texture at {p:?}: {:?} vs Mitsuba {want:?}",
+                s.li
+            );
+        }
     }
 }
 
@@ -413,6 +463,53 @@ fn projector_irradiance_on_a_facing_plane() {
         Vec3::new((1.2 * half) as f32, 0.0, 0.0),
     );
     assert_eq!(outside, 0.0);
+}
+
+/// Mitsuba's projector reads its image as its `bitmap` texture does: bilinearly, with
+/// indices wrapping around at the borders. A 3 x 2 image (raw floats) projected on the
+/// floor from 2.5 above (fov 60° across x, up = -z), at points between texel centres
+/// and near every edge, against pip Mitsuba 3.9.1's `sample_direction` (scalar_rgb).
+#[test]
+fn projector_image_is_filtered_as_mitsuba() {
+    let px: Vec<Rgb> = (0..6)
+        .map(|i| {
+            Rgb::new(
+                0.3 * i as f32 + 0.1,
+                0.3 * i as f32 + 0.2,
+                0.3 * i as f32 + 0.3,
+            )
+        })
+        .collect();
+    let proj = Projector::new(
+        Vec3::new(0.0, 2.5, 0.0),
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.0, -1.0),
+        60.0,
+        FovAxis::Horizontal,
+        Arc::new(Image::from_pixels(3, 2, px)),
+        0.8,
+    );
+    let scene = scene_with(vec![Light::Projector(Arc::new(proj))], vec![], Rgb::BLACK);
+    let lights = LightSampler::new(&scene);
+    let mitsuba = [
+        ([0.1, 0.0, 0.2], [0.431279, 0.47165188, 0.51202482]),
+        ([-0.9, 0.0, -0.3], [0.12422054, 0.16723089, 0.21024121]),
+        ([1.3, 0.0, 0.05], [0.44704193, 0.49237329, 0.53770459]),
+        ([0.45, 0.0, -0.8], [0.35920671, 0.40204373, 0.44488078]),
+        ([-1.4, 0.0, 0.9], [0.4256829, 0.47399139, 0.52229983]),
+    ];
+    for (p, want) in mitsuba {
+        let s = lights
+            .sample(&scene, Vec3::from(p), 0.5, Vec2::splat(0.5))
+            .unwrap();
+        for k in 0..3 {
+            assert!(
+                (s.li[k] - want[k]).abs() <= 2e-4 * want[k],
+                "projector at {p:?}: {:?} vs Mitsuba {want:?}",
+                s.li
+            );
+        }
+    }
 }
 
 /// A white diffuse floor under an environment map whose lower half is hidden by the
@@ -558,4 +655,88 @@ fn envmap_radiance_is_mitsubas() {
         rows += 1;
     }
     assert_eq!(rows, 64);
+}
+
+/// Mitsuba's textured `area` emitter: an emissive rectangle (Mitsuba's, uv = ((x + 1) / 2,
+/// (y + 1) / 2) in its own frame) lying on y = 0, scaled by 2, with a checkerboard for
+/// its radiance. Light samples must carry the texture at the sampled point's uv (found
+/// here from the point by inverting the transform), and a ray that hits it the texture
+/// at the hit's uv; the constant `emission` (the texture's mean) must show nowhere.
+#[test]
+fn textured_emission_is_read_at_the_points_uv() {
+    use glam::{Affine3A, Quat};
+    use irradia_geometry::shapes::Rectangle;
+    use irradia_scene::texture::{Checkerboard, TextureMap};
+    let diff = |a: Rgb, b: Rgb| (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0f32, f32::max);
+    let checker = Checkerboard {
+        color0: Rgb::new(4.0, 0.5, 0.1),
+        color1: Rgb::new(0.2, 1.0, 3.0),
+        ..Checkerboard::default()
+    };
+    let map = TextureMap::Checkerboard(checker.clone());
+    let material = irradia_scene::Material {
+        emission: map.mean(),
+        emission_texture: Some(map),
+        ..path_common::diffuse(0.0, 0.0)
+    };
+    let to_world = Affine3A::from_scale_rotation_translation(
+        Vec3::splat(2.0),
+        Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2),
+        Vec3::ZERO,
+    );
+    let inst = Instance::new(Arc::new(Rectangle::new()), to_world);
+    let scene = Scene::new(
+        path_common::camera(Vec3::new(0.0, 3.0, 5.0), Vec3::ZERO, 40.0),
+        path_common::settings(8, 8, 1, Rgb::BLACK),
+        vec![material],
+        vec![],
+        vec![object("rect", 0)],
+        vec![inst],
+    );
+    let lights = LightSampler::new(&scene);
+    let to_object = to_world.inverse();
+    let expected = |q: Vec3| -> Option<Rgb> {
+        let l = to_object.transform_point3(q);
+        let uv = Vec2::new((l.x + 1.0) / 2.0, (l.y + 1.0) / 2.0);
+        // Skip points on the checkerboard's cell borders.
+        let near = |t: f32| (t - 0.5).abs() < 1e-3 || t < 1e-3 || t > 1.0 - 1e-3;
+        (!near(uv.x) && !near(uv.y)).then(|| checker.eval(uv))
+    };
+    let p = Vec3::new(0.3, 1.5, -0.2);
+    let (mut seen0, mut seen1) = (0, 0);
+    for i in 0..16 {
+        for j in 0..16 {
+            let u = Vec2::new((i as f32 + 0.37) / 16.0, (j as f32 + 0.61) / 16.0);
+            let s = lights.sample(&scene, p, 0.5, u).unwrap();
+            let Some(want) = expected(s.target.unwrap()) else {
+                continue;
+            };
+            assert!(diff(s.li, want) < 1e-5, "{:?} vs {want:?}", s.li);
+            if want == checker.color0 {
+                seen0 += 1;
+            } else {
+                seen1 += 1;
+            }
+        }
+    }
+    assert!(seen0 > 20 && seen1 > 20, "{seen0} {seen1}");
+    // Rays straight down onto the rectangle see the texture at the hit.
+    let params = PathParams {
+        max_depth: 1,
+        rr_depth: 5,
+    };
+    for (x, z) in [(0.7, 0.9), (-1.3, 0.4), (0.2, -1.6), (-0.5, -0.5)] {
+        let q = Vec3::new(x, 0.0, z);
+        let ray = Ray::new(q + Vec3::Y * 2.0, -Vec3::Y);
+        let got = radiance(
+            &scene,
+            &lights,
+            &params,
+            ray,
+            &mut Rng::new(1, 1),
+            &mut PathCounters::default(),
+        );
+        let want = expected(q).unwrap();
+        assert!(diff(got, want) < 1e-5, "{got:?} vs {want:?} at {q}");
+    }
 }

@@ -85,6 +85,7 @@ fn spot_lights_are_full_inside_the_inner_cone_and_dark_outside_the_outer() {
                 cos_inner: 20f32.to_radians().cos(),
                 cos_outer: 30f32.to_radians().cos(),
                 profile: irradia_scene::SpotProfile::Smooth,
+                texture: None,
             },
             p,
         )
@@ -164,6 +165,7 @@ fn mitsuba_spot_and_projector_light_the_whitted_floor_like_the_path_tracer() {
             cos_inner: 10f32.to_radians().cos(),
             cos_outer: 30f32.to_radians().cos(),
             profile: irradia_scene::SpotProfile::Linear,
+            texture: None,
         },
         q,
     );

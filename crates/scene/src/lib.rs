@@ -22,7 +22,9 @@ pub use envmap::EnvMap;
 pub use error::{ErrorKind, SceneError};
 pub use file::{load_file, load_str, load_tree, SceneSyntax};
 pub use label::Label;
-pub use light::{spot_falloff, Light, SpotProfile};
+pub use light::{spot_falloff, Light, SpotProfile, SpotTexture};
 pub use material::{image_texel, Material, ShadingModel, Texture};
 pub use projector::{Projector, ProjectorSample};
-pub use scene::{CropWindow, Integrator, Object, PixelFilter, RenderSettings, Scene};
+pub use scene::{
+    CropWindow, Integrator, LightSelection, Object, PixelFilter, RenderSettings, Scene,
+};

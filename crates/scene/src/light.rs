@@ -4,7 +4,8 @@
 
 use crate::envmap::EnvMap;
 use crate::projector::Projector;
-use glam::Vec3;
+use crate::texture::{TextureMap, TextureQuery};
+use glam::{Vec2, Vec3};
 use irradia_core::Rgb;
 use std::sync::Arc;
 
@@ -25,6 +26,9 @@ pub enum Light {
         cos_inner: f32,
         cos_outer: f32,
         profile: SpotProfile,
+        /// An image over the cone that multiplies the intensity (Mitsuba's spot
+        /// `texture`); the path tracer and `direct` render it.
+        texture: Option<Arc<SpotTexture>>,
     },
     /// A one-sided rectangle `corner + s*edge_u + t*edge_v`, s,t in [0,1], emitting
     /// `radiance` on the side of `edge_u x edge_v`; sampled with `samples` shadow rays
@@ -50,6 +54,52 @@ pub enum Light {
     Envmap(Arc<EnvMap>),
     /// An image projected from a point through a pinhole (Mitsuba's `projector`).
     Projector(Arc<Projector>),
+}
+
+/// A spot light's image (Mitsuba's spot `texture`): the direction at local `(x, y, z)`
+/// (z along the spot's axis) reads the texture at
+/// `uv = 0.5 + 0.5 · (x, y) / (z · tan(cutoff))`, so the image spans the square around
+/// the cutoff cone; the intensity is multiplied by the texture's colour there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpotTexture {
+    pub map: TextureMap,
+    /// The spot's local x and y axes (unit, across its direction): Mitsuba's
+    /// `to_world` columns, `x = up × direction` for a `lookat`.
+    pub x_axis: Vec3,
+    pub y_axis: Vec3,
+    /// `tan(cutoff_angle)`.
+    pub uv_factor: f32,
+}
+
+impl SpotTexture {
+    /// The image's frame for a spot along `direction` with `up` (not parallel to it)
+    /// and the cutoff half-angle whose cosine is `cos_cutoff`.
+    pub fn new(map: TextureMap, direction: Vec3, up: Vec3, cos_cutoff: f32) -> Self {
+        let z = direction.normalize();
+        let x_axis = up.cross(z).normalize();
+        let y_axis = z.cross(x_axis);
+        let cos = cos_cutoff.clamp(-1.0, 1.0);
+        Self {
+            map,
+            x_axis,
+            y_axis,
+            uv_factor: (1.0 - cos * cos).sqrt() / cos,
+        }
+    }
+
+    /// The texture coordinates of the unit direction `d` leaving the light, whose
+    /// component along the axis is `z` (> 0).
+    #[inline]
+    pub fn uv(&self, d: Vec3, z: f32) -> Vec2 {
+        let k = 0.5 / (z * self.uv_factor);
+        Vec2::new(0.5 + k * d.dot(self.x_axis), 0.5 + k * d.dot(self.y_axis))
+    }
+
+    /// The factor on the intensity sent in the unit direction `d` (axis component `z`).
+    #[inline]
+    pub fn eval(&self, d: Vec3, z: f32) -> Rgb {
+        self.map.eval(&TextureQuery::at_uv(self.uv(d, z)))
+    }
 }
 
 /// How a spot light's intensity falls from the edge of its beam to its cutoff.

@@ -12,6 +12,7 @@ use std::sync::Arc;
 
 use crate::bsdf::lecture::lecture_fields;
 use crate::bsdf::BsdfDesc;
+use crate::texture::{TextureMap, TextureQuery};
 
 /// How the local (direct) part of a surface is shaded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -104,8 +105,14 @@ pub struct Material {
     /// Use Fresnel's equations for reflection/transmission of dielectrics instead of the
     /// constant `reflection` (POV-Ray's default is constant).
     pub fresnel: bool,
-    /// Emitted radiance, on the side the surface normal points to (out of solids).
+    /// Emitted radiance, on the side the surface normal points to (out of solids); with
+    /// an `emission_texture`, that texture's mean (what integrators that do not read
+    /// textures emit).
     pub emission: Rgb,
+    /// Emitted radiance that varies over the surface (Mitsuba's `area` emitter with a
+    /// textured `radiance`): the texture at the point's uv. The path tracer and
+    /// `direct` render it, at hits and at light samples.
+    pub emission_texture: Option<TextureMap>,
     /// Emit on both sides of the surface (e.g. a closed room that glows inwards).
     pub emission_two_sided: bool,
     pub model: ShadingModel,
@@ -115,6 +122,16 @@ pub struct Material {
 }
 
 impl Material {
+    /// The radiance emitted at a point with surface coordinates `uv` (on the emitting
+    /// side): the emission texture there, or the constant `emission`.
+    #[inline]
+    pub fn emission_at(&self, uv: Vec2) -> Rgb {
+        match &self.emission_texture {
+            Some(t) => t.eval(&TextureQuery::at_uv(uv)),
+            None => self.emission,
+        }
+    }
+
     /// A physically based material: `desc`, with the lecture fields that
     /// [`crate::bsdf::lecture::lecture_fields`] derives from it and the lecture's
     /// default ambient coefficient.
@@ -152,6 +169,7 @@ impl Default for Material {
             ior: 1.0,
             fresnel: false,
             emission: Rgb::BLACK,
+            emission_texture: None,
             emission_two_sided: false,
             model: ShadingModel::Phong,
             bsdf: None,

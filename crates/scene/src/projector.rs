@@ -78,13 +78,27 @@ impl Projector {
         ((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)).then_some(Vec2::new(u, v))
     }
 
-    /// The image's value at `uv` (nearest texel).
+    /// The image's value at `uv`, as Mitsuba's `bitmap` texture reads it (the default
+    /// the projector's `irradiance` gets): bilinear between the four texels around
+    /// `uv · size − ½`, indices wrapping around (`wrap_mode` "repeat"), so the border
+    /// texels blend with the opposite edge.
     #[inline]
     pub fn image_at(&self, uv: Vec2) -> Rgb {
         let (w, h) = (self.irradiance.width(), self.irradiance.height());
-        let x = ((uv.x * w as f32) as u32).min(w - 1);
-        let y = ((uv.y * h as f32) as u32).min(h - 1);
-        self.irradiance.get(x, y)
+        let q = Vec2::new(uv.x * w as f32 - 0.5, uv.y * h as f32 - 0.5);
+        let (x0, y0) = (q.x.floor(), q.y.floor());
+        let (fx, fy) = (q.x - x0, q.y - y0);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let at = |x: i64, y: i64| {
+            self.irradiance.get(
+                x.rem_euclid(i64::from(w)) as u32,
+                y.rem_euclid(i64::from(h)) as u32,
+            )
+        };
+        at(x0, y0) * ((1.0 - fx) * (1.0 - fy))
+            + at(x0 + 1, y0) * (fx * (1.0 - fy))
+            + at(x0, y0 + 1) * ((1.0 - fx) * fy)
+            + at(x0 + 1, y0 + 1) * (fx * fy)
     }
 
     /// What the projector sends to world point `p`; `None` outside its frustum.

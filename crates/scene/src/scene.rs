@@ -59,6 +59,21 @@ pub struct RenderSettings {
     /// The part of the image that is rendered (Mitsuba's `crop_offset_x/y`,
     /// `crop_width/height`); `None` renders all of it.
     pub crop: Option<CropWindow>,
+    /// How next-event estimation chooses the emitter it samples.
+    pub light_selection: LightSelection,
+}
+
+/// How the Monte Carlo integrators choose one emitter per light sample. Both are
+/// unbiased; they differ in noise (and so in the per-pixel variance that Mitsuba's
+/// test criterion measures against).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LightSelection {
+    /// In proportion to each emitter's power (Irradia's default).
+    #[default]
+    Power,
+    /// Every emitter with the same probability (Mitsuba 3's default: each emitter's
+    /// `sampling_weight` is 1).
+    Uniform,
 }
 
 /// A reconstruction filter, with Mitsuba 3's definitions (plugins `box`, `tent`,
@@ -131,6 +146,7 @@ impl Default for RenderSettings {
             integrator: Integrator::Whitted,
             filter: PixelFilter::default(),
             crop: None,
+            light_selection: LightSelection::Power,
         }
     }
 }

@@ -88,6 +88,25 @@ fn every_light_example_of_the_docs_loads() {
         }
         l => panic!("{l:?}"),
     }
+    // The spot's texture frame: looking down -y with up -z, x = up × axis = -x.
+    match &lights[0] {
+        Light::Spot {
+            texture: Some(t), ..
+        } => {
+            assert!(
+                (t.x_axis - -glam::Vec3::X).length() < 1e-6,
+                "{:?}",
+                t.x_axis
+            );
+            assert!(
+                (t.y_axis - -glam::Vec3::Z).length() < 1e-6,
+                "{:?}",
+                t.y_axis
+            );
+            assert!((t.uv_factor - 25f32.to_radians().tan()).abs() < 1e-5);
+        }
+        l => panic!("{l:?}"),
+    }
     assert!(matches!(lights[1], Light::Constant { radiance } if radiance.g == 0.2));
     match &lights[2] {
         Light::Envmap(map) => {

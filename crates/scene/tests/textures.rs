@@ -269,3 +269,67 @@ fn file_formats_decode_as_mitsuba_decides() {
         }
     }
 }
+
+/// BMP files (Mitsuba's test scenes use them) decode as 8-bit sRGB, as Mitsuba reads
+/// them: `rgb4x2.bmp` holds the PNG's pixels, and pip Mitsuba 3.9.1's `bitmap` of it
+/// (nearest) gives (0.0512694, 0.0144439, 0.00518151) at uv (0.9, 0.9) and red at
+/// (0.1, 0.2).
+#[test]
+fn bmp_reads_as_the_same_srgb_texels() {
+    let bmp = read_texels(&data("rgb4x2.bmp"), false).unwrap();
+    let png = read_texels(&data("rgb4x2.png"), false).unwrap();
+    assert_eq!(bmp, png);
+    let b = Bitmap {
+        filename: data("rgb4x2.bmp"),
+        texels: bmp,
+        filter_type: FilterType::Nearest,
+        wrap_mode: WrapMode::Repeat,
+        raw: false,
+        to_uv: UvTransform::default(),
+    };
+    close(
+        b.eval(Vec2::new(0.9, 0.9)),
+        [0.0512694, 0.0144439, 0.00518151],
+        "bmp at (0.9, 0.9)",
+    );
+    close(
+        b.eval(Vec2::new(0.1, 0.2)),
+        [1.0, 0.0, 0.0],
+        "bmp at (0.1, 0.2)",
+    );
+}
+
+/// A material's `emission` may be a texture table: read at the surface's uv by the
+/// path tracer, its mean standing for the constant elsewhere.
+#[test]
+fn emission_texture_is_read_with_its_mean() {
+    let text = r#"
+[camera]
+eye = [0, 1, 5]
+look_at = [0, 0, 0]
+
+[materials.screen]
+type = "diffuse"
+emission = { type = "checkerboard", color0 = 5, color1 = 1 }
+
+[materials.lamp]
+emission = { type = "checkerboard", color0 = [1, 2, 3], color1 = 0 }
+"#;
+    let s = irradia_scene::load_str(
+        text,
+        irradia_scene::SceneSyntax::Toml,
+        std::path::Path::new("t.toml"),
+    )
+    .unwrap();
+    let screen = &s.materials[0];
+    assert_eq!(screen.emission, Rgb::splat(3.0));
+    assert!(matches!(
+        screen.emission_texture,
+        Some(TextureMap::Checkerboard(_))
+    ));
+    assert_eq!(screen.emission_at(Vec2::new(0.25, 0.25)), Rgb::splat(5.0));
+    assert_eq!(screen.emission_at(Vec2::new(0.75, 0.25)), Rgb::splat(1.0));
+    let lamp = &s.materials[1];
+    assert_eq!(lamp.emission, Rgb::new(0.5, 1.0, 1.5));
+    assert!(lamp.emission_texture.is_some());
+}

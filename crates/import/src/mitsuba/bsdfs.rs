@@ -12,7 +12,7 @@ use irradia_scene::SceneError;
 use std::path::Path;
 
 /// The image files Irradia's `bitmap` reads.
-pub const BITMAP_EXTENSIONS: &[&str] = &["png", "jpg", "jpeg", "exr", "hdr"];
+pub const BITMAP_EXTENSIONS: &[&str] = &["png", "jpg", "jpeg", "exr", "hdr", "bmp"];
 
 /// The BSDFs Irradia renders and the parameters each passes on unchanged.
 const BSDFS: &[(&str, &[&str])] = &[

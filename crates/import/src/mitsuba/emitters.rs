@@ -4,7 +4,7 @@
 //! `emission` ([`area_radiance`]).
 
 use super::bsdfs::value;
-use super::props::{Obj, Val};
+use super::props::Obj;
 use super::xml::Elem;
 use super::Builder;
 use glam::DVec3;
@@ -27,8 +27,7 @@ fn v3(v: DVec3, pos: usize) -> Node {
     Node::new([v.x, v.y, v.z], pos)
 }
 
-/// The radiance of a shape's `area` emitter, as an emission colour (`None` with a
-/// warning when it is a texture).
+/// The radiance of a shape's `area` emitter, as an emission colour or texture.
 pub fn area_radiance<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<Option<Node>, SceneError> {
     let o = Obj::read(e)?;
     if o.plugin != "area" {
@@ -41,30 +40,11 @@ pub fn area_radiance<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<Option<Node
         }
         return Err(e.err_at("type", "type", format!("unknown emitter `{}`", o.plugin)));
     }
+    // A texture (`bitmap`, `checkerboard`) becomes a textured emission, read at the
+    // surface's uv.
     let r = match o.get("radiance") {
         None => Node::new(1.0, e.main_pos),
-        Some(p) => match &p.val {
-            Val::Object(t) if t.tag == "texture" => {
-                b.warn(
-                    p.elem,
-                    "radiance",
-                    "a textured area emitter is not rendered: radiance 1 stands in",
-                );
-                for q in &o.props {
-                    q.used.set(true);
-                }
-                Node::new(1.0, e.main_pos)
-            }
-            Val::Ref(_) => {
-                b.warn(
-                    p.elem,
-                    "radiance",
-                    "a textured area emitter is not rendered: radiance 1 stands in",
-                );
-                Node::new(1.0, e.main_pos)
-            }
-            _ => value(b, p, true)?,
-        },
+        Some(p) => value(b, p, true)?,
     };
     if let Some(n) = o.nested.first() {
         return Err(n.err(
@@ -128,11 +108,18 @@ pub fn emitter<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<(), SceneError> {
             l.set("direction", v3(x.vector(DVec3::Z).normalize(), pos));
             copy(b, &o, &mut l, &["intensity", "cutoff_angle", "beam_width"])?;
             if let Some(p) = o.get("texture") {
-                b.warn(
-                    p.elem,
-                    "texture",
-                    "a spot light's texture is not rendered: it shines its intensity uniformly",
-                );
+                // Mitsuba's image across the cone, in the frame of `to_world`.
+                let v = value(b, p, true)?;
+                if v.get("type").is_some() {
+                    l.set("texture", v);
+                    l.set("up", v3(x.vector(DVec3::Y).normalize(), pos));
+                } else {
+                    b.warn(
+                        p.elem,
+                        "texture",
+                        "a spot light's texture must be a bitmap Irradia reads: it shines its intensity uniformly",
+                    );
+                }
             }
             &[
                 "to_world",
@@ -193,10 +180,13 @@ pub fn emitter<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<(), SceneError> {
                             irradia_scene::file::tree::Value::Str(s) => s.to_ascii_lowercase(),
                             _ => String::new(),
                         };
-                        if [".png", ".exr", ".pfm"].iter().any(|x| name.ends_with(x)) {
+                        if [".png", ".exr", ".pfm", ".jpg", ".jpeg", ".bmp"]
+                            .iter()
+                            .any(|x| name.ends_with(x))
+                        {
                             f.clone()
                         } else {
-                            b.warn(p.elem, "irradiance", "a projector reads PNG, EXR or PFM images only: irradiance 1 stands in");
+                            b.warn(p.elem, "irradiance", "a projector reads PNG, EXR, PFM, JPEG or BMP images only: irradiance 1 stands in");
                             Node::new(1.0, pos)
                         }
                     }

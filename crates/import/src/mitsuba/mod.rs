@@ -178,6 +178,9 @@ impl<'e> Builder<'e> {
 
     fn scene(&mut self, root: &'e Elem) -> Result<(), SceneError> {
         root.check_attrs(&["version"])?;
+        // Mitsuba samples every emitter equally often (`sampling_weight` 1): the same
+        // image, and the same noise, which its test criterion measures against.
+        self.render.put("light_selection", "uniform", root.main_pos);
         let mut sensor_seen = false;
         for c in &root.children {
             match c.tag.as_str() {

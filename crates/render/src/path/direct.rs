@@ -56,7 +56,7 @@ pub fn radiance_direct<T: Tracer>(
     let wo_world = -ray.dir.normalize();
     let mut l = Rgb::BLACK;
     if !material.emission.is_black() && (material.emission_two_sided || n.dot(wo_world) > 0.0) {
-        l += material.emission;
+        l += material.emission_at(hit.uv);
     }
     let Some((bsdf, frame)) = surface_at(ps, &sh) else {
         return l;
@@ -125,7 +125,7 @@ pub fn radiance_direct<T: Tracer>(
                     continue;
                 }
                 let pdf = lights.pdf_object(scene, eh.instance, hit.point, q, nq);
-                (m.emission, pdf)
+                (m.emission_at(eh.hit.uv), pdf)
             }
         };
         if le.is_black() {

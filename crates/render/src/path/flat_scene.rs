@@ -291,10 +291,12 @@ impl FlatScene {
             let material = object.material;
             // Baked hits carry barycentric uv and no tangent frame: only objects whose
             // material reads neither (no image on a lecture material, no texture and
-            // no anisotropy in a physically based description) are baked.
+            // no anisotropy in a physically based description, no textured emission)
+            // are baked.
             let plain = object.leaf_materials.is_empty()
                 && scene.materials.get(material as usize).is_some_and(|m| {
                     !matches!(m.color, Texture::Image { .. })
+                        && m.emission_texture.is_none()
                         && m.bsdf
                             .as_deref()
                             .is_none_or(|d| desc_uniform(d) && !desc_anisotropic(d))

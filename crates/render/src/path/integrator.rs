@@ -264,7 +264,7 @@ pub fn radiance_recorded<T: Tracer, R: Recorder>(
                 Some((p, pdf)) => mis(pdf, lights.pdf_object(scene, sh.instance, p, hit.point, n)),
                 None => 1.0,
             };
-            l += beta * material.emission * w;
+            l += beta * material.emission_at(hit.uv) * w;
         }
         if depth == params.max_depth {
             if R::RECORDS {

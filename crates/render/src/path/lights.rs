@@ -2,7 +2,7 @@
 //! projector and directional lights, rectangle and sphere area lights, emissive
 //! objects, the constant environment (the background plus Mitsuba's `constant`
 //! emitters) and importance-sampled environment maps), chosen in proportion to its
-//! power. Each emitter gives a direction, its radiance and its solid-angle density
+//! power, or all equally often (`light_selection = "uniform"`, Mitsuba's way). Each emitter gives a direction, its radiance and its solid-angle density
 //! (`sample`), and the density of a BSDF-sampled ray that reaches it (`pdf_object` for
 //! surfaces, `pdf_environment` for rays that leave the scene), for multiple importance
 //! sampling (Veach 1997, 9.2).
@@ -15,7 +15,8 @@ use super::envmap::EnvmapSampler;
 use glam::{Affine3A, Vec2, Vec3};
 use irradia_core::{sampling, Rgb};
 use irradia_geometry::Instance;
-use irradia_scene::{Light, Projector, Scene, SpotProfile};
+use irradia_scene::texture::{TextureMap, TextureQuery};
+use irradia_scene::{Light, LightSelection, Projector, Scene, SpotProfile, SpotTexture};
 use std::f32::consts::PI;
 use std::sync::Arc;
 
@@ -47,6 +48,7 @@ enum Emitter {
         cos_inner: f32,
         cos_outer: f32,
         profile: SpotProfile,
+        texture: Option<Arc<SpotTexture>>,
     },
     /// Mitsuba's `projector`: a delta-position emitter with an image for intensity.
     Projector(Arc<Projector>),
@@ -70,6 +72,8 @@ enum Emitter {
     Object {
         instance: u32,
         radiance: Rgb,
+        /// Emission read at the sampled point's uv (Mitsuba's textured `area`).
+        texture: Option<TextureMap>,
         area: f32,
         two_sided: bool,
         surface: SurfaceSampler,
@@ -227,7 +231,35 @@ pub(crate) struct FacetEmitter<'a> {
     pub probability: f32,
 }
 
-/// The emitters of a scene with a discrete distribution proportional to power.
+/// The radiance of an emissive object at its sampled world point `q` (normal `n`):
+/// `radiance`, or its emission texture at the point's surface coordinates, found by a
+/// short ray back onto the instance along the normal (from outside, then from inside),
+/// so every shape and mesh reports the uv its own hits do. The texture's mean stands in
+/// if neither ray finds the surface.
+fn textured(
+    scene: &Scene,
+    instance: u32,
+    texture: &Option<TextureMap>,
+    q: Vec3,
+    n: Vec3,
+    radiance: Rgb,
+) -> Rgb {
+    let Some(t) = texture else {
+        return radiance;
+    };
+    let inst = &scene.accel.instances()[instance as usize];
+    let eps = 1e-3 * (1.0 + q.abs().max_element());
+    let hit = [n, -n].iter().find_map(|&side| {
+        inst.intersect(&irradia_core::Ray::new(q + side * eps, -side), 2.0 * eps)
+    });
+    match hit {
+        Some(h) => t.eval(&TextureQuery::at_uv(h.uv)),
+        None => radiance,
+    }
+}
+
+/// The emitters of a scene with a discrete distribution proportional to power (or
+/// uniform, [`LightSelection::Uniform`]).
 #[derive(Clone, Debug, Default)]
 pub struct LightSampler {
     emitters: Vec<Emitter>,
@@ -283,6 +315,7 @@ impl LightSampler {
                     cos_inner,
                     cos_outer,
                     profile,
+                    ref texture,
                 } => Emitter::Spot {
                     position,
                     direction: direction.normalize(),
@@ -290,6 +323,7 @@ impl LightSampler {
                     cos_inner,
                     cos_outer,
                     profile,
+                    texture: texture.clone(),
                 },
                 Light::Projector(ref p) => Emitter::Projector(p.clone()),
                 // Gathered below with the background.
@@ -357,6 +391,7 @@ impl LightSampler {
                 emitters.push(Emitter::Object {
                     instance: i as u32,
                     radiance: e,
+                    texture: material.emission_texture.clone(),
                     area,
                     two_sided: material.emission_two_sided,
                     surface,
@@ -413,6 +448,11 @@ impl LightSampler {
                 }
             })
             .map(|p| if p.is_finite() && p > 0.0 { p } else { 0.0 })
+            // Mitsuba's choice: every emitter that gives light, equally often.
+            .map(|p| match scene.settings.light_selection {
+                LightSelection::Uniform if p > 0.0 => 1.0,
+                _ => p,
+            })
             .collect();
         let total: f32 = powers.iter().sum();
         let probability: Vec<f32> = powers
@@ -505,15 +545,22 @@ impl LightSampler {
                 cos_inner,
                 cos_outer,
                 profile,
+                ref texture,
             } => {
                 let d = position - p;
                 let dist2 = d.length_squared();
                 let wi = d / dist2.sqrt();
-                let f = profile.falloff((-wi).dot(direction), cos_inner, cos_outer);
+                let cos = (-wi).dot(direction);
+                let f = profile.falloff(cos, cos_inner, cos_outer);
+                if f <= 0.0 {
+                    return None;
+                }
+                // Mitsuba's spot texture: the image across the cone, read only inside it.
+                let tint = texture.as_ref().map_or(Rgb::WHITE, |t| t.eval(-wi, cos));
                 (f > 0.0).then_some(LightSample {
                     wi,
                     target: Some(position),
-                    li: intensity * (f / dist2),
+                    li: intensity * tint * (f / dist2),
                     pdf: pick,
                     delta: true,
                 })
@@ -577,17 +624,21 @@ impl LightSampler {
                 )
             }
             Emitter::Object {
+                instance,
                 radiance,
+                ref texture,
                 two_sided,
                 world: Some(ref world),
                 ..
             } => {
                 let (q, n, pdf_area) = world.sample(u)?;
+                let radiance = textured(scene, instance, texture, q, n, radiance);
                 on_surface(q, n, radiance, pdf_area, two_sided)
             }
             Emitter::Object {
                 instance,
                 radiance,
+                ref texture,
                 area,
                 two_sided,
                 ref surface,
@@ -598,6 +649,7 @@ impl LightSampler {
                 let q = inst.to_world().transform_point3(qo);
                 let n = Vec3::from(inst.to_object().matrix3.transpose() * glam::Vec3A::from(no))
                     .normalize();
+                let radiance = textured(scene, instance, texture, q, n, radiance);
                 on_surface(
                     q,
                     n,
@@ -725,5 +777,71 @@ impl LightSampler {
             }
         }
         pdf
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use irradia_scene::{Camera, FovAxis, Projection, RenderSettings};
+
+    /// Two point lights of intensity 1 and 3 seen from the origin: the probability of
+    /// choosing each, read from the delta sample's pdf.
+    fn pick_probabilities(selection: LightSelection) -> Vec<f32> {
+        let camera = Camera {
+            eye: Vec3::Z,
+            look_at: Vec3::ZERO,
+            up: Vec3::Y,
+            projection: Projection::Perspective {
+                fov_degrees: 45.0,
+                axis: FovAxis::Vertical,
+            },
+            near_clip: 0.0,
+        };
+        let settings = RenderSettings {
+            light_selection: selection,
+            ..RenderSettings::default()
+        };
+        let light = |x: f32, i: f32| Light::Point {
+            position: Vec3::new(x, 1.0, 0.0),
+            intensity: Rgb::splat(i),
+        };
+        let scene = Scene::new(
+            camera,
+            settings,
+            vec![],
+            vec![light(-1.0, 1.0), light(1.0, 3.0)],
+            vec![],
+            vec![],
+        );
+        let lights = LightSampler::new(&scene);
+        [0.1, 0.9]
+            .iter()
+            .map(|&u| {
+                let s = lights
+                    .sample(&scene, Vec3::ZERO, u, Vec2::splat(0.5))
+                    .unwrap();
+                assert!(s.delta);
+                s.pdf
+            })
+            .collect()
+    }
+
+    #[test]
+    fn power_selection_follows_intensity() {
+        let p = pick_probabilities(LightSelection::Power);
+        assert!(
+            (p[0] - 0.25).abs() < 1e-6 && (p[1] - 0.75).abs() < 1e-6,
+            "{p:?}"
+        );
+    }
+
+    #[test]
+    fn uniform_selection_is_mitsubas() {
+        let p = pick_probabilities(LightSelection::Uniform);
+        assert!(
+            (p[0] - 0.5).abs() < 1e-6 && (p[1] - 0.5).abs() < 1e-6,
+            "{p:?}"
+        );
     }
 }

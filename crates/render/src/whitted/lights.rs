@@ -113,6 +113,7 @@ impl PreparedLight {
                 cos_inner,
                 cos_outer,
                 profile,
+                ..
             } => PreparedLight::Spot {
                 position,
                 axis: direction.normalize(),

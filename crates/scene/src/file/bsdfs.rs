@@ -9,7 +9,7 @@ use crate::bsdf::{
     BsdfDesc, Conductor, Dielectric, Diffuse, Distribution, Microfacet, Plastic, PlasticRoughness,
     Principled, PrincipledSpecular, PrincipledThin, Roughness, BSDF_TYPES,
 };
-use crate::texture::ColorTexture;
+use crate::texture::{ColorTexture, TextureMap};
 use irradia_core::Rgb;
 use irradia_scatter::ior::{conductor_ior, conductor_names, dielectric_ior, dielectric_names};
 use std::collections::HashMap;
@@ -19,10 +19,24 @@ pub fn is_physically_based(v: &Val) -> bool {
     v.table().is_ok_and(|t| t.has("type"))
 }
 
+/// A material's `emission`: a colour, or a texture table (`bitmap`, `checkerboard`)
+/// read at the surface's uv, whose mean then stands for the constant.
+pub fn read_emission(v: Option<Val>) -> Result<(Rgb, Option<TextureMap>)> {
+    match v {
+        None => Ok((Rgb::BLACK, None)),
+        Some(v) if v.is_table() => {
+            let map = super::textures::read_texture_map(&v)?;
+            Ok((map.mean(), Some(map)))
+        }
+        Some(v) => Ok((v.rgb()?, None)),
+    }
+}
+
 /// What a physically based material entry holds besides its BSDF.
 pub struct PbrEntry {
     pub bsdf: BsdfDesc,
     pub emission: Rgb,
+    pub emission_texture: Option<TextureMap>,
     pub emission_two_sided: bool,
 }
 
@@ -49,7 +63,7 @@ impl<'a, 'd> BsdfResolver<'a, 'd> {
         self.reading.push(name.to_string());
         let t = v.table()?;
         let bsdf = self.read_bsdf(&t)?;
-        let emission = t.rgb_or("emission", Rgb::BLACK)?;
+        let (emission, emission_texture) = read_emission(t.get("emission"))?;
         let emission_two_sided = t.bool_or("emission_two_sided", false)?;
         t.finish()?;
         self.reading.pop();
@@ -57,6 +71,7 @@ impl<'a, 'd> BsdfResolver<'a, 'd> {
         Ok(PbrEntry {
             bsdf,
             emission,
+            emission_texture,
             emission_two_sided,
         })
     }

@@ -119,7 +119,21 @@ pub(super) fn read_projector(t: &Table) -> Result<Light> {
         _ => FovAxis::Horizontal,
     };
     let irradiance = match t.get("irradiance") {
-        Some(v) if v.is_str() => read_image(&v, "projector image")?.0,
+        Some(v) if v.is_str() => {
+            let path = v.doc.resolve(v.str()?);
+            if irradia_core::io::Format::from_path(&path).is_ok() || v.doc.is_builtin() {
+                read_image(&v, "projector image")?.0
+            } else {
+                // Other formats (BMP, JPEG, ...) as the `bitmap` texture decodes them.
+                let t = crate::texture::bitmap::read_texels(&path, false)
+                    .map_err(|e| v.err(format!("cannot load the projector image: {e}")))?;
+                let px = (0..t.height)
+                    .flat_map(|y| (0..t.width).map(move |x| (x, y)))
+                    .map(|(x, y)| t.get(x, y))
+                    .collect();
+                Arc::new(Image::from_pixels(t.width, t.height, px))
+            }
+        }
         Some(v) => Arc::new(Image::from_pixels(1, 1, vec![v.rgb()?])),
         None => Arc::new(Image::from_pixels(1, 1, vec![Rgb::WHITE])),
     };

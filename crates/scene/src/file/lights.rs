@@ -4,9 +4,11 @@
 
 use super::emitters::{read_envmap, read_projector};
 use super::reader::{Result, Table, Val};
-use crate::light::{Light, SpotProfile};
+use super::textures::read_texture_map;
+use crate::light::{Light, SpotProfile, SpotTexture};
 use glam::Vec3;
 use irradia_core::Rgb;
+use std::sync::Arc;
 
 pub fn read_lights(v: Option<Val>) -> Result<Vec<Light>> {
     let Some(v) = v else {
@@ -99,7 +101,8 @@ fn kind(t: &Table) -> &'static str {
 
 /// A spot light: the lecture's smooth cone (`outer_angle`, `inner_angle`) or Mitsuba's
 /// `spot` (`cutoff_angle`, default 20°, and `beam_width`, default ¾ of the cutoff, with
-/// its falloff linear in the angle). All angles are half-angles from the axis.
+/// its falloff linear in the angle). All angles are half-angles from the axis. Either
+/// may carry a `texture` ([`SpotTexture`]) oriented by `up` (default [0, 1, 0]).
 fn read_spot(t: &Table) -> Result<Light> {
     let (position, direction) = position_and_axis(t)?;
     let mitsuba = t.get("cutoff_angle").or(t.get("beam_width"));
@@ -157,12 +160,35 @@ fn read_spot(t: &Table) -> Result<Light> {
         };
         (beam, cutoff, SpotProfile::Linear)
     };
+    let cos_outer = outer.to_radians().cos();
+    // `texture` (Mitsuba's): an image across the cutoff cone, oriented by `up`.
+    let up_v = t.get("up");
+    let texture = match t.get("texture") {
+        Some(tex) => {
+            let map = read_texture_map(&tex)?;
+            let up = up_v.as_ref().map_or(Ok(Vec3::Y), |u| u.direction())?;
+            if direction.cross(up.normalize()).length() < 1e-4 {
+                let at = up_v.unwrap_or(tex);
+                return Err(
+                    at.err("up must not be parallel to the spot's axis (give an `up` across it)")
+                );
+            }
+            Some(Arc::new(SpotTexture::new(map, direction, up, cos_outer)))
+        }
+        None => {
+            if let Some(u) = up_v {
+                return Err(u.err("`up` orients a spot light's `texture`; there is none"));
+            }
+            None
+        }
+    };
     Ok(Light::Spot {
         position,
         direction,
         intensity: t.rgb_or("intensity", Rgb::WHITE)?,
         cos_inner: inner.to_radians().cos(),
-        cos_outer: outer.to_radians().cos(),
+        cos_outer,
         profile,
+        texture,
     })
 }

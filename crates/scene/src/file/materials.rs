@@ -23,6 +23,7 @@ pub fn read_materials(v: Option<Val>) -> Result<Vec<Material>> {
             let e = resolver.entry(name, m)?;
             out.push(Material {
                 emission: e.emission,
+                emission_texture: e.emission_texture,
                 emission_two_sided: e.emission_two_sided,
                 ..Material::from_bsdf(name, e.bsdf)
             });
@@ -53,6 +54,7 @@ fn read_material(name: &str, v: &Val) -> Result<Material> {
         },
         None => ShadingModel::Phong,
     };
+    let (emission, emission_texture) = super::bsdfs::read_emission(t.get("emission"))?;
     let m = Material {
         name: name.to_string(),
         color,
@@ -67,7 +69,8 @@ fn read_material(name: &str, v: &Val) -> Result<Material> {
         filter_color: filter,
         ior: t.positive_or("ior", d.ior)?,
         fresnel: t.bool_or("fresnel", d.fresnel)?,
-        emission: t.rgb_or("emission", d.emission)?,
+        emission,
+        emission_texture,
         emission_two_sided: t.bool_or("emission_two_sided", d.emission_two_sided)?,
         model,
         bsdf: None,

@@ -3,7 +3,7 @@
 
 use super::reader::{Result, Table, Val};
 use crate::camera::{Camera, FovAxis, Projection};
-use crate::scene::{CropWindow, Integrator, PixelFilter, RenderSettings};
+use crate::scene::{CropWindow, Integrator, LightSelection, PixelFilter, RenderSettings};
 use glam::Vec3;
 
 pub fn read_camera(v: Option<Val>, root: &Table) -> Result<Camera> {
@@ -160,6 +160,12 @@ pub fn read_settings(image: Option<Val>, render: Option<Val>) -> Result<RenderSe
                     bsdf_samples: 1,
                 },
                 _ => Integrator::Whitted,
+            };
+        }
+        if let Some(l) = t.get("light_selection") {
+            s.light_selection = match l.choice(&["power", "uniform"])? {
+                "uniform" => LightSelection::Uniform,
+                _ => LightSelection::Power,
             };
         }
         // Mitsuba's `direct`: `shading_samples` sets both counts, the specific ones win.

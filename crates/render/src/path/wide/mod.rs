@@ -134,6 +134,10 @@ impl<'s, 'a> WideScene<'s, 'a> {
         if !scene.settings.background.is_black() || scene.materials.is_empty() {
             return None;
         }
+        // Emission read from a texture at the hit's uv: the scalar kernel's work.
+        if scene.materials.iter().any(|m| m.emission_texture.is_some()) {
+            return None;
+        }
         let mut materials = Vec::new();
         let mut shading = Vec::new();
         for (i, m) in scene.materials.iter().enumerate() {
