@@ -33,6 +33,7 @@ impl GltfFile {
     /// to `path`'s folder.
     pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<GltfFile, MeshFileError> {
         let err = |msg: String| MeshFileError::new(path, None, None, msg);
+        check_glb_container(bytes).map_err(err)?;
         let gltf = gltf::Gltf::from_slice_without_validation(bytes)
             .map_err(|e| err(format!("not a valid glTF file: {e}")))?;
         let gltf::Gltf { document, blob } = gltf;
@@ -381,4 +382,44 @@ pub fn base64_decode(s: &str) -> Option<Vec<u8>> {
         }
     }
     Some(out)
+}
+
+/// The GLB container's lengths checked before the `gltf` crate reads them: gltf 1.4.1
+/// subtracts a chunk's length from what is left without checking it (an overflow
+/// panic on a truncated or forged file, found by fuzzing). A file that does not start
+/// with `glTF` is left to the crate (JSON glTF).
+fn check_glb_container(bytes: &[u8]) -> Result<(), String> {
+    if !bytes.starts_with(b"glTF") {
+        return Ok(());
+    }
+    let word = |at: usize| -> Option<u64> {
+        bytes
+            .get(at..at + 4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as u64)
+    };
+    let total = word(8).ok_or("a GLB file shorter than its 12-byte header")?;
+    if total != bytes.len() as u64 {
+        return Err(format!(
+            "the GLB header gives {total} bytes, the file has {}",
+            bytes.len()
+        ));
+    }
+    let mut at = 12u64;
+    let mut chunks = 0;
+    while at < total {
+        let len = word(at as usize).ok_or("a GLB chunk header is cut off")?;
+        word(at as usize + 4).ok_or("a GLB chunk header is cut off")?;
+        let end = at + 8 + len;
+        if end > total {
+            return Err(format!(
+                "GLB chunk {chunks} of {len} bytes runs past the end of the file"
+            ));
+        }
+        at = end;
+        chunks += 1;
+    }
+    if chunks == 0 {
+        return Err("a GLB file without its JSON chunk".into());
+    }
+    Ok(())
 }
