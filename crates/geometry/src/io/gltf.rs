@@ -107,7 +107,12 @@ impl GltfFile {
                 format!("stride {stride} is shorter than an element ({elem} bytes)"),
             ));
         }
-        if a.count() > 0 {
+        if a.count() == 0 {
+            // gltf 1.4.1 computes `count - 1` when it reads one (a panic found by
+            // fuzzing); the glTF specification requires at least one element.
+            return Err(self.err(name(), "the accessor has no elements (count 0)"));
+        }
+        {
             let need = (a.count() - 1)
                 .checked_mul(stride)
                 .and_then(|x| x.checked_add(elem))
