@@ -508,27 +508,7 @@ pub fn texture<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<Node, SceneError>
 /// An emitter's wavelength:value spectrum in linear sRGB: Mitsuba's
 /// `spectrum_list_to_srgb(.., bounded = false, d65 = false)`.
 pub fn emitter_spectrum_rgb(wavelengths: &[f64], values: &[f64]) -> [f64; 3] {
-    use irradia_scatter::ior::{cie1931_xyz, xyz_to_srgb, CIE_MAX, CIE_MIN};
-    const STEPS: usize = 1000;
-    const CIE_Y_NORMALIZATION: f64 = 0.009_367_658_735_689_113;
-    let (first, last) = (wavelengths[0], wavelengths[wavelengths.len() - 1]);
-    let mut xyz = [0.0f64; 3];
-    for i in 0..STEPS {
-        let w = CIE_MIN + (i as f64 / (STEPS - 1) as f64) * (CIE_MAX - CIE_MIN);
-        if w < first || w > last {
-            continue;
-        }
-        let k = wavelengths
-            .partition_point(|&x| x <= w)
-            .clamp(1, wavelengths.len() - 1)
-            - 1;
-        let (w0, w1, v0, v1) = (wavelengths[k], wavelengths[k + 1], values[k], values[k + 1]);
-        let v = ((w - w1) * v0 + (w0 - w) * v1) / (w0 - w1);
-        for (acc, c) in xyz.iter_mut().zip(cie1931_xyz(w)) {
-            *acc += c * v;
-        }
-    }
-    let scale = (CIE_MAX - CIE_MIN) / STEPS as f64 * CIE_Y_NORMALIZATION;
     // Irradia's colours are not negative; an out-of-gamut emitter is clipped.
-    xyz_to_srgb(xyz.map(|c| c * scale)).map(|c| c.max(0.0))
+    irradia_scene::texture::spectrum::spectrum_to_linear_srgb(wavelengths, values, |_| 1.0)
+        .map(|c| c.max(0.0))
 }

@@ -81,6 +81,22 @@ pub fn parse_spectrum(text: &str) -> Result<(Vec<f64>, Vec<f64>), SpectrumError>
 /// The RGB of a reflectance spectrum, as Mitsuba's rgb variants compute it (module doc).
 /// `wavelengths` increase strictly and hold at least two entries.
 pub fn spectrum_to_rgb(wavelengths: &[f64], values: &[f64]) -> Rgb {
+    let rgb = spectrum_to_linear_srgb(wavelengths, values, d65_at);
+    Rgb::new(
+        rgb[0].clamp(0.0, 1.0) as f32,
+        rgb[1].clamp(0.0, 1.0) as f32,
+        rgb[2].clamp(0.0, 1.0) as f32,
+    )
+}
+
+/// Mitsuba's `spectrum_list_to_srgb` without clamping: the piecewise-linear spectrum
+/// times `weight(λ)` (D65 for reflectances, 1 for emitters) integrated against the CIE
+/// 1931 matching functions at 1000 steps, Y-normalised, in linear sRGB.
+pub fn spectrum_to_linear_srgb(
+    wavelengths: &[f64],
+    values: &[f64],
+    weight: impl Fn(f64) -> f64,
+) -> [f64; 3] {
     const STEPS: usize = 1000;
     let (first, last) = (wavelengths[0], wavelengths[wavelengths.len() - 1]);
     let mut xyz = [0.0f64; 3];
@@ -96,18 +112,13 @@ pub fn spectrum_to_rgb(wavelengths: &[f64], values: &[f64]) -> Rgb {
             - 1;
         let (w0, w1, v0, v1) = (wavelengths[k], wavelengths[k + 1], values[k], values[k + 1]);
         let v = ((w - w1) * v0 + (w0 - w) * v1) / (w0 - w1);
-        let (cmf, d65) = (cie1931_xyz(w), d65_at(w));
-        for (acc, c) in xyz.iter_mut().zip(cmf) {
-            *acc += c * d65 * v;
+        let wv = weight(w) * v;
+        for (acc, c) in xyz.iter_mut().zip(cie1931_xyz(w)) {
+            *acc += c * wv;
         }
     }
     let scale = (CIE_MAX - CIE_MIN) / STEPS as f64 * CIE_Y_NORMALIZATION;
-    let rgb = xyz_to_srgb(xyz.map(|c| c * scale));
-    Rgb::new(
-        rgb[0].clamp(0.0, 1.0) as f32,
-        rgb[1].clamp(0.0, 1.0) as f32,
-        rgb[2].clamp(0.0, 1.0) as f32,
-    )
+    xyz_to_srgb(xyz.map(|c| c * scale))
 }
 
 #[cfg(test)]
