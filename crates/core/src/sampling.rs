@@ -28,6 +28,7 @@ impl Rng {
     }
 
     /// A stream for one pixel sample: the same for any thread or tile order.
+    #[inline]
     pub fn for_pixel(x: u32, y: u32, sample: u32, pass: u32) -> Self {
         let key = hash64(((y as u64) << 32) | x as u64);
         Rng::new(hash64(key ^ ((sample as u64) << 20) ^ pass as u64), key)

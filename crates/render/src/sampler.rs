@@ -36,7 +36,7 @@ pub enum Sampler {
 impl Sampler {
     /// Offset in `[0,1)²` of sample `i` of pixel (x, y), and the random stream the
     /// sample's rays use (already past the jitter).
-    #[inline]
+    #[inline(always)]
     pub fn pixel_sample(&self, x: u32, y: u32, i: u32) -> (Vec2, Rng) {
         match *self {
             Sampler::Stratified { spp } => stratified(x, y, i.min(spp.max(1) - 1), spp),
@@ -60,7 +60,7 @@ pub struct CameraSample {
 
 /// Sample `i` of pixel (x, y) (of the whole image, whatever the crop window): placed by
 /// `sampler`, moved about the pixel centre by `filter`.
-#[inline]
+#[inline(always)]
 pub fn camera_sample(
     cam: &CameraRays,
     filter: &FilterSampler,
@@ -127,6 +127,7 @@ fn permute(mut i: u32, l: u32, p: u32) -> u32 {
 
 /// Offset in `[0,1)²` of sample `s` of `n` in pixel (x, y) by correlated multi-jittered
 /// sampling, and the random stream the sample's rays use.
+#[inline]
 pub fn stratified(x: u32, y: u32, s: u32, n: u32) -> (Vec2, Rng) {
     let mut rng = Rng::for_pixel(x, y, s, 0);
     if n <= 1 {

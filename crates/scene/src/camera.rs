@@ -175,7 +175,7 @@ impl CameraRays {
     /// The primary ray through image position `(x, y)` in pixels (continuous: the centre
     /// of pixel (i, j) is (i + 0.5, j + 0.5)), y down, through the centre of the lens.
     /// Directions are unit length.
-    #[inline]
+    #[inline(always)]
     pub fn ray(&self, x: f32, y: f32) -> Ray {
         self.ray_lens(x, y, Vec2::splat(0.5))
     }
@@ -191,7 +191,7 @@ impl CameraRays {
     /// Chiu 1997); `lens` matters only for a thin lens. Mitsuba's `thinlens`: the ray
     /// leaves the aperture point towards the point of the plane of focus that the
     /// pinhole ray through `(x, y)` meets.
-    #[inline]
+    #[inline(always)]
     pub fn ray_lens(&self, x: f32, y: f32, lens: Vec2) -> Ray {
         let sx = (2.0 * x / self.width - 1.0) * self.half.x;
         let sy = (1.0 - 2.0 * y / self.height) * self.half.y;
