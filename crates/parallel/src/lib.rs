@@ -10,6 +10,7 @@ pub mod composite;
 pub mod display_tiles;
 pub mod job;
 pub mod netmodel;
+pub mod progressive;
 pub mod raytrace_first;
 pub mod raytrace_forward;
 pub mod raytrace_last;

@@ -96,8 +96,8 @@ pub struct Rendered {
 }
 
 /// A rectangle of pixels of the image.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Tile {
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tile {
     pub x0: u32,
     pub y0: u32,
     pub w: u32,
@@ -114,13 +114,158 @@ pub(crate) struct TileContext<'a> {
     pub height: u32,
 }
 
-struct TileResult {
-    pixels: Vec<FilmPixel>,
-    aov: Vec<AovSample>,
-    stats: Stats,
+/// A rendered tile: its pixels (row-major, the film's values plus the new samples),
+/// the AOV records of its sample 0 (empty unless asked for) and its counters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TileResult {
+    pub pixels: Vec<FilmPixel>,
+    pub aov: Vec<AovSample>,
+    pub stats: Stats,
 }
 
-fn tiles_of(window: CropWindow, size: u32) -> Vec<Tile> {
+/// The samples of one pass: `first..first + n` of every pixel, and whether sample 0's
+/// AOV records are wanted (then sample 0 is among them, or `n == 0`: AOVs only).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PassWork {
+    pub first: u32,
+    pub n: u32,
+    pub want_aov: bool,
+}
+
+/// Everything needed to render any tile of a render: the integrator, the camera, the
+/// pixel filter, the sampler and the adaptive threshold. Every process of a
+/// distributed render builds the same one from the same scene and options, so a tile
+/// renders to the same bits wherever it goes.
+pub struct TileJob<'a, I> {
+    integrator: &'a I,
+    cam: CameraRays,
+    filter: FilterSampler,
+    sampler: Sampler,
+    adaptive_threshold: Option<f32>,
+    width: u32,
+    height: u32,
+}
+
+impl<'a, I: Integrator> TileJob<'a, I> {
+    /// The tiles of `scene` rendered by `integrator` as `setup` and `options` say.
+    pub fn new(
+        integrator: &'a I,
+        scene: &Scene,
+        setup: &DriverSetup,
+        options: &ProgressiveOptions,
+    ) -> Self {
+        let s = &scene.settings;
+        Self {
+            integrator,
+            cam: scene.camera.rays(s.width, s.height),
+            filter: FilterSampler::new(s.filter),
+            sampler: match setup.sampler {
+                SamplerKind::Stratified => Sampler::Stratified { spp: options.spp },
+                SamplerKind::Independent => Sampler::Independent { seed: options.seed },
+            },
+            adaptive_threshold: setup.adaptive_threshold,
+            width: s.width,
+            height: s.height,
+        }
+    }
+
+    /// Renders the samples `work` of tile `t` onto `pixels` (the film's values there,
+    /// row-major; all zero for an empty film).
+    pub fn render(&self, t: Tile, mut pixels: Vec<FilmPixel>, work: PassWork) -> TileResult {
+        let cx = TileContext {
+            cam: &self.cam,
+            filter: &self.filter,
+            sampler: self.sampler,
+            width: self.width,
+            height: self.height,
+        };
+        match self.adaptive_threshold {
+            Some(threshold) if work.n > 0 => {
+                let mut stats = Stats::default();
+                let aov = adaptive::render_tile(
+                    self.integrator,
+                    &cx,
+                    t,
+                    work.first + work.n,
+                    threshold,
+                    work.want_aov,
+                    &mut pixels,
+                    &mut stats,
+                );
+                TileResult { pixels, aov, stats }
+            }
+            _ => render_tile(self.integrator, &cx, t, pixels, work.first, work.n, work.want_aov),
+        }
+    }
+
+    /// Whether a tile's pixels must be read from the film before rendering it (not for
+    /// the first pass of a film without samples, unless adaptive sampling reads them).
+    pub fn reads_film(&self, film: &Film) -> bool {
+        film.samples() > 0 || self.adaptive_threshold.is_some()
+    }
+}
+
+/// Where a pass's tiles are rendered: on this process's threads ([`LocalSweep`]), or
+/// spread over the ranks of a distributed render (`irradia_parallel::progressive`).
+/// Each tile's result is stored with [`store_tile`].
+pub trait Sweep {
+    /// Renders `work` on every tile of `tiles` into `sink`, calling `on_tile` with the
+    /// pixel-samples of each finished tile.
+    fn sweep<I: Integrator>(
+        &mut self,
+        job: &TileJob<'_, I>,
+        tiles: &[Tile],
+        sink: &mut Sink<'_>,
+        work: PassWork,
+        on_tile: &(dyn Fn(u64) + Sync),
+    ) -> Result<(), SweepError>;
+}
+
+/// Why a sweep failed (a distributed one: a rank that died or never answered).
+pub type SweepError = Box<dyn std::error::Error + Send + Sync>;
+
+/// Why [`run_with`] stopped early.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error("cannot write the checkpoint: {0}")]
+    Checkpoint(std::io::Error),
+    #[error("{0}")]
+    Sweep(SweepError),
+}
+
+/// The tiles rendered in parallel on the current rayon pool.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LocalSweep;
+
+impl Sweep for LocalSweep {
+    fn sweep<I: Integrator>(
+        &mut self,
+        job: &TileJob<'_, I>,
+        tiles: &[Tile],
+        sink: &mut Sink<'_>,
+        work: PassWork,
+        on_tile: &(dyn Fn(u64) + Sync),
+    ) -> Result<(), SweepError> {
+        let reads = job.reads_film(sink.film);
+        let sink = Mutex::new(sink);
+        let lock = || sink.lock().unwrap_or_else(|e| e.into_inner());
+        tiles.par_iter().for_each(|t| {
+            let pixels = if reads {
+                read_tile(lock().film, *t)
+            } else {
+                vec![FilmPixel::default(); (t.w * t.h) as usize]
+            };
+            let r = job.render(*t, pixels, work);
+            on_tile((t.w * t.h) as u64 * work.n as u64);
+            store_tile(&mut lock(), *t, r);
+        });
+        Ok(())
+    }
+}
+
+/// The tiles of `window`, row by row, each `size` pixels square (smaller at the
+/// right and bottom edges).
+pub fn tiles_of(window: CropWindow, size: u32) -> Vec<Tile> {
     let ts = size.max(1);
     let mut tiles = Vec::new();
     let (x1, y1) = (window.x + window.width, window.y + window.height);
@@ -137,24 +282,51 @@ fn tiles_of(window: CropWindow, size: u32) -> Vec<Tile> {
     tiles
 }
 
-/// Renders (or continues rendering into `film`) until a stop condition holds.
-/// `on_tile` is called from the worker threads with the pixel-samples each tile
-/// finished; `on_pass` after every pass.
+/// Renders (or continues rendering into `film`) until a stop condition holds, on
+/// the current rayon pool. `on_tile` is called from the worker threads with the
+/// pixel-samples each tile finished; `on_pass` after every pass.
 pub fn run<I: Integrator>(
     integrator: &I,
     scene: &Scene,
     setup: &DriverSetup,
     options: &ProgressiveOptions,
+    film: Film,
+    on_tile: &(dyn Fn(u64) + Sync),
+    on_pass: impl FnMut(&PassReport, &Film),
+) -> std::io::Result<Rendered> {
+    run_with(
+        integrator,
+        scene,
+        setup,
+        options,
+        film,
+        &mut LocalSweep,
+        on_tile,
+        on_pass,
+    )
+    .map_err(|e| match e {
+        RunError::Checkpoint(e) => e,
+        RunError::Sweep(e) => std::io::Error::other(e),
+    })
+}
+
+/// [`run`] with the tiles of each pass rendered by `sweep`.
+#[allow(clippy::too_many_arguments)]
+pub fn run_with<I: Integrator, S: Sweep>(
+    integrator: &I,
+    scene: &Scene,
+    setup: &DriverSetup,
+    options: &ProgressiveOptions,
     mut film: Film,
+    sweep: &mut S,
     on_tile: &(dyn Fn(u64) + Sync),
     mut on_pass: impl FnMut(&PassReport, &Film),
-) -> std::io::Result<Rendered> {
+) -> Result<Rendered, RunError> {
     let start = Instant::now();
     let s = &scene.settings;
     let window = film.window();
     let tiles = tiles_of(window, setup.tile_size);
-    let cam = scene.camera.rays(s.width, s.height);
-    let filter = FilterSampler::new(s.filter);
+    let job = TileJob::new(integrator, scene, setup, options);
     let want_aov = !setup.aovs.is_empty();
     let mut aov = vec![AovSample::default(); if want_aov { film.pixels().len() } else { 0 }];
     let mut stats = Stats {
@@ -163,25 +335,21 @@ pub fn run<I: Integrator>(
         max_level: s.max_depth,
         ..Stats::default()
     };
-    let sampler = match setup.sampler {
-        SamplerKind::Stratified => Sampler::Stratified { spp: options.spp },
-        SamplerKind::Independent => Sampler::Independent { seed: options.seed },
-    };
-    let cx = TileContext {
-        cam: &cam,
-        filter: &filter,
-        sampler,
-        width: s.width,
-        height: s.height,
-    };
     // A resumed film has its sample 0 already: its AOVs are traced on their own.
     if want_aov && film.samples() > 0 {
-        let sink = Mutex::new(Sink {
+        let mut sink = Sink {
             film: &mut film,
             aov: &mut aov,
             stats: &mut stats,
-        });
-        sweep(integrator, &cx, setup, &tiles, &sink, 0, 0, true, on_tile);
+        };
+        let work = PassWork {
+            first: 0,
+            n: 0,
+            want_aov: true,
+        };
+        sweep
+            .sweep(&job, &tiles, &mut sink, work, on_tile)
+            .map_err(RunError::Sweep)?;
     }
     let mut last_checkpoint = Instant::now();
     let mut pass = 1u32;
@@ -205,15 +373,19 @@ pub fn run<I: Integrator>(
         } else {
             pass.min(options.spp - first)
         };
-        let aov_now = want_aov && first == 0;
-        let sink = Mutex::new(Sink {
+        let mut sink = Sink {
             film: &mut film,
             aov: &mut aov,
             stats: &mut stats,
-        });
-        sweep(
-            integrator, &cx, setup, &tiles, &sink, first, n, aov_now, on_tile,
-        );
+        };
+        let work = PassWork {
+            first,
+            n,
+            want_aov: want_aov && first == 0,
+        };
+        sweep
+            .sweep(&job, &tiles, &mut sink, work, on_tile)
+            .map_err(RunError::Sweep)?;
         film.finish_pass(n);
         pass = (pass * 2).min(16);
         let report = PassReport {
@@ -225,13 +397,15 @@ pub fn run<I: Integrator>(
         on_pass(&report, &film);
         if let Some(path) = &options.checkpoint {
             if last_checkpoint.elapsed() >= options.checkpoint_interval {
-                film.save_checkpoint(path, setup.fingerprint)?;
+                film.save_checkpoint(path, setup.fingerprint)
+                    .map_err(RunError::Checkpoint)?;
                 last_checkpoint = Instant::now();
             }
         }
     };
     if let Some(path) = &options.checkpoint {
-        film.save_checkpoint(path, setup.fingerprint)?;
+        film.save_checkpoint(path, setup.fingerprint)
+            .map_err(RunError::Checkpoint)?;
     }
     stats.pixels = film.pixels().len() as u64;
     let aovs = setup
@@ -251,64 +425,18 @@ pub fn run<I: Integrator>(
     })
 }
 
-/// Where finished tiles go: the film, the AOV samples and the counters, behind one
-/// lock. Each tile copies its pixels out before rendering and back in as soon as it is
-/// done, so only the tiles in flight hold pixels of their own (not a second copy of
-/// the whole film).
-struct Sink<'a> {
-    film: &'a mut Film,
-    aov: &'a mut [AovSample],
-    stats: &'a mut Stats,
-}
-
-/// One pass over every tile in parallel, each stored into `sink` when done.
-#[allow(clippy::too_many_arguments)]
-fn sweep<I: Integrator>(
-    integrator: &I,
-    cx: &TileContext<'_>,
-    setup: &DriverSetup,
-    tiles: &[Tile],
-    sink: &Mutex<Sink<'_>>,
-    first: u32,
-    n: u32,
-    want_aov: bool,
-    on_tile: &(dyn Fn(u64) + Sync),
-) {
-    let lock = || sink.lock().unwrap_or_else(|e| e.into_inner());
-    tiles.par_iter().for_each(|t| {
-        let mut pixels = {
-            let s = lock();
-            // An empty film (the first pass of a render not resumed) has nothing to read.
-            if s.film.samples() == 0 && setup.adaptive_threshold.is_none() {
-                vec![FilmPixel::default(); (t.w * t.h) as usize]
-            } else {
-                read_tile(s.film, *t)
-            }
-        };
-        let r = match setup.adaptive_threshold {
-            Some(threshold) if n > 0 => {
-                let mut stats = Stats::default();
-                let aov = adaptive::render_tile(
-                    integrator,
-                    cx,
-                    *t,
-                    first + n,
-                    threshold,
-                    want_aov,
-                    &mut pixels,
-                    &mut stats,
-                );
-                TileResult { pixels, aov, stats }
-            }
-            _ => render_tile(integrator, cx, *t, pixels, first, n, want_aov),
-        };
-        on_tile((t.w * t.h) as u64 * n as u64);
-        store_tile(&mut lock(), *t, r);
-    });
+/// Where finished tiles go: the film, the AOV samples (one per film pixel, or none)
+/// and the counters. A local sweep holds it behind one lock: each tile copies its
+/// pixels out before rendering and back in as soon as it is done, so only the tiles
+/// in flight hold pixels of their own (not a second copy of the whole film).
+pub struct Sink<'a> {
+    pub film: &'a mut Film,
+    pub aov: &'a mut [AovSample],
+    pub stats: &'a mut Stats,
 }
 
 /// Writes one tile's pixels, AOVs and counters back.
-fn store_tile(sink: &mut Sink<'_>, t: Tile, r: TileResult) {
+pub fn store_tile(sink: &mut Sink<'_>, t: Tile, r: TileResult) {
     sink.stats.merge(&r.stats);
     let fw = sink.film.width() as usize;
     let base = sink.film.index(t.x0, t.y0);
@@ -323,7 +451,7 @@ fn store_tile(sink: &mut Sink<'_>, t: Tile, r: TileResult) {
 }
 
 /// The film's pixels of tile `t`, row-major.
-pub(crate) fn read_tile(film: &Film, t: Tile) -> Vec<FilmPixel> {
+pub fn read_tile(film: &Film, t: Tile) -> Vec<FilmPixel> {
     let mut out = Vec::with_capacity((t.w * t.h) as usize);
     for y in t.y0..t.y0 + t.h {
         let i = film.index(t.x0, y);
@@ -453,14 +581,10 @@ pub fn render_with<I: Integrator>(
     scene: &Scene,
     options: &crate::RenderOptions,
 ) -> Result<crate::RenderOutput, crate::RenderError> {
-    let setup = DriverSetup {
-        sampler: SamplerKind::Stratified,
-        adaptive_threshold: scene.settings.adaptive_threshold,
-        tile_size: options.tile_size,
-        aovs: options.aovs.clone(),
-        fingerprint: crate::film::fingerprint(scene, "whitted"),
-    };
-    crate::run_driver(integrator, scene, &setup, options)
+    let setup = crate::whitted_setup(scene, options.tile_size, options.aovs.clone());
+    crate::pool::with_threads(options.threads, || {
+        crate::run_driver(integrator, scene, &setup, options, &mut LocalSweep)
+    })?
 }
 
 /// Renders the pixels of the rectangle at (`x0`, `y0`) of `w` x `h` pixels of the
@@ -477,45 +601,22 @@ pub fn render_region<I: Integrator>(
 ) -> (Vec<Rgb>, Stats) {
     let s = &scene.settings;
     let spp = s.spp.max(1);
-    let cam = scene.camera.rays(s.width, s.height);
-    let filter = FilterSampler::new(s.filter);
-    let cx = TileContext {
-        cam: &cam,
-        filter: &filter,
+    let job = TileJob {
+        integrator,
+        cam: scene.camera.rays(s.width, s.height),
+        filter: FilterSampler::new(s.filter),
         sampler: Sampler::Stratified { spp },
+        adaptive_threshold: s.adaptive_threshold,
         width: s.width,
         height: s.height,
     };
     let t = Tile { x0, y0, w, h };
-    let window = CropWindow {
-        x: x0,
-        y: y0,
-        width: w,
-        height: h,
+    let work = PassWork {
+        first: 0,
+        n: spp,
+        want_aov: false,
     };
-    let film = Film::for_window(window).expect("a region of an image that was allocated");
-    let r = match s.adaptive_threshold {
-        Some(threshold) => {
-            let mut pixels = read_tile(&film, t);
-            let mut stats = Stats::default();
-            adaptive::render_tile(
-                integrator,
-                &cx,
-                t,
-                spp,
-                threshold,
-                false,
-                &mut pixels,
-                &mut stats,
-            );
-            TileResult {
-                pixels,
-                aov: Vec::new(),
-                stats,
-            }
-        }
-        None => render_tile(integrator, &cx, t, read_tile(&film, t), 0, spp, false),
-    };
+    let r = job.render(t, vec![FilmPixel::default(); (w * h) as usize], work);
     let mut stats = r.stats;
     stats.pixels = (w * h) as u64;
     (r.pixels.iter().map(FilmPixel::value).collect(), stats)

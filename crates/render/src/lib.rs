@@ -36,7 +36,7 @@ pub use raytree::{RayKind, RayNode};
 pub use stats::Stats;
 pub use whitted::Whitted;
 
-use driver::{DriverSetup, ProgressiveOptions};
+use driver::{DriverSetup, LocalSweep, ProgressiveOptions, RunError, Sweep};
 use filter::FilterSampler;
 use irradia_core::{Image, ImageError, Rgb};
 use irradia_scene::{Integrator as Method, Scene};
@@ -69,6 +69,9 @@ pub enum RenderError {
     Resume(#[from] CheckpointError),
     #[error("cannot write the checkpoint: {0}")]
     CheckpointWrite(std::io::Error),
+    /// A distributed render that lost a rank (the message names it).
+    #[error("{0}")]
+    Distributed(String),
     #[error("trace-pixel records the whitted and path integrators; this scene's integrator is direct (render it with --integrator path and --max-depth 2 to trace its direct light)")]
     TraceDirect,
 }
@@ -166,11 +169,66 @@ pub struct RenderOutput {
 /// Renders `scene` with the integrator its settings name.
 /// The scene's `[[labels]]` are drawn over the image ([`labels::draw_labels`]).
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, RenderError> {
+    pool::with_threads(options.threads, || {
+        render_on(scene, options, &mut LocalSweep)
+    })?
+}
+
+/// [`render`] with each pass's tiles rendered by `sweep` (this process's threads, or
+/// the ranks of a distributed render: `irradia_parallel::progressive`), on the
+/// current rayon pool (`options.threads` is not looked at: the caller installs the
+/// pool, so that `sweep` need not move to another thread).
+pub fn render_on<S: Sweep>(
+    scene: &Scene,
+    options: &RenderOptions,
+    sweep: &mut S,
+) -> Result<RenderOutput, RenderError> {
     scene.settings.check_crop().map_err(RenderError::Settings)?;
-    let mut out = match scene.settings.integrator {
+    struct Run<'o, S> {
+        scene: &'o Scene,
+        options: &'o RenderOptions,
+        sweep: &'o mut S,
+    }
+    impl<S: Sweep> WithIntegrator for Run<'_, S> {
+        type Output = Result<RenderOutput, RenderError>;
+        fn with<I: Integrator>(self, integrator: &I, setup: &DriverSetup) -> Self::Output {
+            run_driver(integrator, self.scene, setup, self.options, self.sweep)
+        }
+    }
+    let run = Run {
+        scene,
+        options,
+        sweep,
+    };
+    let mut out = with_integrator(scene, options.tile_size, options.aovs.clone(), run)?;
+    labels::draw_labels(scene, &mut out.image);
+    Ok(out)
+}
+
+/// Something done with the integrator that a scene's settings name, whatever its type
+/// (the Whitted tracer and the path tracer are different types): a visitor, for
+/// [`with_integrator`].
+pub trait WithIntegrator {
+    type Output;
+    /// Called once with the integrator and the driver setup for it.
+    fn with<I: Integrator>(self, integrator: &I, setup: &DriverSetup) -> Self::Output;
+}
+
+/// Builds the integrator `scene.settings.integrator` names, with its driver setup for
+/// `tile_size` and `aovs`, and hands both to `w`.
+pub fn with_integrator<W: WithIntegrator>(
+    scene: &Scene,
+    tile_size: u32,
+    aovs: Vec<Aov>,
+    w: W,
+) -> W::Output {
+    match scene.settings.integrator {
         Method::Whitted => {
             let prepared = PreparedScene::new(scene);
-            driver::render_with(&Whitted::prepared(&prepared), scene, options)
+            w.with(
+                &Whitted::prepared(&prepared),
+                &whitted_setup(scene, tile_size, aovs),
+            )
         }
         Method::Path | Method::Direct { .. } => {
             let lights = path::lights::LightSampler::new(scene);
@@ -181,29 +239,29 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, Re
             );
             let params = PathParams::for_settings(&scene.settings);
             let integrator = PathIntegrator::new(&ps, params, path::Kernel::Auto);
-            let setup = integrator.setup(options.tile_size, options.aovs.clone());
-            run_driver(&integrator, scene, &setup, options)
+            let setup = integrator.setup(tile_size, aovs);
+            w.with(&integrator, &setup)
         }
-    }?;
-    labels::draw_labels(scene, &mut out.image);
-    Ok(out)
+    }
 }
 
-/// The driver under [`RenderOptions`]: the budget, the film (new or resumed), the
-/// thread pool and the progress reports.
-pub(crate) fn run_driver<I: Integrator>(
-    integrator: &I,
-    scene: &Scene,
-    setup: &DriverSetup,
-    options: &RenderOptions,
-) -> Result<RenderOutput, RenderError> {
-    let spp = options.spp.unwrap_or(scene.settings.spp).max(1);
-    let film = match &options.resume {
-        Some(p) => Film::load_checkpoint(p, setup.fingerprint)?,
-        None => Film::for_scene(scene)?,
-    };
-    let progressive = ProgressiveOptions {
-        spp,
+/// How the driver runs the Whitted tracer: stratified samples, the scene's adaptive
+/// threshold.
+pub(crate) fn whitted_setup(scene: &Scene, tile_size: u32, aovs: Vec<Aov>) -> DriverSetup {
+    DriverSetup {
+        sampler: driver::SamplerKind::Stratified,
+        adaptive_threshold: scene.settings.adaptive_threshold,
+        tile_size,
+        aovs,
+        fingerprint: film::fingerprint(scene, "whitted"),
+    }
+}
+
+/// The budget of a render under `options`: samples (the scene's unless overridden),
+/// time, error, checkpoints, seed.
+pub fn progressive_options(scene: &Scene, options: &RenderOptions) -> ProgressiveOptions {
+    ProgressiveOptions {
+        spp: options.spp.unwrap_or(scene.settings.spp).max(1),
         time_limit: options.time_limit,
         target_error: options.target_error,
         checkpoint: options
@@ -212,6 +270,23 @@ pub(crate) fn run_driver<I: Integrator>(
             .or_else(|| options.resume.clone()),
         checkpoint_interval: options.checkpoint_interval,
         seed: options.seed,
+    }
+}
+
+/// The driver under [`RenderOptions`] on the current rayon pool: the budget, the film
+/// (new or resumed) and the progress reports.
+pub(crate) fn run_driver<I: Integrator, S: Sweep>(
+    integrator: &I,
+    scene: &Scene,
+    setup: &DriverSetup,
+    options: &RenderOptions,
+    sweep: &mut S,
+) -> Result<RenderOutput, RenderError> {
+    let progressive = progressive_options(scene, options);
+    let spp = progressive.spp;
+    let film = match &options.resume {
+        Some(p) => Film::load_checkpoint(p, setup.fingerprint)?,
+        None => Film::for_scene(scene)?,
     };
     let pixels = film.pixels().len() as u64;
     let total = (spp != u32::MAX).then(|| pixels * spp.saturating_sub(film.samples()) as u64);
@@ -227,18 +302,20 @@ pub(crate) fn run_driver<I: Integrator>(
         }
     };
     let on_tile = |n: u64| report(None, n);
-    let r = pool::with_threads(options.threads, || {
-        driver::run(
-            integrator,
-            scene,
-            setup,
-            &progressive,
-            film,
-            &on_tile,
-            |p, _| report(Some(*p), 0),
-        )
-    })?
-    .map_err(RenderError::CheckpointWrite)?;
+    let r = driver::run_with(
+        integrator,
+        scene,
+        setup,
+        &progressive,
+        film,
+        sweep,
+        &on_tile,
+        |p, _| report(Some(*p), 0),
+    )
+    .map_err(|e| match e {
+        RunError::Checkpoint(e) => RenderError::CheckpointWrite(e),
+        RunError::Sweep(e) => RenderError::Distributed(e.to_string()),
+    })?;
     Ok(RenderOutput {
         image: r.film.image(),
         aovs: r.aovs,

@@ -4,10 +4,10 @@
 //! Each tile counts into its own `Stats` (plain integers, no atomics in the hot path);
 //! the tiles' counters are merged when the image is done.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Stats {
     pub width: u32,
     pub height: u32,

@@ -6,6 +6,7 @@ pub mod formfactor;
 pub mod parallel;
 pub mod radiosity;
 pub mod render;
+pub mod render_comm;
 pub mod render_path;
 pub mod scenes;
 pub mod trace_pixel;

@@ -5,7 +5,7 @@ use crate::progress::PassStatus;
 use crate::scene_arg::{load_scene, SceneArgs};
 use clap::{Args, ValueEnum};
 use irradia_core::io::{save, Format};
-use irradia_render::{render, Aov, Progress, ProgressFn, RenderOptions};
+use irradia_render::{Aov, Progress, ProgressFn, RenderOptions};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
@@ -18,6 +18,9 @@ Examples:
   irradia render --builtin csg --width 320 --height 180 --max-depth 3 --quiet
   irradia render --builtin whitted --aov depth,normal -o w.png
       # also writes w.depth.png and w.normal.png (raw values in .exr/.pfm)
+  irradia render --builtin cornell --comm local --ranks 2 --threads 1 -o c.png
+  mpirun -np 4 irradia render --builtin cornell --comm mpi -o c.png
+      # one image on 2 (4) ranks, equal to the one-process render bit for bit
 
 The format is chosen by the output's extension: .png (8-bit sRGB), .exr or .pfm
 (linear float). The file is written atomically: a failed render never leaves a
@@ -73,6 +76,8 @@ pub struct RenderArgs {
     pub aov: Vec<AovArg>,
     #[command(flatten)]
     pub path: super::render_path::PathArgs,
+    #[command(flatten)]
+    pub comm: super::render_comm::CommArgs,
     /// Print nothing but errors (no progress bar, no statistics).
     #[arg(short, long, help_heading = "General options")]
     pub quiet: bool,
@@ -127,9 +132,12 @@ pub fn check_output(path: &Path) -> Result<Format, CliError> {
     }
 }
 
-pub fn run(args: RenderArgs) -> Result<(), CliError> {
+pub fn run(mut args: RenderArgs) -> Result<(), CliError> {
     // Everything that can be wrong with the options is found before rendering.
     let format = check_output(&args.output)?;
+    let ranks = args.comm.start()?;
+    // Under MPI only rank 0 reports and writes.
+    args.quiet |= ranks.rank() != 0;
     let aovs: Vec<Aov> = args.aov.iter().map(|&a| a.into()).collect();
     args.path.validate()?;
     let scene = load_scene(args.scene.as_ref(), &args.scene_args)?;
@@ -164,9 +172,11 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         ..RenderOptions::default()
     };
     args.path.apply(&mut options, args.scene_args.spp.is_some());
-    let out = render(&scene, &options);
+    let out = ranks.render(&scene, &options);
     reporter.finish();
-    let out = out?;
+    let Some(out) = out? else {
+        return Ok(());
+    };
     print_shape_warnings(&scene, args.quiet);
 
     save(&out.image, &args.output).map_err(|e| CliError::Failure(e.to_string()))?;

@@ -151,6 +151,41 @@ impl Comm for LocalComm {
             })
     }
 
+    fn try_recv_any(
+        &self,
+        sources: &[usize],
+        tag: u32,
+    ) -> Result<Option<(usize, Vec<u8>)>, CommError> {
+        if let Some(e) = self.aborted() {
+            return Err(e);
+        }
+        for &src in sources {
+            if src >= self.size {
+                return Err(CommError::BadRank {
+                    rank: src,
+                    size: self.size,
+                });
+            }
+            if let Some(e) = self.take_pending(src, tag) {
+                return Ok(Some((src, self.deliver(src, e))));
+            }
+            let rx = self.from[src].lock().unwrap();
+            loop {
+                match rx.try_recv() {
+                    Ok(e) if e.tag == tag => return Ok(Some((src, self.deliver(src, e)))),
+                    Ok(e) => self.pending[src].lock().unwrap().push_back(e),
+                    Err(std::sync::mpsc::TryRecvError::Empty) => break,
+                    Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                        let e = CommError::RankDied { rank: src };
+                        self.abort(e.clone());
+                        return Err(e);
+                    }
+                }
+            }
+        }
+        Ok(None)
+    }
+
     fn recv(&self, src: usize, tag: u32) -> Result<Vec<u8>, CommError> {
         if src >= self.size {
             return Err(CommError::BadRank {

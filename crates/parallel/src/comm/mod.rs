@@ -210,11 +210,59 @@ pub trait Comm {
     /// ranks send to each other.
     fn send(&self, dest: usize, tag: u32, data: &[u8]) -> Result<(), CommError>;
 
+    /// Sends `data` to `dest` with `tag` without waiting for `dest` to receive it,
+    /// however large (the buffer is kept until it is delivered): for protocols in
+    /// which two ranks may send to each other at any time (a master and its workers).
+    /// The default sends with [`Comm::send`], which is right where sends never wait.
+    fn post(&self, dest: usize, tag: u32, data: Vec<u8>) -> Result<(), CommError> {
+        self.send(dest, tag, &data)
+    }
+
     /// Receives the next message from `src` with `tag`, or fails after [`Comm::timeout`].
     fn recv(&self, src: usize, tag: u32) -> Result<Vec<u8>, CommError>;
 
     /// The message log of this rank.
     fn log(&self) -> &MessageLog;
+
+    /// The next message with `tag` from any rank of `sources` that has one waiting,
+    /// with the rank it came from; `None` when none has arrived (does not wait).
+    fn try_recv_any(
+        &self,
+        sources: &[usize],
+        tag: u32,
+    ) -> Result<Option<(usize, Vec<u8>)>, CommError>;
+
+    /// The next message with `tag` from whichever rank of `sources` sends first, with
+    /// that rank (a master handing out work to whoever finishes). Fails after
+    /// [`Comm::timeout`] blaming the first of `sources`.
+    fn recv_any(&self, sources: &[usize], tag: u32) -> Result<(usize, Vec<u8>), CommError> {
+        let deadline = Instant::now() + self.timeout();
+        let mut spins = 0u32;
+        loop {
+            if let Some(m) = self.try_recv_any(sources, tag)? {
+                return Ok(m);
+            }
+            let culprit = *sources.first().ok_or(CommError::Aborted(
+                "recv_any from no rank".into(),
+            ))?;
+            if Instant::now() >= deadline {
+                return Err(CommError::Timeout {
+                    rank: culprit,
+                    waiting_rank: self.rank(),
+                    tag,
+                    seconds: self.timeout().as_secs_f64(),
+                });
+            }
+            // Spin briefly (a reply is often microseconds away), then sleep in short
+            // slices so that a waiting rank leaves its core to the renderers.
+            spins += 1;
+            if spins < 64 {
+                std::thread::yield_now();
+            } else {
+                std::thread::sleep(Duration::from_micros(200));
+            }
+        }
+    }
 
     /// Sends each `(dest, bytes)` and receives one message from each of `sources`, all
     /// with `tag`, without deadlock whatever the pattern. Returns the received buffers in

@@ -37,6 +37,37 @@ pub struct MpiComm {
     world: SimpleCommunicator,
     timeout: Duration,
     log: MessageLog,
+    /// Sends of [`Comm::post`] still in flight, with their buffers (leaked when posted,
+    /// freed once the send completes).
+    posted: std::cell::RefCell<Vec<Posted>>,
+}
+
+/// One non-blocking send of [`Comm::post`]: its request, the buffer it reads (owned
+/// here: a leaked `Box<[u8]>`) and its destination.
+struct Posted {
+    request: mpi::request::Request<'static, [u8]>,
+    buffer: *mut [u8],
+    dest: usize,
+}
+
+impl Drop for MpiComm {
+    /// Waits for the posted sends (a request must complete before it is dropped).
+    fn drop(&mut self) {
+        let deadline = Instant::now() + self.timeout;
+        while !self.posted.borrow().is_empty() {
+            self.reap();
+            if Instant::now() >= deadline {
+                let dest = self.posted.borrow()[0].dest;
+                self.fail(&CommError::Timeout {
+                    rank: dest,
+                    waiting_rank: self.rank(),
+                    tag: 0,
+                    seconds: self.timeout.as_secs_f64(),
+                });
+            }
+            std::thread::yield_now();
+        }
+    }
 }
 
 impl MpiComm {
@@ -49,7 +80,25 @@ impl MpiComm {
             world,
             timeout,
             log: MessageLog::default(),
+            posted: Default::default(),
         })
+    }
+
+    /// Frees the buffers of the posted sends that have completed.
+    fn reap(&self) {
+        let mut posted = self.posted.borrow_mut();
+        let mut still = Vec::with_capacity(posted.len());
+        for p in posted.drain(..) {
+            match p.request.test() {
+                Ok(_) => {
+                    // SAFETY: `buffer` came from `Box::leak` in `post` and its send has
+                    // completed, so nothing reads it any more; it is freed once.
+                    drop(unsafe { Box::from_raw(p.buffer) });
+                }
+                Err(request) => still.push(Posted { request, ..p }),
+            }
+        }
+        *posted = still;
     }
 
     /// Prints `error` (naming the rank at fault) and ends every rank of the job.
@@ -186,6 +235,43 @@ impl Comm for MpiComm {
             .process_at_rank(dest as i32)
             .send_with_tag(data, tag as i32);
         Ok(())
+    }
+
+    fn post(&self, dest: usize, tag: u32, data: Vec<u8>) -> Result<(), CommError> {
+        self.check(dest)?;
+        self.reap();
+        self.log.record(self.rank(), dest, data.len(), true);
+        let buffer: &'static mut [u8] = Box::leak(data.into_boxed_slice());
+        let ptr: *mut [u8] = buffer;
+        // SAFETY: the buffer stays alive (leaked) until `reap` sees the send complete.
+        let request = self.world.process_at_rank(dest as i32).immediate_send_with_tag(
+            mpi::request::StaticScope,
+            unsafe { &*ptr },
+            tag as i32,
+        );
+        self.posted.borrow_mut().push(Posted {
+            request,
+            buffer: ptr,
+            dest,
+        });
+        Ok(())
+    }
+
+    fn try_recv_any(
+        &self,
+        sources: &[usize],
+        tag: u32,
+    ) -> Result<Option<(usize, Vec<u8>)>, CommError> {
+        for &src in sources {
+            self.check(src)?;
+            let p = self.world.process_at_rank(src as i32);
+            if let Some(m) = p.immediate_matched_probe_with_tag(tag as i32) {
+                let (v, _) = m.matched_receive_vec::<u8>();
+                self.log.record(src, self.rank(), v.len(), false);
+                return Ok(Some((src, v)));
+            }
+        }
+        Ok(None)
     }
 
     fn recv(&self, src: usize, tag: u32) -> Result<Vec<u8>, CommError> {
