@@ -62,5 +62,61 @@ else
   echo "$out" | tail -n 20
   echo "test-mpi: wall np=4 FAILED"
 fi
+# One image on N ranks (`irradia render --comm mpi`): equal to the one-process render
+# bit for bit (image and AOV) at 1 to 8 ranks, path tracer and Whitted tracer; and a
+# rank killed mid-render ends the job (no hang) with an error naming it, no output file.
+if ! cargo build --locked --profile test -p irradia --features mpi 2>&1; then
+  failed=$((failed + 1))
+  echo "test-mpi: irradia build FAILED"
+else
+  bin="${CARGO_TARGET_DIR:-target}/debug/irradia"
+  tmp=$(mktemp -d)
+  trap 'rm -rf "$tmp"' EXIT
+  small=(--width 48 --height 40 --threads 1 --tile-size 16 --quiet --aov depth)
+  "$bin" render --builtin cornell --spp 6 "${small[@]}" -o "$tmp/serial.pfm"
+  "$bin" render --builtin whitted --spp 4 "${small[@]}" -o "$tmp/whitted.pfm"
+  for np in 1 2 3 4 5 6 7 8; do
+    if timeout 120 "${MPIRUN[@]}" -np "$np" "$bin" render --builtin cornell --spp 6 "${small[@]}" --comm mpi -o "$tmp/np$np.pfm" \
+      && cmp -s "$tmp/serial.pfm" "$tmp/np$np.pfm" && cmp -s "$tmp/serial.depth.pfm" "$tmp/np$np.depth.pfm"; then
+      passed=$((passed + 1))
+      echo "ok render --comm mpi np=$np: path-traced image and depth equal the one-process render"
+    else
+      failed=$((failed + 1))
+      echo "test-mpi: render --comm mpi np=$np FAILED"
+    fi
+  done
+  if timeout 120 "${MPIRUN[@]}" -np 3 "$bin" render --builtin whitted --spp 4 "${small[@]}" --comm mpi -o "$tmp/w3.pfm" \
+    && cmp -s "$tmp/whitted.pfm" "$tmp/w3.pfm"; then
+    passed=$((passed + 1))
+    echo "ok render --comm mpi np=3: Whitted image equals the one-process render"
+  else
+    failed=$((failed + 1))
+    echo "test-mpi: render --comm mpi whitted np=3 FAILED"
+  fi
+  # Kill rank 1 a second into a render that would otherwise take hours.
+  long=(render --builtin cornell --width 256 --height 256 --spp 100000 --threads 1 --quiet --comm mpi)
+  ( timeout 120 "${MPIRUN[@]}" -np 3 "$bin" "${long[@]}" -o "$tmp/killed.png" >"$tmp/killed.log" 2>&1; echo $? >"$tmp/killed.rc" ) &
+  job=$!
+  pid=""
+  for _ in $(seq 1 200); do
+    for p in $(pgrep -f "irradia render --builtin cornell --width 256" || true); do
+      if tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1'; then pid=$p; fi
+    done
+    [ -n "$pid" ] && break
+    sleep 0.1
+  done
+  sleep 1
+  [ -n "$pid" ] && kill -9 "$pid"
+  wait "$job"
+  rc=$(cat "$tmp/killed.rc")
+  if [ -n "$pid" ] && [ "$rc" != 0 ] && [ "$rc" != 124 ] && grep -q "rank 1" "$tmp/killed.log" && [ ! -e "$tmp/killed.png" ]; then
+    passed=$((passed + 1))
+    echo "ok render --comm mpi: rank 1 killed mid-render ends the job (exit $rc) naming rank 1, no output file"
+  else
+    failed=$((failed + 1))
+    echo "test-mpi: killed rank FAILED (pid '$pid', exit $rc; 124 is a hang)"
+    tail -n 20 "$tmp/killed.log"
+  fi
+fi
 echo "test-mpi: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
