@@ -338,8 +338,11 @@ fn read_mesh(t: &Table) -> Result<TriangleMesh> {
             .flatten()
             .all(|&i| (i as usize) < data.positions.len())
     {
-        // Every triangle its own corners, each with the face's normal.
+        // Every triangle its own corners, each with the face's normal; vertex
+        // attributes follow the corners, face attributes stay with the triangles.
         let mut out = irradia_geometry::io::MeshFile::default();
+        let corners: Vec<u32> = data.indices.iter().flatten().copied().collect();
+        out.attributes = data.attributes.gather_vertices(&corners);
         for tri in &data.indices {
             let p = tri.map(|i| data.positions.get(i as usize).copied().unwrap_or_default());
             let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or(glam::Vec3::Z);
@@ -349,10 +352,6 @@ fn read_mesh(t: &Table) -> Result<TriangleMesh> {
             if let Some(uv) = &data.uvs {
                 let t = tri.map(|i| uv.get(i as usize).copied().unwrap_or_default());
                 out.uvs.get_or_insert_with(Vec::new).extend(t);
-            }
-            if let Some(c) = &data.colors {
-                let t = tri.map(|i| c.get(i as usize).copied().unwrap_or_default());
-                out.colors.get_or_insert_with(Vec::new).extend(t);
             }
             out.indices.push([base, base + 1, base + 2]);
         }
