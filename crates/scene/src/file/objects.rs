@@ -3,6 +3,7 @@
 //! `merge`) hold `children`, each an object without a name; a child's `material`
 //! overrides its parent's for the leaves under it.
 
+use super::attributes::check_attributes;
 use super::materials::material_index;
 use super::reader::{Result, Table, Val};
 use super::shapes::{build_primitive, unknown_kind};
@@ -180,10 +181,14 @@ fn read_object(
         leaves = csg.leaf_count();
         Arc::new(csg)
     } else {
-        match build_shape(kind, &t)? {
+        let shape = match build_shape(kind, &t)? {
             Some(s) => s,
             None => return Err(unknown_kind(&kind_v, kind, OTHER_KINDS)),
-        }
+        };
+        let at = t.get("material").unwrap_or(kind_v.clone());
+        check_attributes(&mats.materials[material as usize], shape.attributes(), kind)
+            .map_err(|e| at.err(e))?;
+        shape
     };
     t.finish()?;
     let object = Object {
@@ -238,6 +243,13 @@ fn read_csg(
                     "a CSG operand must be a closed solid, but a {child_kind} here is an open surface"
                 )));
             }
+            let at = ct.get("material").unwrap_or(kind_v.clone());
+            check_attributes(
+                &mats.materials[child_material as usize],
+                shape.attributes(),
+                child_kind,
+            )
+            .map_err(|e| at.err(e))?;
             leaf_materials.push(child_material);
             CsgOperand::shape(shape, to_parent)
         };
