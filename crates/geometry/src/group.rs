@@ -11,6 +11,7 @@
 
 use crate::accel::Accel;
 use crate::instance::Instance;
+use crate::mesh::AttributePoint;
 use crate::shape::{Facets, Hit, Shape, Span};
 use glam::Vec3;
 use irradia_core::{Aabb, Ray};
@@ -94,6 +95,16 @@ impl Shape for ShapeGroup {
         let mut member_hit = *hit;
         member_hit.leaf = leaf;
         self.members()[m].uv_derivatives(&member_hit)
+    }
+
+    fn attribute_point(&self, hit: &Hit) -> Option<AttributePoint<'_>> {
+        if self.first_leaf.is_empty() {
+            return None;
+        }
+        let (m, leaf) = self.member_of(hit.leaf);
+        let mut member_hit = *hit;
+        member_hit.leaf = leaf;
+        self.members()[m].attribute_point(&member_hit)
     }
 
     /// A group is a set of surfaces, not one solid (its members may overlap).

@@ -1,6 +1,7 @@
 //! An object placed in the world: a shape and an affine transform. Rays are carried
 //! into object space (the direction is not renormalised, so `t` is shared).
 
+use crate::mesh::AttributePoint;
 use crate::shape::{Hit, Shape, Span};
 use glam::{Affine3A, Mat3A, Vec3};
 use irradia_core::{Aabb, Ray};
@@ -85,13 +86,15 @@ impl Instance {
         )
     }
 
-    /// The shape's vertex colour at world-space hit `hit` ([`Shape::vertex_color`]).
-    pub fn vertex_color(&self, hit: &Hit) -> Option<Vec3> {
+    /// Where world-space hit `hit` lies on the shape's attributes
+    /// ([`Shape::attribute_point`]).
+    pub fn attribute_point(&self, hit: &Hit) -> Option<AttributePoint<'_>> {
         if self.identity {
-            return self.shape.vertex_color(hit.point, hit.prim);
+            return self.shape.attribute_point(hit);
         }
-        let p = self.to_object.transform_point3(hit.point);
-        self.shape.vertex_color(p, hit.prim)
+        let mut object_hit = *hit;
+        object_hit.point = self.to_object.transform_point3(hit.point);
+        self.shape.attribute_point(&object_hit)
     }
 
     /// Nearest hit in world space.

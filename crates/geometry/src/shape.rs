@@ -1,5 +1,6 @@
 //! The `Shape` interface: intersection, bounds, and spans for CSG.
 
+use crate::mesh::{AttributePoint, MeshAttributes};
 use glam::{Vec2, Vec3};
 use irradia_core::{Aabb, Ray};
 
@@ -128,11 +129,19 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         (Vec3::ZERO, Vec3::ZERO)
     }
 
-    /// The colour of the surface's vertices interpolated at object-space point `p` of
-    /// primitive `prim` (a mesh with vertex colours), for the `mesh_attribute` texture;
-    /// `None` for shapes without them.
-    fn vertex_color(&self, p: Vec3, prim: u32) -> Option<Vec3> {
-        let _ = (p, prim);
+    /// The named per-vertex and per-face values the shape carries (a triangle mesh's
+    /// attributes, Mitsuba's `Mesh::add_attribute`), for checking what the
+    /// `mesh_attribute` texture reads; `None` for shapes without them.
+    fn attributes(&self) -> Option<&MeshAttributes> {
+        None
+    }
+
+    /// Where object-space hit `hit` lies for attribute lookups (the triangle, its
+    /// corners and barycentric coordinates); `None` for shapes without attributes.
+    /// Shapes made of other placed shapes (a [`crate::ShapeGroup`]) find the member
+    /// from the hit's `leaf`.
+    fn attribute_point(&self, hit: &Hit) -> Option<AttributePoint<'_>> {
+        let _ = hit;
         None
     }
 

@@ -121,7 +121,8 @@ fn node_hierarchy_composes_trs_and_matrices() {
     let file = irradia_geometry::io::gltf::GltfFile::open(&data("gltf/hierarchy.gltf")).unwrap();
     let tri = file.primitive(0, 1).unwrap();
     assert_eq!(tri.indices, vec![[0, 1, 2]]);
-    assert_eq!(tri.colors.unwrap()[2].to_array(), [0.0, 0.0, 1.0]);
+    let colors = tri.attributes.get("vertex_color").unwrap();
+    assert_eq!(colors.row(2).unwrap(), &[0.0, 0.0, 1.0]);
     imp.scene().unwrap();
 }
 

@@ -303,3 +303,38 @@ fn truncated_and_mutated_scenes_never_panic() {
         }
     }
 }
+
+/// Mitsuba's `mesh_attribute` texture is written as the scene format's, with its
+/// `name` and `scale` and no warning; a name that starts with neither `vertex_` nor
+/// `face_` is refused, as Mitsuba refuses it.
+#[test]
+fn mesh_attribute_textures_are_imported() {
+    let xml = Path::new(env!("CARGO_MANIFEST_DIR")).join(
+        "../../tests/mitsuba-data/tests/scenes/mesh_attributes/test_mesh_attributes_1_face_direct.xml",
+    );
+    let imported = import(&xml, &Options::default()).unwrap();
+    assert!(imported.warnings.is_empty(), "{:?}", imported.warnings);
+    let weight = imported
+        .tree
+        .get("materials")
+        .and_then(|m| m.get("bsdf"))
+        .and_then(|b| b.get("weight"))
+        .expect("the blend's weight");
+    let s = |n: &Node, k: &str| match &n.get(k).unwrap().value {
+        Value::Str(s) => s.clone(),
+        v => panic!("{k}: {v:?}"),
+    };
+    assert_eq!(s(weight, "type"), "mesh_attribute");
+    assert_eq!(s(weight, "name"), "face_weight");
+    imported.scene().unwrap();
+
+    let bad = "<scene version=\"3.0.0\">\n  <shape type=\"sphere\">\n    <bsdf type=\"diffuse\">\n      <texture type=\"mesh_attribute\" name=\"reflectance\">\n        <string name=\"name\" value=\"color\"/>\n      </texture>\n    </bsdf>\n  </shape>\n</scene>";
+    let e = parse(bad)
+        .map(|_| ())
+        .expect_err("a name without vertex_ or face_");
+    assert!(
+        e.is_bad_input() && e.to_string().contains("`vertex_` or `face_`"),
+        "{e}"
+    );
+    assert_eq!(e.line, Some(5), "{e}");
+}

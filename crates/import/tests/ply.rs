@@ -27,9 +27,12 @@ fn polygons_are_fanned_and_colours_read() {
         2 + 3,
         "a quad and a pentagon fan into 5 triangles"
     );
-    let c = m.colors.as_ref().expect("vertex colours");
-    assert_eq!(c[0].to_array(), [1.0, 0.0, 0.0]);
-    assert!((c[8].x - irradia_core::color::srgb_to_linear(128.0 / 255.0)).abs() < 1e-6);
+    let c = m.attributes.get("vertex_color").expect("vertex colours");
+    assert_eq!(c.channels(), 3);
+    assert_eq!(c.row(0).unwrap(), &[1.0, 0.0, 0.0]);
+    assert!(
+        (c.row(8).unwrap()[0] - irradia_core::color::srgb_to_linear(128.0 / 255.0)).abs() < 1e-6
+    );
     assert!(m.normals.is_some() && m.uvs.is_some());
     let imp = imported(&data("ply/polygons_ascii.ply"));
     let mat = imp
@@ -63,8 +66,8 @@ fn binary_little_endian_doubles_and_float_colours() {
     let m = irradia_geometry::io::ply::read_ply(&data("ply/quad_le.ply")).unwrap();
     assert_eq!(m.indices.len(), 2);
     assert_eq!(
-        m.colors.as_ref().unwrap()[1].to_array(),
-        [0.0, 1.0, 0.0],
+        m.attributes.get("vertex_color").unwrap().row(1).unwrap(),
+        &[0.0, 1.0, 0.0],
         "float colours are linear"
     );
     assert_eq!(m.uvs.as_ref().unwrap()[2].to_array(), [1.0, 1.0]);

@@ -126,8 +126,15 @@ impl Material {
     /// side): the emission texture there, or the constant `emission`.
     #[inline]
     pub fn emission_at(&self, uv: Vec2) -> Rgb {
+        self.emission_query(&TextureQuery::at_uv(uv))
+    }
+
+    /// [`Material::emission_at`] with everything a texture lookup may read (the
+    /// mesh attributes at the point as well as its uv).
+    #[inline]
+    pub fn emission_query(&self, q: &TextureQuery) -> Rgb {
         match &self.emission_texture {
-            Some(t) => t.eval(&TextureQuery::at_uv(uv)),
+            Some(t) => t.eval(q),
             None => self.emission,
         }
     }

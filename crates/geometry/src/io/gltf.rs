@@ -6,6 +6,7 @@
 //! names the mesh, primitive and accessor, not a panic.
 
 use super::{read_file, MeshFile, MeshFileError};
+use crate::mesh::{MeshAttribute, MeshAttributes};
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
 
@@ -257,20 +258,21 @@ impl GltfFile {
             }
             None => None,
         };
-        let colors = match reader.read_colors(0) {
-            Some(it) => {
-                let v: Vec<Vec3> = it.into_rgb_f32().map(Vec3::from).collect();
-                same(v.len(), "COLOR_0")?;
-                Some(v)
-            }
-            None => None,
-        };
+        let mut attributes = MeshAttributes::default();
+        if let Some(it) = reader.read_colors(0) {
+            // COLOR_0 (linear RGB; alpha dropped) as the `vertex_color` attribute.
+            let v: Vec<f32> = it.into_rgb_f32().flatten().collect();
+            same(v.len() / 3, "COLOR_0")?;
+            let c = MeshAttribute::new("vertex_color", 3, v)
+                .map_err(|e| self.err(format!("{here}: COLOR_0"), e.to_string()))?;
+            let _ = attributes.insert(c);
+        }
         Ok(MeshFile {
             positions,
             indices,
             normals,
             uvs,
-            colors,
+            attributes,
         })
     }
 

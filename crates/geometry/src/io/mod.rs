@@ -10,12 +10,13 @@ mod error;
 pub mod gltf;
 pub mod obj;
 pub mod ply;
+mod ply_attributes;
 pub mod serialized;
 pub mod volume;
 
 pub use error::MeshFileError;
 
-use crate::mesh::{MeshError, TriangleMesh};
+use crate::mesh::{MeshAttributes, MeshError, TriangleMesh};
 use glam::{Vec2, Vec3};
 use std::path::Path;
 
@@ -26,8 +27,10 @@ pub struct MeshFile {
     pub indices: Vec<[u32; 3]>,
     pub normals: Option<Vec<Vec3>>,
     pub uvs: Option<Vec<Vec2>>,
-    /// Linear RGB per vertex.
-    pub colors: Option<Vec<Vec3>>,
+    /// Named per-vertex and per-face values (Mitsuba's mesh attributes): vertex
+    /// colours as `vertex_color` (linear RGB), PLY's other properties by Mitsuba's
+    /// naming (`io::ply`). Face attributes have one row per triangle of `indices`.
+    pub attributes: MeshAttributes,
 }
 
 /// Which part of a mesh file to read: everything (the default), one OBJ `usemtl` group,
@@ -48,12 +51,9 @@ impl MeshFile {
     /// Builds the mesh; mesh-level problems (no triangles, ...) are reported against
     /// `path`.
     pub fn into_mesh(self, path: &Path) -> Result<TriangleMesh, MeshFileError> {
-        let colors = self.colors;
-        let mesh = TriangleMesh::new(self.positions, self.indices, self.normals, self.uvs);
-        let mesh = match (mesh, colors) {
-            (Ok(m), Some(c)) => m.with_colors(c),
-            (m, _) => m,
-        };
+        let attributes = self.attributes;
+        let mesh = TriangleMesh::new(self.positions, self.indices, self.normals, self.uvs)
+            .and_then(|m| m.with_attributes(attributes));
         mesh.map_err(|e| {
             let field = match &e {
                 MeshError::IndexOutOfRange { triangle, .. } => Some(format!("triangle {triangle}")),

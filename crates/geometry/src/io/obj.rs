@@ -13,6 +13,7 @@
 //! reads it.
 
 use super::{read_file, MeshFile, MeshFileError};
+use crate::mesh::{MeshAttribute, MeshAttributes};
 use glam::{Vec2, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
@@ -200,23 +201,45 @@ fn mesh_of(m: &tobj::Mesh) -> MeshFile {
                 .map(|t| Vec2::new(t[0], t[1]))
                 .collect()
         }),
-        colors: (m.vertex_color.len() == 3 * n && n > 0).then(|| v3(&m.vertex_color)),
+        attributes: {
+            let mut a = MeshAttributes::default();
+            if m.vertex_color.len() == 3 * n && n > 0 {
+                // `v x y z r g b`: linear RGB, one row per vertex (tobj's vertex order).
+                if let Ok(c) = MeshAttribute::new("vertex_color", 3, m.vertex_color.clone()) {
+                    let _ = a.insert(c);
+                }
+            }
+            a
+        },
     }
 }
 
 /// One mesh of several (indices offset; an attribute kept only when every part has it).
 pub fn merge(parts: impl Iterator<Item = MeshFile>) -> MeshFile {
     let parts: Vec<MeshFile> = parts.collect();
-    if parts.len() == 1 {
+    if parts.len() <= 1 {
         return parts.into_iter().next().unwrap_or_default();
     }
     let all_n = parts.iter().all(|p| p.normals.is_some());
     let all_t = parts.iter().all(|p| p.uvs.is_some());
-    let all_c = parts.iter().all(|p| p.colors.is_some());
+    // Attributes every part has, with the same channels: concatenated in part order
+    // (vertex rows follow the vertices, face rows the triangles).
+    let shared: Vec<(String, usize)> = parts[0]
+        .attributes
+        .iter()
+        .filter(|a| {
+            parts[1..].iter().all(|p| {
+                p.attributes
+                    .get(a.name())
+                    .is_some_and(|b| b.channels() == a.channels())
+            })
+        })
+        .map(|a| (a.name().to_string(), a.channels()))
+        .collect();
+    let mut attr_values: Vec<Vec<f32>> = vec![Vec::new(); shared.len()];
     let mut out = MeshFile {
         normals: all_n.then(Vec::new),
         uvs: all_t.then(Vec::new),
-        colors: all_c.then(Vec::new),
         ..Default::default()
     };
     for p in parts {
@@ -230,8 +253,15 @@ pub fn merge(parts: impl Iterator<Item = MeshFile>) -> MeshFile {
         if let (Some(o), Some(t)) = (out.uvs.as_mut(), p.uvs) {
             o.extend(t);
         }
-        if let (Some(o), Some(c)) = (out.colors.as_mut(), p.colors) {
-            o.extend(c);
+        for ((name, _), values) in shared.iter().zip(&mut attr_values) {
+            if let Some(a) = p.attributes.get(name) {
+                values.extend_from_slice(a.values());
+            }
+        }
+    }
+    for ((name, channels), values) in shared.into_iter().zip(attr_values) {
+        if let Ok(a) = MeshAttribute::new(name, channels, values) {
+            let _ = out.attributes.insert(a);
         }
     }
     out

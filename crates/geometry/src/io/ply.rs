@@ -1,16 +1,53 @@
 //! PLY (Turk, "The PLY Polygon File Format", 1994): ASCII, binary little-endian and
 //! binary big-endian. Reads `vertex` (x, y, z; optional nx, ny, nz and u, v / s, t /
-//! texture_u, texture_v; red, green, blue as integers (sRGB, made linear) or floats
-//! (linear)), `face` (a list property `vertex_indices` or `vertex_index`;
+//! texture_u, texture_v), `face` (a list property `vertex_indices` or `vertex_index`;
 //! polygons are fanned into triangles) and `tristrips` (the Stanford scans' triangle
 //! strips, e.g. igea.ply: one list `vertex_indices` per element, -1 ending a strip;
 //! the winding alternates along a strip, and triangles that repeat a vertex are the
 //! strip's joins and dropped); other elements are skipped.
 //! Counts in the header are checked against the bytes that are really there.
+//!
+//! The other scalar properties of `vertex` and `face` become mesh attributes
+//! ([`crate::mesh::attributes`]) named as Mitsuba 3's `ply` plugin names them (its
+//! documentation, "PLY (Stanford Triangle Format) mesh loader"):
+//! - `r, g, b` or `red, green, blue` (also `diffuse_red, ...`), with no prefix, are the
+//!   colour `vertex_color` / `face_color` (an alpha channel is dropped);
+//! - consecutive properties `{prefix}_{x|y|z|w}`, `{prefix}_{r|g|b|a}`,
+//!   `{prefix}_{0|1|2|3}` or `{prefix}_{1|2|3|4}` form one attribute
+//!   `vertex_{prefix}` / `face_{prefix}` (`..._{prefix}_color` for the `r|g|b` series)
+//!   when they are 1 or 3 of them: `color_0, color_1, color_2` is `vertex_color`,
+//!   `weight_0` alone `face_weight`;
+//! - anything else (no `_` suffix of one character, a series of 2 or 4, a prefix seen
+//!   before) is skipped.
+//!
+//! Integer properties are read as Mitsuba reads them: divided by their type's maximum
+//! and decoded from sRGB to linear (8-bit colours as viewers show them); floats as they
+//! are (linear). A face attribute's row is repeated for each triangle the face is
+//! fanned into (and is zero for triangles of `tristrips`).
 
+use super::ply_attributes::{attribute, attribute_groups, eligible};
 use super::{read_file, MeshFile, MeshFileError};
+use crate::mesh::MeshAttribute;
 use glam::{Vec2, Vec3};
 use std::path::Path;
+
+/// Vertex properties that are not attributes: position, normal, uv (all its names).
+const VERTEX_RESERVED: &[&str] = &[
+    "x",
+    "y",
+    "z",
+    "nx",
+    "ny",
+    "nz",
+    "u",
+    "v",
+    "s",
+    "t",
+    "texture_u",
+    "texture_v",
+    "texture_s",
+    "texture_t",
+];
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Encoding {
@@ -20,7 +57,7 @@ enum Encoding {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Scalar {
+pub(super) enum Scalar {
     I8,
     U8,
     I16,
@@ -56,23 +93,37 @@ impl Scalar {
     fn is_integer(self) -> bool {
         !matches!(self, Scalar::F32 | Scalar::F64)
     }
+    /// A value as an attribute channel: integers divided by their type's maximum and
+    /// decoded from sRGB (Mitsuba reads integer PLY properties so), floats unchanged.
+    fn attribute_value(self, x: f64) -> f32 {
+        let max = match self {
+            Scalar::I8 => i8::MAX as f64,
+            Scalar::U8 => u8::MAX as f64,
+            Scalar::I16 => i16::MAX as f64,
+            Scalar::U16 => u16::MAX as f64,
+            Scalar::I32 => i32::MAX as f64,
+            Scalar::U32 => u32::MAX as f64,
+            Scalar::F32 | Scalar::F64 => return x as f32,
+        };
+        irradia_core::color::srgb_to_linear((x / max) as f32)
+    }
 }
 
 #[derive(Clone, Debug)]
-struct Property {
-    name: String,
+pub(super) struct Property {
+    pub(super) name: String,
     /// `Some(count type)` for list properties.
-    list: Option<Scalar>,
-    ty: Scalar,
+    pub(super) list: Option<Scalar>,
+    pub(super) ty: Scalar,
 }
 
 #[derive(Clone, Debug)]
-struct Element {
-    name: String,
+pub(super) struct Element {
+    pub(super) name: String,
     count: usize,
-    props: Vec<Property>,
+    pub(super) props: Vec<Property>,
     /// Header line that declared it.
-    line: usize,
+    pub(super) line: usize,
 }
 
 impl Element {
@@ -106,6 +157,7 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
     let mut normals = Vec::new();
     let mut uvs = Vec::new();
     let mut vertex_count = None;
+    let mut face_attributes: Vec<MeshAttribute> = Vec::new();
     for el in &elements {
         // Refuse counts the file cannot hold before allocating anything for them.
         if format != Encoding::Ascii {
@@ -149,20 +201,8 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
                     find(&["v", "t", "texture_v", "texture_t"]),
                 ];
                 let has_uv = uv.iter().all(|p| p.is_some());
-                let rgb = [
-                    find(&["red", "diffuse_red", "r"]),
-                    find(&["green", "diffuse_green", "g"]),
-                    find(&["blue", "diffuse_blue", "b"]),
-                ];
-                let has_rgb = rgb.iter().all(|p| p.is_some());
-                // Integer colours are 0..=max of their type (uchar: 255); float ones 0..1.
-                let rgb_scale: [f64; 3] = rgb.map(|k| match k.map(|k| el.props[k].ty) {
-                    Some(Scalar::U8) | Some(Scalar::I8) => 1.0 / 255.0,
-                    Some(Scalar::U16) | Some(Scalar::I16) => 1.0 / 65535.0,
-                    Some(Scalar::U32) | Some(Scalar::I32) => 1.0 / 4294967295.0,
-                    _ => 1.0,
-                });
-                let mut colors = Vec::new();
+                let groups = attribute_groups("vertex", &eligible(el, VERTEX_RESERVED));
+                let mut attr_values: Vec<Vec<f32>> = vec![Vec::new(); groups.len()];
                 out.positions.reserve(capacity);
                 let mut vals = vec![0f64; el.props.len()];
                 for i in 0..el.count {
@@ -192,19 +232,18 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
                     if has_uv {
                         uvs.push(Vec2::new(get(uv[0]), get(uv[1])));
                     }
-                    if has_rgb {
-                        let c = |k: usize| (vals[rgb[k].unwrap()] * rgb_scale[k]) as f32;
-                        let c = Vec3::new(c(0), c(1), c(2));
-                        // sRGB-encoded 8-bit colours, as viewers show them: made linear.
-                        colors.push(if rgb_scale[0] < 1.0 {
-                            c.to_array().map(irradia_core::color::srgb_to_linear).into()
-                        } else {
-                            c
-                        });
+                    for (g, values) in groups.iter().zip(&mut attr_values) {
+                        values.extend(
+                            g.props
+                                .iter()
+                                .map(|&k| el.props[k].ty.attribute_value(vals[k])),
+                        );
                     }
                 }
-                if has_rgb {
-                    out.colors = Some(colors);
+                for (g, values) in groups.into_iter().zip(attr_values) {
+                    let a = attribute(path, el, &g, values)?;
+                    // A second element called `vertex` does not replace the first's.
+                    let _ = out.attributes.insert(a);
                 }
                 if has_n {
                     out.normals = Some(std::mem::take(&mut normals));
@@ -229,15 +268,26 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
                 let nv = vertex_count.unwrap_or(0);
                 out.indices.reserve(capacity);
                 let mut corners: Vec<u32> = Vec::new();
+                // Face attributes (not of triangle strips), a row per triangle.
+                let groups = if strips {
+                    Vec::new()
+                } else {
+                    attribute_groups("face", &eligible(el, &[]))
+                };
+                let first_triangle = out.indices.len();
+                let mut attr_values: Vec<Vec<f32>> = groups
+                    .iter()
+                    .map(|g| vec![0.0; first_triangle * g.props.len()])
+                    .collect();
+                let mut vals = vec![0f64; el.props.len()];
                 for i in 0..el.count {
                     reader.start_instance(el, i)?;
+                    let before = out.indices.len();
                     for (k, p) in el.props.iter().enumerate() {
                         if k != list {
                             match p.list {
                                 Some(_) => reader.skip_list(el, i, p)?,
-                                None => {
-                                    reader.scalar(el, i, p, p.ty)?;
-                                }
+                                None => vals[k] = reader.scalar(el, i, p, p.ty)?,
                             }
                             continue;
                         }
@@ -277,6 +327,18 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
                         }
                     }
                     reader.end_instance(el, i)?;
+                    for (g, values) in groups.iter().zip(&mut attr_values) {
+                        for _ in before..out.indices.len() {
+                            values.extend(
+                                g.props
+                                    .iter()
+                                    .map(|&k| el.props[k].ty.attribute_value(vals[k])),
+                            );
+                        }
+                    }
+                }
+                for (g, values) in groups.into_iter().zip(attr_values) {
+                    face_attributes.push(attribute(path, el, &g, values)?);
                 }
             }
             // A binary element without properties takes no bytes: nothing to read (and
@@ -297,6 +359,17 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshFile, MeshFileError> {
                 }
             }
         }
+    }
+    // Triangles read after a face element's (another element's) read its attributes
+    // as zero.
+    let triangles = out.indices.len();
+    for a in face_attributes {
+        let mut values = a.values().to_vec();
+        values.resize(triangles * a.channels(), 0.0);
+        let a = MeshAttribute::new(a.name(), a.channels(), values)
+            .map_err(|e| MeshFileError::new(path, None, None, e.to_string()))?;
+        // A second `face` element's attribute of the same name is not read.
+        let _ = out.attributes.insert(a);
     }
     Ok(out)
 }

@@ -203,6 +203,6 @@ fn parse_shape(data: &[u8], version: u16) -> Result<MeshFile, String> {
         indices,
         normals,
         uvs,
-        colors: None,
+        attributes: Default::default(),
     })
 }

@@ -1,8 +1,14 @@
 //! Triangle meshes: vertex positions, index triples, optional per-vertex normals and
 //! texture coordinates, hit through their own BVH (the second level of the scene's
-//! two-level hierarchy) with the watertight triangle test.
+//! two-level hierarchy) with the watertight triangle test; optional named attributes
+//! per vertex or per face ([`attributes`]).
 
+pub mod attributes;
 mod spans;
+
+pub use attributes::{
+    AttributeDomain, AttributeError, AttributePoint, AttributeValue, MeshAttribute, MeshAttributes,
+};
 
 pub use crate::packet::Triangle4;
 
@@ -40,6 +46,8 @@ pub enum MeshError {
     },
     #[error("{vertices} vertices is more than 32-bit indices can address")]
     TooManyVertices { vertices: usize },
+    #[error(transparent)]
+    Attribute(#[from] AttributeError),
 }
 
 /// A triangle mesh. Triangles wind counter-clockwise seen from the side their normal
@@ -57,9 +65,10 @@ pub struct TriangleMesh {
     /// on first use (it hashes every edge, which ray casting alone does not need).
     orientation: std::sync::OnceLock<i8>,
     uvs: Option<Vec<Vec2>>,
-    /// Linear RGB colours per vertex (PLY's red/green/blue, glTF's COLOR_0), read by
-    /// the `mesh_attribute` texture.
-    colors: Option<Vec<Vec3>>,
+    /// Named per-vertex and per-face values (vertex colours among them: PLY's
+    /// red/green/blue, OBJ's `v x y z r g b`, glTF's COLOR_0 as `vertex_color`), read
+    /// by the `mesh_attribute` texture.
+    attributes: MeshAttributes,
     /// Leaves index `packets`: a leaf of n triangles owns ceil(n / 4) consecutive
     /// packets.
     bvh: Bvh,
@@ -189,7 +198,7 @@ impl TriangleMesh {
             normals_given,
             orientation,
             uvs,
-            colors: None,
+            attributes: MeshAttributes::default(),
             bvh,
             packets,
             packet_triangles,
@@ -197,38 +206,30 @@ impl TriangleMesh {
         })
     }
 
-    /// The mesh with a colour per vertex (linear RGB, finite, not negative).
-    pub fn with_colors(mut self, colors: Vec<Vec3>) -> Result<TriangleMesh, MeshError> {
-        if colors.len() != self.positions.len() {
-            return Err(MeshError::CountMismatch {
-                what: "colours",
-                got: colors.len(),
-                expected: self.positions.len(),
-            });
-        }
-        if let Some(v) = colors
-            .iter()
-            .position(|c| !c.is_finite() || c.min_element() < 0.0)
-        {
-            return Err(MeshError::NonFiniteAttribute {
-                vertex: v,
-                what: "colour",
-                value: format!("{:?}", colors[v].to_array()),
-            });
-        }
-        self.colors = Some(colors);
+    /// The mesh with `attributes` (Mitsuba's `Mesh::add_attribute`): each vertex
+    /// attribute needs a row per vertex, each face attribute a row per triangle.
+    pub fn with_attributes(
+        mut self,
+        attributes: MeshAttributes,
+    ) -> Result<TriangleMesh, MeshError> {
+        attributes.check_rows(self.positions.len(), self.indices.len())?;
+        self.attributes = attributes;
         Ok(self)
     }
 
-    pub fn colors(&self) -> Option<&[Vec3]> {
-        self.colors.as_deref()
+    pub fn attributes(&self) -> &MeshAttributes {
+        &self.attributes
     }
 
-    /// The vertex colour interpolated at object-space point `p` of triangle `tri`
-    /// (barycentric coordinates of `p` in the triangle's plane).
-    pub fn color_at(&self, p: Vec3, tri: u32) -> Option<Vec3> {
-        let colors = self.colors.as_ref()?;
-        let t = self.indices.get(tri as usize)?;
+    /// Where object-space point `p` lies on triangle `tri` for attribute lookups: its
+    /// corners and barycentric coordinates (of `p` projected into the triangle's
+    /// plane, clamped to the triangle). `None` without attributes or for a triangle
+    /// out of range.
+    pub fn attribute_point(&self, p: Vec3, tri: u32) -> Option<AttributePoint<'_>> {
+        if self.attributes.is_empty() {
+            return None;
+        }
+        let t = *self.indices.get(tri as usize)?;
         let [a, b, c] = t.map(|i| self.positions[i as usize]);
         let (e1, e2, d) = (b - a, c - a, p - a);
         let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
@@ -242,9 +243,17 @@ impl TriangleMesh {
         } else {
             (0.0, 0.0)
         };
-        let b0 = (1.0 - b1 - b2).max(0.0);
-        let [ca, cb, cc] = t.map(|i| colors[i as usize]);
-        Some(ca * b0 + cb * b1 + cc * b2)
+        let (b1, b2) = if b1 + b2 > 1.0 {
+            (b1 / (b1 + b2), b2 / (b1 + b2))
+        } else {
+            (b1, b2)
+        };
+        Some(AttributePoint {
+            attributes: &self.attributes,
+            triangle: tri,
+            corners: t,
+            barycentric: [1.0 - b1 - b2, b1, b2],
+        })
     }
 
     pub fn positions(&self) -> &[Vec3] {
@@ -418,8 +427,12 @@ impl Shape for TriangleMesh {
         self.triangle_uv_derivatives(prim)
     }
 
-    fn vertex_color(&self, p: Vec3, prim: u32) -> Option<Vec3> {
-        self.color_at(p, prim)
+    fn attributes(&self) -> Option<&MeshAttributes> {
+        Some(&self.attributes)
+    }
+
+    fn attribute_point(&self, hit: &Hit) -> Option<AttributePoint<'_>> {
+        TriangleMesh::attribute_point(self, hit.point, hit.prim)
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

@@ -458,14 +458,13 @@ pub fn texture<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<Node, SceneError>
             &["color0", "color1", "to_uv"]
         }
         "mesh_attribute" => {
-            let name = o.get("name").map_or(Ok(""), |p| p.str())?;
-            if name != "vertex_color" && name != "face_color" {
-                b.warn(e, "name", format!("the mesh attribute `{name}` is not rendered (Irradia's are vertex_color and face_color): 0.5 stands in"));
-                o.accept(&["scale"]);
-                o.finish(&["name", "scale"])?;
-                return Ok(Node::new(0.5, pos));
+            // Mitsuba's plugin: `name` (`vertex_...` or `face_...`, else an error) and
+            // `scale`; the scene reader checks the name against each mesh it is used on.
+            let p = o.get("name").ok_or_else(|| e.err("name", "`mesh_attribute` needs `name`"))?;
+            let name = p.str()?;
+            if !name.starts_with("vertex_") && !name.starts_with("face_") {
+                return Err(p.err(format!("a mesh attribute's name starts with `vertex_` or `face_` (got `{name}`)")));
             }
-            b.warn(e, "type", "mesh attributes do not reach textures yet: Irradia renders this texture black");
             t.put("type", "mesh_attribute", pos);
             for n in ["name", "scale"] {
                 if let Some(p) = o.get(n) {

@@ -1,7 +1,8 @@
 //! PLY as a scene: the file is one mesh object `{ type = "mesh", path = "model.ply" }`
 //! (read by the scene reader: ASCII and binary, faces fanned into triangles, triangle
-//! strips, normals, uv, vertex colours). A mesh with vertex colours gets a `diffuse`
-//! material whose reflectance is the `mesh_attribute` texture `vertex_color`. A PLY
+//! strips, normals, uv, and the other properties as mesh attributes). A mesh with a
+//! colour attribute gets a `diffuse` material whose reflectance is the
+//! `mesh_attribute` texture `vertex_color` (or, without it, `face_color`). A PLY
 //! file has no camera or light, so it always gets the framing camera and the
 //! environment light of [`crate::model`].
 
@@ -36,10 +37,13 @@ pub fn parse_bytes(bytes: &[u8], origin: &Path) -> Result<Imported, SceneError> 
     let mut obj = Node::table(0);
     obj.put("type", "mesh", 0)
         .put("path", model::rel_name(origin, dir), 0);
-    if mesh.colors.is_some() {
+    // A colour attribute (vertex colours first, else face colours) as the reflectance.
+    let color = ["vertex_color", "face_color"]
+        .into_iter()
+        .find(|n| mesh.attributes.get(n).is_some_and(|a| a.channels() == 3));
+    if let Some(name) = color {
         let mut attr = Node::table(0);
-        attr.put("type", "mesh_attribute", 0)
-            .put("name", "vertex_color", 0);
+        attr.put("type", "mesh_attribute", 0).put("name", name, 0);
         let mut m = Node::table(0);
         m.put("type", "diffuse", 0).set("reflectance", attr);
         let mut mats = Node::table(0);

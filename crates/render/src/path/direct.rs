@@ -11,7 +11,7 @@
 //! a² / (a² + b²)`); delta lights and delta BSDF lobes weigh `1 / n_e` and `1 / n_b`.
 //! The expected value is the path tracer's at `max_depth = 2`.
 
-use super::integrator::{mis, surface_at, PathCounters, PathScene};
+use super::integrator::{emission_at, mis, surface_at, PathCounters, PathScene};
 use super::tracer::Tracer;
 use irradia_core::{offset_ray_origin, Ray, Rgb, Rng};
 use irradia_scatter::Scatter;
@@ -56,7 +56,7 @@ pub fn radiance_direct<T: Tracer>(
     let wo_world = -ray.dir.normalize();
     let mut l = Rgb::BLACK;
     if !material.emission.is_black() && (material.emission_two_sided || n.dot(wo_world) > 0.0) {
-        l += material.emission_at(hit.uv);
+        l += emission_at(scene, material, &sh);
     }
     let Some((bsdf, frame)) = surface_at(ps, &sh) else {
         return l;
@@ -125,7 +125,7 @@ pub fn radiance_direct<T: Tracer>(
                     continue;
                 }
                 let pdf = lights.pdf_object(scene, eh.instance, hit.point, q, nq);
-                (m.emission_at(eh.hit.uv), pdf)
+                (emission_at(scene, m, &eh), pdf)
             }
         };
         if le.is_black() {

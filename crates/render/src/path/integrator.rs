@@ -16,7 +16,7 @@ use glam::{Vec2, Vec3};
 use irradia_core::{offset_ray_origin, Frame, Ray, Rgb, Rng};
 use irradia_scatter::{Bsdf, LobeFlags, Scatter};
 use irradia_scene::texture::TextureQuery;
-use irradia_scene::Scene;
+use irradia_scene::{Material, Scene};
 
 /// Parameters of the estimator.
 #[derive(Clone, Copy, Debug)]
@@ -160,14 +160,7 @@ pub(crate) fn surface_at<T: Tracer>(ps: &PathScene<'_, T>, sh: &PathHit) -> Opti
     let bsdf = match ps.bsdfs.get(sh.material as usize) {
         Some(Some(b)) => b.clone(),
         _ => {
-            let instance = ps.scene.accel.instances().get(sh.instance as usize);
-            let q = TextureQuery {
-                uv: hit.uv,
-                vertex_color: instance
-                    .and_then(|inst| inst.vertex_color(hit))
-                    .map(|c| Rgb::new(c.x, c.y, c.z)),
-                face_color: None,
-            };
+            let q = texture_query(ps.scene, sh);
             material_bsdf_query(material, hit.point, &q, &tangents)
         }
     };
@@ -175,6 +168,26 @@ pub(crate) fn surface_at<T: Tracer>(ps: &PathScene<'_, T>, sh: &PathHit) -> Opti
         return None;
     }
     Some((bsdf, frame))
+}
+
+/// What a texture lookup at `sh` reads: the hit's uv and where it lies on the
+/// attributes of the mesh hit (for `mesh_attribute` textures).
+pub(crate) fn texture_query<'s>(scene: &'s Scene, sh: &PathHit) -> TextureQuery<'s> {
+    let instance = scene.accel.instances().get(sh.instance as usize);
+    TextureQuery {
+        uv: sh.hit.uv,
+        attributes: instance.and_then(|inst| inst.attribute_point(&sh.hit)),
+    }
+}
+
+/// The radiance `material` emits at `sh` (on its emitting side): its emission
+/// texture there, or the constant.
+#[inline]
+pub(crate) fn emission_at(scene: &Scene, material: &Material, sh: &PathHit) -> Rgb {
+    if material.emission_texture.is_none() {
+        return material.emission;
+    }
+    material.emission_query(&texture_query(scene, sh))
 }
 
 /// One sample of the radiance arriving along `ray` (a camera ray), traced through the
@@ -264,7 +277,7 @@ pub fn radiance_recorded<T: Tracer, R: Recorder>(
                 Some((p, pdf)) => mis(pdf, lights.pdf_object(scene, sh.instance, p, hit.point, n)),
                 None => 1.0,
             };
-            l += beta * material.emission_at(hit.uv) * w;
+            l += beta * emission_at(scene, material, &sh) * w;
         }
         if depth == params.max_depth {
             if R::RECORDS {

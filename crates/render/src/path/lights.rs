@@ -253,7 +253,10 @@ fn textured(
         inst.intersect(&irradia_core::Ray::new(q + side * eps, -side), 2.0 * eps)
     });
     match hit {
-        Some(h) => t.eval(&TextureQuery::at_uv(h.uv)),
+        Some(h) => t.eval(&TextureQuery {
+            uv: h.uv,
+            attributes: inst.attribute_point(&h),
+        }),
         None => radiance,
     }
 }

@@ -9,8 +9,10 @@
 
 pub mod lecture;
 pub mod principled;
+pub mod visit;
 
 pub use principled::{Principled, PrincipledSpecular, PrincipledThin};
+pub use visit::TextureParam;
 
 use crate::texture::{ColorTexture, FloatTexture};
 use irradia_core::Rgb;

@@ -166,6 +166,9 @@ fn read_spot(t: &Table) -> Result<Light> {
     let texture = match t.get("texture") {
         Some(tex) => {
             let map = read_texture_map(&tex)?;
+            if matches!(map, crate::texture::TextureMap::MeshAttribute(_)) {
+                return Err(tex.err("a spot light's texture cannot be a mesh_attribute (it is read across the cone, not on a mesh)"));
+            }
             let up = up_v.as_ref().map_or(Ok(Vec3::Y), |u| u.direction())?;
             if direction.cross(up.normalize()).length() < 1e-4 {
                 let at = up_v.unwrap_or(tex);

@@ -1,6 +1,7 @@
 //! Scene files: TOML and JSON with one schema (docs/scene-format.md), parsed into a
 //! positioned tree, then read field by field into a validated [`Scene`].
 
+pub mod attributes;
 pub mod bsdfs;
 pub mod emitters;
 pub mod generators;

@@ -3,6 +3,7 @@
 //! `merge`) hold `children`, each an object without a name; a child's `material`
 //! overrides its parent's for the leaves under it.
 
+use super::attributes::check_attributes;
 use super::materials::material_index;
 use super::reader::{Result, Table, Val};
 use super::shapes::{build_primitive, unknown_kind};
@@ -180,10 +181,14 @@ fn read_object(
         leaves = csg.leaf_count();
         Arc::new(csg)
     } else {
-        match build_shape(kind, &t)? {
+        let shape = match build_shape(kind, &t)? {
             Some(s) => s,
             None => return Err(unknown_kind(&kind_v, kind, OTHER_KINDS)),
-        }
+        };
+        let at = t.get("material").unwrap_or(kind_v.clone());
+        check_attributes(&mats.materials[material as usize], shape.attributes(), kind)
+            .map_err(|e| at.err(e))?;
+        shape
     };
     t.finish()?;
     let object = Object {
@@ -238,6 +243,13 @@ fn read_csg(
                     "a CSG operand must be a closed solid, but a {child_kind} here is an open surface"
                 )));
             }
+            let at = ct.get("material").unwrap_or(kind_v.clone());
+            check_attributes(
+                &mats.materials[child_material as usize],
+                shape.attributes(),
+                child_kind,
+            )
+            .map_err(|e| at.err(e))?;
             leaf_materials.push(child_material);
             CsgOperand::shape(shape, to_parent)
         };
@@ -338,8 +350,11 @@ fn read_mesh(t: &Table) -> Result<TriangleMesh> {
             .flatten()
             .all(|&i| (i as usize) < data.positions.len())
     {
-        // Every triangle its own corners, each with the face's normal.
+        // Every triangle its own corners, each with the face's normal; vertex
+        // attributes follow the corners, face attributes stay with the triangles.
         let mut out = irradia_geometry::io::MeshFile::default();
+        let corners: Vec<u32> = data.indices.iter().flatten().copied().collect();
+        out.attributes = data.attributes.gather_vertices(&corners);
         for tri in &data.indices {
             let p = tri.map(|i| data.positions.get(i as usize).copied().unwrap_or_default());
             let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or(glam::Vec3::Z);
@@ -349,10 +364,6 @@ fn read_mesh(t: &Table) -> Result<TriangleMesh> {
             if let Some(uv) = &data.uvs {
                 let t = tri.map(|i| uv.get(i as usize).copied().unwrap_or_default());
                 out.uvs.get_or_insert_with(Vec::new).extend(t);
-            }
-            if let Some(c) = &data.colors {
-                let t = tri.map(|i| c.get(i as usize).copied().unwrap_or_default());
-                out.colors.get_or_insert_with(Vec::new).extend(t);
             }
             out.indices.push([base, base + 1, base + 2]);
         }

@@ -7,8 +7,8 @@ use super::reader::{Result, Table, Val};
 use crate::texture::bitmap::read_texels_selected;
 use crate::texture::spectrum::{parse_spectrum, spectrum_to_rgb};
 use crate::texture::{
-    Bitmap, Checkerboard, ColorTexture, FilterType, FloatTexture, MeshAttribute, MeshAttributeName,
-    TextureMap, UvTransform, WrapMode,
+    Bitmap, Checkerboard, ColorTexture, FilterType, FloatTexture, MeshAttribute, TextureMap,
+    UvTransform, WrapMode,
 };
 use glam::{Affine2, Mat2, Vec2};
 use irradia_core::Rgb;
@@ -84,12 +84,16 @@ pub fn read_texture_map(v: &Val) -> Result<TextureMap> {
             })
         }
         _ => {
-            let name = match t.req("name")?.choice(&["vertex_color", "face_color"])? {
-                "vertex_color" => MeshAttributeName::VertexColor,
-                _ => MeshAttributeName::FaceColor,
-            };
+            // Mitsuba's rule: the name says where the values are.
+            let name_v = t.req("name")?;
+            let name = name_v.str()?;
+            if irradia_geometry::mesh::AttributeDomain::of(name).is_none() {
+                return Err(name_v.err(format!(
+                    "a mesh attribute's name starts with `vertex_` or `face_` (got \"{name}\")"
+                )));
+            }
             TextureMap::MeshAttribute(MeshAttribute {
-                name,
+                name: name.to_string(),
                 scale: t.non_negative_or("scale", 1.0)?,
             })
         }

@@ -12,29 +12,31 @@ pub mod uv_transform;
 
 pub use bitmap::{Bitmap, FilterType, Texels, WrapMode};
 pub use checkerboard::Checkerboard;
-pub use mesh_attribute::{MeshAttribute, MeshAttributeName};
+pub use mesh_attribute::MeshAttribute;
 pub use uv_transform::UvTransform;
 
 use glam::Vec2;
 use irradia_core::Rgb;
+use irradia_geometry::mesh::AttributePoint;
 use std::sync::Arc;
 
-/// What a texture lookup knows about the surface point.
+/// What a texture lookup knows about the surface point (Mitsuba's
+/// `SurfaceInteraction` as far as its textures read it).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct TextureQuery {
+pub struct TextureQuery<'a> {
     /// Surface coordinates.
     pub uv: Vec2,
-    /// The mesh's vertex colour interpolated at the point, if it has one.
-    pub vertex_color: Option<Rgb>,
-    /// The colour of the mesh face hit, if it has one.
-    pub face_color: Option<Rgb>,
+    /// Where the point lies on the attributes of the mesh hit (its triangle and
+    /// barycentric coordinates), for [`MeshAttribute`]; `None` off meshes with
+    /// attributes.
+    pub attributes: Option<AttributePoint<'a>>,
 }
 
-impl TextureQuery {
+impl TextureQuery<'_> {
     pub fn at_uv(uv: Vec2) -> Self {
         TextureQuery {
             uv,
-            ..Default::default()
+            attributes: None,
         }
     }
 }
@@ -59,16 +61,17 @@ impl TextureMap {
         match self {
             TextureMap::Bitmap(b) => b.eval(q.uv),
             TextureMap::Checkerboard(c) => c.eval(q.uv),
-            TextureMap::MeshAttribute(m) => m.eval(q.vertex_color, q.face_color),
+            TextureMap::MeshAttribute(m) => m.eval(q),
         }
     }
 
     /// The number at the point (Mitsuba's `Texture::eval_1`): a one-channel bitmap's
-    /// value, the luminance of a colour.
+    /// value, a one-channel mesh attribute, the luminance of a colour.
     pub fn eval_1(&self, q: &TextureQuery) -> f32 {
         match self {
             TextureMap::Bitmap(b) if b.texels.channels == 1 => b.eval(q.uv).r,
             TextureMap::Checkerboard(c) => mitsuba_luminance(c.eval_1_color(q.uv)),
+            TextureMap::MeshAttribute(m) => m.eval_1(q),
             _ => mitsuba_luminance(self.eval(q)),
         }
     }
