@@ -3,8 +3,10 @@
 //! there), the round trip through `irradia convert`, and bad input (file, line,
 //! column; warnings and `--strict`).
 
-use irradia_import::{import, mitsuba, toml_out, Imported, Options};
-use irradia_scene::file::tree::{parse_toml, Node, Value};
+mod common;
+
+use irradia_import::{import, mitsuba, Imported, Options};
+use irradia_scene::file::tree::{Node, Value};
 use std::path::{Path, PathBuf};
 
 fn data(name: &str) -> PathBuf {
@@ -23,25 +25,7 @@ pub fn mitsuba_data() -> Option<PathBuf> {
     d.is_dir().then_some(d)
 }
 
-/// Imports `path`, writes it as TOML beside it, and checks both trees are equal.
-fn assert_round_trip(path: &Path, opts: &Options) -> Imported {
-    let imported = import(path, opts).unwrap_or_else(|e| panic!("{e}"));
-    imported
-        .scene()
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let dir = path.parent().unwrap();
-    let text = toml_out::to_toml(&imported.tree, dir, dir);
-    let back = parse_toml(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
-    assert_eq!(
-        back.canonical(),
-        imported.tree.canonical(),
-        "{}: the converted TOML reads back differently:\n{text}",
-        path.display()
-    );
-    irradia_scene::load_tree(&back, &text, &dir.join("converted.toml"))
-        .unwrap_or_else(|e| panic!("{}: converted scene: {e}\n{text}", path.display()));
-    imported
-}
+use common::round_trip_with as assert_round_trip;
 
 fn num(n: &Node) -> f64 {
     match n.value {

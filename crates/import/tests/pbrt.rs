@@ -1,9 +1,11 @@
 //! The pbrt-v4 importer: directives, transforms, materials, textures, scoping,
 //! includes, errors with line:col, warnings, the TOML round trip and renders.
 
+mod common;
+
 use irradia_import::pbrt::{coverage_str, parse_str, Status};
-use irradia_import::{import, toml_out, Imported, Options};
-use irradia_scene::file::tree::{parse_toml, Node, Value};
+use irradia_import::{import, Imported, Options};
+use irradia_scene::file::tree::{Node, Value};
 use std::path::{Path, PathBuf};
 
 fn data(name: &str) -> PathBuf {
@@ -12,22 +14,9 @@ fn data(name: &str) -> PathBuf {
         .join(name)
 }
 
-/// Imports `path`, writes it as TOML beside it, and checks both trees are equal.
+/// The round trip of `path` with the default options.
 fn assert_round_trip(path: &Path) -> Imported {
-    let imported = import(path, &Options::default()).unwrap_or_else(|e| panic!("{e}"));
-    imported.scene().unwrap_or_else(|e| panic!("{e}"));
-    let dir = path.parent().unwrap();
-    let text = toml_out::to_toml(&imported.tree, dir, dir);
-    let back = parse_toml(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
-    assert_eq!(
-        back.canonical(),
-        imported.tree.canonical(),
-        "{}: the converted TOML reads back differently:\n{text}",
-        path.display()
-    );
-    irradia_scene::load_tree(&back, &text, &dir.join("converted.toml"))
-        .unwrap_or_else(|e| panic!("{}: converted scene: {e}\n{text}", path.display()));
-    imported
+    common::round_trip_with(path, &Options::default())
 }
 
 /// Writes `text` as `scene.pbrt` in a fresh folder and imports it.

@@ -3,24 +3,13 @@
 //! Every importer's test file repeats this check on its own format's files.
 
 use irradia_import::{import, toml_out, Options};
-use irradia_scene::file::tree::parse_toml;
 use std::path::Path;
 
-/// Imports `path`, writes it as TOML beside it, and checks both trees are equal.
-pub fn assert_round_trip(path: &Path) {
-    let imported = import(path, &Options::default()).unwrap_or_else(|e| panic!("{e}"));
-    imported.scene().unwrap_or_else(|e| panic!("{e}"));
-    let dir = path.parent().unwrap();
-    let text = toml_out::to_toml(&imported.tree, dir, dir);
-    let back = parse_toml(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
-    assert_eq!(
-        back.canonical(),
-        imported.tree.canonical(),
-        "{}: the converted TOML reads back differently:\n{text}",
-        path.display()
-    );
-    irradia_scene::load_tree(&back, &text, &dir.join("converted.toml"))
-        .unwrap_or_else(|e| panic!("{}: converted scene: {e}\n{text}", path.display()));
+mod common;
+
+/// The round trip of `path` with the default options.
+fn assert_round_trip(path: &Path) {
+    common::round_trip_with(path, &Options::default());
 }
 
 #[test]

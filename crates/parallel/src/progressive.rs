@@ -50,7 +50,6 @@ pub fn render_distributed<C: Comm>(
         let mut spread = Spread {
             comm,
             chunk: options.threads.unwrap_or_else(rayon::current_num_threads).max(1),
-            tiles_sent: vec![0; comm.size()],
         };
         let out = render_on(scene, options, &mut spread);
         // Release the workers whatever happened (they wait for work or this).
@@ -75,8 +74,6 @@ pub struct Spread<'c, C> {
     comm: &'c C,
     /// Tiles per chunk (the threads of a rank: a chunk keeps them all busy).
     chunk: usize,
-    /// Tiles each rank has rendered so far (rank 0's own included).
-    pub tiles_sent: Vec<u64>,
 }
 
 impl<C: Comm> Sweep for Spread<'_, C> {
@@ -99,7 +96,6 @@ impl<C: Comm> Sweep for Spread<'_, C> {
                 if let Some(chunk) = chunks.next() {
                     c.post(w, TAG_WORK, encode_work(work, chunk, reads.then_some(&*sink)))?;
                     in_flight[w] += 1;
-                    self.tiles_sent[w] += chunk.len() as u64;
                 }
             }
         }
@@ -111,7 +107,6 @@ impl<C: Comm> Sweep for Spread<'_, C> {
                 if let Some(chunk) = chunks.next() {
                     c.post(w, TAG_WORK, encode_work(work, chunk, reads.then_some(&*sink)))?;
                     in_flight[w] += 1;
-                    self.tiles_sent[w] += chunk.len() as u64;
                 }
             }
             // Then render a chunk here, or wait for the rest.
@@ -132,7 +127,6 @@ impl<C: Comm> Sweep for Spread<'_, C> {
                     on_tile((t.w * t.h) as u64 * work.n as u64);
                     store_tile(sink, t, r);
                 }
-                self.tiles_sent[0] += chunk.len() as u64;
                 continue;
             }
             let busy: Vec<usize> = workers.iter().copied().filter(|&w| in_flight[w] > 0).collect();
@@ -157,9 +151,13 @@ impl<C: Comm> Spread<'_, C> {
         in_flight: &mut [usize],
     ) -> Result<(), CommError> {
         let done = decode_done(msg).map_err(|message| CommError::Malformed { rank: w, message })?;
+        let win = sink.film.window();
         for (t, r) in done {
-            if t.x0 + t.w > sink.film.window().x + sink.film.window().width
-                || t.y0 + t.h > sink.film.window().y + sink.film.window().height
+            if t.x0 < win.x
+                || t.y0 < win.y
+                || t.x0 + t.w > win.x + win.width
+                || t.y0 + t.h > win.y + win.height
+                || r.pixels.len() != (t.w * t.h) as usize
             {
                 return Err(CommError::Malformed {
                     rank: w,

@@ -16,10 +16,14 @@ pub fn imported(path: &Path) -> Imported {
     import(path, &Options::default()).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// Import → TOML → parse gives the same tree, and both load as scenes.
-pub fn assert_round_trip(path: &Path) {
-    let imported = imported(path);
-    imported.scene().unwrap_or_else(|e| panic!("{e}"));
+/// `irradia convert`'s promise: import `path` with `opts`, write it as TOML beside it,
+/// and the TOML parses back to the same tree, which loads as a scene too. Returns the
+/// import.
+pub fn round_trip_with(path: &Path, opts: &Options) -> Imported {
+    let imported = import(path, opts).unwrap_or_else(|e| panic!("{e}"));
+    imported
+        .scene()
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let dir = path.parent().unwrap();
     let text = toml_out::to_toml(&imported.tree, dir, dir);
     let back = parse_toml(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
@@ -31,7 +35,15 @@ pub fn assert_round_trip(path: &Path) {
     );
     irradia_scene::load_tree(&back, &text, &dir.join("converted.toml"))
         .unwrap_or_else(|e| panic!("{}: converted scene: {e}\n{text}", path.display()));
-    // Mesh data stays in the model file: the TOML is small.
+    imported
+}
+
+/// [`round_trip_with`] for a model file (default options), whose mesh data stays in
+/// the model file: the TOML is small.
+pub fn assert_round_trip(path: &Path) {
+    let dir = path.parent().unwrap();
+    let imported = round_trip_with(path, &Options::default());
+    let text = toml_out::to_toml(&imported.tree, dir, dir);
     assert!(
         text.len() < 8000,
         "{}: {} bytes of TOML",
