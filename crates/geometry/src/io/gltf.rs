@@ -61,6 +61,20 @@ impl GltfFile {
         }
         let document = gltf::Document::from_json(root)
             .map_err(|e| err(format!("not a valid glTF file: {e}")))?;
+        // gltf 1.4.1 unwraps the percent-decoding of a relative buffer URI as UTF-8 (a
+        // panic on `%AA`, found by fuzzing): such a URI is refused here first.
+        for b in document.buffers() {
+            if let gltf::buffer::Source::Uri(uri) = b.source() {
+                if !uri.contains(':') && String::from_utf8(percent_decode_bytes(uri)).is_err() {
+                    return Err(MeshFileError::new(
+                        path,
+                        None,
+                        Some(format!("buffers[{}].uri", b.index())),
+                        "its percent-encoded bytes are not UTF-8 text",
+                    ));
+                }
+            }
+        }
         let base = path.parent().unwrap_or(Path::new("."));
         let buffers = gltf::import_buffers(&document, Some(base), blob)
             .map_err(|e| err(format!("cannot load a buffer: {e}")))?;
@@ -347,6 +361,12 @@ impl GltfFile {
 
 /// `%20` and friends in a URI.
 fn percent_decode(s: &str) -> String {
+    String::from_utf8_lossy(&percent_decode_bytes(s)).into_owned()
+}
+
+/// The bytes `%XX` escapes in `s` stand for (a `%` not followed by two hex digits is
+/// kept as it is).
+fn percent_decode_bytes(s: &str) -> Vec<u8> {
     let b = s.as_bytes();
     let mut out = Vec::with_capacity(b.len());
     let mut i = 0;
@@ -362,7 +382,7 @@ fn percent_decode(s: &str) -> String {
         out.push(b[i]);
         i += 1;
     }
-    String::from_utf8_lossy(&out).into_owned()
+    out
 }
 
 /// Standard base64 (padding optional, whitespace ignored).
