@@ -29,6 +29,9 @@ use irradia_render::{
 };
 use irradia_scene::Scene;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 /// Tag of the work messages (rank 0 to a worker).
 const TAG_WORK: u32 = 0x7e00;
@@ -99,43 +102,88 @@ impl<C: Comm> Sweep for Spread<'_, C> {
                 }
             }
         }
-        loop {
-            // Answer every worker that has finished a chunk with its next one.
-            let busy: Vec<usize> = workers.iter().copied().filter(|&w| in_flight[w] > 0).collect();
-            while let Some((w, msg)) = c.try_recv_any(&busy, TAG_DONE)? {
-                self.finish(w, &msg, sink, work, on_tile, &mut in_flight)?;
-                if let Some(chunk) = chunks.next() {
-                    c.post(w, TAG_WORK, encode_work(work, chunk, reads.then_some(&*sink)))?;
-                    in_flight[w] += 1;
+        // This thread only talks and stores; rank 0's own chunks render on the pool
+        // meanwhile, so that a worker's finished chunk is answered at once (and MPI
+        // keeps moving the posted chunks, which it does only inside MPI calls).
+        let mine: Mutex<Option<Vec<(Tile, TileResult)>>> = Mutex::new(None);
+        let mut quiet_since = Instant::now();
+        rayon::in_place_scope(|scope| -> Result<(), SweepError> {
+            let mut rendering_here = false;
+            loop {
+                let mut idle = true;
+                // Answer every worker that has finished a chunk with its next one.
+                let busy: Vec<usize> =
+                    workers.iter().copied().filter(|&w| in_flight[w] > 0).collect();
+                while let Some((w, msg)) = c.try_recv_any(&busy, TAG_DONE)? {
+                    self.finish(w, &msg, sink, work, on_tile, &mut in_flight)?;
+                    if let Some(chunk) = chunks.next() {
+                        c.post(w, TAG_WORK, encode_work(work, chunk, reads.then_some(&*sink)))?;
+                        in_flight[w] += 1;
+                    }
+                    idle = false;
+                }
+                // Store this rank's chunk when done, and start the next.
+                if rendering_here {
+                    if let Some(done) = mine.lock().unwrap_or_else(|e| e.into_inner()).take() {
+                        for (t, r) in done {
+                            on_tile((t.w * t.h) as u64 * work.n as u64);
+                            store_tile(sink, t, r);
+                        }
+                        rendering_here = false;
+                        idle = false;
+                    }
+                }
+                if !rendering_here {
+                    if let Some(chunk) = chunks.next() {
+                        let inputs: Vec<(Tile, Vec<FilmPixel>)> = chunk
+                            .iter()
+                            .map(|t| {
+                                let pixels = if reads {
+                                    read_tile(sink.film, *t)
+                                } else {
+                                    vec![FilmPixel::default(); (t.w * t.h) as usize]
+                                };
+                                (*t, pixels)
+                            })
+                            .collect();
+                        let mine = &mine;
+                        scope.spawn(move |_| {
+                            let done = inputs
+                                .into_par_iter()
+                                .map(|(t, pixels)| (t, job.render(t, pixels, work)))
+                                .collect();
+                            *mine.lock().unwrap_or_else(|e| e.into_inner()) = Some(done);
+                        });
+                        rendering_here = true;
+                        idle = false;
+                    }
+                }
+                let busy: Vec<usize> =
+                    workers.iter().copied().filter(|&w| in_flight[w] > 0).collect();
+                if !rendering_here && busy.is_empty() {
+                    return Ok(());
+                }
+                if !idle {
+                    quiet_since = Instant::now();
+                    continue;
+                }
+                if !rendering_here && quiet_since.elapsed() >= c.timeout() {
+                    return Err(CommError::Timeout {
+                        rank: busy[0],
+                        waiting_rank: 0,
+                        tag: TAG_DONE,
+                        seconds: c.timeout().as_secs_f64(),
+                    }
+                    .into());
+                }
+                c.progress();
+                // On a pool's own thread (ranks as threads) render here; otherwise
+                // (the main thread under MPI) wait a little.
+                if rayon::yield_now() != Some(rayon::Yield::Executed) {
+                    std::thread::sleep(Duration::from_micros(200));
                 }
             }
-            // Then render a chunk here, or wait for the rest.
-            if let Some(chunk) = chunks.next() {
-                let film = &*sink.film;
-                let done: Vec<(Tile, TileResult)> = chunk
-                    .par_iter()
-                    .map(|t| {
-                        let pixels = if reads {
-                            read_tile(film, *t)
-                        } else {
-                            vec![FilmPixel::default(); (t.w * t.h) as usize]
-                        };
-                        (*t, job.render(*t, pixels, work))
-                    })
-                    .collect();
-                for (t, r) in done {
-                    on_tile((t.w * t.h) as u64 * work.n as u64);
-                    store_tile(sink, t, r);
-                }
-                continue;
-            }
-            let busy: Vec<usize> = workers.iter().copied().filter(|&w| in_flight[w] > 0).collect();
-            if busy.is_empty() {
-                return Ok(());
-            }
-            let (w, msg) = c.recv_any(&busy, TAG_DONE)?;
-            self.finish(w, &msg, sink, work, on_tile, &mut in_flight)?;
-        }
+        })
     }
 }
 
@@ -197,10 +245,27 @@ pub fn serve<C: Comm, I: Integrator>(comm: &C, job: &TileJob<'_, I>) -> Result<(
         else {
             return Ok(());
         };
-        let done: Vec<(Tile, TileResult)> = tiles
-            .into_par_iter()
-            .map(|(t, pixels)| (t, job.render(t, pixels, work)))
-            .collect();
+        // The tiles render on the pool while this thread keeps the last chunk's
+        // results moving to rank 0 (MPI calls stay on this thread).
+        let finished = AtomicBool::new(false);
+        let mut done = Vec::new();
+        rayon::in_place_scope(|s| {
+            s.spawn(|_| {
+                done = tiles
+                    .into_par_iter()
+                    .map(|(t, pixels)| (t, job.render(t, pixels, work)))
+                    .collect::<Vec<(Tile, TileResult)>>();
+                finished.store(true, Ordering::Release);
+            });
+            while !finished.load(Ordering::Acquire) {
+                comm.progress();
+                // On a pool's own thread (ranks as threads) run the tiles here;
+                // otherwise (the main thread under MPI) let the pool work.
+                if rayon::yield_now() != Some(rayon::Yield::Executed) {
+                    std::thread::sleep(Duration::from_micros(500));
+                }
+            }
+        });
         comm.post(0, TAG_DONE, encode_done(&done))?;
     }
 }

@@ -218,6 +218,11 @@ pub trait Comm {
         self.send(dest, tag, &data)
     }
 
+    /// Moves this rank's posted sends along. MPI delivers a large message only while
+    /// its sender is inside an MPI call, so a rank that computes for long after
+    /// [`Comm::post`] calls this now and then. The default has nothing to do.
+    fn progress(&self) {}
+
     /// Receives the next message from `src` with `tag`, or fails after [`Comm::timeout`].
     fn recv(&self, src: usize, tag: u32) -> Result<Vec<u8>, CommError>;
 

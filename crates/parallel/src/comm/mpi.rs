@@ -257,6 +257,10 @@ impl Comm for MpiComm {
         Ok(())
     }
 
+    fn progress(&self) {
+        self.reap();
+    }
+
     fn try_recv_any(
         &self,
         sources: &[usize],
