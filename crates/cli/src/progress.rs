@@ -87,7 +87,7 @@ impl Progress {
     /// A new phase of `length` steps (`None`: unknown), counted from zero.
     pub fn phase(&self, name: &str, length: Option<u64>) {
         {
-            let mut s = self.state.lock().expect("progress state");
+            let mut s = self.state.lock().unwrap_or_else(|e| e.into_inner());
             s.message = name.to_string();
             s.position = 0;
             s.length = length;
@@ -109,7 +109,7 @@ impl Progress {
 
     /// Replaces the message, keeping the count (a stage of a job of unknown length).
     pub fn message(&self, msg: &str) {
-        self.state.lock().expect("progress state").message = msg.to_string();
+        self.state.lock().unwrap_or_else(|e| e.into_inner()).message = msg.to_string();
         if let Some(b) = &self.bar {
             b.set_message(msg.to_string());
         }
@@ -117,7 +117,10 @@ impl Progress {
 
     /// Steps of the current phase done so far.
     pub fn set_position(&self, done: u64) {
-        self.state.lock().expect("progress state").position = done;
+        self.state
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .position = done;
         if let Some(b) = &self.bar {
             b.set_position(done);
         }
@@ -127,7 +130,7 @@ impl Progress {
     /// began), keeping the count.
     pub fn set_length(&self, length: u64) {
         {
-            let mut s = self.state.lock().expect("progress state");
+            let mut s = self.state.lock().unwrap_or_else(|e| e.into_inner());
             if s.length == Some(length) {
                 return;
             }
@@ -141,7 +144,7 @@ impl Progress {
 
     /// A progressive render finished a pass.
     pub fn pass(&self, p: PassStatus) {
-        self.state.lock().expect("progress state").pass = Some(p);
+        self.state.lock().unwrap_or_else(|e| e.into_inner()).pass = Some(p);
         if let Some(b) = &self.bar {
             b.set_message(pass_text(&p));
             if let Some(f) = p.done {
@@ -157,7 +160,7 @@ impl Progress {
         if let Some(b) = &self.bar {
             b.finish_and_clear();
         }
-        if let Some((stop, handle)) = self.ticker.lock().expect("ticker").take() {
+        if let Some((stop, handle)) = self.ticker.lock().unwrap_or_else(|e| e.into_inner()).take() {
             stop.store(true, Ordering::Relaxed);
             let _ = handle.join();
         }
@@ -187,7 +190,7 @@ fn tick(stop: &AtomicBool, state: &Mutex<State>, start: Instant, interval: Durat
         std::thread::sleep(Duration::from_millis(20).min(interval));
         let now = Instant::now();
         if now >= next {
-            let s = state.lock().expect("progress state").clone();
+            let s = state.lock().unwrap_or_else(|e| e.into_inner()).clone();
             eprintln!("{}", log_line(&s, now - start, now));
             next = now + interval;
         }

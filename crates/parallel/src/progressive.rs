@@ -52,7 +52,10 @@ pub fn render_distributed<C: Comm>(
     if comm.rank() == 0 {
         let mut spread = Spread {
             comm,
-            chunk: options.threads.unwrap_or_else(rayon::current_num_threads).max(1),
+            chunk: options
+                .threads
+                .unwrap_or_else(rayon::current_num_threads)
+                .max(1),
         };
         let out = render_on(scene, options, &mut spread);
         // Release the workers whatever happened (they wait for work or this).
@@ -97,7 +100,11 @@ impl<C: Comm> Sweep for Spread<'_, C> {
         for _ in 0..IN_FLIGHT {
             for &w in &workers {
                 if let Some(chunk) = chunks.next() {
-                    c.post(w, TAG_WORK, encode_work(work, chunk, reads.then_some(&*sink)))?;
+                    c.post(
+                        w,
+                        TAG_WORK,
+                        encode_work(work, chunk, reads.then_some(&*sink)),
+                    )?;
                     in_flight[w] += 1;
                 }
             }
@@ -112,12 +119,19 @@ impl<C: Comm> Sweep for Spread<'_, C> {
             loop {
                 let mut idle = true;
                 // Answer every worker that has finished a chunk with its next one.
-                let busy: Vec<usize> =
-                    workers.iter().copied().filter(|&w| in_flight[w] > 0).collect();
+                let busy: Vec<usize> = workers
+                    .iter()
+                    .copied()
+                    .filter(|&w| in_flight[w] > 0)
+                    .collect();
                 while let Some((w, msg)) = c.try_recv_any(&busy, TAG_DONE)? {
                     self.finish(w, &msg, sink, work, on_tile, &mut in_flight)?;
                     if let Some(chunk) = chunks.next() {
-                        c.post(w, TAG_WORK, encode_work(work, chunk, reads.then_some(&*sink)))?;
+                        c.post(
+                            w,
+                            TAG_WORK,
+                            encode_work(work, chunk, reads.then_some(&*sink)),
+                        )?;
                         in_flight[w] += 1;
                     }
                     idle = false;
@@ -158,8 +172,11 @@ impl<C: Comm> Sweep for Spread<'_, C> {
                         idle = false;
                     }
                 }
-                let busy: Vec<usize> =
-                    workers.iter().copied().filter(|&w| in_flight[w] > 0).collect();
+                let busy: Vec<usize> = workers
+                    .iter()
+                    .copied()
+                    .filter(|&w| in_flight[w] > 0)
+                    .collect();
                 if !rendering_here && busy.is_empty() {
                     return Ok(());
                 }
@@ -231,7 +248,10 @@ impl<C: Comm> WithIntegrator for Serve<'_, C> {
     type Output = Result<(), CommError>;
     fn with<I: Integrator>(self, integrator: &I, setup: &DriverSetup) -> Self::Output {
         let budget = progressive_options(self.scene, self.options);
-        serve(self.comm, &TileJob::new(integrator, self.scene, setup, &budget))
+        serve(
+            self.comm,
+            &TileJob::new(integrator, self.scene, setup, &budget),
+        )
     }
 }
 
@@ -297,11 +317,7 @@ fn put_pixels(b: &mut Vec<u8>, pixels: &[FilmPixel]) {
     }
 }
 
-fn encode_work(
-    work: PassWork,
-    tiles: &[Tile],
-    film: Option<&Sink<'_>>,
-) -> Vec<u8> {
+fn encode_work(work: PassWork, tiles: &[Tile], film: Option<&Sink<'_>>) -> Vec<u8> {
     let mut b = vec![1u8];
     put_u32(&mut b, work.first);
     put_u32(&mut b, work.n);
@@ -354,13 +370,17 @@ impl<'b> Reader<'b> {
         Ok(self.take(1)?[0])
     }
     fn u32(&mut self) -> Result<u32, String> {
-        Ok(u32::from_le_bytes(self.take(4)?.try_into().expect("4 bytes")))
+        Ok(u32::from_le_bytes(
+            self.take(4)?.try_into().expect("4 bytes"),
+        ))
     }
     fn f32(&mut self) -> Result<f32, String> {
         Ok(f32::from_bits(self.u32()?))
     }
     fn f64(&mut self) -> Result<f64, String> {
-        Ok(f64::from_le_bytes(self.take(8)?.try_into().expect("8 bytes")))
+        Ok(f64::from_le_bytes(
+            self.take(8)?.try_into().expect("8 bytes"),
+        ))
     }
     fn tile(&mut self) -> Result<Tile, String> {
         let (x0, y0, w, h) = (self.u32()?, self.u32()?, self.u32()?, self.u32()?);

@@ -70,7 +70,11 @@ fn the_whitted_tracer_on_ranks_equals_one_process() {
         let s = scene(name, 64, 36, 4);
         let serial = render(&s, &options()).unwrap();
         for n in [2, 3] {
-            assert_same(&on_ranks(n, &s, &options()), &serial, &format!("{name}, {n} ranks"));
+            assert_same(
+                &on_ranks(n, &s, &options()),
+                &serial,
+                &format!("{name}, {n} ranks"),
+            );
         }
     }
 }
@@ -126,5 +130,9 @@ fn a_rank_that_dies_ends_the_job_with_an_error_naming_it() {
         Ok(Ok(_)) => panic!("rank 0 finished although rank 2 died"),
     };
     assert!(msg.contains("rank 2"), "{msg}");
-    assert!(t.elapsed() < Duration::from_secs(15), "took {:?}", t.elapsed());
+    assert!(
+        t.elapsed() < Duration::from_secs(15),
+        "took {:?}",
+        t.elapsed()
+    );
 }

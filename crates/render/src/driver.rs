@@ -194,7 +194,15 @@ impl<'a, I: Integrator> TileJob<'a, I> {
                 );
                 TileResult { pixels, aov, stats }
             }
-            _ => render_tile(self.integrator, &cx, t, pixels, work.first, work.n, work.want_aov),
+            _ => render_tile(
+                self.integrator,
+                &cx,
+                t,
+                pixels,
+                work.first,
+                work.n,
+                work.want_aov,
+            ),
         }
     }
 
@@ -549,11 +557,7 @@ impl Cursor {
         if k != self.k {
             let (p, s) = (k / self.m as usize, (k % self.m as usize) as u32);
             let w = self.t.w as usize;
-            self.at = (
-                self.t.x0 + (p % w) as u32,
-                self.t.y0 + (p / w) as u32,
-                s,
-            );
+            self.at = (self.t.x0 + (p % w) as u32, self.t.y0 + (p / w) as u32, s);
         }
         let here = self.at;
         // Step to k + 1: the next sample, else the next pixel, else the next row.

@@ -115,10 +115,12 @@ impl Ranks {
                 // The MPI calls stay on this (the main) thread; the tiles go to the
                 // global pool, of --threads threads.
                 if let Some(t) = options.threads {
-                    let _ = rayon::ThreadPoolBuilder::new().num_threads(t).build_global();
+                    let _ = rayon::ThreadPoolBuilder::new()
+                        .num_threads(t)
+                        .build_global();
                 }
                 match render_distributed(c, scene, options) {
-                Ok(out) => Ok(out),
+                    Ok(out) => Ok(out),
                     Err(e) => c.fail(&irradia_parallel::comm::CommError::Aborted(e.to_string())),
                 }
             }

@@ -247,9 +247,9 @@ pub trait Comm {
             if let Some(m) = self.try_recv_any(sources, tag)? {
                 return Ok(m);
             }
-            let culprit = *sources.first().ok_or(CommError::Aborted(
-                "recv_any from no rank".into(),
-            ))?;
+            let culprit = *sources
+                .first()
+                .ok_or(CommError::Aborted("recv_any from no rank".into()))?;
             if Instant::now() >= deadline {
                 return Err(CommError::Timeout {
                     rank: culprit,

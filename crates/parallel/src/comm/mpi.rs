@@ -244,11 +244,10 @@ impl Comm for MpiComm {
         let buffer: &'static mut [u8] = Box::leak(data.into_boxed_slice());
         let ptr: *mut [u8] = buffer;
         // SAFETY: the buffer stays alive (leaked) until `reap` sees the send complete.
-        let request = self.world.process_at_rank(dest as i32).immediate_send_with_tag(
-            mpi::request::StaticScope,
-            unsafe { &*ptr },
-            tag as i32,
-        );
+        let request = self
+            .world
+            .process_at_rank(dest as i32)
+            .immediate_send_with_tag(mpi::request::StaticScope, unsafe { &*ptr }, tag as i32);
         self.posted.borrow_mut().push(Posted {
             request,
             buffer: ptr,
