@@ -94,7 +94,7 @@ else
     echo "test-mpi: render --comm mpi whitted np=3 FAILED"
   fi
   # Kill rank 1 a second into a render that would otherwise take hours.
-  long=(render --builtin cornell --width 256 --height 256 --spp 100000 --threads 1 --quiet --comm mpi)
+  long=(render --builtin cornell --width 256 --height 256 --spp 60000 --threads 1 --quiet --comm mpi)
   ( timeout 120 "${MPIRUN[@]}" -np 3 "$bin" "${long[@]}" -o "$tmp/killed.png" >"$tmp/killed.log" 2>&1; echo $? >"$tmp/killed.rc" ) &
   job=$!
   pid=""

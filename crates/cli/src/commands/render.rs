@@ -135,7 +135,7 @@ pub fn check_output(path: &Path) -> Result<Format, CliError> {
 pub fn run(mut args: RenderArgs) -> Result<(), CliError> {
     // Everything that can be wrong with the options is found before rendering.
     let format = check_output(&args.output)?;
-    let ranks = args.comm.start()?;
+    let ranks = args.comm.start(args.threads)?;
     // Under MPI only rank 0 reports and writes.
     args.quiet |= ranks.rank() != 0;
     let aovs: Vec<Aov> = args.aov.iter().map(|&a| a.into()).collect();

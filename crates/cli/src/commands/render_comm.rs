@@ -42,8 +42,9 @@ pub enum Ranks {
 
 impl CommArgs {
     /// Starts the ranks (MPI is initialised here, before anything is printed, so that
-    /// only rank 0 talks).
-    pub fn start(&self) -> Result<Ranks, CliError> {
+    /// only rank 0 talks). Under MPI the global thread pool gets `threads` threads here,
+    /// before loading the scene uses it (afterwards it can no longer be sized).
+    pub fn start(&self, threads: Option<u32>) -> Result<Ranks, CliError> {
         if !(self.comm_timeout > 0.0 && self.comm_timeout.is_finite()) {
             return Err(CliError::Input(format!(
                 "--comm-timeout {}: must be a positive number of seconds",
@@ -54,7 +55,15 @@ impl CommArgs {
         match self.comm {
             None => Ok(Ranks::One),
             Some(CommKind::Local) => Ok(Ranks::Local(self.ranks as usize, timeout)),
-            Some(CommKind::Mpi) => start_mpi(timeout),
+            Some(CommKind::Mpi) => {
+                if let Some(t) = threads {
+                    rayon::ThreadPoolBuilder::new()
+                        .num_threads(t as usize)
+                        .build_global()
+                        .map_err(|e| CliError::Failure(format!("cannot start the threads: {e}")))?;
+                }
+                start_mpi(timeout)
+            }
         }
     }
 }
@@ -113,12 +122,7 @@ impl Ranks {
             #[cfg(feature = "mpi")]
             Ranks::Mpi(c) => {
                 // The MPI calls stay on this (the main) thread; the tiles go to the
-                // global pool, of --threads threads.
-                if let Some(t) = options.threads {
-                    let _ = rayon::ThreadPoolBuilder::new()
-                        .num_threads(t)
-                        .build_global();
-                }
+                // global pool, sized by `CommArgs::start`.
                 match render_distributed(c, scene, options) {
                     Ok(out) => Ok(out),
                     Err(e) => c.fail(&irradia_parallel::comm::CommError::Aborted(e.to_string())),
