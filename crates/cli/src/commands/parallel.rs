@@ -390,7 +390,7 @@ pub fn run(a: ParallelArgs) -> Result<(), CliError> {
                     }
                 }
             }
-            first.expect("rank 0 ran")
+            first.ok_or_else(|| CliError::Failure("rank 0 returned no result".into()))?
         }
         CommKind::Mpi => mpi_frame(&job, timeout, a.quiet)?,
     };

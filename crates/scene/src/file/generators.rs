@@ -197,8 +197,7 @@ pub(super) fn read_volume(t: &Table) -> Result<ScalarGrid> {
     let mitsuba = ext == "vol";
     let raw_fields = ["dims", "voxel", "endian", "header_bytes", "spacing"];
     let grid = if nrrd || mitsuba {
-        if let Some(k) = raw_fields.iter().find(|k| t.has(k)) {
-            let v = t.get(k).expect("present");
+        if let Some((k, v)) = raw_fields.iter().find_map(|k| t.get(k).map(|v| (k, v))) {
             let what = if nrrd {
                 "an NRRD file"
             } else {
