@@ -20,7 +20,7 @@ use irradia_render::driver::{
     read_tile, store_tile, DriverSetup, PassWork, Sink, Sweep, SweepError, Tile, TileJob,
     TileResult,
 };
-use irradia_render::film::FilmPixel;
+use irradia_render::film::{Film, FilmPixel};
 use irradia_render::integrator::{AovSample, Integrator};
 use irradia_render::stats::Stats;
 use irradia_render::{
@@ -96,7 +96,6 @@ impl<C: Comm> Sweep for Spread<'_, C> {
         on_tile: &(dyn Fn(u64) + Sync),
     ) -> Result<(), SweepError> {
         let c = self.comm;
-        let reads = job.reads_film(sink.film);
         let mut chunks = tiles.chunks(self.chunk);
         let mut in_flight = vec![0usize; c.size()];
         let workers: Vec<usize> = (1..c.size()).collect();
@@ -104,12 +103,7 @@ impl<C: Comm> Sweep for Spread<'_, C> {
         for _ in 0..IN_FLIGHT {
             for &w in &workers {
                 if let Some(chunk) = chunks.next() {
-                    c.post(
-                        w,
-                        TAG_WORK,
-                        encode_work(work, chunk, reads.then_some(&*sink)),
-                    )?;
-                    in_flight[w] += 1;
+                    post_chunk(c, w, job, work, chunk, sink.film, &mut in_flight)?;
                 }
             }
         }
@@ -131,12 +125,7 @@ impl<C: Comm> Sweep for Spread<'_, C> {
                 while let Some((w, msg)) = c.try_recv_any(&busy, TAG_DONE)? {
                     self.finish(w, &msg, sink, work, on_tile, &mut in_flight)?;
                     if let Some(chunk) = chunks.next() {
-                        c.post(
-                            w,
-                            TAG_WORK,
-                            encode_work(work, chunk, reads.then_some(&*sink)),
-                        )?;
-                        in_flight[w] += 1;
+                        post_chunk(c, w, job, work, chunk, sink.film, &mut in_flight)?;
                     }
                     idle = false;
                 }
@@ -155,14 +144,7 @@ impl<C: Comm> Sweep for Spread<'_, C> {
                     if let Some(chunk) = chunks.next() {
                         let inputs: Vec<(Tile, Vec<FilmPixel>)> = chunk
                             .iter()
-                            .map(|t| {
-                                let pixels = if reads {
-                                    read_tile(sink.film, *t)
-                                } else {
-                                    vec![FilmPixel::default(); (t.w * t.h) as usize]
-                                };
-                                (*t, pixels)
-                            })
+                            .map(|t| (*t, job.start_pixels(sink.film, *t)))
                             .collect();
                         let mine = &mine;
                         scope.spawn(move |_| {
@@ -321,7 +303,27 @@ fn put_pixels(b: &mut Vec<u8>, pixels: &[FilmPixel]) {
     }
 }
 
-fn encode_work(work: PassWork, tiles: &[Tile], film: Option<&Sink<'_>>) -> Vec<u8> {
+/// Posts the work message of `chunk` to worker `w`: its tiles, with the film's pixels
+/// there when the tiles start from them ([`TileJob::reads_film`]).
+fn post_chunk<C: Comm, I: Integrator>(
+    c: &C,
+    w: usize,
+    job: &TileJob<'_, I>,
+    work: PassWork,
+    chunk: &[Tile],
+    film: &Film,
+    in_flight: &mut [usize],
+) -> Result<(), CommError> {
+    c.post(
+        w,
+        TAG_WORK,
+        encode_work(work, chunk, job.reads_film(film).then_some(film)),
+    )?;
+    in_flight[w] += 1;
+    Ok(())
+}
+
+fn encode_work(work: PassWork, tiles: &[Tile], film: Option<&Film>) -> Vec<u8> {
     let mut b = vec![1u8];
     put_u32(&mut b, work.first);
     put_u32(&mut b, work.n);
@@ -330,8 +332,8 @@ fn encode_work(work: PassWork, tiles: &[Tile], film: Option<&Sink<'_>>) -> Vec<u
     put_u32(&mut b, tiles.len() as u32);
     for &t in tiles {
         put_tile(&mut b, t);
-        if let Some(s) = film {
-            put_pixels(&mut b, &read_tile(s.film, t));
+        if let Some(film) = film {
+            put_pixels(&mut b, &read_tile(film, t));
         }
     }
     b

@@ -211,6 +211,17 @@ impl<'a, I: Integrator> TileJob<'a, I> {
     pub fn reads_film(&self, film: &Film) -> bool {
         film.samples() > 0 || self.adaptive_threshold.is_some()
     }
+
+    /// What tile `t` starts from: the film's pixels there (row-major), or zeros where
+    /// nothing needs reading (the first pass of a film without samples, unless adaptive
+    /// sampling looks at them).
+    pub fn start_pixels(&self, film: &Film, t: Tile) -> Vec<FilmPixel> {
+        if self.reads_film(film) {
+            read_tile(film, t)
+        } else {
+            vec![FilmPixel::default(); (t.w * t.h) as usize]
+        }
+    }
 }
 
 /// Where a pass's tiles are rendered: on this process's threads ([`LocalSweep`]), or
@@ -254,15 +265,10 @@ impl Sweep for LocalSweep {
         work: PassWork,
         on_tile: &(dyn Fn(u64) + Sync),
     ) -> Result<(), SweepError> {
-        let reads = job.reads_film(sink.film);
         let sink = Mutex::new(sink);
         let lock = || sink.lock().unwrap_or_else(|e| e.into_inner());
         tiles.par_iter().for_each(|t| {
-            let pixels = if reads {
-                read_tile(lock().film, *t)
-            } else {
-                vec![FilmPixel::default(); (t.w * t.h) as usize]
-            };
+            let pixels = job.start_pixels(lock().film, *t);
             let r = job.render(*t, pixels, work);
             on_tile((t.w * t.h) as u64 * work.n as u64);
             store_tile(&mut lock(), *t, r);
