@@ -10,12 +10,13 @@ use super::params::Params;
 use super::parser::{parse, Arg, Directive, Param};
 use super::transform as tf;
 use super::At;
-use crate::Imported;
 use glam::{DMat4, DVec3};
 use irradia_scene::file::tree::{line_col, Node, Value};
 use irradia_scene::SceneError;
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
+
+mod finish;
 
 /// How much of the outside world a run may touch.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -751,70 +752,6 @@ impl Builder {
 
     pub(super) fn material_node(&self, name: &str) -> Option<&Node> {
         self.mats.iter().find(|(n, _)| n == name).map(|(_, n)| n)
-    }
-
-    pub fn coverage(&self) -> Coverage {
-        self.cov.clone()
-    }
-
-    /// The tree.
-    pub fn finish(mut self, text: String) -> Imported {
-        if self.mirror.is_none() {
-            self.mirror();
-        }
-        if !self.stack.is_empty() {
-            let (_, kind, pos) = self.stack[self.stack.len() - 1];
-            // The main file's stack only: positions are in the main text.
-            let (l, c) = line_col(&text, pos);
-            self.notes
-                .push(format!("{kind} at {l}:{c} is never closed"));
-        }
-        let mut root = Node::table(0);
-        let (camera, image, render) = self.view_nodes();
-        root.set("camera", camera);
-        root.set("image", image);
-        root.set("render", render);
-        if !self.mats.is_empty() {
-            let mut mats = Node::table(0);
-            for (name, node) in std::mem::take(&mut self.mats) {
-                mats.set(&name, node);
-            }
-            root.set("materials", mats);
-        }
-        if !self.lights.is_empty() {
-            root.set("lights", Node::new(std::mem::take(&mut self.lights), 0));
-        }
-        let used_groups: HashSet<String> = self
-            .objects
-            .iter()
-            .filter_map(|o| match o.get("group").map(|g| &g.value) {
-                Some(Value::Str(s)) => Some(s.clone()),
-                _ => None,
-            })
-            .collect();
-        let groups: Vec<Node> = std::mem::take(&mut self.groups)
-            .into_iter()
-            .filter(|(name, objs, _)| !objs.is_empty() && used_groups.contains(name))
-            .map(|(name, objs, pos)| {
-                let mut g = Node::table(pos);
-                g.put("name", name.as_str(), pos);
-                g.set("objects", Node::new(objs, pos));
-                g
-            })
-            .collect();
-        if !groups.is_empty() {
-            root.set("shape_groups", Node::new(groups, 0));
-        }
-        if !self.objects.is_empty() {
-            root.set("objects", Node::new(std::mem::take(&mut self.objects), 0));
-        }
-        Imported {
-            tree: root,
-            text,
-            origin: self.origin.clone(),
-            warnings: self.warnings,
-            notes: self.notes,
-        }
     }
 }
 
