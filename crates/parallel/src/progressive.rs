@@ -7,8 +7,8 @@
 //! (master-worker self-scheduling, as in the lecture's "dynamic load balancing" of
 //! image-parallel ray tracing; Reinhard, Chalmers and Jansen, "Overview of parallel
 //! photo-realistic graphics", Eurographics STAR 1998), two chunks in flight per worker
-//! so that a worker never waits for its next chunk, while rank 0 renders chunks of its
-//! own between answering. The other ranks run [`serve`].
+//! so that its next chunk is there while it sends back the last, while rank 0 renders
+//! chunks of its own on its threads and its main thread answers. The other ranks run [`serve`].
 //!
 //! The image equals the one-process render bit for bit, for any number of ranks: a
 //! tile's samples depend only on (pixel, sample index), and a tile travels with the
