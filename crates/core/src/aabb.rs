@@ -136,14 +136,30 @@ impl Aabb {
     /// clipped to `[0, t_max]`, or `None` when it misses.
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: f32) -> Option<(f32, f32)> {
-        let inv = ray.dir.recip();
-        let t_a = (self.min - ray.origin) * inv;
-        let t_b = (self.max - ray.origin) * inv;
-        let t_near = t_a.min(t_b);
-        let t_far = t_a.max(t_b);
-        let t0 = t_near.max_element().max(0.0);
-        // Robust to NaN from 0 * inf: max_element/min_element ignore NaN lanes.
-        let t1 = t_far.min_element().min(t_max) * (1.0 + 2.0 * f32::EPSILON * 2.0);
+        self.hit_inv(ray.origin, ray.dir.recip(), t_max)
+    }
+
+    /// [`Aabb::hit`] for a ray given by its origin and the reciprocal of its direction
+    /// (computed once per ray by callers that test many boxes).
+    ///
+    /// Written as pbrt-v4's `Bounds3::IntersectP` (Pharr, Jakob, Humphreys, *Physically
+    /// Based Rendering*, 4th ed., §6.1.2): per axis a compare-and-select, which compiles
+    /// to single min/max instructions (`f32::min` needs several to honour NaN). A
+    /// `0 * inf` NaN (a ray lying in a slab's plane) fails every comparison and so
+    /// leaves the interval unchanged: such a ray counts as inside that slab. The far end
+    /// is widened by 4 ulp so that rounding in the products never loses a grazing hit.
+    #[inline]
+    pub fn hit_inv(&self, origin: Vec3, inv: Vec3, t_max: f32) -> Option<(f32, f32)> {
+        let t_a = (self.min - origin) * inv;
+        let t_b = (self.max - origin) * inv;
+        let mut t0 = 0.0f32;
+        let mut t1 = t_max;
+        for (a, b) in [(t_a.x, t_b.x), (t_a.y, t_b.y), (t_a.z, t_b.z)] {
+            let (near, far) = if a > b { (b, a) } else { (a, b) };
+            t0 = if near > t0 { near } else { t0 };
+            t1 = if far < t1 { far } else { t1 };
+        }
+        let t1 = t1 * (1.0 + 4.0 * f32::EPSILON);
         (t0 <= t1).then_some((t0, t1))
     }
 }
@@ -170,6 +186,19 @@ mod tests {
             let p = m.transform_point3(c);
             assert!(tb.grow(p) == tb || (tb.grow(p).extent() - tb.extent()).length() < 1e-5);
         }
+    }
+
+    #[test]
+    fn a_ray_in_a_face_plane_counts_as_inside_that_slab() {
+        // x - min.x = 0 and 1 / dir.x = inf: the 0 * inf NaN must not reject the box.
+        let b = Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0));
+        for x in [-1.0, 1.0] {
+            let r = Ray::new(Vec3::new(x, 0.0, -5.0), Vec3::Z);
+            let (t0, t1) = b.hit(&r, f32::INFINITY).expect("a grazing ray hits");
+            assert!((t0 - 4.0).abs() < 1e-5 && (t1 - 6.0).abs() < 1e-4);
+        }
+        let r = Ray::new(Vec3::new(1.5, 0.0, -5.0), Vec3::Z);
+        assert!(b.hit(&r, f32::INFINITY).is_none());
     }
 
     #[test]

@@ -105,20 +105,40 @@ fn srgb8_boundaries() -> &'static [f32; 255] {
     TABLE.get_or_init(|| std::array::from_fn(|k| srgb_to_linear((k as f32 + 0.5) / 255.0)))
 }
 
-/// One linear value (clamped to [0, 1]; NaN gives 0) to its nearest 8-bit sRGB code.
+/// Bins of the linear range [0, 1] in [`srgb8_start`]: fine enough that no bin holds
+/// two code boundaries (the closest two, near black, are 1 / (255 x 12.92) = 3.0e-4
+/// apart; a bin is 2.4e-4 wide).
+const SRGB8_BINS: usize = 4096;
+
+/// For each bin `i` of [`SRGB8_BINS`], the code of its left end `i / SRGB8_BINS`: the
+/// number of boundaries at or below it.
+fn srgb8_start() -> &'static [u8; SRGB8_BINS] {
+    static TABLE: std::sync::OnceLock<[u8; SRGB8_BINS]> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        let t = srgb8_boundaries();
+        std::array::from_fn(|i| {
+            let v = i as f32 / SRGB8_BINS as f32;
+            t.partition_point(|&b| b <= v) as u8
+        })
+    })
+}
+
+/// One linear value (clamped to [0, 1]; NaN gives 0) to its nearest 8-bit sRGB code:
+/// the code at the start of its bin, plus one if the bin's one boundary is at or
+/// below the value (exact: the same code as counting every boundary).
 #[inline]
 pub fn encode_srgb8(v: f32) -> u8 {
+    let v = v.clamp(0.0, 1.0);
+    // v x 4096 is exact (a power of two), so the bin's left end is never above v; a
+    // NaN converts to bin 0 and fails the comparison below.
+    let bin = ((v * SRGB8_BINS as f32) as usize).min(SRGB8_BINS - 1);
+    let code = srgb8_start()[bin];
     let t = srgb8_boundaries();
-    // Count the boundaries at or below v: an 8-step branchless binary search.
-    let mut lo = 0usize;
-    let mut step = 128usize;
-    while step > 0 {
-        if lo + step <= 255 && t[lo + step - 1] <= v {
-            lo += step;
-        }
-        step /= 2;
+    if code < 255 && t[code as usize] <= v {
+        code + 1
+    } else {
+        code
     }
-    lo as u8
 }
 
 /// The sRGB encoding curve for one linear value in [0, 1].
@@ -243,6 +263,25 @@ mod tests {
         assert_eq!(encode_srgb8(-1.0), 0);
         assert_eq!(encode_srgb8(7.0), 255);
         assert_eq!(encode_srgb8(f32::NAN), 0);
+    }
+
+    #[test]
+    fn binned_encoding_counts_the_boundaries_exactly() {
+        // Every boundary and its neighbours one ulp away, plus a dense sweep: the
+        // binned lookup equals counting the boundaries at or below the value.
+        let t = srgb8_boundaries();
+        let count = |v: f32| t.partition_point(|&b| b <= v) as u8;
+        let mut values: Vec<f32> = (0..=1_000_000u32).map(|i| i as f32 / 1e6).collect();
+        for &b in t.iter() {
+            values.extend([
+                f32::from_bits(b.to_bits() - 1),
+                b,
+                f32::from_bits(b.to_bits() + 1),
+            ]);
+        }
+        for v in values {
+            assert_eq!(encode_srgb8(v), count(v), "v {v}");
+        }
     }
 
     #[test]

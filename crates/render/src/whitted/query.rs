@@ -20,15 +20,6 @@ pub(crate) enum Query {
     Linear(Vec<(Instance, Option<Aabb>, u32)>),
 }
 
-#[inline]
-fn slab(b: &Aabb, origin: Vec3, inv: Vec3, t_max: f32) -> bool {
-    let t_a = (b.min - origin) * inv;
-    let t_b = (b.max - origin) * inv;
-    let t0 = t_a.min(t_b).max_element().max(0.0);
-    let t1 = t_a.max(t_b).min_element().min(t_max) * (1.0 + 4.0 * f32::EPSILON);
-    t0 <= t1
-}
-
 impl Query {
     /// A query over `instances`, standing for objects `ids` (same order).
     pub fn new(instances: Vec<Instance>, ids: Vec<u32>) -> Self {
@@ -64,7 +55,7 @@ impl Query {
                 let mut t_max = t_max;
                 let mut best = None;
                 for (inst, bounds, id) in list {
-                    if bounds.is_some_and(|b| !slab(&b, ray.origin, inv, t_max)) {
+                    if bounds.is_some_and(|b| b.hit_inv(ray.origin, inv, t_max).is_none()) {
                         continue;
                     }
                     if let Some(hit) = inst.intersect(ray, t_max) {
@@ -85,7 +76,7 @@ impl Query {
             Query::Linear(list) => {
                 let inv = ray.dir.recip();
                 list.iter().any(|(inst, bounds, _)| {
-                    bounds.map_or(true, |b| slab(&b, ray.origin, inv, t_max))
+                    bounds.map_or(true, |b| b.hit_inv(ray.origin, inv, t_max).is_some())
                         && inst.occluded(ray, t_max)
                 })
             }
