@@ -16,6 +16,7 @@ pub mod raytrace_forward;
 pub mod raytrace_last;
 pub mod render_job;
 pub mod report;
+pub mod scale;
 pub mod sort_common;
 pub mod sort_first;
 pub mod sort_last;

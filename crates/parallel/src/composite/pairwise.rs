@@ -78,8 +78,12 @@ pub fn set_inline_max(bytes: usize) {
     INLINE_MAX_HERE.with(|m| m.set(bytes));
 }
 
-/// The number of pieces for a span of `n` pixels.
-fn piece_count(n: usize) -> usize {
+/// Bytes of a dense span's header message.
+pub const HEADER_BYTES: usize = 4 * HEADER_WORDS;
+
+/// The number of pieces for a span of `n` pixels (each sent as a colour and a depth
+/// message).
+pub fn piece_count(n: usize) -> usize {
     if n == 0 {
         return 0;
     }

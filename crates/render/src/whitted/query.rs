@@ -6,7 +6,6 @@
 //! 1280x720 with 2 threads (2026-11-22): 0.33-0.36 s with the scan, 0.38-0.41 s through
 //! the BVH (whose traversal stack is no longer zeroed per query).
 
-use glam::Vec3;
 use irradia_core::{Aabb, Ray};
 use irradia_geometry::{Accel, Instance, SceneHit};
 

@@ -1,0 +1,225 @@
+//! Predicted times at rank counts this machine cannot run: the alpha-beta model
+//! ([`NetModel`], Hockney 1994) applied in closed form to the message pattern of each
+//! distributed algorithm here, plus its computation at rates measured on this machine.
+//! Each rank has one full-duplex link that sends one message at a time and receives one
+//! at a time (as [`NetModel::stage_time`] charges recorded messages); computation
+//! divides evenly except where the algorithm's granularity stops it.
+//!
+//! * Compositing ([`composite_time`]): radix-k (Peterka et al. 2009) with binary swap
+//!   (k = 2) and direct send (one round of p) as its extremes, dense pixels, then the
+//!   gather of the final image at the root. The message pattern is the one
+//!   `composite::radix_k` sends; `tests/scale.rs` checks the closed form against the
+//!   model applied to the messages a real run recorded.
+//! * Path tracing ([`path_trace_time`]): `progressive::render_distributed`, whose rank
+//!   0 hands out chunks of tiles and receives every chunk's film pixels.
+//! * Radiosity ([`radiosity_time`]): a solve whose every iteration divides its work
+//!   over the ranks and then all-gathers the element radiosities (recursive doubling).
+
+use crate::composite::pairwise::{piece_count, HEADER_BYTES};
+use crate::composite::radix_k::factors;
+use crate::netmodel::NetModel;
+
+/// Rank counts of the prediction tables: 64 to 32,768 (powers of two).
+pub const RANKS: [usize; 10] = [64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768];
+
+/// Time of one predicted run, split into its parts.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Predicted {
+    pub compute_s: f64,
+    pub network_s: f64,
+    pub total_s: f64,
+}
+
+/// Sort-last compositing of `pixels` pixels of `bytes_per_pixel` bytes on `ranks`
+/// ranks, rounds of at most `k` partners (2: binary swap; `ranks`: direct send), with
+/// blending at `blend_s` seconds a pixel, then the gather at the root and the frame's
+/// barrier, message for message as `composite::composite` sends them with dense spans:
+/// to each round partner a header and the part in pieces of a colour and a depth
+/// message; to the root one message of the final span; a dissemination barrier.
+pub fn composite_time(
+    model: NetModel,
+    ranks: usize,
+    k: usize,
+    pixels: u64,
+    bytes_per_pixel: u64,
+    blend_s: f64,
+) -> Predicted {
+    let (mut net, mut compute) = (0.0, 0.0);
+    let mut span = pixels as f64;
+    if ranks > 1 {
+        for f in factors(ranks, k.max(2)) {
+            let part = span / f as f64;
+            let messages = 1 + 2 * piece_count(part.ceil() as usize);
+            let bytes = HEADER_BYTES as f64 + part * bytes_per_pixel as f64;
+            // f - 1 partners, each sent (and sending) a header and the pieces.
+            net += (f - 1) as f64 * (messages as f64 * model.alpha + bytes / model.beta);
+            compute += (f - 1) as f64 * part * blend_s;
+            span = part;
+        }
+        // The root receives every other rank's piece of the final image (a 12-byte
+        // header each), then the barrier's ceil(log2 p) rounds of empty messages.
+        let piece = (span * bytes_per_pixel as f64) as usize + 12;
+        net += (ranks - 1) as f64 * model.message(piece);
+        net += (ranks as f64).log2().ceil() * model.alpha;
+    }
+    Predicted {
+        compute_s: compute,
+        network_s: net,
+        total_s: compute + net,
+    }
+}
+
+/// A path-traced image as `progressive::render_distributed` splits it.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct PathJob {
+    pub pixels: u64,
+    pub spp: u64,
+    /// Seconds one thread takes for one sample (measured).
+    pub sample_s: f64,
+    /// Pixels of a tile and tiles of a chunk (the threads of a rank).
+    pub tile_pixels: u64,
+    pub chunk_tiles: u64,
+    /// Threads per rank.
+    pub threads: u64,
+    /// Bytes a chunk's result carries per pixel (film pixels) and once (counters).
+    pub result_bytes_per_pixel: u64,
+    pub result_bytes_fixed: u64,
+    /// Bytes of the scene every rank must hold (sent by a binomial-tree broadcast).
+    pub scene_bytes: u64,
+}
+
+/// One image of `job` on `ranks` ranks: the slower of the workers' share of the samples
+/// (plus the last chunk, which nobody can share) and rank 0's link, which receives
+/// every chunk's pixels and sends every chunk's assignment; plus the scene broadcast.
+pub fn path_trace_time(model: NetModel, ranks: usize, job: &PathJob) -> Predicted {
+    let tiles = job.pixels.div_ceil(job.tile_pixels.max(1));
+    let chunks = tiles.div_ceil(job.chunk_tiles.max(1));
+    let chunk_pixels = (job.tile_pixels * job.chunk_tiles).min(job.pixels) as f64;
+    let chunk_s = chunk_pixels * job.spp as f64 * job.sample_s / job.threads.max(1) as f64;
+    let total_s = job.pixels as f64 * job.spp as f64 * job.sample_s;
+    // Ranks beyond the chunk count idle: the work cannot split finer than a chunk.
+    let busy = (ranks as u64).min(chunks).max(1) as f64;
+    let compute = (total_s / (busy * job.threads.max(1) as f64)).max(chunk_s) + chunk_s;
+    let levels = (ranks as f64).log2().ceil();
+    let broadcast = levels * model.message(job.scene_bytes as usize);
+    let result = chunk_pixels as u64 * job.result_bytes_per_pixel + job.result_bytes_fixed;
+    let root_recv = chunks as f64 * model.message(result as usize);
+    let root_send = chunks as f64 * model.message(16);
+    let root_link = root_recv.max(root_send);
+    // Rank 0's link works while the ranks compute: the slower of the two bounds.
+    Predicted {
+        compute_s: compute,
+        network_s: broadcast + root_link,
+        total_s: broadcast + compute.max(root_link),
+    }
+}
+
+/// A radiosity solve: `iterations` sweeps over `elements` elements, `iteration_s`
+/// seconds of one thread's work a sweep (measured), `bytes_per_element` exchanged per
+/// element a sweep.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct RadiosityJob {
+    pub elements: u64,
+    pub iterations: u64,
+    pub iteration_s: f64,
+    pub threads: u64,
+    pub bytes_per_element: u64,
+    /// Seconds of work before the iterations that does not divide (setup on every rank).
+    pub serial_s: f64,
+}
+
+/// `job` on `ranks` ranks: each sweep divides its work over the ranks' threads (no finer
+/// than one element a thread) and ends with an all-gather of the element values by
+/// recursive doubling (log2 p rounds, doubling the message each round).
+pub fn radiosity_time(model: NetModel, ranks: usize, job: &RadiosityJob) -> Predicted {
+    let workers = (ranks as u64 * job.threads.max(1)).min(job.elements.max(1)) as f64;
+    let per_sweep = job.iteration_s / workers;
+    let total_bytes = (job.elements * job.bytes_per_element) as f64;
+    let mut gather = 0.0;
+    let mut have = total_bytes / ranks as f64;
+    let mut held = 1usize;
+    while held < ranks {
+        gather += model.message(have as usize);
+        have *= 2.0;
+        held *= 2;
+    }
+    let compute = job.serial_s + job.iterations as f64 * per_sweep;
+    let network = job.iterations as f64 * gather;
+    Predicted {
+        compute_s: compute,
+        network_s: network,
+        total_s: compute + network,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const NET: NetModel = NetModel {
+        alpha: 1e-6,
+        beta: 1e9,
+    };
+
+    #[test]
+    fn binary_swap_halves_and_direct_send_sends_p_minus_one() {
+        // 4 ranks of 4096 pixels x 1 byte. Binary swap: rounds of 2048 pixels (header +
+        // 2 pieces of colour and depth) and 1024 (header + 1 piece), the gather of 3
+        // pieces of 1024 + 12 bytes, 2 barrier rounds.
+        let h = HEADER_BYTES;
+        let b = composite_time(NET, 4, 2, 4096, 1, 0.0);
+        let want = 5.0 * NET.alpha
+            + (h + 2048) as f64 / NET.beta
+            + 3.0 * NET.alpha
+            + (h + 1024) as f64 / NET.beta
+            + 3.0 * NET.message(1024 + 12)
+            + 2.0 * NET.alpha;
+        assert!((b.network_s - want).abs() < 1e-15, "{} {want}", b.network_s);
+        // Direct send: one round of 3 partners of 1024 pixels, the same gather.
+        let d = composite_time(NET, 4, 4, 4096, 1, 0.0);
+        let want = 3.0 * (3.0 * NET.alpha + (h + 1024) as f64 / NET.beta)
+            + 3.0 * NET.message(1024 + 12)
+            + 2.0 * NET.alpha;
+        assert!((d.network_s - want).abs() < 1e-15);
+        assert_eq!(composite_time(NET, 1, 2, 1000, 1, 1.0).total_s, 0.0);
+    }
+
+    #[test]
+    fn path_tracing_stops_scaling_at_the_chunk_count_and_the_root_link() {
+        let job = PathJob {
+            pixels: 1 << 20,
+            spp: 64,
+            sample_s: 1e-6,
+            tile_pixels: 256,
+            chunk_tiles: 1,
+            threads: 1,
+            result_bytes_per_pixel: 40,
+            result_bytes_fixed: 0,
+            scene_bytes: 0,
+        };
+        let t = |p| path_trace_time(NET, p, &job).total_s;
+        // 4096 chunks: doubling the ranks below that nearly halves the time ...
+        assert!(t(512) / t(1024) > 1.7);
+        // ... beyond it nothing changes but the broadcast.
+        assert!((t(8192) - t(16384)).abs() < 1e-4 * t(8192));
+        // The root receives 40 MB: at 1 GB/s no run beats 40 ms.
+        assert!(t(32768) >= 0.04);
+    }
+
+    #[test]
+    fn radiosity_divides_compute_and_pays_log_rounds() {
+        let job = RadiosityJob {
+            elements: 1 << 20,
+            iterations: 10,
+            iteration_s: 64.0,
+            threads: 1,
+            bytes_per_element: 12,
+            serial_s: 0.0,
+        };
+        let p = radiosity_time(NET, 64, &job);
+        assert!((p.compute_s - 10.0).abs() < 1e-12);
+        // log2 64 = 6 rounds, 10 sweeps; the bytes sum to (1 - 1/64) of 12 MB a sweep.
+        let bytes = 12.0 * (1 << 20) as f64 * 63.0 / 64.0;
+        assert!((p.network_s - 10.0 * (6.0 * NET.alpha + bytes / NET.beta)).abs() < 1e-6);
+    }
+}
