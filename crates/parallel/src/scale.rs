@@ -30,37 +30,59 @@ pub struct Predicted {
     pub total_s: f64,
 }
 
-/// Sort-last compositing of `pixels` pixels of `bytes_per_pixel` bytes on `ranks`
-/// ranks, rounds of at most `k` partners (2: binary swap; `ranks`: direct send), with
-/// blending at `blend_s` seconds a pixel, then the gather at the root and the frame's
-/// barrier, message for message as `composite::composite` sends them with dense spans:
-/// to each round partner a header and the part in pieces of a colour and a depth
-/// message; to the root one message of the final span; a dissemination barrier.
+/// What a composite starts from and where it ends.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct CompositeCase {
+    pub pixels: u64,
+    pub bytes_per_pixel: u64,
+    /// Each rank drew one brick of a volume split in p: its active pixels cover
+    /// p^(-2/3) of the screen, a group of m merged bricks (m/p)^(2/3), and only active
+    /// pixels travel (bounding rectangles and run lengths, as Kendall et al. 2010 and
+    /// IceT send them). False: every pixel of every span travels (dense).
+    pub bricks: bool,
+    /// Gather the final image at one root (false: each rank keeps its span, as the
+    /// radix-k benchmarks time it).
+    pub gather: bool,
+}
+
+/// Sort-last compositing of `case` on `ranks` ranks, rounds of at most `k` partners
+/// (2: binary swap; `ranks`: direct send), blending at `blend_s` seconds a pixel,
+/// message for message as `composite::composite` sends dense spans: to each round
+/// partner a header and the part in pieces of a colour and a depth message; to the
+/// root one message of the final span (12-byte header); a dissemination barrier.
 pub fn composite_time(
     model: NetModel,
     ranks: usize,
     k: usize,
-    pixels: u64,
-    bytes_per_pixel: u64,
+    case: CompositeCase,
     blend_s: f64,
 ) -> Predicted {
     let (mut net, mut compute) = (0.0, 0.0);
-    let mut span = pixels as f64;
+    let mut span = case.pixels as f64;
+    let mut merged = 1.0;
+    let p = ranks as f64;
+    let bpp = case.bytes_per_pixel as f64;
     if ranks > 1 {
         for f in factors(ranks, k.max(2)) {
             let part = span / f as f64;
-            let messages = 1 + 2 * piece_count(part.ceil() as usize);
-            let bytes = HEADER_BYTES as f64 + part * bytes_per_pixel as f64;
+            let active = if case.bricks {
+                (merged / p).powf(2.0 / 3.0).min(1.0)
+            } else {
+                1.0
+            };
+            let sent = part * active;
+            let messages = 1 + 2 * piece_count(sent.ceil() as usize);
+            let bytes = HEADER_BYTES as f64 + sent * bpp;
             // f - 1 partners, each sent (and sending) a header and the pieces.
             net += (f - 1) as f64 * (messages as f64 * model.alpha + bytes / model.beta);
-            compute += (f - 1) as f64 * part * blend_s;
+            compute += (f - 1) as f64 * sent * blend_s;
             span = part;
+            merged *= f as f64;
         }
-        // The root receives every other rank's piece of the final image (a 12-byte
-        // header each), then the barrier's ceil(log2 p) rounds of empty messages.
-        let piece = (span * bytes_per_pixel as f64) as usize + 12;
-        net += (ranks - 1) as f64 * model.message(piece);
-        net += (ranks as f64).log2().ceil() * model.alpha;
+        if case.gather {
+            net += (ranks - 1) as f64 * model.message((span * bpp) as usize + 12);
+        }
+        net += p.log2().ceil() * model.alpha;
     }
     Predicted {
         compute_s: compute,
@@ -167,7 +189,13 @@ mod tests {
         // 2 pieces of colour and depth) and 1024 (header + 1 piece), the gather of 3
         // pieces of 1024 + 12 bytes, 2 barrier rounds.
         let h = HEADER_BYTES;
-        let b = composite_time(NET, 4, 2, 4096, 1, 0.0);
+        let case = CompositeCase {
+            pixels: 4096,
+            bytes_per_pixel: 1,
+            bricks: false,
+            gather: true,
+        };
+        let b = composite_time(NET, 4, 2, case, 0.0);
         let want = 5.0 * NET.alpha
             + (h + 2048) as f64 / NET.beta
             + 3.0 * NET.alpha
@@ -176,12 +204,27 @@ mod tests {
             + 2.0 * NET.alpha;
         assert!((b.network_s - want).abs() < 1e-15, "{} {want}", b.network_s);
         // Direct send: one round of 3 partners of 1024 pixels, the same gather.
-        let d = composite_time(NET, 4, 4, 4096, 1, 0.0);
+        let d = composite_time(NET, 4, 4, case, 0.0);
         let want = 3.0 * (3.0 * NET.alpha + (h + 1024) as f64 / NET.beta)
             + 3.0 * NET.message(1024 + 12)
             + 2.0 * NET.alpha;
         assert!((d.network_s - want).abs() < 1e-15);
-        assert_eq!(composite_time(NET, 1, 2, 1000, 1, 1.0).total_s, 0.0);
+        assert_eq!(composite_time(NET, 1, 2, case, 1.0).total_s, 0.0);
+        // Bricks: 8 ranks in one round of 8 (direct send) send (1/8)^(2/3) = 1/4 of each
+        // eighth: 32768 pixels, 4 pieces (9 messages) to each of 7 partners.
+        let bricks = CompositeCase {
+            bricks: true,
+            gather: false,
+            pixels: 1 << 20,
+            ..case
+        };
+        let sparse = composite_time(NET, 8, 8, bricks, 0.0);
+        let want = 7.0 * (9.0 * NET.alpha + (h + 32768) as f64 / NET.beta) + 3.0 * NET.alpha;
+        assert!(
+            (sparse.network_s - want).abs() < 1e-12,
+            "{} {want}",
+            sparse.network_s
+        );
     }
 
     #[test]

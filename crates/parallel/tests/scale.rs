@@ -8,7 +8,7 @@ use common::*;
 use irradia_parallel::comm::{run_local, Comm, LocalOptions, MessageRecord};
 use irradia_parallel::composite::{self, CompositeOptions, Layer, Strategy};
 use irradia_parallel::netmodel::NetModel;
-use irradia_parallel::scale::composite_time;
+use irradia_parallel::scale::{composite_time, CompositeCase};
 
 /// Every rank's sent messages of one dense depth composite.
 fn recorded(ranks: usize, strategy: Strategy) -> Vec<MessageRecord> {
@@ -46,7 +46,13 @@ fn predicted_composite_time_matches_the_recorded_messages() {
         let measured =
             model.stage_time(&msgs, "composite", ranks) + model.stage_time(&msgs, "gather", ranks);
         // RGBA8 + f32 depth = 8 bytes a pixel.
-        let predicted = composite_time(model, ranks, k, pixels, 8, 0.0).network_s;
+        let case = CompositeCase {
+            pixels,
+            bytes_per_pixel: 8,
+            bricks: false,
+            gather: true,
+        };
+        let predicted = composite_time(model, ranks, k, case, 0.0).network_s;
         let rel = (measured / predicted - 1.0).abs();
         eprintln!(
             "{ranks} ranks {}: recorded {measured:.4} s, predicted {predicted:.4} s",

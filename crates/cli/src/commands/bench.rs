@@ -23,6 +23,9 @@ pub struct BenchArgs {
 pub enum BenchWhat {
     /// Sort-first vs sort-middle vs sort-last as triangles grow (CSV + PNG chart).
     Parallel(BenchParallelArgs),
+    /// Predicted compositing, path tracing and radiosity times at 64 to 32,768 ranks
+    /// (alpha-beta network model, this machine's measured rates).
+    Scale(super::bench_scale::BenchScaleArgs),
 }
 
 const EXAMPLES: &str = "\
@@ -80,6 +83,7 @@ pub struct BenchParallelArgs {
 pub fn run(a: BenchArgs) -> Result<(), CliError> {
     match a.what {
         BenchWhat::Parallel(b) => parallel(b),
+        BenchWhat::Scale(b) => super::bench_scale::run(b),
     }
 }
 

@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 pub mod bench;
+pub mod bench_scale;
 pub mod convert;
 pub mod formfactor;
 pub mod parallel;
