@@ -43,6 +43,10 @@ const SKIP: &[(&str, &str)] = &[
     ),
     ("-o DIR", "a synopsis with placeholders"),
     (
+        "irradia bench scale",
+        "measures this machine's rates first (seconds in a release build, minutes in the test build)",
+    ),
+    (
         "--spp 4096",
         "4096 samples per pixel of the 512x512 Cornell box (minutes)",
     ),
