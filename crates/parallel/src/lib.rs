@@ -11,6 +11,7 @@ pub mod display_tiles;
 pub mod job;
 pub mod netmodel;
 pub mod progressive;
+pub mod radiosity;
 pub mod raytrace_first;
 pub mod raytrace_forward;
 pub mod raytrace_last;

@@ -42,8 +42,8 @@ use std::f64::consts::PI;
 use std::time::Duration;
 
 mod layout;
-use layout::{split_to, PatchLayout};
 pub use layout::{leaf_area_for, leaf_count};
+use layout::{split_to, PatchLayout};
 
 /// Parameters of the hierarchical solver.
 #[derive(Clone, Copy, Debug)]

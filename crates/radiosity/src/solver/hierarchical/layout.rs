@@ -104,4 +104,3 @@ pub(super) fn split_to(nodes: &mut Vec<Node>, i: usize, depth: u32) {
         split_to(nodes, (first + c) as usize, depth - 1);
     }
 }
-
