@@ -288,7 +288,10 @@ fn deal_pairs<C: Comm>(
         acc += cost[k] as u64;
     }
     let mut results: Vec<Vec<Link>> = vec![Vec::new(); pairs.len()];
-    let mut chunks = chunks.into_iter();
+    // Workers take chunks from the front (the costly ones), rank 0 from the back: its
+    // own chunks stay short, so that it answers the workers often even when it has a
+    // single thread that computes between answers (thread ranks).
+    let mut chunks: VecDeque<Vec<usize>> = chunks.into();
     let workers: Vec<usize> = (1..c.size()).collect();
     let mut queue: Vec<VecDeque<Vec<usize>>> = vec![VecDeque::new(); c.size()];
     let post = |w: usize, chunk: Vec<usize>, queue: &mut [VecDeque<Vec<usize>>]| {
@@ -303,7 +306,7 @@ fn deal_pairs<C: Comm>(
     };
     for _ in 0..IN_FLIGHT {
         for &w in &workers {
-            if let Some(chunk) = chunks.next() {
+            if let Some(chunk) = chunks.pop_front() {
                 post(w, chunk, &mut queue)?;
             }
         }
@@ -331,7 +334,7 @@ fn deal_pairs<C: Comm>(
                 for (k, l) in done {
                     results[k] = l;
                 }
-                if let Some(next) = chunks.next() {
+                if let Some(next) = chunks.pop_front() {
                     post(w, next, &mut queue)?;
                 }
                 idle = false;
@@ -346,7 +349,7 @@ fn deal_pairs<C: Comm>(
                 }
             }
             if !working_here {
-                if let Some(chunk) = chunks.next() {
+                if let Some(chunk) = chunks.pop_back() {
                     let here = &here;
                     scope.spawn(move |_| {
                         let done: Done = chunk.into_par_iter().map(|k| (k, link(k))).collect();
