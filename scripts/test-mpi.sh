@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The MPI tests: builds irradia-parallel with --features mpi and runs the compositing
 # check (every strategy, opaque bit-exact and ordered "over") under mpirun for 1 to 16
-# ranks, the parallel ray tracer at 2 and 3 ranks and the tiled wall at 4. On a
+# ranks, the parallel ray tracer at 2 and 3 ranks, the tiled wall at 4, and the
+# distributed `irradia render` and `irradia radiosity --solver hierarchical` at 1 to 8. On a
 # developer's machine without OpenMPI it says so and skips; under CI (CI set to anything
 # but "" or "false") or with IRRADIA_REQUIRE_MPI=1 a missing mpirun is a failure, so
 # the MPI tests can never vanish from a CI run unnoticed. Exits non-zero on any failure
@@ -116,6 +117,48 @@ else
     failed=$((failed + 1))
     echo "test-mpi: killed rank FAILED (pid '$pid', exit $rc; 124 is a hang)"
     tail -n 20 "$tmp/killed.log"
+  fi
+  # Hierarchical radiosity on N ranks (`irradia radiosity --solver hierarchical --comm
+  # mpi`): the image (PFM), the solved mesh (PLY) and the change per iteration (CSV,
+  # shortest round-trip decimals of each f64) equal the one-process run at 1 to 8 ranks;
+  # and a rank killed mid-solve ends the job (no hang) with an error naming it, no output.
+  hrad=(radiosity --solver hierarchical --elements 3000 --width 64 --height 64 --quiet)
+  RAYON_NUM_THREADS=1 "$bin" "${hrad[@]}" -o "$tmp/hrad.pfm" --mesh-out "$tmp/hrad.ply" --convergence "$tmp/hrad.csv"
+  for np in 1 2 3 4 5 6 7 8; do
+    if RAYON_NUM_THREADS=1 timeout 120 "${MPIRUN[@]}" -np "$np" "$bin" "${hrad[@]}" --comm mpi \
+        -o "$tmp/hrad$np.pfm" --mesh-out "$tmp/hrad$np.ply" --convergence "$tmp/hrad$np.csv" \
+      && cmp -s "$tmp/hrad.pfm" "$tmp/hrad$np.pfm" && cmp -s "$tmp/hrad.ply" "$tmp/hrad$np.ply" \
+      && cmp -s "$tmp/hrad.csv" "$tmp/hrad$np.csv"; then
+      passed=$((passed + 1))
+      echo "ok radiosity --comm mpi np=$np: image, mesh and iteration history equal the one-process solve"
+    else
+      failed=$((failed + 1))
+      echo "test-mpi: radiosity --comm mpi np=$np FAILED"
+    fi
+  done
+  # Kill rank 1 a second into a solve that would otherwise take minutes.
+  hlong=(radiosity --solver hierarchical --elements 300000 --quiet --comm mpi)
+  ( RAYON_NUM_THREADS=1 timeout 120 "${MPIRUN[@]}" -np 3 "$bin" "${hlong[@]}" -o "$tmp/hkilled.png" >"$tmp/hkilled.log" 2>&1; echo $? >"$tmp/hkilled.rc" ) &
+  job=$!
+  pid=""
+  for _ in $(seq 1 200); do
+    for p in $(pgrep -f "irradia radiosity --solver hierarchical --elements 300000" || true); do
+      if tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1'; then pid=$p; fi
+    done
+    [ -n "$pid" ] && break
+    sleep 0.1
+  done
+  sleep 1
+  [ -n "$pid" ] && kill -9 "$pid"
+  wait "$job"
+  rc=$(cat "$tmp/hkilled.rc")
+  if [ -n "$pid" ] && [ "$rc" != 0 ] && [ "$rc" != 124 ] && grep -q "rank 1" "$tmp/hkilled.log" && [ ! -e "$tmp/hkilled.png" ]; then
+    passed=$((passed + 1))
+    echo "ok radiosity --comm mpi: rank 1 killed mid-solve ends the job (exit $rc) naming rank 1, no output file"
+  else
+    failed=$((failed + 1))
+    echo "test-mpi: radiosity killed rank FAILED (pid '$pid', exit $rc; 124 is a hang)"
+    tail -n 20 "$tmp/hkilled.log"
   fi
 fi
 echo "test-mpi: $passed passed, $failed failed"

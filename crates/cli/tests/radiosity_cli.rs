@@ -1,5 +1,6 @@
 //! `irradia radiosity --display gouraud|two-pass` end to end: the two-pass image of the
-//! built-in specular Cornell box, and bad --pixel-samples values (exit 2).
+//! built-in specular Cornell box, bad --pixel-samples values (exit 2), and the
+//! hierarchical solver on thread ranks (`--comm local`) writing the one-process files.
 
 mod common;
 use common::{irradia, mirror_sphere_sum, stderr};
@@ -66,4 +67,60 @@ fn bad_pixel_samples_is_exit_2() {
         assert_eq!(o.status.code(), Some(2), "{n}: {}", stderr(&o));
         assert!(stderr(&o).contains("--pixel-samples"), "{}", stderr(&o));
     }
+}
+
+/// `--solver hierarchical --comm local --ranks N`: the image, the PLY and the iteration
+/// history equal the one-process run byte for byte; another solver with --comm exits 2.
+#[test]
+fn hierarchical_on_thread_ranks_writes_the_one_process_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = [
+        "radiosity",
+        "--solver",
+        "hierarchical",
+        "--elements",
+        "800",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--quiet",
+    ];
+    let run = |tag: &str, extra: &[&str]| {
+        let (img, ply, csv) = (
+            format!("{tag}.pfm"),
+            format!("{tag}.ply"),
+            format!("{tag}.csv"),
+        );
+        let mut args = base.to_vec();
+        args.extend(["-o", &img, "--mesh-out", &ply, "--convergence", &csv]);
+        args.extend(extra);
+        let o = irradia(&args, dir.path());
+        assert!(o.status.success(), "{tag}: {}", stderr(&o));
+        [img, ply, csv].map(|f| std::fs::read(dir.path().join(f)).unwrap())
+    };
+    let serial = run("serial", &[]);
+    for n in ["1", "3"] {
+        let got = run(&format!("ranks{n}"), &["--comm", "local", "--ranks", n]);
+        assert!(got == serial, "--ranks {n}: files differ");
+    }
+    let o = irradia(
+        &[
+            "radiosity",
+            "--solver",
+            "jacobi",
+            "--comm",
+            "local",
+            "-o",
+            "j.png",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("only --solver hierarchical"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!dir.path().join("j.png").exists());
 }

@@ -1,9 +1,11 @@
 //! irradia-parallel: parallel rendering as in the lecture's second half -- sort-first,
 //! sort-middle and sort-last (Molnar, Cox, Ellsworth, Fuchs 1994), image compositing
 //! (direct send, tree, binary swap, radix-k; active-pixel run lengths; depth and ordered
-//! "over"), parallel submission (WireGL/Chromium), a network cost model, and tiled
-//! display walls. Every algorithm is generic over [`comm::Comm`], so the same code runs on
-//! threads ([`comm::LocalComm`]) and under `mpirun` (`MpiComm`, cargo feature `mpi`).
+//! "over"), parallel submission (WireGL/Chromium), a network cost model, tiled display
+//! walls, and the render and the hierarchical radiosity of one process spread over ranks
+//! (`progressive`, `radiosity`). Every algorithm is generic over [`comm::Comm`], so the
+//! same code runs on threads ([`comm::LocalComm`]) and under `mpirun` (`MpiComm`, cargo
+//! feature `mpi`).
 
 pub mod comm;
 pub mod composite;
@@ -11,6 +13,7 @@ pub mod display_tiles;
 pub mod job;
 pub mod netmodel;
 pub mod progressive;
+pub mod radiosity;
 pub mod raytrace_first;
 pub mod raytrace_forward;
 pub mod raytrace_last;

@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::formfactor::{self, Diagnostics, Method, Params};
 use crate::mesh::weld::DisplayMesh;
 use crate::mesh::{Mesh, MeshOptions, PatchSpec};
-use crate::solver::hierarchical::{self, HierarchicalOptions};
+use crate::solver::hierarchical::{self, HierarchicalOptions, HierarchicalResult};
 use crate::solver::{Solution, SolveOptions, SolverKind, System};
 use std::time::{Duration, Instant};
 
@@ -101,6 +101,61 @@ impl Report {
     }
 }
 
+/// Meshing, then the hierarchical solve by `solve` (the one-process solver, or a
+/// distributed one whose ranks other than 0 return `None`): the report of
+/// `irradia radiosity --solver hierarchical`, `None` where `solve` gave none.
+pub fn run_hierarchical(
+    specs: &[PatchSpec],
+    cfg: &Config,
+    progress: &dyn Progress,
+    solve: impl FnOnce(&Mesh, HierarchicalOptions) -> Result<Option<HierarchicalResult>>,
+) -> Result<Option<Report>> {
+    let t = Instant::now();
+    progress.phase("meshing", 0);
+    let mesh = Mesh::build(specs, cfg.mesh)?;
+    let timings = vec![("meshing".to_string(), t.elapsed())];
+    hierarchical_report(mesh, timings, cfg, progress, solve)
+}
+
+fn hierarchical_report(
+    mesh: Mesh,
+    mut timings: Vec<(String, Duration)>,
+    cfg: &Config,
+    progress: &dyn Progress,
+    solve: impl FnOnce(&Mesh, HierarchicalOptions) -> Result<Option<HierarchicalResult>>,
+) -> Result<Option<Report>> {
+    let mut h = cfg.hierarchical;
+    if let Some(a) = cfg.mesh.max_element_area {
+        h.max_element_area = a;
+    }
+    h.max_elements = cfg.mesh.max_elements;
+    let t = Instant::now();
+    progress.phase("hierarchical radiosity (links, form factors, solve)", 0);
+    let Some(r) = solve(&mesh, h)? else {
+        return Ok(None);
+    };
+    let total = t.elapsed();
+    timings.push((
+        "hierarchical: links (oracle, form factors, shadow rays)".to_string(),
+        r.link_time,
+    ));
+    timings.push(("hierarchical: gather + push-pull".to_string(), r.solve_time));
+    timings.push((
+        "hierarchical: tree and leaves".to_string(),
+        total.saturating_sub(r.link_time + r.solve_time),
+    ));
+    let notes = r.solution.notes.clone();
+    let hist = r.solution.history.clone();
+    Ok(Some(Report {
+        mesh: r.mesh,
+        solution: r.solution,
+        diagnostics: None,
+        timings,
+        histories: vec![("hierarchical".into(), hist)],
+        notes,
+    }))
+}
+
 /// Runs meshing, form factors and the solve.
 pub fn run(specs: &[PatchSpec], cfg: &Config, progress: &dyn Progress) -> Result<Report> {
     let mut timings = Vec::new();
@@ -111,34 +166,10 @@ pub fn run(specs: &[PatchSpec], cfg: &Config, progress: &dyn Progress) -> Result
     timings.push(("meshing".to_string(), t.elapsed()));
 
     if cfg.solver == SolverKind::Hierarchical {
-        let mut h = cfg.hierarchical;
-        if let Some(a) = cfg.mesh.max_element_area {
-            h.max_element_area = a;
-        }
-        h.max_elements = cfg.mesh.max_elements;
-        let t = Instant::now();
-        progress.phase("hierarchical radiosity (links, form factors, solve)", 0);
-        let r = hierarchical::solve(&mesh, h, None)?;
-        let total = t.elapsed();
-        timings.push((
-            "hierarchical: links (oracle, form factors, shadow rays)".to_string(),
-            r.link_time,
-        ));
-        timings.push(("hierarchical: gather + push-pull".to_string(), r.solve_time));
-        timings.push((
-            "hierarchical: tree and leaves".to_string(),
-            total.saturating_sub(r.link_time + r.solve_time),
-        ));
-        notes.extend(r.solution.notes.iter().cloned());
-        let hist = r.solution.history.clone();
-        return Ok(Report {
-            mesh: r.mesh,
-            solution: r.solution,
-            diagnostics: None,
-            timings,
-            histories: vec![("hierarchical".into(), hist)],
-            notes,
-        });
+        let solve =
+            |mesh: &Mesh, h: HierarchicalOptions| hierarchical::solve(mesh, h, None).map(Some);
+        let report = hierarchical_report(mesh, timings, cfg, progress, solve)?;
+        return Ok(report.expect("the one-process solve has a result"));
     }
 
     let method = formfactor::method(cfg.method, cfg.params);

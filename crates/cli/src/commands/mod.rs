@@ -6,6 +6,7 @@ pub mod convert;
 pub mod formfactor;
 pub mod parallel;
 pub mod radiosity;
+pub mod radiosity_comm;
 pub mod render;
 pub mod render_comm;
 pub mod render_path;

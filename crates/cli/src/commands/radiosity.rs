@@ -27,6 +27,8 @@ Examples:
   irradia radiosity docs/examples/two-pass.toml --max-element-area 0.01 -o scene.png
   irradia radiosity --builtin cornell-specular --display two-pass -o specular.png
   irradia radiosity docs/examples/two-pass.toml --display two-pass -o two-pass.png
+  irradia radiosity --solver hierarchical --elements 20000 --comm local --ranks 2
+  mpirun -np 4 irradia radiosity --solver hierarchical --elements 20000 --comm mpi -o h.png
 
 Displays: gouraud (the default) draws the vertex radiosity with the software
 rasterizer; two-pass traces rays from the eye, reading the same vertex radiosity at
@@ -179,6 +181,8 @@ pub struct RadiosityArgs {
     pub convergence: Option<PathBuf>,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    #[command(flatten)]
+    pub comm: super::render_comm::CommArgs,
     /// Print nothing but errors (no progress, no summary).
     #[arg(short, long, help_heading = "General options")]
     pub quiet: bool,
@@ -241,8 +245,20 @@ fn check_options(a: &RadiosityArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
+pub fn run(mut a: RadiosityArgs) -> Result<(), CliError> {
     check_options(&a)?;
+    if a.comm.comm.is_some() && a.solver != SolverArg::Hierarchical {
+        return Err(CliError::Input(format!(
+            "--comm: only --solver hierarchical runs on several ranks (not {}); \
+             drop --comm or add --solver hierarchical",
+            a.solver
+                .to_possible_value()
+                .map_or(String::new(), |v| v.get_name().to_string())
+        )));
+    }
+    // MPI starts before anything is printed; only rank 0 reports and writes.
+    let ranks = a.comm.start(None)?;
+    a.quiet |= ranks.rank() != 0;
     let source = match (&a.scene, &a.builtin) {
         (Some(_), Some(_)) => {
             return Err(CliError::Input(
@@ -325,11 +341,21 @@ pub fn run(a: RadiosityArgs) -> Result<(), CliError> {
         adaptive_rounds: a.adaptive,
         ..Default::default()
     };
-    for w in &scene.warnings {
-        eprintln!("irradia: warning: {w}");
+    if ranks.rank() == 0 {
+        for w in &scene.warnings {
+            eprintln!("irradia: warning: {w}");
+        }
     }
     let phases = Phases(Progress::new("radiosity", a.quiet));
-    let report = pipeline::run(&scene.specs, &cfg, &phases).map_err(err)?;
+    let report = if a.comm.comm.is_none() {
+        pipeline::run(&scene.specs, &cfg, &phases).map_err(err)?
+    } else {
+        let solve = |mesh: &_, h| ranks.solve_hierarchical(mesh, h);
+        match pipeline::run_hierarchical(&scene.specs, &cfg, &phases, solve).map_err(err)? {
+            Some(r) => r,
+            None => return Ok(()),
+        }
+    };
     phases.0.finish();
     let t = Instant::now();
     if display == Display::Gouraud && scene.specular.is_some() && !a.quiet {

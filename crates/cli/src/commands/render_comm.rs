@@ -10,14 +10,15 @@ use irradia_render::{RenderOptions, RenderOutput};
 use irradia_scene::Scene;
 use std::time::Duration;
 
-/// Options of a render spread over ranks.
+/// Options of a job spread over ranks (`irradia render`, `irradia radiosity`).
 #[derive(Args, Debug, Clone)]
-#[command(next_help_heading = "Distributed rendering")]
+#[command(next_help_heading = "Distributed run")]
 pub struct CommArgs {
-    /// Spread the render over ranks: threads of this process (local) or MPI processes
-    /// (mpi: `mpirun -np N irradia render ... --comm mpi`, in a build with MPI). Rank 0
-    /// hands out chunks of tiles to whichever rank finishes first and writes the image,
-    /// which equals the one-process render bit for bit.
+    /// Spread the job over ranks: threads of this process (local) or MPI processes
+    /// (mpi: `mpirun -np N irradia render|radiosity ... --comm mpi`, in a build with
+    /// MPI). Rank 0 hands out the work (tiles; patch pairs of hierarchical radiosity) to
+    /// whichever rank finishes first and writes the output, which equals the
+    /// one-process run bit for bit.
     #[arg(long, value_enum, value_name = "KIND")]
     pub comm: Option<CommKind>,
     /// Number of ranks with --comm local (MPI takes its count from mpirun).

@@ -18,6 +18,15 @@
 //! Link form factors are the point-to-polygon closed form (`contour`) at Gauss points of
 //! the receiver times the visible fraction of a few shadow rays through the BVH; the
 //! refinement oracle uses the cheap disk estimate `A_q cos θ_p cos θ_q / (π r² + A_q)`.
+//!
+//! The work is cut where it is independent, so that [`solve`] and the distributed
+//! solver of `irradia-parallel` (`radiosity.rs`) run the same code and agree bit for bit:
+//! the links of one *pair* of patches ([`Hierarchy::link_pair`]) depend only on the
+//! radiosities of the round, and the gather and push-pull of one receiving patch
+//! ([`Hierarchy::iterate_patch`]) only on its own links and the radiosities of the last
+//! iteration. A patch's links are those of its pairs in the order of the source patch,
+//! then sorted stably by receiving node ([`Hierarchy::patch_links`]), so each node sums
+//! its links in one fixed order wherever it is computed.
 
 use super::Solution;
 use crate::error::{RadiosityError, Result};
@@ -30,6 +39,11 @@ use irradia_core::sampling::hash64;
 use irradia_core::Rng;
 use rayon::prelude::*;
 use std::f64::consts::PI;
+use std::time::Duration;
+
+mod layout;
+pub use layout::{leaf_area_for, leaf_count};
+use layout::{split_to, PatchLayout};
 
 /// Parameters of the hierarchical solver.
 #[derive(Clone, Copy, Debug)]
@@ -73,7 +87,7 @@ impl Default for HierarchicalOptions {
 }
 
 #[derive(Clone, Copy, Debug)]
-struct Node {
+pub(crate) struct Node {
     poly: Poly,
     patch: u32,
     area: f64,
@@ -85,11 +99,13 @@ struct Node {
     children: u32,
 }
 
-#[derive(Clone, Copy, Debug)]
-struct Link {
-    recv: u32,
-    src: u32,
-    f: f64,
+/// Energy from node `src` to node `recv` with form factor `f` (node indices of the
+/// [`Hierarchy`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Link {
+    pub recv: u32,
+    pub src: u32,
+    pub f: f64,
 }
 
 /// The result: the leaves as a mesh, their radiosity, and statistics.
@@ -104,14 +120,42 @@ pub struct HierarchicalResult {
     pub solve_time: std::time::Duration,
 }
 
-struct Hierarchy<'a> {
+/// The timing and history of a solve, for [`Hierarchy::finish`].
+#[derive(Clone, Debug, Default)]
+pub struct SolveRecord {
+    /// Largest relative change after each iteration.
+    pub history: Vec<f64>,
+    pub residual: f64,
+    /// Links of the last round.
+    pub links: usize,
+    pub link_time: Duration,
+    pub solve_time: Duration,
+}
+
+/// The node tree of every patch (built once, identically on every rank) and what a
+/// link needs: the visibility structure and the options.
+pub struct Hierarchy<'a> {
     nodes: Vec<Node>,
+    /// Descendants of patch `p` are the nodes `range[p].0..range[p].1` (its root is `p`).
+    range: Vec<(u32, u32)>,
     patches: &'a [Patch],
     vis: Option<Visibility>,
     opts: HierarchicalOptions,
+    /// Largest emission over patches and channels (the change is relative to it).
+    emax: f64,
 }
 
 impl<'a> Hierarchy<'a> {
+    /// The hierarchy of `mesh`'s patches (its elements are ignored) for `opts`, with
+    /// [`HierarchicalOptions::target_leaves`] turned into a leaf area.
+    pub fn new(mesh: &'a Mesh, opts: HierarchicalOptions) -> Result<Self> {
+        let mut opts = opts;
+        if let Some(n) = opts.target_leaves {
+            opts.max_element_area = leaf_area_for(&mesh.patches, n);
+        }
+        Self::build(mesh, opts)
+    }
+
     fn build(mesh: &'a Mesh, opts: HierarchicalOptions) -> Result<Self> {
         let layout: Vec<PatchLayout> = mesh
             .patches
@@ -128,14 +172,23 @@ impl<'a> Hierarchy<'a> {
                 opts.max_element_area, opts.max_elements
             )));
         }
+        if mesh.patches.len() > u32::MAX as usize / 2 {
+            return Err(RadiosityError::Input(format!(
+                "{} patches: too many for the hierarchical solver",
+                mesh.patches.len()
+            )));
+        }
         let mut nodes = Vec::with_capacity(leaves * 4 / 3 + 65 * mesh.patches.len());
         // Roots first, so patch i is node i.
         for (i, p) in mesh.patches.iter().enumerate() {
             nodes.push(make_node(p.poly, i as u32));
         }
+        let mut range = Vec::with_capacity(layout.len());
         for (i, l) in layout.iter().enumerate() {
+            let start = nodes.len() as u32;
             if l.grid == (1, 1) {
                 split_to(&mut nodes, i, l.depth);
+                range.push((start, nodes.len() as u32));
                 continue;
             }
             let first = nodes.len() as u32;
@@ -148,13 +201,202 @@ impl<'a> Hierarchy<'a> {
             for c in 0..nodes[i].children {
                 split_to(&mut nodes, (first + c) as usize, l.depth);
             }
+            range.push((start, nodes.len() as u32));
         }
+        let emax = mesh
+            .patches
+            .iter()
+            .flat_map(|p| p.emission.iter().copied())
+            .fold(0.0, f64::max)
+            .max(1e-300);
         Ok(Self {
             nodes,
+            range,
             patches: &mesh.patches,
             vis: (opts.visibility_rays > 0).then(|| Visibility::new(mesh)),
             opts,
+            emax,
         })
+    }
+
+    /// The options in force (the leaf area found for a target count included).
+    pub fn options(&self) -> &HierarchicalOptions {
+        &self.opts
+    }
+    /// Number of patches (the roots are nodes `0..patches()`).
+    pub fn patches(&self) -> usize {
+        self.patches.len()
+    }
+    /// Number of nodes of all trees.
+    pub fn nodes(&self) -> usize {
+        self.nodes.len()
+    }
+    /// Largest emission of any patch and channel.
+    pub fn emission_scale(&self) -> f64 {
+        self.emax
+    }
+    /// Number of nodes of patch `p`'s tree (its root included).
+    pub fn patch_size(&self, p: usize) -> usize {
+        let (s, e) = self.range[p];
+        1 + (e - s) as usize
+    }
+    /// Patch `p`'s nodes in their order in [`Hierarchy::iterate_patch`]'s values: the
+    /// root, then the descendants.
+    pub fn patch_nodes(&self, p: usize) -> impl Iterator<Item = usize> {
+        let (s, e) = self.range[p];
+        std::iter::once(p).chain(s as usize..e as usize)
+    }
+    /// Whether node `node` lies in patch `p`'s tree.
+    pub fn in_patch(&self, node: u32, p: usize) -> bool {
+        let (s, e) = self.range[p];
+        node as usize == p || (s..e).contains(&node)
+    }
+    /// The radiosity every node starts from: its patch's emission.
+    pub fn initial_radiosity(&self) -> Vec<[f64; 3]> {
+        self.nodes
+            .iter()
+            .map(|n| self.patches[n.patch as usize].emission)
+            .collect()
+    }
+    /// Every (receiver, source) pair of distinct patches, receiver-major: the order in
+    /// which a patch's links are concatenated.
+    pub fn pairs(&self) -> Vec<(u32, u32)> {
+        let np = self.patches.len() as u32;
+        (0..np)
+            .flat_map(|p| (0..np).filter(move |&q| q != p).map(move |q| (p, q)))
+            .collect()
+    }
+
+    /// The links from patch `q` to patch `p` for the radiosities `b`: refined while
+    /// `B_q F` exceeds `ε_BF` times the largest emission (HSA 1991, section 4).
+    pub fn link_pair(&self, p: u32, q: u32, b: &[[f64; 3]]) -> Vec<Link> {
+        let lum = |c: [f64; 3]| (c[0] + c[1] + c[2]) / 3.0;
+        let bq = |n: u32| lum(b[n as usize]);
+        let mut out = Vec::new();
+        self.refine(p, q, &bq, self.opts.bf_epsilon * self.emax, &mut out);
+        out
+    }
+
+    /// Patch `p`'s links from the links of its pairs `(p, q)` given in increasing `q`:
+    /// concatenated, then sorted stably by receiving node.
+    pub fn patch_links(&self, per_pair: impl IntoIterator<Item = Vec<Link>>) -> Vec<Link> {
+        let mut links: Vec<Link> = per_pair.into_iter().flatten().collect();
+        links.sort_by_key(|l| l.recv);
+        links
+    }
+
+    /// One Jacobi step on patch `p`: the gather `G = ρ Σ F B_src` at every node with
+    /// links (`links`: the patch's, from [`Hierarchy::patch_links`]), then push-pull over
+    /// its tree. Returns the new radiosity of its nodes in [`Hierarchy::patch_nodes`]
+    /// order.
+    pub fn iterate_patch(&self, p: usize, links: &[Link], b: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let mut g = vec![[0.0f64; 3]; self.patch_size(p)];
+        let rho = self.patches[p].reflectance;
+        for run in links.chunk_by(|a, b2| a.recv == b2.recv) {
+            let mut s = [0.0; 3];
+            for l in run.iter() {
+                let bs = b[l.src as usize];
+                s[0] += l.f * bs[0];
+                s[1] += l.f * bs[1];
+                s[2] += l.f * bs[2];
+            }
+            g[self.local(p, run[0].recv as usize)] = [rho[0] * s[0], rho[1] * s[1], rho[2] * s[2]];
+        }
+        let mut out = vec![[0.0f64; 3]; g.len()];
+        self.push_pull(p, p, [0.0; 3], &g, &mut out);
+        out
+    }
+
+    /// Writes patch `p`'s values (from [`Hierarchy::iterate_patch`]) into `nb` and returns
+    /// their largest change from `b` (absolute, any channel).
+    pub fn store_patch(
+        &self,
+        p: usize,
+        values: &[[f64; 3]],
+        b: &[[f64; 3]],
+        nb: &mut [[f64; 3]],
+    ) -> f64 {
+        let mut change: f64 = 0.0;
+        for (i, v) in self.patch_nodes(p).zip(values) {
+            nb[i] = *v;
+            for c in 0..3 {
+                change = change.max((v[c] - b[i][c]).abs());
+            }
+        }
+        change
+    }
+
+    /// The result: the leaves as a mesh with their radiosity from `b`.
+    pub fn finish(&self, mesh: &Mesh, b: &[[f64; 3]], rec: SolveRecord) -> HierarchicalResult {
+        let notes = vec![format!(
+            "hierarchical: {} nodes, {} links, ε_BF = {:.1e} of the largest emission",
+            self.nodes.len(),
+            rec.links,
+            self.opts.bf_epsilon
+        )];
+        let mut elements = Vec::new();
+        let mut bl = Vec::new();
+        for (i, n) in self.nodes.iter().enumerate() {
+            if n.child == 0 {
+                elements.push(Element::new(n.poly, n.patch));
+                bl.push(b[i]);
+            }
+        }
+        HierarchicalResult {
+            mesh: Mesh::with_elements(mesh.patches.clone(), elements),
+            solution: Solution {
+                b: bl,
+                history: rec.history,
+                residual: rec.residual,
+                display: None,
+                notes,
+            },
+            links: rec.links,
+            nodes: self.nodes.len(),
+            link_time: rec.link_time,
+            solve_time: rec.solve_time,
+        }
+    }
+
+    /// Index of node `i` of patch `p` in the patch's values.
+    fn local(&self, p: usize, i: usize) -> usize {
+        if i == p {
+            0
+        } else {
+            i - self.range[p].0 as usize + 1
+        }
+    }
+
+    /// Leaves: `E + Σ gathers down the path`; inner nodes: area average of children
+    /// (`g` and `out` indexed as [`Hierarchy::local`]).
+    fn push_pull(
+        &self,
+        p: usize,
+        i: usize,
+        down: [f64; 3],
+        g: &[[f64; 3]],
+        out: &mut [[f64; 3]],
+    ) -> [f64; 3] {
+        let n = &self.nodes[i];
+        let li = self.local(p, i);
+        let acc = [down[0] + g[li][0], down[1] + g[li][1], down[2] + g[li][2]];
+        let r = if n.child == 0 {
+            let e = self.patches[n.patch as usize].emission;
+            [e[0] + acc[0], e[1] + acc[1], e[2] + acc[2]]
+        } else {
+            let mut s = [0.0; 3];
+            for c in 0..n.children {
+                let ci = (n.child + c) as usize;
+                let bc = self.push_pull(p, ci, acc, g, out);
+                let w = self.nodes[ci].area / n.area;
+                for k in 0..3 {
+                    s[k] += w * bc[k];
+                }
+            }
+            s
+        };
+        out[li] = r;
+        r
     }
 
     /// The estimated transport oracle: disk approximation from centroids.
@@ -258,7 +500,7 @@ impl<'a> Hierarchy<'a> {
     }
 }
 
-fn make_node(poly: Poly, patch: u32) -> Node {
+pub(crate) fn make_node(poly: Poly, patch: u32) -> Node {
     Node {
         poly,
         patch,
@@ -270,106 +512,6 @@ fn make_node(poly: Poly, patch: u32) -> Node {
     }
 }
 
-/// How one patch is cut: a `grid` of cells (`mesh::subdivide`), each a quadtree of
-/// `depth` levels.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct PatchLayout {
-    grid: (usize, usize),
-    depth: u32,
-    cells: usize,
-}
-
-impl PatchLayout {
-    /// Leaves of at most `max_area`: the quadtree depth leaves 16 to 64 grid cells
-    /// (patches of fewer than 16 leaves are a plain quadtree).
-    fn new(poly: &Poly, max_area: f64) -> Self {
-        let area = poly.area();
-        if !(max_area > 0.0) || area <= max_area {
-            return Self {
-                grid: (1, 1),
-                depth: 0,
-                cells: 1,
-            };
-        }
-        let ratio = area / max_area;
-        if ratio < 16.0 {
-            // Small patches: a plain quadtree (1, 4 or 16 leaves).
-            let mut d = 0;
-            let mut a = area;
-            while a > max_area {
-                a /= 4.0;
-                d += 1;
-            }
-            return Self {
-                grid: (1, 1),
-                depth: d,
-                cells: 1,
-            };
-        }
-        let depth = ((ratio.ln() / 4f64.ln()).floor() as i64 - 2).clamp(0, 20) as u32;
-        let cell_area = max_area * 4f64.powi(depth as i32);
-        let grid = subdivide::grid_size(poly, cell_area);
-        Self {
-            grid,
-            depth,
-            cells: subdivide::element_count(poly, grid),
-        }
-    }
-    fn leaves(&self) -> usize {
-        self.cells.saturating_mul(1usize << (2 * self.depth))
-    }
-}
-
-/// Number of hierarchical leaves the patches get for leaves of at most `max_area`.
-pub fn leaf_count(patches: &[Patch], max_area: f64) -> usize {
-    patches
-        .iter()
-        .map(|p| PatchLayout::new(&p.poly, max_area).leaves())
-        .fold(0usize, usize::saturating_add)
-}
-
-/// The leaf area whose leaf count is nearest `target` (bisection on the logarithm of
-/// the area; the count is a step function of the area, nearly monotone).
-pub fn leaf_area_for(patches: &[Patch], target: usize) -> f64 {
-    let total: f64 = patches.iter().map(|p| p.area()).sum();
-    let target = target.max(1);
-    let (mut lo, mut hi) = (
-        (total / target as f64 / 16.0).ln(),
-        (total / target as f64 * 4.0).ln(),
-    );
-    let mut best = (usize::MAX, hi.exp());
-    for _ in 0..80 {
-        let mid = 0.5 * (lo + hi);
-        let n = leaf_count(patches, mid.exp());
-        let off = n.abs_diff(target);
-        if off < best.0 {
-            best = (off, mid.exp());
-        }
-        if n > target {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    best.1
-}
-
-fn split_to(nodes: &mut Vec<Node>, i: usize, depth: u32) {
-    if depth == 0 {
-        return;
-    }
-    let first = nodes.len() as u32;
-    nodes[i].child = first;
-    let (poly, patch) = (nodes[i].poly, nodes[i].patch);
-    for c in poly.split4() {
-        nodes.push(make_node(c, patch));
-    }
-    nodes[i].children = 4;
-    for c in 0..4 {
-        split_to(nodes, (first + c) as usize, depth - 1);
-    }
-}
-
 /// Solves the mesh's patches hierarchically. `mesh` supplies the patches (its elements
 /// are ignored); the result's mesh has the leaves as elements.
 pub fn solve(
@@ -377,33 +519,15 @@ pub fn solve(
     opts: HierarchicalOptions,
     progress: Option<&(dyn Fn(&str) + Sync)>,
 ) -> Result<HierarchicalResult> {
-    let mut opts = opts;
-    if let Some(n) = opts.target_leaves {
-        opts.max_element_area = leaf_area_for(&mesh.patches, n);
-    }
-    let h = Hierarchy::build(mesh, opts)?;
-    let nn = h.nodes.len();
-    let np = h.patches.len();
-    let emax = h
-        .patches
-        .iter()
-        .flat_map(|p| p.emission.iter().copied())
-        .fold(0.0, f64::max)
-        .max(1e-300);
-    let eps = opts.bf_epsilon * emax;
-    let lum = |c: [f64; 3]| (c[0] + c[1] + c[2]) / 3.0;
-    // Radiosity per node (area average over its leaves).
-    let mut b: Vec<[f64; 3]> = h
-        .nodes
-        .iter()
-        .map(|n| h.patches[n.patch as usize].emission)
-        .collect();
-    let mut links: Vec<Link> = Vec::new();
-    let mut history = Vec::new();
-    let mut notes = Vec::new();
-    let mut residual = f64::INFINITY;
-    let mut link_time = std::time::Duration::ZERO;
-    let mut solve_time = std::time::Duration::ZERO;
+    let h = Hierarchy::new(mesh, opts)?;
+    let (nn, np) = (h.nodes(), h.patches());
+    let opts = *h.options();
+    let mut b = h.initial_radiosity();
+    let pairs = h.pairs();
+    let mut rec = SolveRecord {
+        residual: f64::INFINITY,
+        ..Default::default()
+    };
     for round in 0..opts.rounds.max(1) {
         let t_link = std::time::Instant::now();
         if let Some(p) = progress {
@@ -412,123 +536,42 @@ pub fn solve(
                 round + 1
             ));
         }
-        let bq = |q: u32| lum(b[q as usize]);
         // Refine from the patch pairs each round (re-linking from the top with the new
         // radiosities is the BF refinement of HSA 1991 section 4).
-        let pairs: Vec<(u32, u32)> = (0..np as u32)
-            .flat_map(|p| (0..np as u32).filter(move |&q| q != p).map(move |q| (p, q)))
-            .collect();
-        links = pairs
+        let per_pair: Vec<Vec<Link>> = pairs
             .par_iter()
-            .flat_map_iter(|&(p, q)| {
-                let mut out = Vec::new();
-                h.refine(p, q, &bq, eps, &mut out);
-                out
-            })
+            .map(|&(p, q)| h.link_pair(p, q, &b))
             .collect();
-        links.sort_unstable_by_key(|l| l.recv);
-        link_time += t_link.elapsed();
+        let mut per_pair = per_pair.into_iter();
+        let links: Vec<Vec<Link>> = (0..np)
+            .map(|_| h.patch_links(per_pair.by_ref().take(np - 1)))
+            .collect();
+        rec.links = links.iter().map(Vec::len).sum();
+        rec.link_time += t_link.elapsed();
         let t_solve = std::time::Instant::now();
         if let Some(p) = progress {
-            p(&format!("hierarchical: solving with {} links", links.len()));
+            p(&format!("hierarchical: solving with {} links", rec.links));
         }
         // Jacobi gather + push-pull until the change is small.
         for _ in 0..opts.max_iterations {
-            let mut gathered = vec![[0.0f64; 3]; nn];
-            // Links are sorted by receiver: gather in parallel over receiver runs.
-            let chunks: Vec<&[Link]> = links.chunk_by(|a, b2| a.recv == b2.recv).collect();
-            let sums: Vec<(u32, [f64; 3])> = chunks
-                .par_iter()
-                .map(|run| {
-                    let mut s = [0.0; 3];
-                    for l in run.iter() {
-                        let bs = b[l.src as usize];
-                        s[0] += l.f * bs[0];
-                        s[1] += l.f * bs[1];
-                        s[2] += l.f * bs[2];
-                    }
-                    (run[0].recv, s)
-                })
+            let values: Vec<Vec<[f64; 3]>> = (0..np)
+                .into_par_iter()
+                .map(|p| h.iterate_patch(p, &links[p], &b))
                 .collect();
-            for (r, s) in sums {
-                let rho = h.patches[h.nodes[r as usize].patch as usize].reflectance;
-                gathered[r as usize] = [rho[0] * s[0], rho[1] * s[1], rho[2] * s[2]];
-            }
             let mut nb = vec![[0.0f64; 3]; nn];
-            for root in 0..np {
-                push_pull(&h.nodes, h.patches, root, [0.0; 3], &gathered, &mut nb);
+            let mut change: f64 = 0.0;
+            for (p, v) in values.iter().enumerate() {
+                change = change.max(h.store_patch(p, v, &b, &mut nb));
             }
-            let change = nb
-                .iter()
-                .zip(&b)
-                .flat_map(|(x, y)| (0..3).map(move |c| (x[c] - y[c]).abs()))
-                .fold(0.0, f64::max)
-                / emax;
+            let change = change / h.emission_scale();
             b = nb;
-            history.push(change);
-            residual = change;
+            rec.history.push(change);
+            rec.residual = change;
             if change < opts.tolerance {
                 break;
             }
         }
-        solve_time += t_solve.elapsed();
+        rec.solve_time += t_solve.elapsed();
     }
-    notes.push(format!(
-        "hierarchical: {} nodes, {} links, ε_BF = {:.1e} of the largest emission",
-        nn,
-        links.len(),
-        opts.bf_epsilon
-    ));
-    let mut elements = Vec::new();
-    let mut bl = Vec::new();
-    for (i, n) in h.nodes.iter().enumerate() {
-        if n.child == 0 {
-            elements.push(Element::new(n.poly, n.patch));
-            bl.push(b[i]);
-        }
-    }
-    Ok(HierarchicalResult {
-        mesh: Mesh::with_elements(mesh.patches.clone(), elements),
-        solution: Solution {
-            b: bl,
-            history,
-            residual,
-            display: None,
-            notes,
-        },
-        links: links.len(),
-        nodes: nn,
-        link_time,
-        solve_time,
-    })
-}
-
-/// Leaves: `E + Σ gathers down the path`; inner nodes: area average of children.
-fn push_pull(
-    nodes: &[Node],
-    patches: &[Patch],
-    i: usize,
-    down: [f64; 3],
-    g: &[[f64; 3]],
-    out: &mut [[f64; 3]],
-) -> [f64; 3] {
-    let n = &nodes[i];
-    let acc = [down[0] + g[i][0], down[1] + g[i][1], down[2] + g[i][2]];
-    let r = if n.child == 0 {
-        let e = patches[n.patch as usize].emission;
-        [e[0] + acc[0], e[1] + acc[1], e[2] + acc[2]]
-    } else {
-        let mut s = [0.0; 3];
-        for c in 0..n.children {
-            let ci = (n.child + c) as usize;
-            let bc = push_pull(nodes, patches, ci, acc, g, out);
-            let w = nodes[ci].area / n.area;
-            for k in 0..3 {
-                s[k] += w * bc[k];
-            }
-        }
-        s
-    };
-    out[i] = r;
-    r
+    Ok(h.finish(mesh, &b, rec))
 }
