@@ -12,8 +12,9 @@
 //!   model applied to the messages a real run recorded.
 //! * Path tracing ([`path_trace_time`]): `progressive::render_distributed`, whose rank
 //!   0 hands out chunks of tiles and receives every chunk's film pixels.
-//! * Radiosity ([`radiosity_time`]): a solve whose every iteration divides its work
-//!   over the ranks and then all-gathers the element radiosities (recursive doubling).
+//! * Radiosity ([`radiosity_time`]): `radiosity::solve_distributed`, whose rank 0
+//!   collects and deals every round's links and whose every iteration ends with each
+//!   rank sending its radiosities to every other.
 
 use crate::composite::pairwise::{piece_count, HEADER_BYTES};
 use crate::composite::radix_k::factors;
@@ -136,37 +137,43 @@ pub fn path_trace_time(model: NetModel, ranks: usize, job: &PathJob) -> Predicte
     }
 }
 
-/// A radiosity solve: `iterations` sweeps over `elements` elements, `iteration_s`
-/// seconds of one thread's work a sweep (measured), `bytes_per_element` exchanged per
-/// element a sweep.
+/// A hierarchical radiosity solve as `radiosity::solve_distributed` splits it.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct RadiosityJob {
     pub elements: u64,
+    /// Refinement rounds, and Jacobi iterations over all rounds.
+    pub rounds: u64,
     pub iterations: u64,
-    pub iteration_s: f64,
+    /// One thread's seconds for all rounds' link refinement and for all iterations
+    /// (measured), which divide over the ranks' threads.
+    pub link_s: f64,
+    pub solve_s: f64,
     pub threads: u64,
-    pub bytes_per_element: u64,
-    /// Seconds of work before the iterations that does not divide (setup on every rank).
-    pub serial_s: f64,
+    /// Links and tree nodes per element.
+    pub links_per_element: f64,
+    pub nodes_per_element: f64,
 }
 
-/// `job` on `ranks` ranks: each sweep divides its work over the ranks' threads (no finer
-/// than one element a thread) and ends with an all-gather of the element values by
-/// recursive doubling (log2 p rounds, doubling the message each round).
+/// Bytes of one link on the wire (receiver, source: u32; form factor: f64).
+pub const LINK_BYTES: f64 = 16.0;
+
+/// `job` on `ranks` ranks: the link refinement and the iterations divide over the
+/// ranks' threads (no finer than an element a thread); each round every link passes
+/// through rank 0's link twice (collected from the workers, dealt to the receivers'
+/// owners); each iteration every rank sends its nodes' radiosities (3 f64) to every
+/// other rank.
 pub fn radiosity_time(model: NetModel, ranks: usize, job: &RadiosityJob) -> Predicted {
     let workers = (ranks as u64 * job.threads.max(1)).min(job.elements.max(1)) as f64;
-    let per_sweep = job.iteration_s / workers;
-    let total_bytes = (job.elements * job.bytes_per_element) as f64;
-    let mut gather = 0.0;
-    let mut have = total_bytes / ranks as f64;
-    let mut held = 1usize;
-    while held < ranks {
-        gather += model.message(have as usize);
-        have *= 2.0;
-        held *= 2;
+    let compute = (job.link_s + job.solve_s) / workers;
+    let p = ranks as f64;
+    let mut network = 0.0;
+    if ranks > 1 {
+        let links = job.elements as f64 * job.links_per_element;
+        let root = job.rounds as f64 * 2.0 * links * LINK_BYTES / model.beta;
+        let nodes = job.elements as f64 * job.nodes_per_element;
+        let exchange = (p - 1.0) * model.alpha + nodes * 24.0 * (p - 1.0) / p / model.beta;
+        network = root + job.iterations as f64 * exchange;
     }
-    let compute = job.serial_s + job.iterations as f64 * per_sweep;
-    let network = job.iterations as f64 * gather;
     Predicted {
         compute_s: compute,
         network_s: network,
@@ -250,19 +257,23 @@ mod tests {
     }
 
     #[test]
-    fn radiosity_divides_compute_and_pays_log_rounds() {
+    fn radiosity_divides_compute_and_pays_the_root_and_the_exchanges() {
         let job = RadiosityJob {
             elements: 1 << 20,
-            iterations: 10,
-            iteration_s: 64.0,
+            rounds: 3,
+            iterations: 30,
+            link_s: 60.0,
+            solve_s: 4.0,
             threads: 1,
-            bytes_per_element: 12,
-            serial_s: 0.0,
+            links_per_element: 20.0,
+            nodes_per_element: 1.0,
         };
         let p = radiosity_time(NET, 64, &job);
-        assert!((p.compute_s - 10.0).abs() < 1e-12);
-        // log2 64 = 6 rounds, 10 sweeps; the bytes sum to (1 - 1/64) of 12 MB a sweep.
-        let bytes = 12.0 * (1 << 20) as f64 * 63.0 / 64.0;
-        assert!((p.network_s - 10.0 * (6.0 * NET.alpha + bytes / NET.beta)).abs() < 1e-6);
+        assert!((p.compute_s - 1.0).abs() < 1e-12);
+        let n = (1 << 20) as f64;
+        let root = 3.0 * 2.0 * n * 20.0 * LINK_BYTES / NET.beta;
+        let exchange = 63.0 * NET.alpha + n * 24.0 * 63.0 / 64.0 / NET.beta;
+        assert!((p.network_s - (root + 30.0 * exchange)).abs() < 1e-9);
+        assert_eq!(radiosity_time(NET, 1, &job).network_s, 0.0);
     }
 }

@@ -43,9 +43,13 @@ pub struct BenchScaleArgs {
 struct Rates {
     blend_s: f64,
     sample_s: f64,
-    /// Hierarchical radiosity: seconds of links and solution per leaf, and nodes per leaf.
-    radiosity_leaf_s: f64,
+    /// Hierarchical radiosity per leaf: seconds of links and of solution, links and
+    /// nodes; and its iteration count.
+    link_leaf_s: f64,
+    solve_leaf_s: f64,
+    links_per_leaf: f64,
     nodes_per_leaf: f64,
+    iterations: u64,
 }
 
 fn measure() -> Result<Rates, CliError> {
@@ -92,8 +96,11 @@ fn measure() -> Result<Rates, CliError> {
     Ok(Rates {
         blend_s,
         sample_s,
-        radiosity_leaf_s: (r.link_time + r.solve_time).as_secs_f64() / leaves,
+        link_leaf_s: r.link_time.as_secs_f64() / leaves,
+        solve_leaf_s: r.solve_time.as_secs_f64() / leaves,
+        links_per_leaf: r.links as f64 / leaves,
         nodes_per_leaf: r.nodes as f64 / leaves,
+        iterations: r.solution.history.len() as u64,
     })
 }
 
@@ -134,24 +141,29 @@ pub fn run(a: BenchScaleArgs) -> Result<(), CliError> {
         result_bytes_fixed: 1024,
         scene_bytes: 1 << 20,
     };
-    let rounds = HierarchicalOptions::default().rounds as u64;
     let rad = RadiosityJob {
         elements: 1_000_000,
-        iterations: rounds,
-        iteration_s: r.radiosity_leaf_s * 1e6 / rounds as f64,
+        rounds: HierarchicalOptions::default().rounds as u64,
+        iterations: r.iterations,
+        link_s: r.link_leaf_s * 1e6,
+        solve_s: r.solve_leaf_s * 1e6,
         threads,
-        bytes_per_element: (24.0 * r.nodes_per_leaf).ceil() as u64,
-        serial_s: 0.0,
+        links_per_element: r.links_per_leaf,
+        nodes_per_element: r.nodes_per_leaf,
     };
     println!(
         "network: alpha {:.2} us, beta {:.0} MB/s; rates (1 thread): blend {:.2} ns/pixel, \
-         path-traced sample {:.0} ns, hierarchical radiosity {:.1} us/leaf ({:.2} nodes/leaf)",
+         path-traced sample {:.0} ns, hierarchical radiosity {:.1} + {:.1} us/leaf (links + solution; \
+         {:.1} links, {:.2} nodes a leaf, {} iterations)",
         model.alpha * 1e6,
         model.beta / 1e6,
         r.blend_s * 1e9,
         r.sample_s * 1e9,
-        r.radiosity_leaf_s * 1e6,
-        r.nodes_per_leaf
+        r.link_leaf_s * 1e6,
+        r.solve_leaf_s * 1e6,
+        r.links_per_leaf,
+        r.nodes_per_leaf,
+        r.iterations
     );
     println!(
         "\n| ranks | binary swap, dense + gather (s) | radix-8, bricks, no gather (s) | binary swap, bricks, no gather (s) | direct send, bricks, no gather (s) | path tracing 4K x 256 spp (s) | radiosity 1M elements (s) |"
