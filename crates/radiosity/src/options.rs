@@ -72,6 +72,7 @@ impl Default for JobOptions {
 
 impl JobOptions {
     /// Every count and tolerance, before any work (messages name the command's options).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must fail the checks
     pub fn check(&self) -> Result<()> {
         for (name, v) in [
             ("--hemicube-resolution", self.hemicube_resolution),
@@ -94,6 +95,7 @@ impl JobOptions {
 
     /// The pipeline configuration for the patches `specs` (the element area follows
     /// from `--elements` and the patches' total area unless given).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must fail the checks
     pub fn config(&self, specs: &[PatchSpec]) -> Result<Config> {
         self.check()?;
         let area = self
