@@ -8,9 +8,13 @@
 # "" or "false") or with IRRADIA_REQUIRE_PYTHON=1 that is a failure. The MPI part
 # follows IRRADIA_REQUIRE_MPI like scripts/test-mpi.sh.
 #
-# The wheel is built with the test profile into the workspace's target folder
-# (CARGO_TARGET_DIR), so it reuses what `cargo test` compiled; the venv lives there
-# too (IRRADIA_PY_VENV to choose another) and is reused between runs.
+# The wheel and the command it is compared with are built with the dev profile into the
+# workspace's target folder (CARGO_TARGET_DIR): dependencies are compiled with
+# opt-level 2 there, shared with `cargo test`, and only the workspace's own crates are
+# compiled again (at opt-level 0; both sides the same build, so the arrays compare bit
+# for bit). maturin cannot use the test profile: `cargo rustc --profile test` builds a
+# test harness. The venv lives in the target folder too (IRRADIA_PY_VENV to choose
+# another) and is reused between runs.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 flag() { [ "${!1:-0}" = 1 ] || { [ -n "${CI:-}" ] && [ "${CI:-}" != false ]; }; }
@@ -34,11 +38,12 @@ need=()
 "$py" -c "import numpy" 2>/dev/null || need+=(numpy)
 "$py" -c "import pytest" 2>/dev/null || need+=(pytest)
 [ -x "$venv/bin/maturin" ] || need+=("maturin>=1.5,<2")
-features=()
+# Features given here replace pyproject.toml's list: name extension-module too.
+features=(--features extension-module)
 have_mpi=0
 if command -v mpirun >/dev/null 2>&1 && command -v mpicc >/dev/null 2>&1; then
   have_mpi=1
-  features=(--features mpi)
+  features=(--features extension-module,mpi)
   "$py" -c "import mpi4py" 2>/dev/null || need+=(mpi4py)
 elif flag IRRADIA_REQUIRE_MPI; then
   echo "test-python: mpirun/mpicc not found and the MPI tests are required here"
@@ -51,10 +56,10 @@ fi
 
 # The command the arrays are compared with, and the wheel (no auditwheel repair: the
 # MPI build must use the system's libmpi, the one mpi4py uses).
-cargo build --locked --profile test -p irradia 2>&1 || { echo "test-python: building irradia failed"; exit 1; }
+cargo build --locked -p irradia 2>&1 || { echo "test-python: building irradia failed"; exit 1; }
 wheels="$(mktemp -d)"
 trap 'rm -rf "$wheels"' EXIT
-( cd crates/python && CARGO_TARGET_DIR="$target" "$venv/bin/maturin" build --profile test \
+( cd crates/python && CARGO_TARGET_DIR="$target" "$venv/bin/maturin" build \
     "${features[@]}" --auditwheel skip -i "$py" -o "$wheels" ) 2>&1 \
   || { echo "test-python: building the wheel failed"; exit 1; }
 "$py" -m pip install -q --force-reinstall --no-deps "$wheels"/irradia-*.whl \

@@ -96,7 +96,7 @@ def composite(color, depth=None, strategy="binary-swap", comm=None, *, op=None, 
     if not mpi_available():
         raise IrradiaError(
             "composite: this irradia was built without MPI; rebuild with "
-            "`pip install ./crates/python --config-settings=build-args='--features mpi'` "
+            "`pip install ./crates/python --config-settings=build-args='--features extension-module,mpi'` "
             "(needs OpenMPI's libopenmpi-dev and libclang-dev), or pass comm=None"
         )
     py2f = getattr(comm, "py2f", None)
