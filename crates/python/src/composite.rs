@@ -11,6 +11,7 @@
 
 use crate::errors;
 use irradia_parallel::composite::{self, Layer, Operator, Pixel, Strategy};
+use irradia_parallel::display_tiles::{DisplayLayout, DisplayTile};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
@@ -163,29 +164,97 @@ fn serial_of<P: Channels>(
     depth: Option<PyReadonlyArrayDyn<'_, f32>>,
     op: Operator,
     order: Option<Vec<usize>>,
-) -> PyResult<(PyObject, PyObject)> {
+    tiles: Option<&[TileSpec]>,
+) -> PyResult<PyObject> {
     let c: PyReadonlyArrayDyn<'_, P::Channel> = color.extract()?;
     let ls = layers::<P>(&c, depth.as_ref())?;
     check_order(&order, ls.len())?;
+    let (w, h) = (ls[0].width, ls[0].height);
     let out = py.allow_threads(|| composite::serial(&ls, op, order.as_deref()));
-    layer_arrays(py, &out)
+    match tiles {
+        None => Ok(layer_arrays(py, &out)?
+            .into_pyobject(py)?
+            .into_any()
+            .unbind()),
+        Some(tiles) => {
+            let ranks = tiles.iter().map(|t| t.0 + 1).max().unwrap_or(1);
+            let l = layout(tiles, w, h, ranks)?;
+            let list = pyo3::types::PyList::empty(py);
+            for t in &l.tiles {
+                list.append(layer_arrays(py, &DisplayLayout::crop(&out, t))?)?;
+            }
+            Ok(list.into_any().unbind())
+        }
+    }
 }
 
-/// The layers of one process composited one after another (front first in `order`).
+/// A tile of a display wall: (rank, x, y, width, height).
+pub type TileSpec = (usize, u32, u32, u32, u32);
+
+/// The display layout of `tiles` over a `width` x `height` image, checked for `ranks`
+/// ranks (`DisplayLayout::validate`: tiles inside the image, one per rank).
+pub fn layout(
+    tiles: &[TileSpec],
+    width: u32,
+    height: u32,
+    ranks: usize,
+) -> PyResult<DisplayLayout> {
+    let layout = DisplayLayout {
+        width,
+        height,
+        tiles: tiles
+            .iter()
+            .map(|&(rank, x, y, width, height)| DisplayTile {
+                rank,
+                x,
+                y,
+                width,
+                height,
+            })
+            .collect(),
+    };
+    layout
+        .validate(ranks, width, height)
+        .map_err(|e| errors::input(format!("tiles: {e}")))?;
+    Ok(layout)
+}
+
+/// The tiles of a `columns` x `rows` display grid over a `width` x `height` image,
+/// driven by ranks 0, 1, ... row by row, each widened by `overlap` pixels into its
+/// neighbours (edge-blended projectors), as `irradia wall` lays them out.
 #[pyfunction]
-#[pyo3(signature = (color, depth=None, *, op="depth", order=None))]
+#[pyo3(signature = (width, height, columns, rows, overlap=0))]
+pub fn display_grid(
+    width: u32,
+    height: u32,
+    columns: u32,
+    rows: u32,
+    overlap: u32,
+) -> PyResult<Vec<TileSpec>> {
+    let l = DisplayLayout::grid(width, height, columns, rows, overlap).map_err(errors::input)?;
+    Ok(l.tiles
+        .iter()
+        .map(|t| (t.rank, t.x, t.y, t.width, t.height))
+        .collect())
+}
+
+/// The layers of one process composited one after another (front first in `order`);
+/// with `tiles`, the composite cut into each tile, in the order given.
+#[pyfunction]
+#[pyo3(signature = (color, depth=None, *, op="depth", order=None, tiles=None))]
 pub fn _composite_serial(
     py: Python<'_>,
     color: &Bound<'_, PyAny>,
     depth: Option<PyReadonlyArrayDyn<'_, f32>>,
     op: &str,
     order: Option<Vec<usize>>,
-) -> PyResult<(PyObject, PyObject)> {
+    tiles: Option<Vec<TileSpec>>,
+) -> PyResult<PyObject> {
     let op = operator(op)?;
     if color.extract::<PyReadonlyArrayDyn<'_, u8>>().is_ok() {
-        serial_of::<[u8; 4]>(py, color, depth, op, order)
+        serial_of::<[u8; 4]>(py, color, depth, op, order, tiles.as_deref())
     } else if color.extract::<PyReadonlyArrayDyn<'_, f32>>().is_ok() {
-        serial_of::<[f32; 4]>(py, color, depth, op, order)
+        serial_of::<[f32; 4]>(py, color, depth, op, order, tiles.as_deref())
     } else {
         Err(errors::input(
             "color: expected a uint8 or float32 numpy array (premultiplied RGBA)",

@@ -4,11 +4,14 @@
 //! parallel crate's `MpiComm`, on which the compositors run exactly as under
 //! `irradia parallel --comm mpi`.
 
-use crate::composite::{check_order, layer_arrays, layers, operator, strategy, Channels};
+use crate::composite::{
+    check_order, layer_arrays, layers, layout, operator, strategy, Channels, TileSpec,
+};
 use crate::errors;
 use irradia_parallel::comm::mpi::MpiComm;
 use irradia_parallel::comm::Comm;
 use irradia_parallel::composite::{self, CompositeOptions};
+use irradia_parallel::display_tiles;
 use numpy::PyReadonlyArrayDyn;
 use pyo3::prelude::*;
 use std::time::Duration;
@@ -25,6 +28,7 @@ fn run<P: Channels>(
     rle: bool,
     fortran_comm: i64,
     timeout: f64,
+    tiles: Option<Vec<TileSpec>>,
 ) -> PyResult<Option<(PyObject, PyObject)>> {
     let c: PyReadonlyArrayDyn<'_, P::Channel> = color.extract()?;
     let mut ls = layers::<P>(&c, depth.as_ref())?;
@@ -66,15 +70,23 @@ fn run<P: Channels>(
             rle,
             root,
         };
-        composite::composite(&comm, strategy, layer, &opts)
-            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
+        let failed = |e: irradia_parallel::comm::CommError| {
+            pyo3::exceptions::PyRuntimeError::new_err(e.to_string())
+        };
+        match &tiles {
+            None => composite::composite(&comm, strategy, layer, &opts).map_err(failed),
+            Some(tiles) => {
+                let l = layout(tiles, layer.width, layer.height, size)?;
+                display_tiles::composite_to_tiles(&comm, strategy, layer, &l, &opts).map_err(failed)
+            }
+        }
     })?;
     out.map(|l| layer_arrays(py, &l)).transpose()
 }
 
 /// One layer per rank composited onto `root` (see `irradia.composite`).
 #[pyfunction]
-#[pyo3(signature = (color, depth, strategy, op, order, root, rle, fortran_comm, timeout))]
+#[pyo3(signature = (color, depth, strategy, op, order, root, rle, fortran_comm, timeout, tiles=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn _composite_mpi(
     py: Python<'_>,
@@ -87,6 +99,7 @@ pub fn _composite_mpi(
     rle: bool,
     fortran_comm: i64,
     timeout: f64,
+    tiles: Option<Vec<TileSpec>>,
 ) -> PyResult<Option<(PyObject, PyObject)>> {
     if color.extract::<PyReadonlyArrayDyn<'_, u8>>().is_ok() {
         run::<[u8; 4]>(
@@ -100,6 +113,7 @@ pub fn _composite_mpi(
             rle,
             fortran_comm,
             timeout,
+            tiles,
         )
     } else if color.extract::<PyReadonlyArrayDyn<'_, f32>>().is_ok() {
         run::<[f32; 4]>(
@@ -113,6 +127,7 @@ pub fn _composite_mpi(
             rle,
             fortran_comm,
             timeout,
+            tiles,
         )
     } else {
         Err(errors::input(

@@ -45,6 +45,7 @@ fn _irradia(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(radiosity::radiosity, m)?)?;
     m.add_function(wrap_pyfunction!(composite::_composite_serial, m)?)?;
     m.add_function(wrap_pyfunction!(composite::mpi_available, m)?)?;
+    m.add_function(wrap_pyfunction!(composite::display_grid, m)?)?;
     #[cfg(feature = "mpi")]
     m.add_function(wrap_pyfunction!(composite_mpi::_composite_mpi, m)?)?;
     Ok(())

@@ -71,3 +71,17 @@ def test_composite_errors():
         irradia.composite(c, bad)
     with pytest.raises(irradia.IrradiaError, match="py2f|without MPI"):
         irradia.composite(c[0], d[0], comm=object())
+
+
+def test_serial_tiles_are_crops():
+    c, d = stack(3)
+    tiles = irradia.display_grid(53, 37, 2, 2, overlap=3)
+    assert len(tiles) == 4 and tiles[0][0] == 0
+    full_c, full_d = irradia.composite(c, d)
+    parts = irradia.composite(c, d, tiles=tiles)
+    for (rank, x, y, w, h), (tc, td) in zip(tiles, parts):
+        assert np.array_equal(tc, full_c[y:y + h, x:x + w]) and np.array_equal(td, full_d[y:y + h, x:x + w])
+    with pytest.raises(irradia.IrradiaError, match="tiles"):
+        irradia.composite(c, d, tiles=[(0, 50, 0, 10, 10)])
+    with pytest.raises(irradia.IrradiaError):
+        irradia.display_grid(10, 10, 0, 1)

@@ -56,6 +56,21 @@ def test_over_in_order_equals_serial(strategy):
         assert out is None
 
 
+@pytest.mark.parametrize("strategy", ["binary-swap", "radix-k"])
+def test_display_tiles_equal_serial_crops(strategy):
+    tiles = irradia.display_grid(53, 37, SIZE, 1, overlap=2)
+    c, d = layer(RANK)
+    out = irradia.composite(c, d, strategy=strategy, comm=COMM, tiles=tiles)
+    sc, sd = stack(SIZE)
+    ref_c, ref_d = irradia.composite(sc, sd)
+    mine = [t for t in tiles if t[0] == RANK]
+    if mine:
+        _, x, y, w, h = mine[0]
+        assert np.array_equal(out[0], ref_c[y:y + h, x:x + w]) and np.array_equal(out[1], ref_d[y:y + h, x:x + w])
+    else:
+        assert out is None
+
+
 def test_caller_messages_untouched():
     # Irradia works on a duplicate of the communicator: a message of the caller's
     # posted before the composite is still there after it.

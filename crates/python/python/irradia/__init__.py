@@ -26,6 +26,7 @@ from ._irradia import (  # noqa: F401  (re-exported)
     __version__,
     builtin,
     builtins,
+    display_grid,
     form_factor,
     form_factor_cases,
     load,
@@ -42,6 +43,7 @@ __all__ = [
     "builtin",
     "builtins",
     "composite",
+    "display_grid",
     "form_factor",
     "form_factor_cases",
     "load",
@@ -71,7 +73,7 @@ def load_dict(d, base_dir=None):
 
 
 def composite(color, depth=None, strategy="binary-swap", comm=None, *, op=None, order=None,
-              root=0, rle=True, timeout=60.0):
+              root=0, rle=True, timeout=60.0, tiles=None):
     """Sort-last compositing of premultiplied RGBA images (uint8 or float32) with
     Irradia's compositors.
 
@@ -83,16 +85,23 @@ def composite(color, depth=None, strategy="binary-swap", comm=None, *, op=None, 
     wins; the default when ``depth`` is given) or "over" (ordered Porter-Duff over,
     front first in ``order``, a list of ranks; the default without depth).
 
+    With ``tiles``, a list of display tiles ``(rank, x, y, width, height)`` (see
+    ``display_grid``), the composite goes straight onto the displays: each display
+    rank gets ``(color, depth)`` of its tile, the other ranks ``None``.
+
     With ``comm=None`` the layers of this process, a stack ``color`` of shape
     (n, h, w, 4) and ``depth`` (n, h, w), are composited one after another (a single
-    layer is returned as it is): the serial result every parallel strategy equals.
+    layer is returned as it is): the serial result every parallel strategy equals;
+    with ``tiles`` a list of the tiles' ``(color, depth)``, in the order given.
     """
     if op is None:
         op = "depth" if depth is not None else "over"
     if order is not None:
         order = [int(r) for r in order]
+    if tiles is not None:
+        tiles = [tuple(int(v) for v in t) for t in tiles]
     if comm is None:
-        return _irradia._composite_serial(color, depth, op=op, order=order)
+        return _irradia._composite_serial(color, depth, op=op, order=order, tiles=tiles)
     if not mpi_available():
         raise IrradiaError(
             "composite: this irradia was built without MPI; rebuild with "
@@ -111,4 +120,4 @@ def composite(color, depth=None, strategy="binary-swap", comm=None, *, op=None, 
     if comm.Is_inter():
         raise IrradiaError("composite: comm must be an intra-communicator")
     return _irradia._composite_mpi(color, depth, strategy, op, order, int(root), bool(rle),
-                                   int(py2f()), float(timeout))
+                                   int(py2f()), float(timeout), tiles)

@@ -199,10 +199,17 @@ def composite(
     root: int = 0,
     rle: bool = True,
     timeout: float = 60.0,
-) -> Optional[Tuple[np.ndarray, npt.NDArray[np.float32]]]:
+    tiles: Optional[Sequence[Tuple[int, int, int, int, int]]] = None,
+) -> Any:
     """Sort-last compositing of premultiplied RGBA (uint8 or float32) with depth:
     over an mpi4py communicator one layer per rank onto `root` (others get None), or
-    without one a stack (n, h, w, 4) serially. op "depth" or "over" (in `order`)."""
+    without one a stack (n, h, w, 4) serially. op "depth" or "over" (in `order`).
+    With `tiles` ((rank, x, y, width, height) each) every display rank gets its tile
+    (serially: a list of every tile's (color, depth)). Returns (color, depth) or None."""
+
+def display_grid(width: int, height: int, columns: int, rows: int, overlap: int = 0) -> List[Tuple[int, int, int, int, int]]:
+    """The tiles (rank, x, y, width, height) of a columns x rows display wall over a
+    width x height image, ranks row by row, each widened by `overlap` pixels."""
 
 def mpi_available() -> bool:
     """Whether this build composites over MPI (cargo feature mpi)."""
