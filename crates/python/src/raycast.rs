@@ -40,7 +40,16 @@ const MISS: Answer = Answer {
     normal: [0.0; 3],
 };
 
-/// The rays as (origin, direction) pairs and the leading shape of the input.
+/// The values of an array: contiguous arrays are read in place, others copied once
+/// into row-major order.
+fn read<'a>(a: &'a PyReadonlyArrayDyn<'_, f32>) -> std::borrow::Cow<'a, [f32]> {
+    match a.as_slice() {
+        Ok(s) => std::borrow::Cow::Borrowed(s),
+        Err(_) => std::borrow::Cow::Owned(a.as_array().iter().copied().collect()),
+    }
+}
+
+/// The rays and the leading shape of the input.
 fn read_rays(
     rays: &PyReadonlyArrayDyn<'_, f32>,
     directions: Option<&PyReadonlyArrayDyn<'_, f32>>,
@@ -48,10 +57,7 @@ fn read_rays(
     let shape = rays.shape().to_vec();
     let last = shape.last().copied().unwrap_or(0);
     let lead = shape[..shape.len().saturating_sub(1)].to_vec();
-    let flat = |a: &PyReadonlyArrayDyn<'_, f32>| -> Vec<f32> {
-        a.as_array().as_standard_layout().iter().copied().collect()
-    };
-    let pairs: Vec<(Vec3, Vec3)> = match directions {
+    let pairs: Vec<Ray> = match directions {
         None => {
             if shape.is_empty() || last != 6 {
                 return Err(errors::input(format!(
@@ -59,9 +65,9 @@ fn read_rays(
                      or pass origins and directions of shape (..., 3)"
                 )));
             }
-            flat(rays)
+            read(rays)
                 .chunks_exact(6)
-                .map(|r| (Vec3::new(r[0], r[1], r[2]), Vec3::new(r[3], r[4], r[5])))
+                .map(|r| Ray::new(Vec3::new(r[0], r[1], r[2]), Vec3::new(r[3], r[4], r[5])))
                 .collect()
         }
         Some(d) => {
@@ -71,25 +77,22 @@ fn read_rays(
                     d.shape()
                 )));
             }
-            let (o, d) = (flat(rays), flat(d));
+            let (o, d) = (read(rays), read(d));
             o.chunks_exact(3)
                 .zip(d.chunks_exact(3))
-                .map(|(o, d)| (Vec3::from_slice(o), Vec3::from_slice(d)))
+                .map(|(o, d)| Ray::new(Vec3::from_slice(o), Vec3::from_slice(d)))
                 .collect()
         }
     };
     if let Some(i) = pairs
         .iter()
-        .position(|(o, d)| !(o.is_finite() && d.is_finite()))
+        .position(|r| !(r.origin.is_finite() && r.dir.is_finite()))
     {
         return Err(errors::input(format!(
             "rays[{i}]: origin and direction must be finite numbers"
         )));
     }
-    Ok((
-        pairs.into_iter().map(|(o, d)| Ray::new(o, d)).collect(),
-        lead,
-    ))
+    Ok((pairs, lead))
 }
 
 /// Casts `rays` (see the module); `t_max` ends every ray (default: unbounded).
