@@ -9,6 +9,7 @@
 //! Pixels are premultiplied RGBA, uint8 or float32 (Porter and Duff 1984); depth is
 //! float32 with infinity for the background.
 
+use crate::convert::values;
 use crate::errors;
 use irradia_parallel::composite::{self, Layer, Operator, Pixel, Strategy};
 use irradia_parallel::display_tiles::{DisplayLayout, DisplayTile};
@@ -58,12 +59,7 @@ pub fn layers<P: Channels>(
         u32::try_from(w).map_err(|_| errors::input("color: too wide"))?,
         u32::try_from(h).map_err(|_| errors::input("color: too tall"))?,
     );
-    let c: Vec<P::Channel> = color
-        .as_array()
-        .as_standard_layout()
-        .iter()
-        .copied()
-        .collect();
+    let c = values(color);
     let d: Option<Vec<f32>> = match depth {
         Some(d) => {
             let want: Vec<usize> = shape[..shape.len() - 1].to_vec();
@@ -73,7 +69,7 @@ pub fn layers<P: Channels>(
                     d.shape()
                 )));
             }
-            let v: Vec<f32> = d.as_array().as_standard_layout().iter().copied().collect();
+            let v = values(d).into_owned();
             if v.iter().any(|x| x.is_nan()) {
                 return Err(errors::input(
                     "depth: NaN is not a depth (use inf for the background)",
@@ -102,7 +98,7 @@ pub fn layers<P: Channels>(
 
 /// A pixel type built from four channels of an array.
 pub trait Channels: Pixel {
-    type Channel: numpy::Element + Copy;
+    type Channel: numpy::Element + bytemuck::Pod;
     fn from_channels(c: &[Self::Channel]) -> Self;
     fn channels(&self) -> [Self::Channel; 4];
 }
@@ -130,7 +126,7 @@ impl Channels for [f32; 4] {
 /// A layer as (color (h, w, 4), depth (h, w)) arrays.
 pub fn layer_arrays<P: Channels>(py: Python<'_>, l: &Layer<P>) -> PyResult<(PyObject, PyObject)> {
     let (h, w) = (l.height as usize, l.width as usize);
-    let c: Vec<P::Channel> = l.color.iter().flat_map(|p| p.channels()).collect();
+    let c: Vec<P::Channel> = bytemuck::cast_slice::<P, P::Channel>(&l.color).to_vec();
     let color = PyArray1::from_vec(py, c)
         .reshape([h, w, 4])?
         .into_any()

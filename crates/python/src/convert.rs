@@ -89,3 +89,16 @@ pub fn non_negative(obj: &Bound<'_, PyAny>, field: &str) -> PyResult<f32> {
     }
     Ok(x)
 }
+
+/// The values of an array in row-major order: a C-contiguous array is read in place,
+/// any other copied once (through a dynamic-rank iterator, which is slow per element).
+pub fn values<'a, T: numpy::Element + Copy>(
+    a: &'a numpy::PyReadonlyArrayDyn<'_, T>,
+) -> std::borrow::Cow<'a, [T]> {
+    match a.as_slice() {
+        Ok(s) => std::borrow::Cow::Borrowed(s),
+        Err(_) => {
+            std::borrow::Cow::Owned(a.as_array().as_standard_layout().iter().copied().collect())
+        }
+    }
+}

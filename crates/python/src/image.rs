@@ -47,7 +47,7 @@ fn pixels<T: numpy::Element + Copy>(
         u32::try_from(h).unwrap_or(u32::MAX),
     );
     irradia_core::image::check_size(wu, hu, 12).map_err(errors::image)?;
-    let v: Vec<T> = a.as_array().as_standard_layout().iter().copied().collect();
+    let v = crate::convert::values(a);
     let px = v
         .chunks_exact(c)
         .map(|p| {

@@ -6,6 +6,7 @@
 //! and primitive_normals, misses at t_hit = inf with ids 4294967295
 //! (`RaycastingScene.INVALID_ID`).
 
+use crate::convert::values;
 use crate::errors;
 use irradia_core::{Ray, Vec3};
 use irradia_geometry::{ObjectSet, RayQuery, RaySegment};
@@ -40,15 +41,6 @@ const MISS: Answer = Answer {
     normal: [0.0; 3],
 };
 
-/// The values of an array: contiguous arrays are read in place, others copied once
-/// into row-major order.
-fn read<'a>(a: &'a PyReadonlyArrayDyn<'_, f32>) -> std::borrow::Cow<'a, [f32]> {
-    match a.as_slice() {
-        Ok(s) => std::borrow::Cow::Borrowed(s),
-        Err(_) => std::borrow::Cow::Owned(a.as_array().iter().copied().collect()),
-    }
-}
-
 /// The rays and the leading shape of the input.
 fn read_rays(
     rays: &PyReadonlyArrayDyn<'_, f32>,
@@ -65,7 +57,7 @@ fn read_rays(
                      or pass origins and directions of shape (..., 3)"
                 )));
             }
-            read(rays)
+            values(rays)
                 .chunks_exact(6)
                 .map(|r| Ray::new(Vec3::new(r[0], r[1], r[2]), Vec3::new(r[3], r[4], r[5])))
                 .collect()
@@ -77,7 +69,7 @@ fn read_rays(
                     d.shape()
                 )));
             }
-            let (o, d) = (read(rays), read(d));
+            let (o, d) = (values(rays), values(d));
             o.chunks_exact(3)
                 .zip(d.chunks_exact(3))
                 .map(|(o, d)| Ray::new(Vec3::from_slice(o), Vec3::from_slice(d)))
