@@ -84,10 +84,8 @@ pub fn layers<P: Channels>(
         .map(|k| Layer {
             width: wu,
             height: hu,
-            color: c[4 * k * px..4 * (k + 1) * px]
-                .chunks_exact(4)
-                .map(P::from_channels)
-                .collect(),
+            // P is four channels with no padding (both are Pod): one copy.
+            color: bytemuck::cast_slice::<P::Channel, P>(&c[4 * k * px..4 * (k + 1) * px]).to_vec(),
             depth: match &d {
                 Some(d) => d[k * px..(k + 1) * px].to_vec(),
                 None => vec![composite::FAR; px],
@@ -96,42 +94,28 @@ pub fn layers<P: Channels>(
         .collect())
 }
 
-/// A pixel type built from four channels of an array.
+/// A pixel type made of four channels of an array's element type, with no padding
+/// (both `Pod`), so that layers and arrays convert by one copy.
 pub trait Channels: Pixel {
     type Channel: numpy::Element + bytemuck::Pod;
-    fn from_channels(c: &[Self::Channel]) -> Self;
-    fn channels(&self) -> [Self::Channel; 4];
 }
 
 impl Channels for [u8; 4] {
     type Channel = u8;
-    fn from_channels(c: &[u8]) -> Self {
-        [c[0], c[1], c[2], c[3]]
-    }
-    fn channels(&self) -> [u8; 4] {
-        *self
-    }
 }
 
 impl Channels for [f32; 4] {
     type Channel = f32;
-    fn from_channels(c: &[f32]) -> Self {
-        [c[0], c[1], c[2], c[3]]
-    }
-    fn channels(&self) -> [f32; 4] {
-        *self
-    }
 }
 
 /// A layer as (color (h, w, 4), depth (h, w)) arrays.
 pub fn layer_arrays<P: Channels>(py: Python<'_>, l: &Layer<P>) -> PyResult<(PyObject, PyObject)> {
     let (h, w) = (l.height as usize, l.width as usize);
-    let c: Vec<P::Channel> = bytemuck::cast_slice::<P, P::Channel>(&l.color).to_vec();
-    let color = PyArray1::from_vec(py, c)
+    let color = PyArray1::from_slice(py, bytemuck::cast_slice::<P, P::Channel>(&l.color))
         .reshape([h, w, 4])?
         .into_any()
         .unbind();
-    let depth = PyArray1::from_vec(py, l.depth.clone())
+    let depth = PyArray1::from_slice(py, &l.depth)
         .reshape([h, w])?
         .into_any()
         .unbind();
