@@ -72,26 +72,9 @@ pub enum IntegratorArg {
 }
 
 /// A scene file argument names a file that exists (a folder or a missing file is bad
-/// input, said in one line).
+/// input, said in one line: [`irradia_import::check_path`]).
 pub fn check_scene_path(path: &Path) -> Result<(), CliError> {
-    if path.is_dir() {
-        return Err(CliError::Input(format!(
-            "{}: is a directory, not a scene file (give a file ending in {})",
-            path.display(),
-            irradia_import::EXTENSIONS
-                .iter()
-                .map(|e| format!(".{e}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        )));
-    }
-    if !path.exists() {
-        return Err(CliError::Input(format!(
-            "{}: no such scene file",
-            path.display()
-        )));
-    }
-    Ok(())
+    Ok(irradia_import::check_path(path)?)
 }
 
 /// Reads a scene file of any format Irradia imports; prints the importer's warnings
@@ -126,27 +109,16 @@ pub fn load_scene(file: Option<&PathBuf>, args: &SceneArgs) -> Result<Scene, Cli
         (None, Some(name)) => irradia_scene::builtin::load(name)?,
         (None, None) => irradia_scene::builtin::load("default")?,
     };
-    let s = &mut scene.settings;
-    if let Some(w) = args.width {
-        s.width = w;
-    }
-    if let Some(h) = args.height {
-        s.height = h;
-    }
-    if let Some(n) = args.spp {
-        s.spp = n;
-    }
-    if let Some(i) = args.integrator {
-        s.integrator = match i {
+    irradia_scene::Overrides {
+        width: args.width,
+        height: args.height,
+        spp: args.spp,
+        integrator: args.integrator.map(|i| match i {
             IntegratorArg::Whitted => irradia_scene::Integrator::Whitted,
             IntegratorArg::Path => irradia_scene::Integrator::Path,
-        };
+        }),
+        max_depth: args.max_depth,
     }
-    if let Some(d) = args.max_depth {
-        s.max_depth = d;
-    }
-    // Refuse sizes that cannot be allocated before any work starts.
-    irradia_core::image::check_size(s.width, s.height, 12)
-        .map_err(|e| CliError::Input(e.to_string()))?;
+    .apply(&mut scene)?;
     Ok(scene)
 }

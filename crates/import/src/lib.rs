@@ -180,3 +180,27 @@ fn import_irradia(path: &Path, syntax: SceneSyntax) -> Result<Imported, SceneErr
         notes: Vec::new(),
     })
 }
+
+/// Checks that a scene file argument names a file that exists: a folder or a missing
+/// file is bad input, said in one line (the command line and the Python binding give
+/// the same message).
+pub fn check_path(path: &Path) -> Result<(), SceneError> {
+    if path.is_dir() {
+        let exts: Vec<String> = EXTENSIONS.iter().map(|e| format!(".{e}")).collect();
+        return Err(SceneError::input(
+            "",
+            format!(
+                "{}: is a directory, not a scene file (give a file ending in {})",
+                path.display(),
+                exts.join(", ")
+            ),
+        ));
+    }
+    if !path.exists() {
+        return Err(SceneError::input(
+            "",
+            format!("{}: no such scene file", path.display()),
+        ));
+    }
+    Ok(())
+}

@@ -166,6 +166,16 @@ pub fn load_scene(source: SceneSource<'_>, two_pass: bool, closed: bool) -> Resu
     Ok(job)
 }
 
+/// The patches of a scene the caller keeps (the Python binding's `Scene`), checked
+/// closed when asked, with the translation's warnings.
+pub fn patches_of(scene: &Scene, closed: bool) -> Result<(Vec<PatchSpec>, Vec<String>)> {
+    let (specs, objects, w) = scene_input::patches_with_objects(scene, DETAIL)?;
+    if closed {
+        scene_input::check_closed(&specs, Some((scene, &objects)))?;
+    }
+    Ok((specs, w))
+}
+
 /// Makes `scene` the job's: its patches (checked closed when asked) and warnings.
 fn take_scene(job: &mut JobScene, scene: Scene, two_pass: bool, closed: bool) -> Result<()> {
     let (specs, objects, w) = scene_patches(&scene, two_pass, job)?;

@@ -18,6 +18,7 @@ pub mod geom;
 pub mod instant;
 pub mod job;
 pub mod mesh;
+pub mod options;
 pub mod pipeline;
 pub mod scene_input;
 pub mod scenes;

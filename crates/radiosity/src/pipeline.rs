@@ -2,7 +2,7 @@
 //! display, with the time of each phase and the final residual.
 
 use crate::error::Result;
-use crate::formfactor::{self, Diagnostics, Method, Params};
+use crate::formfactor::{self, Diagnostics, FormFactors, Method, Params};
 use crate::mesh::weld::DisplayMesh;
 use crate::mesh::{Mesh, MeshOptions, PatchSpec};
 use crate::solver::hierarchical::{self, HierarchicalOptions, HierarchicalResult};
@@ -39,6 +39,8 @@ pub struct Config {
     pub adaptive_rounds: usize,
     /// Relative radiosity jump that makes an element split in adaptive subdivision.
     pub adaptive_tolerance: f64,
+    /// Keep the final form-factor matrix in [`Report::form_factors`] (matrix solvers).
+    pub keep_form_factors: bool,
 }
 
 impl Default for Config {
@@ -53,6 +55,7 @@ impl Default for Config {
             compare_solvers: false,
             adaptive_rounds: 0,
             adaptive_tolerance: 0.05,
+            keep_form_factors: false,
         }
     }
 }
@@ -69,6 +72,9 @@ pub struct Report {
     /// (solver, residual per iteration) for every solver that ran.
     pub histories: Vec<(String, Vec<f64>)>,
     pub notes: Vec<String>,
+    /// The final form-factor matrix, when [`Config::keep_form_factors`] asked for it
+    /// (none for the hierarchical solver, which has no matrix).
+    pub form_factors: Option<FormFactors>,
 }
 
 impl Report {
@@ -153,6 +159,7 @@ fn hierarchical_report(
         timings,
         histories: vec![("hierarchical".into(), hist)],
         notes,
+        form_factors: None,
     }))
 }
 
@@ -234,6 +241,7 @@ pub fn run(specs: &[PatchSpec], cfg: &Config, progress: &dyn Progress) -> Result
             timings,
             histories,
             notes,
+            form_factors: cfg.keep_form_factors.then_some(ff),
         });
     }
 }

@@ -23,6 +23,7 @@ use irradia_scene::camera::CameraRays;
 use irradia_scene::{CropWindow, Scene};
 use rayon::prelude::*;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -265,16 +266,38 @@ impl Sweep for LocalSweep {
         work: PassWork,
         on_tile: &(dyn Fn(u64) + Sync),
     ) -> Result<(), SweepError> {
-        let sink = Mutex::new(sink);
-        let lock = || sink.lock().unwrap_or_else(|e| e.into_inner());
-        tiles.par_iter().for_each(|t| {
-            let pixels = job.start_pixels(lock().film, *t);
-            let r = job.render(*t, pixels, work);
-            on_tile((t.w * t.h) as u64 * work.n as u64);
-            store_tile(&mut lock(), *t, r);
-        });
-        Ok(())
+        sweep_local(job, tiles, sink, work, on_tile, None)
     }
+}
+
+/// The tiles rendered in parallel on the current rayon pool ([`LocalSweep`]); once
+/// `cancel` is set, tiles not yet started are skipped and the sweep fails with
+/// [`crate::cancel::Cancelled`] (the film then holds a partial pass: a cancelled
+/// render returns no image).
+pub(crate) fn sweep_local<I: Integrator>(
+    job: &TileJob<'_, I>,
+    tiles: &[Tile],
+    sink: &mut Sink<'_>,
+    work: PassWork,
+    on_tile: &(dyn Fn(u64) + Sync),
+    cancel: Option<&AtomicBool>,
+) -> Result<(), SweepError> {
+    let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+    let sink = Mutex::new(sink);
+    let lock = || sink.lock().unwrap_or_else(|e| e.into_inner());
+    tiles.par_iter().for_each(|t| {
+        if cancelled() {
+            return;
+        }
+        let pixels = job.start_pixels(lock().film, *t);
+        let r = job.render(*t, pixels, work);
+        on_tile((t.w * t.h) as u64 * work.n as u64);
+        store_tile(&mut lock(), *t, r);
+    });
+    if cancelled() {
+        return Err(Box::new(crate::cancel::Cancelled));
+    }
+    Ok(())
 }
 
 /// The tiles of `window`, row by row, each `size` pixels square (smaller at the

@@ -14,6 +14,8 @@
 
 pub mod adaptive;
 pub mod aov;
+pub mod budget;
+pub mod cancel;
 pub mod driver;
 pub mod film;
 pub mod filter;
@@ -28,6 +30,7 @@ pub mod stats;
 pub mod whitted;
 
 pub use aov::Aov;
+pub use budget::Budget;
 pub use driver::{PassReport, StopReason};
 pub use film::{CheckpointError, Film};
 pub use integrator::{AovSample, Integrator};
@@ -43,7 +46,7 @@ use irradia_scene::{Integrator as Method, Scene};
 use path::{PathIntegrator, PathParams};
 use sampler::{camera_sample, Sampler};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 use thiserror::Error;
@@ -72,6 +75,9 @@ pub enum RenderError {
     /// A distributed render that lost a rank (the message names it).
     #[error("{0}")]
     Distributed(String),
+    /// The caller set [`RenderOptions::cancel`] before the render finished.
+    #[error("the render was cancelled")]
+    Cancelled,
     #[error("trace-pixel records the whitted and path integrators; this scene's integrator is direct (render it with --integrator path and --max-depth 2 to trace its direct light)")]
     TraceDirect,
 }
@@ -114,6 +120,9 @@ pub struct RenderOptions {
     pub resume: Option<PathBuf>,
     /// Selects an independent family of random streams (path tracer).
     pub seed: u32,
+    /// Set it (from any thread) to stop the render: tiles not yet started are
+    /// skipped and [`render`] returns [`RenderError::Cancelled`] ([`cancel`]).
+    pub cancel: Option<Arc<AtomicBool>>,
 }
 
 impl Default for RenderOptions {
@@ -130,6 +139,7 @@ impl Default for RenderOptions {
             checkpoint_interval: Duration::from_secs(30),
             resume: None,
             seed: 0,
+            cancel: None,
         }
     }
 }
@@ -169,8 +179,9 @@ pub struct RenderOutput {
 /// Renders `scene` with the integrator its settings name.
 /// The scene's `[[labels]]` are drawn over the image ([`labels::draw_labels`]).
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, RenderError> {
-    pool::with_threads(options.threads, || {
-        render_on(scene, options, &mut LocalSweep)
+    pool::with_threads(options.threads, || match &options.cancel {
+        Some(cancel) => render_on(scene, options, &mut cancel::CancellableSweep { cancel }),
+        None => render_on(scene, options, &mut LocalSweep),
     })?
 }
 
@@ -314,6 +325,7 @@ pub(crate) fn run_driver<I: Integrator, S: Sweep>(
     )
     .map_err(|e| match e {
         RunError::Checkpoint(e) => RenderError::CheckpointWrite(e),
+        RunError::Sweep(e) if e.is::<cancel::Cancelled>() => RenderError::Cancelled,
         RunError::Sweep(e) => RenderError::Distributed(e.to_string()),
     })?;
     Ok(RenderOutput {

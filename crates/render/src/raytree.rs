@@ -329,3 +329,22 @@ impl RayNode {
 fn esc(s: &str) -> String {
     s.replace('\\', "\\\\").replace('"', "\\\"")
 }
+
+/// The document `irradia trace-pixel --format json` prints and the Python binding's
+/// `Scene.trace_pixel` returns: the pixel, the sample, its radiance, the number of
+/// rays and the tree.
+pub fn pixel_document(
+    x: u32,
+    y: u32,
+    sample: u32,
+    radiance: irradia_core::Rgb,
+    tree: &RayNode,
+) -> serde_json::Value {
+    serde_json::json!({
+        "pixel": [x, y],
+        "sample": sample,
+        "radiance": radiance.to_array(),
+        "rays": tree.count(),
+        "tree": tree,
+    })
+}

@@ -12,6 +12,7 @@ pub mod file;
 pub mod label;
 pub mod light;
 pub mod material;
+pub mod overrides;
 pub mod projector;
 pub mod scene;
 pub mod texture;
@@ -24,6 +25,7 @@ pub use file::{load_file, load_str, load_tree, SceneSyntax};
 pub use label::Label;
 pub use light::{spot_falloff, Light, SpotProfile, SpotTexture};
 pub use material::{image_texel, Material, ShadingModel, Texture};
+pub use overrides::Overrides;
 pub use projector::{Projector, ProjectorSample};
 pub use scene::{
     CropWindow, Integrator, LightSelection, Object, PixelFilter, RenderSettings, Scene,

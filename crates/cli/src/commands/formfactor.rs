@@ -3,7 +3,7 @@
 
 use crate::error::CliError;
 use clap::Args;
-use irradia_radiosity::formfactor::analytic::{find, CASES};
+use irradia_radiosity::formfactor::analytic::{lookup, CASES};
 
 #[derive(Args, Debug)]
 #[command(
@@ -47,14 +47,7 @@ pub fn run(a: FormFactorArgs) -> Result<(), CliError> {
         }
         return Ok(());
     }
-    let case = find(&a.case).ok_or_else(|| {
-        let names: Vec<&str> = CASES.iter().map(|c| c.name).collect();
-        CliError::Input(format!(
-            "unknown form-factor case '{}'; the cases are: {}",
-            a.case,
-            names.join(", ")
-        ))
-    })?;
+    let case = lookup(&a.case).map_err(CliError::Input)?;
     let mut given = Vec::new();
     let mut it = a.params.iter();
     while let Some(k) = it.next() {

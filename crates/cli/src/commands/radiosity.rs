@@ -7,12 +7,11 @@ use crate::output;
 use crate::progress::Progress;
 use clap::{Args, ValueEnum};
 use irradia_radiosity::display::{write_ply, View};
-use irradia_radiosity::formfactor::{Method, Params};
+use irradia_radiosity::formfactor::Method;
 use irradia_radiosity::job::{self, Display, SceneSource};
-use irradia_radiosity::mesh::MeshOptions;
-use irradia_radiosity::pipeline::{self, Config};
-use irradia_radiosity::solver::hierarchical::HierarchicalOptions;
-use irradia_radiosity::solver::{SolveOptions, SolverKind};
+use irradia_radiosity::options::JobOptions;
+use irradia_radiosity::pipeline;
+use irradia_radiosity::solver::SolverKind;
 use irradia_radiosity::RadiosityError;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -207,19 +206,12 @@ fn err(e: RadiosityError) -> CliError {
     }
 }
 
-/// Every count and tolerance, before any work.
+/// The options the command line adds to the job's (the job checks its own:
+/// [`JobOptions::check`]), before any work.
 fn check_options(a: &RadiosityArgs) -> Result<(), CliError> {
-    for (name, v) in [
-        ("--hemicube-resolution", a.hemicube_resolution),
-        ("--hemisphere-resolution", a.hemisphere_resolution),
-        ("--rays", a.rays),
-        ("--samples", a.samples),
-        ("--elements", a.elements),
-        ("--pixel-samples", a.pixel_samples as usize),
-    ] {
-        if v == 0 {
-            return Err(CliError::Input(format!("{name} must be at least 1")));
-        }
+    job_options(a).check().map_err(err)?;
+    if a.pixel_samples == 0 {
+        return Err(CliError::Input("--pixel-samples must be at least 1".into()));
     }
     if a.pixel_samples > 64 {
         return Err(CliError::Input(format!(
@@ -227,11 +219,6 @@ fn check_options(a: &RadiosityArgs) -> Result<(), CliError> {
             a.pixel_samples,
             a.pixel_samples as u64 * a.pixel_samples as u64
         )));
-    }
-    if !(a.tolerance > 0.0) || !(a.bf_epsilon > 0.0) {
-        return Err(CliError::Input(
-            "--tolerance and --bf-epsilon must be positive".into(),
-        ));
     }
     irradia_core::image::check_size(a.width, a.height, 12)
         .map_err(|e| CliError::Input(e.to_string()))?;
@@ -243,6 +230,44 @@ fn check_options(a: &RadiosityArgs) -> Result<(), CliError> {
         output::check_file("--convergence", p, &["csv"])?;
     }
     Ok(())
+}
+
+/// The job's options from the command line (the library's names and defaults).
+fn job_options(a: &RadiosityArgs) -> JobOptions {
+    JobOptions {
+        form_factors: match a.form_factors {
+            FormFactorArg::Analytic => Method::Analytic,
+            FormFactorArg::Contour => Method::Contour,
+            FormFactorArg::Hemisphere => Method::Hemisphere,
+            FormFactorArg::Hemicube => Method::Hemicube,
+            FormFactorArg::Raycast => Method::RayCast,
+            FormFactorArg::Montecarlo => Method::MonteCarlo,
+        },
+        solver: match a.solver {
+            SolverArg::Direct => SolverKind::Direct,
+            SolverArg::Jacobi => SolverKind::Jacobi,
+            SolverArg::GaussSeidel => SolverKind::GaussSeidel,
+            SolverArg::Series => SolverKind::Series,
+            SolverArg::Southwell => SolverKind::Southwell,
+            SolverArg::Hierarchical => SolverKind::Hierarchical,
+        },
+        max_element_area: a.max_element_area,
+        elements: a.elements,
+        element_limit: a.element_limit,
+        hemicube_resolution: a.hemicube_resolution,
+        hemisphere_resolution: a.hemisphere_resolution,
+        rays: a.rays,
+        samples: a.samples,
+        visibility_samples: a.visibility_samples,
+        tolerance: a.tolerance,
+        max_iterations: a.max_iterations,
+        bf_epsilon: a.bf_epsilon,
+        link_rays: a.link_rays,
+        adaptive: a.adaptive,
+        seed: a.seed,
+        compare_solvers: a.convergence.is_some(),
+        keep_form_factors: false,
+    }
 }
 
 pub fn run(mut a: RadiosityArgs) -> Result<(), CliError> {
@@ -277,70 +302,15 @@ pub fn run(mut a: RadiosityArgs) -> Result<(), CliError> {
         Some(s) => view_of(s, a.width, a.height)?,
         None => scene.view.view(a.width, a.height),
     };
-    let area = a
-        .max_element_area
-        .unwrap_or(job::total_area(&scene.specs) / a.elements as f64);
-    if !(area > 0.0) || !area.is_finite() {
-        return Err(CliError::Input(format!(
-            "--max-element-area must be a positive number (got {area})"
-        )));
-    }
-    let solver = match a.solver {
-        SolverArg::Direct => SolverKind::Direct,
-        SolverArg::Jacobi => SolverKind::Jacobi,
-        SolverArg::GaussSeidel => SolverKind::GaussSeidel,
-        SolverArg::Series => SolverKind::Series,
-        SolverArg::Southwell => SolverKind::Southwell,
-        SolverArg::Hierarchical => SolverKind::Hierarchical,
-    };
-    let method = match a.form_factors {
-        FormFactorArg::Analytic => Method::Analytic,
-        FormFactorArg::Contour => Method::Contour,
-        FormFactorArg::Hemisphere => Method::Hemisphere,
-        FormFactorArg::Hemicube => Method::Hemicube,
-        FormFactorArg::Raycast => Method::RayCast,
-        FormFactorArg::Montecarlo => Method::MonteCarlo,
-    };
+    let options = job_options(&a);
+    let (solver, method) = (options.solver, options.form_factors);
     let display = match a.display {
         DisplayArg::Gouraud => Display::Gouraud,
         DisplayArg::TwoPass => Display::TwoPass {
             samples_per_axis: a.pixel_samples,
         },
     };
-    let cfg = Config {
-        mesh: MeshOptions {
-            max_element_area: Some(area),
-            max_elements: a.element_limit,
-        },
-        method,
-        params: Params {
-            hemicube_resolution: a.hemicube_resolution,
-            hemisphere_resolution: a.hemisphere_resolution,
-            rays: a.rays,
-            samples: a.samples,
-            visibility_samples: a.visibility_samples,
-            gauss_points: 3,
-            seed: a.seed,
-        },
-        solver,
-        solve: SolveOptions {
-            tolerance: a.tolerance,
-            max_iterations: a.max_iterations,
-        },
-        hierarchical: HierarchicalOptions {
-            bf_epsilon: a.bf_epsilon,
-            // --elements N: the leaf area that gives N leaves.
-            target_leaves: a.max_element_area.is_none().then_some(a.elements),
-            visibility_rays: a.link_rays,
-            tolerance: a.tolerance,
-            max_iterations: a.max_iterations,
-            seed: a.seed,
-            ..Default::default()
-        },
-        compare_solvers: a.convergence.is_some() && solver != SolverKind::Hierarchical,
-        adaptive_rounds: a.adaptive,
-        ..Default::default()
-    };
+    let cfg = options.config(&scene.specs).map_err(err)?;
     if ranks.rank() == 0 {
         for w in &scene.warnings {
             eprintln!("irradia: warning: {w}");

@@ -139,14 +139,10 @@ pub fn run(mut args: RenderArgs) -> Result<(), CliError> {
     // Under MPI only rank 0 reports and writes.
     args.quiet |= ranks.rank() != 0;
     let aovs: Vec<Aov> = args.aov.iter().map(|&a| a.into()).collect();
-    args.path.validate()?;
+    args.path.validate(true)?;
     let scene = load_scene(args.scene.as_ref(), &args.scene_args)?;
     let path_traced = scene.settings.integrator.is_monte_carlo();
-    if !path_traced && args.path.any() {
-        return Err(CliError::Input(
-            "--time, --target-error, --checkpoint, --resume and --seed belong to the path tracer: add --integrator path".into(),
-        ));
-    }
+    args.path.validate(path_traced)?;
     scene.settings.check_crop().map_err(CliError::Input)?;
 
     let reporter = Arc::new(crate::progress::Progress::new("render", args.quiet));

@@ -3,9 +3,8 @@
 
 use crate::error::CliError;
 use clap::Args;
-use irradia_render::RenderOptions;
+use irradia_render::{Budget, RenderOptions};
 use std::path::PathBuf;
-use std::time::Duration;
 
 /// Options of the path tracer (used when the scene's integrator is `path`).
 #[derive(Args, Debug, Clone, Default)]
@@ -30,55 +29,25 @@ pub struct PathArgs {
 }
 
 impl PathArgs {
-    /// True when any path-tracer option was given.
-    pub fn any(&self) -> bool {
-        self.time.is_some()
-            || self.target_error.is_some()
-            || self.checkpoint.is_some()
-            || self.resume.is_some()
-            || self.seed.is_some()
+    /// The options as the render library's [`Budget`], which checks and applies them.
+    pub fn budget(&self) -> Budget {
+        Budget {
+            time: self.time,
+            target_error: self.target_error,
+            checkpoint: self.checkpoint.clone(),
+            resume: self.resume.clone(),
+            seed: self.seed,
+        }
     }
 
-    /// Checks the values before any work starts.
-    pub fn validate(&self) -> Result<(), CliError> {
-        if let Some(t) = self.time {
-            if !(t.is_finite() && t > 0.0) {
-                return Err(CliError::Input(format!(
-                    "--time: must be a positive number of seconds (got {t})"
-                )));
-            }
-        }
-        if let Some(e) = self.target_error {
-            if !(e.is_finite() && e > 0.0) {
-                return Err(CliError::Input(format!(
-                    "--target-error: must be a positive number (got {e})"
-                )));
-            }
-        }
-        if let Some(r) = &self.resume {
-            if !r.is_file() {
-                return Err(CliError::Input(format!(
-                    "--resume: {}: no such checkpoint file",
-                    r.display()
-                )));
-            }
-        }
-        Ok(())
+    /// Checks the values before any work starts (`path_traced`: the scene's integrator
+    /// is the path tracer, which the options belong to).
+    pub fn validate(&self, path_traced: bool) -> Result<(), CliError> {
+        self.budget().validate(path_traced).map_err(CliError::Input)
     }
 
-    /// Sets the budgets, checkpoint and resume file in `options`. `spp_given` tells
-    /// whether the user fixed the sample count: with only a time or error budget,
-    /// samples are not capped.
+    /// Sets the budgets, checkpoint and resume file in `options`.
     pub fn apply(&self, options: &mut RenderOptions, spp_given: bool) {
-        let budget = self.time.is_some() || self.target_error.is_some();
-        if budget && !spp_given {
-            options.spp = Some(u32::MAX);
-        }
-        options.time_limit = self.time.map(Duration::from_secs_f64);
-        options.target_error = self.target_error;
-        options.checkpoint = self.checkpoint.clone();
-        options.resume = self.resume.clone();
-        options.seed = self.seed.unwrap_or(0);
-        options.checkpoint_interval = Duration::from_secs(30);
+        self.budget().apply(options, spp_given)
     }
 }

@@ -69,13 +69,7 @@ pub fn run(args: TracePixelArgs) -> Result<(), CliError> {
             tree.to_text()
         ),
         TreeFormat::Json => {
-            let doc = serde_json::json!({
-                "pixel": [x, y],
-                "sample": args.sample,
-                "radiance": radiance.to_array(),
-                "rays": tree.count(),
-                "tree": tree,
-            });
+            let doc = irradia_render::raytree::pixel_document(x, y, args.sample, radiance, &tree);
             serde_json::to_string_pretty(&doc).map_err(|e| CliError::Failure(e.to_string()))? + "\n"
         }
         TreeFormat::Dot => tree.to_dot(),

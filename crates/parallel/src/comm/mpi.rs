@@ -31,9 +31,13 @@ fn piece_window() -> usize {
     })
 }
 
-/// One rank of an MPI job (`MPI_COMM_WORLD`). Create exactly one per process.
+/// One rank of an MPI job: `MPI_COMM_WORLD` of a program that initialised MPI here
+/// ([`MpiComm::init`], exactly one per process), or a duplicate of a communicator MPI
+/// was initialised for by someone else ([`MpiComm::from_raw_dup`], the Python
+/// binding's mpi4py communicator).
 pub struct MpiComm {
-    _universe: mpi::environment::Universe,
+    /// Finalises MPI when dropped (`None` when the caller owns MPI's lifetime).
+    _universe: Option<mpi::environment::Universe>,
     world: SimpleCommunicator,
     timeout: Duration,
     log: MessageLog,
@@ -76,12 +80,35 @@ impl MpiComm {
         let universe = mpi::initialize()?;
         let world = universe.world();
         Some(Self {
-            _universe: universe,
+            _universe: Some(universe),
             world,
             timeout,
             log: MessageLog::default(),
             posted: Default::default(),
         })
+    }
+
+    /// A comm over a duplicate (`MPI_Comm_dup`) of `comm`, a live intra-communicator of
+    /// an MPI that someone else initialised and will finalise (mpi4py): Irradia's
+    /// messages then never match the caller's, and the duplicate is freed when this is
+    /// dropped (which must happen before MPI is finalised).
+    ///
+    /// # Safety
+    /// `comm` must be a valid intra-communicator handle (not `MPI_COMM_NULL`), MPI must
+    /// be initialised, and every rank of `comm` must call this together (the duplicate
+    /// is collective).
+    pub unsafe fn from_raw_dup(comm: mpi::ffi::MPI_Comm, timeout: Duration) -> Self {
+        use mpi::raw::FromRaw;
+        let mut dup = std::mem::MaybeUninit::<mpi::ffi::MPI_Comm>::uninit();
+        mpi::ffi::MPI_Comm_dup(comm, dup.as_mut_ptr());
+        let world = SimpleCommunicator::from_raw(dup.assume_init());
+        Self {
+            _universe: None,
+            world,
+            timeout,
+            log: MessageLog::default(),
+            posted: Default::default(),
+        }
     }
 
     /// Frees the buffers of the posted sends that have completed.

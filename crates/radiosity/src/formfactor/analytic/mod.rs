@@ -46,6 +46,18 @@ pub fn find(name: &str) -> Option<&'static Case> {
     CASES.iter().find(|c| c.name == name)
 }
 
+/// [`find`], with an unknown name an error that lists the cases (`irradia formfactor`
+/// and the Python binding's `irradia.form_factor` say the same).
+pub fn lookup(name: &str) -> Result<&'static Case, String> {
+    find(name).ok_or_else(|| {
+        let names: Vec<&str> = CASES.iter().map(|c| c.name).collect();
+        format!(
+            "unknown form-factor case '{name}'; the cases are: {}",
+            names.join(", ")
+        )
+    })
+}
+
 impl Case {
     /// Evaluates with named parameters; errors name the missing or bad parameter.
     pub fn eval_named(&self, given: &[(String, f64)]) -> Result<f64, String> {

@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+"""irradia.composite from numpy against an mpi4py + numpy binary swap, on the image of
+bench/composite (1280x720 RGBA8 + float32 depth, dense, random per rank).
+
+    mpirun -np P python bench/python/composite_numpy.py [--reps 21]
+
+Times, from a barrier, slowest rank, median of the repetitions: (1) irradia.composite
+(binary swap, then the gather onto rank 0, as the function always does); (2) the
+mpi4py + numpy binary swap of bench/composite/binary_swap_mpi4py.py followed by a
+Gatherv of the owned pieces onto rank 0 (the same work); (3) that binary swap alone
+(bench/composite's baseline). Checks (1) equals (2) on rank 0."""
+
+import argparse
+import time
+
+import numpy as np
+from mpi4py import MPI
+
+import irradia
+
+
+def swap_numpy(comm, color, depth, gather):
+    rank, p = comm.Get_rank(), comm.Get_size()
+    n = depth.size
+    lo, hi, bit = 0, n, 1
+    while bit < p:
+        partner = rank ^ bit
+        mid = (lo + hi) // 2
+        keep, give = ((lo, mid), (mid, hi)) if rank & bit == 0 else ((mid, hi), (lo, mid))
+        k = keep[1] - keep[0]
+        rc = np.empty((k, 4), np.uint8)
+        rd = np.empty(k, np.float32)
+        comm.Sendrecv(np.ascontiguousarray(color[give[0]:give[1]]), dest=partner, sendtag=1,
+                      recvbuf=rc, source=partner, recvtag=1)
+        comm.Sendrecv(np.ascontiguousarray(depth[give[0]:give[1]]), dest=partner, sendtag=2,
+                      recvbuf=rd, source=partner, recvtag=2)
+        ld, lc = depth[keep[0]:keep[1]], color[keep[0]:keep[1]]
+        closer = (rd <= ld) if partner < rank else (rd < ld)
+        lc[closer] = rc[closer]
+        ld[closer] = rd[closer]
+        lo, hi = keep
+        bit <<= 1
+    if not gather:
+        return None
+    spans = comm.gather((lo, hi), root=0)
+    out_c = np.empty((n, 4), np.uint8) if rank == 0 else None
+    out_d = np.empty(n, np.float32) if rank == 0 else None
+    if rank == 0:
+        counts = [spans[r][1] - spans[r][0] for r in range(p)]
+        displ = [spans[r][0] for r in range(p)]
+        comm.Gatherv(color[lo:hi], [out_c, [4 * c for c in counts], [4 * x for x in displ], MPI.UNSIGNED_CHAR], root=0)
+        comm.Gatherv(depth[lo:hi], [out_d, counts, displ, MPI.FLOAT], root=0)
+        return out_c, out_d
+    comm.Gatherv(color[lo:hi], None, root=0)
+    comm.Gatherv(depth[lo:hi], None, root=0)
+    return None
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--width", type=int, default=1280)
+    ap.add_argument("--height", type=int, default=720)
+    ap.add_argument("--reps", type=int, default=21)
+    a = ap.parse_args()
+    comm = MPI.COMM_WORLD
+    rank, p = comm.Get_rank(), comm.Get_size()
+    h, w = a.height, a.width
+    rng = np.random.default_rng(rank + 1)
+    color0 = rng.integers(0, 256, size=(h, w, 4), dtype=np.uint8)
+    depth0 = rng.random((h, w), dtype=np.float32)
+    times = {"irradia": [], "numpy_gather": [], "numpy_swap_only": []}
+    check = None
+    for rep in range(a.reps + 1):
+        for case in times:
+            color, depth = color0.copy(), depth0.copy()
+            comm.Barrier()
+            t0 = time.perf_counter()
+            if case == "irradia":
+                out = irradia.composite(color, depth, strategy="binary-swap", comm=comm)
+            else:
+                out = swap_numpy(comm, color.reshape(-1, 4), depth.reshape(-1), case == "numpy_gather")
+            t = time.perf_counter() - t0
+            t = max(comm.allgather(t))
+            if rep:
+                times[case].append(t)
+            elif rank == 0 and case != "numpy_swap_only":
+                check = out if check is None else check
+                if case == "numpy_gather":
+                    assert np.array_equal(check[0].reshape(-1, 4), out[0]) and np.array_equal(check[1].reshape(-1), out[1])
+    if rank == 0:
+        m = {k: 1e3 * float(np.median(v)) for k, v in times.items()}
+        print(f"RESULT np={p} irradia_ms={m['irradia']:.3f} numpy_gather_ms={m['numpy_gather']:.3f} "
+              f"numpy_swap_only_ms={m['numpy_swap_only']:.3f} ratio_same_work={m['irradia'] / m['numpy_gather']:.3f} "
+              f"ratio_vs_swap_only={m['irradia'] / m['numpy_swap_only']:.3f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,65 @@
+#!/usr/bin/env python3
+"""Scene.render against `irradia render` on the same image, interleaved A B A B.
+
+    python bench/python/render_vs_cli.py --cli target/release/irradia [--rounds 7]
+
+For each case: the render time each reports (the driver's own clock: `Rendered ...
+in X s` / `Scene.last_render["seconds"]`) and the wall time of the call (the CLI as a
+whole process, scene loading and writing the PFM included; Python: load + render in a
+running interpreter). Prints medians and the median of the pairwise ratios
+python/cli. Checks the images are equal."""
+
+import argparse
+import re
+import statistics
+import subprocess
+import tempfile
+import time
+
+import numpy as np
+
+import irradia
+
+CASES = [
+    ("whitted", dict(width=1280, height=720), []),
+    ("cornell", dict(width=256, height=256, spp=16), []),
+    ("csg", dict(width=640, height=360), []),
+]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--cli", required=True)
+    ap.add_argument("--rounds", type=int, default=7)
+    ap.add_argument("--threads", type=int, default=2)
+    a = ap.parse_args()
+    tmp = tempfile.mkdtemp()
+    for name, kw, _ in CASES:
+        flags = [x for k, v in kw.items() for x in ("--" + k, str(v))]
+        cmd = [a.cli, "render", "--builtin", name, *flags, "--threads", str(a.threads), "-o", tmp + "/x.pfm"]
+        rows = []
+        for r in range(a.rounds + 1):  # round 0 warms up
+            t0 = time.perf_counter()
+            p = subprocess.run(cmd, capture_output=True, text=True, check=True)
+            cli_wall = time.perf_counter() - t0
+            m = re.search(r"in ([0-9.]+) s", p.stderr)
+            cli_render = float(m.group(1))
+            t0 = time.perf_counter()
+            s = irradia.builtin(name)
+            img = s.render(threads=a.threads, **kw)
+            py_wall = time.perf_counter() - t0
+            py_render = s.last_render["seconds"]
+            if r == 0:
+                assert np.array_equal(img, irradia.read_image(tmp + "/x.pfm")), "images differ"
+                continue
+            rows.append((cli_render, py_render, cli_wall, py_wall))
+        med = lambda i: statistics.median(x[i] for x in rows)
+        ratio = lambda i, j: statistics.median(x[j] / x[i] for x in rows)
+        print(f"RESULT case={name} {' '.join(f'{k}={v}' for k, v in kw.items())} threads={a.threads} "
+              f"cli_render_s={med(0):.4f} py_render_s={med(1):.4f} render_ratio={ratio(0, 1):.4f} "
+              f"cli_wall_s={med(2):.4f} py_wall_s={med(3):.4f} wall_ratio={ratio(2, 3):.4f} "
+              f"render_ratio_min={min(x[1] / x[0] for x in rows):.4f} render_ratio_max={max(x[1] / x[0] for x in rows):.4f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,87 @@
+"""composite() without a communicator (one process's layers, serially) against numpy,
+and its errors; tests/test_composite_mpi.py runs the same under mpirun."""
+
+import numpy as np
+import pytest
+
+import irradia
+from layers import stack
+
+
+def numpy_depth(colors, depths, order):
+    out_c, out_d = colors[order[0]].copy(), depths[order[0]].copy()
+    for k in order[1:]:
+        nearer = depths[k] < out_d  # ties: the one earlier in the order stays
+        out_c[nearer] = colors[k][nearer]
+        out_d[nearer] = depths[k][nearer]
+    return out_c, out_d
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.float32])
+def test_serial_depth_composite(dtype):
+    c, d = stack(5, dtype=dtype)
+    for order in (None, [3, 1, 4, 0, 2]):
+        got_c, got_d = irradia.composite(c, d, order=order)
+        ref_c, ref_d = numpy_depth(c, d, order or list(range(5)))
+        assert got_c.dtype == dtype
+        assert np.array_equal(got_c, ref_c) and np.array_equal(got_d, ref_d)
+
+
+def test_serial_over_float():
+    c, _ = stack(4, opaque=False)
+    order = [2, 0, 3, 1]
+    got, _ = irradia.composite(c, op="over", order=order)
+    acc = c[order[0]].astype(np.float32)
+    for k in order[1:]:
+        acc = acc + (1 - acc[..., 3:4]) * c[k]
+    assert np.allclose(got, acc, atol=1e-6)
+
+
+def test_serial_over_uint8_exact_rounding():
+    c, _ = stack(3, dtype=np.uint8, opaque=False)
+    got, _ = irradia.composite(c)  # no depth: "over" in rank order
+    acc = c[0].astype(np.uint32)
+    for k in (1, 2):
+        t = c[k].astype(np.uint32) * (255 - acc[..., 3:4]) + 128
+        acc = np.minimum(acc + ((t + (t >> 8)) >> 8), 255)
+    assert np.array_equal(got, acc.astype(np.uint8))
+
+
+def test_single_layer_is_itself():
+    c, d = stack(1)
+    got_c, got_d = irradia.composite(c[0], d[0])
+    assert np.array_equal(got_c, c[0]) and np.array_equal(got_d, d[0])
+
+
+def test_composite_errors():
+    c, d = stack(3)
+    with pytest.raises(irradia.IrradiaError, match="RGBA"):
+        irradia.composite(c[..., :3], d)
+    with pytest.raises(irradia.IrradiaError, match="depth: expected shape"):
+        irradia.composite(c, d[:2])
+    with pytest.raises(irradia.IrradiaError, match="order"):
+        irradia.composite(c, d, order=[0, 0, 1])
+    with pytest.raises(irradia.IrradiaError, match="unknown operator"):
+        irradia.composite(c, d, op="add")
+    with pytest.raises(irradia.IrradiaError, match="uint8 or float32"):
+        irradia.composite(c.astype(np.float64), d)
+    bad = d.copy()
+    bad[0, 0, 0] = np.nan
+    with pytest.raises(irradia.IrradiaError, match="NaN"):
+        irradia.composite(c, bad)
+    with pytest.raises(irradia.IrradiaError, match="py2f|without MPI"):
+        irradia.composite(c[0], d[0], comm=object())
+
+
+def test_serial_tiles_are_crops():
+    c, d = stack(3)
+    tiles = irradia.display_grid(53, 37, 2, 2, overlap=3)
+    assert len(tiles) == 4 and tiles[0][0] == 0
+    full_c, full_d = irradia.composite(c, d)
+    parts = irradia.composite(c, d, tiles=tiles)
+    for (rank, x, y, w, h), (tc, td) in zip(tiles, parts):
+        assert np.array_equal(tc, full_c[y:y + h, x:x + w]) and np.array_equal(td, full_d[y:y + h, x:x + w])
+    with pytest.raises(irradia.IrradiaError, match="tiles"):
+        irradia.composite(c, d, tiles=[(0, 50, 0, 10, 10)])
+    with pytest.raises(irradia.IrradiaError):
+        irradia.display_grid(10, 10, 0, 1)
