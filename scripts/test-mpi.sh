@@ -94,30 +94,35 @@ else
     failed=$((failed + 1))
     echo "test-mpi: render --comm mpi whitted np=3 FAILED"
   fi
-  # Kill rank 1 a second into a render that would otherwise take hours.
-  long=(render --builtin cornell --width 256 --height 256 --spp 60000 --threads 1 --quiet --comm mpi)
-  ( timeout 120 "${MPIRUN[@]}" -np 3 "$bin" "${long[@]}" -o "$tmp/killed.png" >"$tmp/killed.log" 2>&1; echo $? >"$tmp/killed.rc" ) &
-  job=$!
-  pid=""
-  for _ in $(seq 1 200); do
-    for p in $(pgrep -f "irradia render --builtin cornell --width 256" || true); do
-      if tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1'; then pid=$p; fi
+  # Kill rank 1 a second into a job that would otherwise take hours: the job must end
+  # (no hang: 124) with an error naming rank 1 and leave no output file.
+  # kill_rank1 NAME PATTERN WHAT ARGS...: PATTERN finds the job's processes (pgrep -f).
+  kill_rank1() {
+    local name=$1 pattern=$2 what=$3; shift 3
+    ( RAYON_NUM_THREADS=1 timeout 120 "${MPIRUN[@]}" -np 3 "$bin" "$@" -o "$tmp/$name.png" >"$tmp/$name.log" 2>&1; echo $? >"$tmp/$name.rc" ) &
+    local job=$! pid="" p rc
+    for _ in $(seq 1 200); do
+      for p in $(pgrep -f "$pattern" || true); do
+        if tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1'; then pid=$p; fi
+      done
+      [ -n "$pid" ] && break
+      sleep 0.1
     done
-    [ -n "$pid" ] && break
-    sleep 0.1
-  done
-  sleep 1
-  [ -n "$pid" ] && kill -9 "$pid"
-  wait "$job"
-  rc=$(cat "$tmp/killed.rc")
-  if [ -n "$pid" ] && [ "$rc" != 0 ] && [ "$rc" != 124 ] && grep -q "rank 1" "$tmp/killed.log" && [ ! -e "$tmp/killed.png" ]; then
-    passed=$((passed + 1))
-    echo "ok render --comm mpi: rank 1 killed mid-render ends the job (exit $rc) naming rank 1, no output file"
-  else
-    failed=$((failed + 1))
-    echo "test-mpi: killed rank FAILED (pid '$pid', exit $rc; 124 is a hang)"
-    tail -n 20 "$tmp/killed.log"
-  fi
+    sleep 1
+    [ -n "$pid" ] && kill -9 "$pid"
+    wait "$job"
+    rc=$(cat "$tmp/$name.rc")
+    if [ -n "$pid" ] && [ "$rc" != 0 ] && [ "$rc" != 124 ] && grep -q "rank 1" "$tmp/$name.log" && [ ! -e "$tmp/$name.png" ]; then
+      passed=$((passed + 1))
+      echo "ok $what: rank 1 killed mid-run ends the job (exit $rc) naming rank 1, no output file"
+    else
+      failed=$((failed + 1))
+      echo "test-mpi: $what killed rank FAILED (pid '$pid', exit $rc; 124 is a hang)"
+      tail -n 20 "$tmp/$name.log"
+    fi
+  }
+  kill_rank1 killed "irradia render --builtin cornell --width 256" "render --comm mpi" \
+    render --builtin cornell --width 256 --height 256 --spp 60000 --threads 1 --quiet --comm mpi
   # Hierarchical radiosity on N ranks (`irradia radiosity --solver hierarchical --comm
   # mpi`): the image (PFM), the solved mesh (PLY) and the change per iteration (CSV,
   # shortest round-trip decimals of each f64) equal the one-process run at 1 to 8 ranks;
@@ -136,30 +141,8 @@ else
       echo "test-mpi: radiosity --comm mpi np=$np FAILED"
     fi
   done
-  # Kill rank 1 a second into a solve that would otherwise take minutes.
-  hlong=(radiosity --solver hierarchical --elements 300000 --quiet --comm mpi)
-  ( RAYON_NUM_THREADS=1 timeout 120 "${MPIRUN[@]}" -np 3 "$bin" "${hlong[@]}" -o "$tmp/hkilled.png" >"$tmp/hkilled.log" 2>&1; echo $? >"$tmp/hkilled.rc" ) &
-  job=$!
-  pid=""
-  for _ in $(seq 1 200); do
-    for p in $(pgrep -f "irradia radiosity --solver hierarchical --elements 300000" || true); do
-      if tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1'; then pid=$p; fi
-    done
-    [ -n "$pid" ] && break
-    sleep 0.1
-  done
-  sleep 1
-  [ -n "$pid" ] && kill -9 "$pid"
-  wait "$job"
-  rc=$(cat "$tmp/hkilled.rc")
-  if [ -n "$pid" ] && [ "$rc" != 0 ] && [ "$rc" != 124 ] && grep -q "rank 1" "$tmp/hkilled.log" && [ ! -e "$tmp/hkilled.png" ]; then
-    passed=$((passed + 1))
-    echo "ok radiosity --comm mpi: rank 1 killed mid-solve ends the job (exit $rc) naming rank 1, no output file"
-  else
-    failed=$((failed + 1))
-    echo "test-mpi: radiosity killed rank FAILED (pid '$pid', exit $rc; 124 is a hang)"
-    tail -n 20 "$tmp/hkilled.log"
-  fi
+  kill_rank1 hkilled "irradia radiosity --solver hierarchical --elements 300000" "radiosity --comm mpi" \
+    radiosity --solver hierarchical --elements 300000 --quiet --comm mpi
 fi
 echo "test-mpi: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -28,4 +28,5 @@ pub mod study;
 pub mod submission;
 pub mod tessellate;
 pub mod wall;
+mod wire;
 pub mod workload;

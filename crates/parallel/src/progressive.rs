@@ -16,6 +16,7 @@
 //! same order as one process would (`FilmPixel::add`). Only rank 0 holds the film.
 
 use crate::comm::{Comm, CommError};
+use crate::wire::{put_u32, Reader};
 use irradia_render::driver::{
     read_tile, store_tile, DriverSetup, PassWork, Sink, Sweep, SweepError, Tile, TileJob,
     TileResult,
@@ -285,10 +286,6 @@ pub fn serve<C: Comm, I: Integrator>(comm: &C, job: &TileJob<'_, I>) -> Result<(
 //        | u8 has_aov | [w*h of f32 depth, 3 f32 normal, i32 object, u32 ray_depth]
 //        | u32 length | JSON of the tile's Stats
 
-fn put_u32(b: &mut Vec<u8>, v: u32) {
-    b.extend_from_slice(&v.to_le_bytes());
-}
-
 fn put_tile(b: &mut Vec<u8>, t: Tile) {
     for v in [t.x0, t.y0, t.w, t.h] {
         put_u32(b, v);
@@ -360,52 +357,24 @@ fn encode_done(done: &[(Tile, TileResult)]) -> Vec<u8> {
     b
 }
 
-/// Reads a message front to back, failing on a short one.
-struct Reader<'b>(&'b [u8]);
+fn decode_tile(r: &mut Reader<'_>) -> Result<Tile, String> {
+    let (x0, y0, w, h) = (r.u32()?, r.u32()?, r.u32()?, r.u32()?);
+    if w == 0 || h == 0 || w > 1 << 16 || h > 1 << 16 {
+        return Err(format!("tile of {w}x{h} pixels"));
+    }
+    Ok(Tile { x0, y0, w, h })
+}
 
-impl<'b> Reader<'b> {
-    fn take(&mut self, n: usize) -> Result<&'b [u8], String> {
-        if self.0.len() < n {
-            return Err(format!("message ends {} bytes early", n - self.0.len()));
-        }
-        let (a, rest) = self.0.split_at(n);
-        self.0 = rest;
-        Ok(a)
-    }
-    fn u8(&mut self) -> Result<u8, String> {
-        Ok(self.take(1)?[0])
-    }
-    fn u32(&mut self) -> Result<u32, String> {
-        Ok(u32::from_le_bytes(
-            self.take(4)?.try_into().expect("4 bytes"),
-        ))
-    }
-    fn f32(&mut self) -> Result<f32, String> {
-        Ok(f32::from_bits(self.u32()?))
-    }
-    fn f64(&mut self) -> Result<f64, String> {
-        Ok(f64::from_le_bytes(
-            self.take(8)?.try_into().expect("8 bytes"),
-        ))
-    }
-    fn tile(&mut self) -> Result<Tile, String> {
-        let (x0, y0, w, h) = (self.u32()?, self.u32()?, self.u32()?, self.u32()?);
-        if w == 0 || h == 0 || w > 1 << 16 || h > 1 << 16 {
-            return Err(format!("tile of {w}x{h} pixels"));
-        }
-        Ok(Tile { x0, y0, w, h })
-    }
-    fn pixels(&mut self, n: usize) -> Result<Vec<FilmPixel>, String> {
-        (0..n)
-            .map(|_| {
-                Ok(FilmPixel {
-                    sum: [self.f64()?, self.f64()?, self.f64()?],
-                    sum_sq: self.f64()?,
-                    weight: self.f64()?,
-                })
+fn decode_pixels(r: &mut Reader<'_>, n: usize) -> Result<Vec<FilmPixel>, String> {
+    (0..n)
+        .map(|_| {
+            Ok(FilmPixel {
+                sum: [r.f64()?, r.f64()?, r.f64()?],
+                sum_sq: r.f64()?,
+                weight: r.f64()?,
             })
-            .collect()
-    }
+        })
+        .collect()
 }
 
 type Work = (PassWork, Vec<(Tile, Vec<FilmPixel>)>);
@@ -425,10 +394,10 @@ fn decode_work(msg: &[u8]) -> Result<Option<Work>, String> {
     let count = r.u32()? as usize;
     let mut tiles = Vec::with_capacity(count.min(1 << 16));
     for _ in 0..count {
-        let t = r.tile()?;
+        let t = decode_tile(&mut r)?;
         let n = (t.w * t.h) as usize;
         let pixels = if has_pixels {
-            r.pixels(n)?
+            decode_pixels(&mut r, n)?
         } else {
             vec![FilmPixel::default(); n]
         };
@@ -442,9 +411,9 @@ fn decode_done(msg: &[u8]) -> Result<Vec<(Tile, TileResult)>, String> {
     let count = r.u32()? as usize;
     let mut out = Vec::with_capacity(count.min(1 << 16));
     for _ in 0..count {
-        let t = r.tile()?;
+        let t = decode_tile(&mut r)?;
         let n = (t.w * t.h) as usize;
-        let pixels = r.pixels(n)?;
+        let pixels = decode_pixels(&mut r, n)?;
         let aov = if r.u8()? != 0 {
             (0..n)
                 .map(|_| {

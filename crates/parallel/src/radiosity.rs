@@ -36,6 +36,7 @@
 //! error naming it.
 
 use crate::comm::{Comm, CommError};
+use crate::wire::{put_u32, Reader};
 use irradia_radiosity::mesh::Mesh;
 use irradia_radiosity::solver::hierarchical::{
     HierarchicalOptions, HierarchicalResult, Hierarchy, Link, SolveRecord,
@@ -255,7 +256,7 @@ fn decode_share(msg: &[u8], h: &Hierarchy<'_>, size: usize) -> Result<Share, Str
         if p >= np || mine.last().is_some_and(|(q, _)| *q >= p) {
             return Err(format!("patch {p} out of order"));
         }
-        mine.push((p, r.links(h, p, None)?));
+        mine.push((p, decode_links(&mut r, h, p, None)?));
     }
     Ok(Share { owner, mine })
 }
@@ -441,10 +442,6 @@ fn serve_pairs<C: Comm>(
 
 // --- Wire format (little-endian), as written at each encoder above ---
 
-fn put_u32(b: &mut Vec<u8>, v: u32) {
-    b.extend_from_slice(&v.to_le_bytes());
-}
-
 fn put_links(b: &mut Vec<u8>, links: &[Link]) {
     put_u32(b, links.len() as u32);
     for l in links {
@@ -491,66 +488,31 @@ fn decode_done(
             return Err(format!("pair {k}, expected {want}"));
         }
         let (p, q) = pairs[k];
-        out.push((k, r.links(h, p as usize, Some(q as usize))?));
+        out.push((k, decode_links(&mut r, h, p as usize, Some(q as usize))?));
     }
     Ok(out)
 }
 
-/// Reads a message front to back, failing on a short one.
-struct Reader<'b>(&'b [u8]);
-
-impl<'b> Reader<'b> {
-    fn take(&mut self, n: usize) -> Result<&'b [u8], String> {
-        if self.0.len() < n {
-            return Err(format!("message ends {} bytes early", n - self.0.len()));
+/// Links received by patch `p` (from patch `q` when given, else from any node).
+fn decode_links(
+    r: &mut Reader<'_>,
+    h: &Hierarchy<'_>,
+    p: usize,
+    q: Option<usize>,
+) -> Result<Vec<Link>, String> {
+    let n = r.count(16)?;
+    let mut out = Vec::with_capacity(n);
+    for _ in 0..n {
+        let (recv, src) = (r.u32()?, r.u32()?);
+        let f = r.f64()?;
+        let src_ok = match q {
+            Some(q) => h.in_patch(src, q),
+            None => (src as usize) < h.nodes(),
+        };
+        if !h.in_patch(recv, p) || !src_ok || !f.is_finite() {
+            return Err(format!("link {src} -> {recv} (F = {f}) outside patch {p}"));
         }
-        let (a, rest) = self.0.split_at(n);
-        self.0 = rest;
-        Ok(a)
+        out.push(Link { recv, src, f });
     }
-    fn u8(&mut self) -> Result<u8, String> {
-        Ok(self.take(1)?[0])
-    }
-    fn u32(&mut self) -> Result<u32, String> {
-        Ok(u32::from_le_bytes(
-            self.take(4)?.try_into().expect("4 bytes"),
-        ))
-    }
-    fn f64(&mut self) -> Result<f64, String> {
-        Ok(f64::from_le_bytes(
-            self.take(8)?.try_into().expect("8 bytes"),
-        ))
-    }
-    /// Links received by patch `p` (from patch `q` when given, else from any node).
-    fn links(
-        &mut self,
-        h: &Hierarchy<'_>,
-        p: usize,
-        q: Option<usize>,
-    ) -> Result<Vec<Link>, String> {
-        let n = r_len(self.u32()?, self.0.len(), 16)?;
-        let mut out = Vec::with_capacity(n);
-        for _ in 0..n {
-            let (recv, src) = (self.u32()?, self.u32()?);
-            let f = self.f64()?;
-            let src_ok = match q {
-                Some(q) => h.in_patch(src, q),
-                None => (src as usize) < h.nodes(),
-            };
-            if !h.in_patch(recv, p) || !src_ok || !f.is_finite() {
-                return Err(format!("link {src} -> {recv} (F = {f}) outside patch {p}"));
-            }
-            out.push(Link { recv, src, f });
-        }
-        Ok(out)
-    }
-}
-
-/// A count of items of `size` bytes, checked against the bytes left.
-fn r_len(n: u32, left: usize, size: usize) -> Result<usize, String> {
-    let n = n as usize;
-    if n.saturating_mul(size) > left {
-        return Err(format!("{n} items of {size} bytes in {left} bytes"));
-    }
-    Ok(n)
+    Ok(out)
 }

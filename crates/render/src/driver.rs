@@ -253,11 +253,14 @@ pub enum RunError {
     Sweep(SweepError),
 }
 
-/// The tiles rendered in parallel on the current rayon pool.
+/// The tiles rendered in parallel on the current rayon pool; once `cancel` is set
+/// (Ctrl-C in the Python binding: [`crate::cancel`]), tiles not yet started are skipped.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct LocalSweep;
+pub struct LocalSweep<'c> {
+    pub cancel: Option<&'c AtomicBool>,
+}
 
-impl Sweep for LocalSweep {
+impl Sweep for LocalSweep<'_> {
     fn sweep<I: Integrator>(
         &mut self,
         job: &TileJob<'_, I>,
@@ -266,15 +269,15 @@ impl Sweep for LocalSweep {
         work: PassWork,
         on_tile: &(dyn Fn(u64) + Sync),
     ) -> Result<(), SweepError> {
-        sweep_local(job, tiles, sink, work, on_tile, None)
+        sweep_local(job, tiles, sink, work, on_tile, self.cancel)
     }
 }
 
-/// The tiles rendered in parallel on the current rayon pool ([`LocalSweep`]); once
+/// [`LocalSweep`]'s work: the tiles in parallel on the current rayon pool; once
 /// `cancel` is set, tiles not yet started are skipped and the sweep fails with
 /// [`crate::cancel::Cancelled`] (the film then holds a partial pass: a cancelled
 /// render returns no image).
-pub(crate) fn sweep_local<I: Integrator>(
+fn sweep_local<I: Integrator>(
     job: &TileJob<'_, I>,
     tiles: &[Tile],
     sink: &mut Sink<'_>,
@@ -337,7 +340,7 @@ pub fn run<I: Integrator>(
         setup,
         options,
         film,
-        &mut LocalSweep,
+        &mut LocalSweep::default(),
         on_tile,
         on_pass,
     )
@@ -616,7 +619,13 @@ pub fn render_with<I: Integrator>(
 ) -> Result<crate::RenderOutput, crate::RenderError> {
     let setup = crate::whitted_setup(scene, options.tile_size, options.aovs.clone());
     crate::pool::with_threads(options.threads, || {
-        crate::run_driver(integrator, scene, &setup, options, &mut LocalSweep)
+        crate::run_driver(
+            integrator,
+            scene,
+            &setup,
+            options,
+            &mut LocalSweep::default(),
+        )
     })?
 }
 

@@ -179,10 +179,10 @@ pub struct RenderOutput {
 /// Renders `scene` with the integrator its settings name.
 /// The scene's `[[labels]]` are drawn over the image ([`labels::draw_labels`]).
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, RenderError> {
-    pool::with_threads(options.threads, || match &options.cancel {
-        Some(cancel) => render_on(scene, options, &mut cancel::CancellableSweep { cancel }),
-        None => render_on(scene, options, &mut LocalSweep),
-    })?
+    let mut sweep = LocalSweep {
+        cancel: options.cancel.as_deref(),
+    };
+    pool::with_threads(options.threads, || render_on(scene, options, &mut sweep))?
 }
 
 /// [`render`] with each pass's tiles rendered by `sweep` (this process's threads, or

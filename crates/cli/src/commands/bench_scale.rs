@@ -207,14 +207,10 @@ pub fn run(a: BenchScaleArgs) -> Result<(), CliError> {
             ));
         }
     }
-    let one = Predicted {
-        total_s: path.pixels as f64 * path.spp as f64 * r.sample_s,
-        compute_s: 0.0,
-        network_s: 0.0,
-    };
+    let one_thread_s = path.pixels as f64 * path.spp as f64 * r.sample_s;
     println!(
         "\npath tracing on one thread would take {:.0} s; radix-8 rounds at 32,768 ranks: {:?}",
-        one.total_s,
+        one_thread_s,
         radix_k::factors(32768, 8)
     );
     if let Some(path) = &a.output {
