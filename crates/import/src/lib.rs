@@ -42,7 +42,9 @@ pub enum Format {
 }
 
 /// Every extension [`Format::of`] accepts, for messages and `--help`.
-pub const EXTENSIONS: &[&str] = &["toml", "json", "xml", "pbrt", "obj", "gltf", "glb", "ply"];
+pub const EXTENSIONS: &[&str] = &[
+    "toml", "json", "xml", "pbrt", "obj", "gltf", "glb", "ply", "ply.gz",
+];
 
 impl Format {
     /// The format named by `path`'s extension.
@@ -52,12 +54,18 @@ impl Format {
             .and_then(|e| e.to_str())
             .map(|e| e.to_ascii_lowercase())
             .unwrap_or_default();
+        let gz_ply = ext == "gz"
+            && path
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .is_some_and(|s| s.to_ascii_lowercase().ends_with(".ply"));
         Ok(match ext.as_str() {
             "toml" => Format::Irradia(SceneSyntax::Toml),
             "json" => Format::Irradia(SceneSyntax::Json),
             "obj" => Format::Obj,
             "gltf" | "glb" => Format::Gltf,
             "ply" => Format::Ply,
+            "gz" if gz_ply => Format::Ply,
             "xml" => Format::Mitsuba,
             "pbrt" => Format::Pbrt,
             _ => {

@@ -6,8 +6,11 @@
 //! looking at the centre of the bounding box, far enough that the bounding sphere fits
 //! the field of view (40° across the image's shorter side, `fov_axis = "smaller"`).
 //! When it brings no light (no light source and no emissive material), the importer
-//! adds a constant environment (radiance 1) and renders with the path tracer, so the
-//! model is lit from every side. Each addition is one line of [`Imported::notes`].
+//! adds a studio's two lights and renders with the path tracer: a directional key light
+//! from the upper left of the framing view (irradiance [`KEY_IRRADIANCE`]), which gives
+//! the surface its shape, and a constant environment ([`FILL_RADIANCE`]) that fills the
+//! shadows, so that no side is black and no side is flat. Each addition is one line of
+//! [`Imported::notes`].
 //!
 //! [`Imported::notes`]: crate::Imported::notes
 
@@ -18,6 +21,19 @@ use std::path::Path;
 
 /// The field of view (degrees, across the shorter image side) of a framing camera.
 pub const FRAMING_FOV: f32 = 40.0;
+
+/// The irradiance of a bare model's key light (a white Lambert surface facing it
+/// reflects radiance 2.5 / π ≈ 0.8).
+pub const KEY_IRRADIANCE: f64 = 2.5;
+
+/// The radiance of a bare model's fill (a constant environment, also its background).
+pub const FILL_RADIANCE: f64 = 0.3;
+
+/// The direction a bare model's key light travels: from the upper left of the framing
+/// camera's view, a little in front of the model (world y up, camera on the +z side).
+pub fn key_light_direction() -> Vec3 {
+    -Vec3::new(-0.6, 1.0, 0.7).normalize()
+}
 
 /// The direction from the model's centre to a framing camera.
 pub fn framing_direction() -> Vec3 {
@@ -145,9 +161,15 @@ pub fn complete_bare_model(
         return;
     }
     if !emissive {
-        let mut light = Node::table(0);
-        light.put("type", "constant", 0).put("radiance", 1.0, 0);
-        tree.push("lights", light);
+        let mut key = Node::table(0);
+        key.put("type", "directional", 0)
+            .set("direction", vec3(key_light_direction()))
+            .put("irradiance", KEY_IRRADIANCE, 0);
+        tree.push("lights", key);
+        let mut fill = Node::table(0);
+        fill.put("type", "constant", 0)
+            .put("radiance", FILL_RADIANCE, 0);
+        tree.push("lights", fill);
     }
     let mut render = match tree.get("render") {
         Some(r) => r.clone(),
@@ -159,9 +181,13 @@ pub fn complete_bare_model(
         .put("max_depth", 8i64, 0);
     tree.set("render", render);
     notes.push(if emissive {
-        "the file has no light sources but emissive materials: rendered with the path tracer (16 spp), which they light".into()
+        "the file has no light sources but emissive materials: rendered with the path tracer (16 spp), which they light".to_string()
     } else {
-        "the file has no light: added a constant environment light (radiance 1) and the path tracer (16 spp)".into()
+        format!(
+            "the file has no light: added a key light (directional, irradiance {KEY_IRRADIANCE}, \
+             from the upper left) and a constant environment fill (radiance {FILL_RADIANCE}), \
+             rendered with the path tracer (16 spp)"
+        )
     });
 }
 

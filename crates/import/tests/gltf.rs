@@ -13,6 +13,7 @@ const FILES: &[&str] = &[
     "gltf/hierarchy.gltf",
     "gltf/camera_lights.gltf",
     "gltf/ortho.gltf",
+    "gltf/extensions.gltf",
 ];
 
 fn s(n: &Node, key: &str) -> String {
@@ -228,4 +229,66 @@ fn fuzz_findings_do_not_panic() {
         }
         assert!(failed, "{}: no error found", p.display());
     }
+}
+
+fn nums(n: &Node) -> Vec<f64> {
+    match &n.value {
+        Value::Array(a) => a.iter().flat_map(nums).collect(),
+        Value::Float(x) => vec![*x],
+        Value::Int(x) => vec![*x as f64],
+        v => panic!("{v:?}"),
+    }
+}
+
+/// KHR_texture_transform, KHR_materials_emissive_strength, _transmission and _ior
+/// (pygltflib's file): factors multiply their textures, the uv transform is the
+/// extension's `T · R · S`, and none of them is a warning.
+#[test]
+fn material_extensions_are_read() {
+    let imp = imported(&data("gltf/extensions.gltf"));
+    let ext: Vec<String> = imp.warnings.iter().map(|w| w.to_string()).collect();
+    assert!(ext.is_empty(), "{ext:?}");
+    let objs = objects(&imp.tree);
+    let m = imp
+        .tree
+        .get("materials")
+        .unwrap()
+        .get(&s(&objs[0], "material"))
+        .unwrap();
+    assert_eq!(s(m, "type"), "principled");
+    assert!((f(m, "spec_trans") - 0.8).abs() < 1e-6 && (f(m, "eta") - 1.33).abs() < 1e-6);
+    let base = m.get("base_color").unwrap();
+    assert_eq!(nums(base.get("scale").unwrap()), [0.5, 1.0, 1.0]);
+    // The extension's GLSL: uv' = T(offset) R(rotation) S(scale) uv, its mat3 given by
+    // columns (cos, sin), (-sin, cos).
+    let (r, sx, sy, ox, oy) = (0.3f64, 2.0, 3.0, 0.5, 0.25);
+    let spec = |u: f64, v: f64| {
+        let (a, b) = (sx * u, sy * v);
+        (
+            r.cos() * a - r.sin() * b + ox,
+            r.sin() * a + r.cos() * b + oy,
+        )
+    };
+    let Value::Array(steps) = &base.get("to_uv").unwrap().value else {
+        panic!()
+    };
+    assert_eq!(steps.len(), 1);
+    let mtx = nums(steps[0].get("matrix").unwrap());
+    for (u, v) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (0.3, 0.7)] {
+        let got = (
+            mtx[0] * u + mtx[1] * v + mtx[2],
+            mtx[3] * u + mtx[4] * v + mtx[5],
+        );
+        let want = spec(u, v);
+        assert!(
+            (got.0 - want.0).abs() < 1e-6 && (got.1 - want.1).abs() < 1e-6,
+            "{got:?} {want:?}"
+        );
+    }
+    let e = m.get("emission").unwrap();
+    assert_eq!(s(e, "type"), "bitmap");
+    assert_eq!(nums(e.get("scale").unwrap()), [4.0, 2.0, 1.0]);
+    // It loads: the bitmap's scale multiplies the texels.
+    let scene = imp.scene().unwrap();
+    assert!(!scene.materials.is_empty());
 }

@@ -322,3 +322,33 @@ fn mesh_attribute_textures_are_imported() {
     );
     assert_eq!(e.line, Some(5), "{e}");
 }
+
+#[test]
+fn an_emitters_sampling_weight_is_accepted_with_a_note() {
+    let xml = format!(
+        "<scene version=\"3.0.0\">{CAMERA}\n<emitter type=\"point\"><float name=\"sampling_weight\" value=\"3\"/></emitter>\n\
+         <shape type=\"sphere\"><emitter type=\"area\"><float name=\"sampling_weight\" value=\"1\"/></emitter></shape>\n</scene>"
+    );
+    let imp = parse(&xml).unwrap();
+    assert!(imp.warnings.is_empty(), "{:?}", imp.warnings);
+    let notes: Vec<_> = imp
+        .notes
+        .iter()
+        .filter(|n| n.contains("sampling_weight"))
+        .collect();
+    assert_eq!(
+        notes.len(),
+        1,
+        "only the weight other than 1: {:?}",
+        imp.notes
+    );
+    imp.scene().unwrap();
+    let bad = format!(
+        "<scene version=\"3.0.0\">{CAMERA}\n<emitter type=\"point\"><float name=\"sampling_weight\" value=\"-1\"/></emitter>\n</scene>"
+    );
+    let e = parse(&bad).unwrap_err();
+    assert!(
+        e.is_bad_input() && e.to_string().contains("sampling_weight"),
+        "{e}"
+    );
+}

@@ -770,3 +770,63 @@ fn spheres_are_turned_over_for_pbrts_texture_coordinates() {
     assert_eq!(steps.len(), 1, "only spheres are turned");
     i.scene().unwrap();
 }
+
+/// pbrt-v4's photometric parameters: an area light's `power` is what each shape
+/// emits (L π A per side, so L = power / (π · sides · A)); `illuminance` sets a distant
+/// light's irradiance and what a uniform infinite light gives a surface facing up (π L).
+#[test]
+fn power_and_illuminance_scale_lights_as_pbrt_v4() {
+    use std::f64::consts::PI;
+    let i = ok(&format!(
+        "{HEAD}\
+        AttributeBegin\n\
+          AreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"float power\" 100\n\
+          Shape \"sphere\" \"float radius\" 2\n\
+        AttributeEnd\n\
+        AttributeBegin\n\
+          AreaLightSource \"diffuse\" \"rgb L\" [1 0.5 1] \"float power\" 10 \"bool twosided\" true\n\
+          Shape \"disk\" \"float radius\" 1\n\
+        AttributeEnd\n\
+        AttributeBegin\n\
+          AreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"float power\" 5\n\
+          Scale 2 2 2\n\
+          Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0 0 1 0] \"integer indices\" [0 1 2 0 2 3]\n\
+        AttributeEnd\n\
+        LightSource \"distant\" \"rgb L\" [1 1 1] \"float illuminance\" 3\n\
+        LightSource \"infinite\" \"rgb L\" [1 1 1] \"float illuminance\" 6.283185307179586\n"
+    ));
+    assert!(i.warnings.is_empty(), "{:?}", i.warnings);
+    let o = objects(&i);
+    let emission = |k: usize| {
+        material(&i, &string(o[k].get("material").unwrap()))
+            .get("emission")
+            .unwrap()
+            .clone()
+    };
+    assert!((num(&emission(0)) - 100.0 / (PI * 16.0 * PI)).abs() < 1e-9);
+    let disk = nums(&emission(1));
+    assert_close(
+        &disk,
+        &[
+            10.0 / (2.0 * PI * PI),
+            5.0 / (2.0 * PI * PI),
+            10.0 / (2.0 * PI * PI),
+        ],
+    );
+    // Two triangles of area 2 each after the scale: each emits 5 W.
+    assert!((num(&emission(2)) - 5.0 / (PI * 2.0)).abs() < 1e-9);
+    let Value::Array(l) = &i.tree.get("lights").unwrap().value else {
+        panic!()
+    };
+    assert_eq!(num(l[0].get("irradiance").unwrap()), 3.0);
+    assert!((num(l[1].get("radiance").unwrap()) - 2.0).abs() < 1e-12);
+    i.scene().unwrap();
+    // Unequal triangles: the mean area, with a warning.
+    let i = ok(&format!(
+        "{HEAD}\
+        AreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"float power\" 1\n\
+        Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 3 0 0 0 3 0] \"integer indices\" [0 1 2 0 3 4]\n"
+    ));
+    assert_eq!(i.warnings.len(), 1, "{:?}", i.warnings);
+    assert!(i.warnings[0].to_string().contains("unequal"));
+}

@@ -6,15 +6,17 @@
 //! | `metallicFactor` or `metallicRoughnessTexture` | `metallic` (the texture's B channel: `bitmap` with `channel = "b"`, `raw = true`) |
 //! | `roughnessFactor` or `metallicRoughnessTexture` | `roughness` (its G channel) |
 //! | `normalTexture` | `normalmap` around the BSDF (`raw = true`) |
-//! | `emissiveFactor` | `emission` |
+//! | `emissiveFactor`, `emissiveTexture`, `KHR_materials_emissive_strength` | `emission` (a colour, or a `bitmap` scaled by factor × strength) |
+//! | `KHR_materials_transmission` `transmissionFactor`, `KHR_materials_ior` `ior` | `spec_trans`, `eta` |
+//! | `KHR_texture_transform` | the bitmap's `to_uv` (`offset · rotation · scale`) |
 //! | `alphaMode = "MASK"` or `"BLEND"` | `mask`, `opacity` = the base colour's alpha (the texture's A channel, or the factor's) |
 //! | `doubleSided = true` | `twosided` around the BSDF |
 //!
-//! A texture replaces its factor (a factor other than 1 beside a texture is a
-//! warning), as do `emissiveTexture`, `occlusionTexture`, texture coordinate sets other
-//! than 0 and MASK's `alphaCutoff` (the opacity is fractional): warnings. Samplers'
-//! wrap modes and nearest filtering are kept. A primitive without a material gets
-//! glTF's default (white, metallic 1, roughness 1).
+//! A factor beside its texture multiplies it (the bitmap's `scale`, glTF's product).
+//! `occlusionTexture` (the path tracer computes occlusion), `transmissionTexture`,
+//! texture coordinate sets other than 0 and MASK's `alphaCutoff` (the opacity is
+//! fractional) are warnings. Samplers' wrap modes and nearest filtering are kept. A
+//! primitive without a material gets glTF's default (white, metallic 1, roughness 1).
 
 use crate::model::{color, num, rel_name};
 use irradia_geometry::io::gltf::GltfFile;
@@ -110,15 +112,9 @@ impl<'a> Materials<'a> {
         let base_tex = pbr.base_color_texture();
         match &base_tex {
             Some(t) => {
-                if factor[..3] != [1.0, 1.0, 1.0] {
-                    warn(
-                        "baseColorFactor beside baseColorTexture: the texture alone is used".into(),
-                    );
-                }
-                bsdf.set(
-                    "base_color",
-                    self.bitmap(&t.texture(), t.tex_coord(), false, None, &mut warn),
-                );
+                let mut tex = self.bitmap(t, false, None, &mut warn);
+                scale(&mut tex, [factor[0], factor[1], factor[2]]);
+                bsdf.set("base_color", tex);
             }
             None if colored => {
                 let mut attr = Node::table(0);
@@ -135,18 +131,12 @@ impl<'a> Materials<'a> {
         }
         match pbr.metallic_roughness_texture() {
             Some(t) => {
-                if pbr.metallic_factor() != 1.0 || pbr.roughness_factor() != 1.0 {
-                    warn("metallic or roughness factor beside metallicRoughnessTexture: the texture alone is used".into());
-                }
-                let tex = t.texture();
-                bsdf.set(
-                    "metallic",
-                    self.bitmap(&tex, t.tex_coord(), true, Some("b"), &mut warn),
-                );
-                bsdf.set(
-                    "roughness",
-                    self.bitmap(&tex, t.tex_coord(), true, Some("g"), &mut warn),
-                );
+                let mut metallic = self.bitmap(&t, true, Some("b"), &mut warn);
+                scale(&mut metallic, [pbr.metallic_factor(); 3]);
+                bsdf.set("metallic", metallic);
+                let mut roughness = self.bitmap(&t, true, Some("g"), &mut warn);
+                scale(&mut roughness, [pbr.roughness_factor(); 3]);
+                bsdf.set("roughness", roughness);
             }
             None => {
                 bsdf.put("metallic", num(pbr.metallic_factor()), 0).put(
@@ -160,7 +150,7 @@ impl<'a> Materials<'a> {
             if n.scale() != 1.0 {
                 warn("normalTexture scale is not read (1 is used)".into());
             }
-            let tex = self.bitmap(&n.texture(), n.tex_coord(), true, None, &mut warn);
+            let tex = self.image(&n.texture(), n.tex_coord(), true, None, &mut warn);
             let mut nm = Node::table(0);
             nm.put("type", "normalmap", 0)
                 .set("normalmap", tex)
@@ -183,7 +173,11 @@ impl<'a> Materials<'a> {
                     warn("alphaMode BLEND is rendered as a mask of the alpha (no sorting)".into());
                 }
                 let opacity = match &base_tex {
-                    Some(t) => self.bitmap(&t.texture(), t.tex_coord(), true, Some("a"), &mut warn),
+                    Some(t) => {
+                        let mut a = self.bitmap(t, true, Some("a"), &mut warn);
+                        scale(&mut a, [factor[3]; 3]);
+                        a
+                    }
                     None => Node::new(num(factor[3]), 0),
                 };
                 let mut mask = Node::table(0);
@@ -193,25 +187,83 @@ impl<'a> Materials<'a> {
                 bsdf = mask;
             }
         }
+        if let Some(tr) = m.transmission() {
+            if tr.transmission_texture().is_some() {
+                warn("transmissionTexture is not read: transmissionFactor is used".into());
+            }
+            if tr.transmission_factor() > 0.0 {
+                put_inner(
+                    &mut bsdf,
+                    "spec_trans",
+                    Node::new(num(tr.transmission_factor()), 0),
+                );
+            }
+        }
+        if let Some(ior) = m.ior() {
+            if ior != 1.5 {
+                put_inner(&mut bsdf, "eta", Node::new(num(ior), 0));
+            }
+        }
         if m.double_sided() {
             let mut two = Node::table(0);
             two.put("type", "twosided", 0).set("bsdf", bsdf);
             bsdf = two;
         }
-        let e = m.emissive_factor();
-        if m.emissive_texture().is_some() {
-            warn("emissiveTexture is not read: emissiveFactor alone is the emission".into());
-        }
+        let strength = m.emissive_strength().unwrap_or(1.0);
+        let e = m.emissive_factor().map(|c| c * strength);
         if e.iter().any(|&x| x > 0.0) {
-            bsdf.set("emission", color(e));
+            match m.emissive_texture() {
+                Some(t) => {
+                    let mut tex = self.bitmap(&t, false, None, &mut warn);
+                    scale(&mut tex, e);
+                    bsdf.set("emission", tex);
+                }
+                None => {
+                    bsdf.set("emission", color(e));
+                }
+            }
             self.emissive = true;
         }
         bsdf
     }
 
+    /// A `bitmap` of the texture `info` refers to, its `KHR_texture_transform` as
+    /// `to_uv`: glTF's `uv' = T(offset) · R(rotation) · S(scale) · uv` with
+    /// `R = [[cos, −sin], [sin, cos]]` (the extension's GLSL, whose `mat3` is given
+    /// column by column), written as one `{ matrix = [[a, b, tu], [c, d, tv]] }` step.
+    fn bitmap(
+        &self,
+        info: &gltf::texture::Info,
+        raw: bool,
+        channel: Option<&str>,
+        warn: &mut dyn FnMut(String),
+    ) -> Node {
+        let tr = info.texture_transform();
+        let tex_coord = tr
+            .as_ref()
+            .and_then(|t| t.tex_coord())
+            .unwrap_or(info.tex_coord());
+        let mut b = self.image(&info.texture(), tex_coord, raw, channel, warn);
+        if let Some(t) = tr {
+            let ([ox, oy], r, [sx, sy]) = (t.offset(), t.rotation(), t.scale());
+            if [ox, oy, r, sx - 1.0, sy - 1.0] != [0.0; 5] {
+                let (c, s) = (f64::from(r).cos(), f64::from(r).sin());
+                let (sx, sy) = (f64::from(sx), f64::from(sy));
+                let row = |a: f64, b: f64, t: f32| Node::new([a, b, num(t)], 0);
+                let mut step = Node::table(0);
+                step.set(
+                    "matrix",
+                    Node::new(vec![row(c * sx, -s * sy, ox), row(s * sx, c * sy, oy)], 0),
+                );
+                b.set("to_uv", Node::new(vec![step], 0));
+            }
+        }
+        b
+    }
+
     /// A `bitmap` texture of glTF texture `t` (an external image by its own name, an
     /// embedded one as `filename` = the glTF file with `image = N`).
-    fn bitmap(
+    fn image(
         &self,
         t: &gltf::Texture,
         tex_coord: u32,
@@ -264,5 +316,25 @@ impl<'a> Materials<'a> {
             b.put("wrap_mode", ws, 0);
         }
         b
+    }
+}
+
+/// Multiplies a bitmap by glTF's factor `k` (its `scale`; nothing when 1).
+fn scale(bitmap: &mut Node, k: [f32; 3]) {
+    if k != [1.0; 3] {
+        bitmap.set("scale", color(k));
+    }
+}
+
+/// Sets `key` on the `principled` BSDF inside the wrappers (`normalmap`, `mask`).
+fn put_inner(bsdf: &mut Node, key: &str, value: Node) {
+    let is_principled = matches!(
+        bsdf.get("type").map(|t| &t.value),
+        Some(irradia_scene::file::tree::Value::Str(s)) if s == "principled"
+    );
+    if is_principled {
+        bsdf.set(key, value);
+    } else if let Some(inner) = bsdf.get_mut("bsdf") {
+        put_inner(inner, key, value);
     }
 }

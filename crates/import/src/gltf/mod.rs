@@ -27,7 +27,13 @@ use irradia_scene::SceneError;
 use std::path::Path;
 
 /// Extensions whose meaning Irradia reads.
-const READ_EXTENSIONS: &[&str] = &["KHR_lights_punctual"];
+const READ_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_texture_transform",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_transmission",
+    "KHR_materials_ior",
+];
 
 /// Imports `path`.
 pub fn import(path: &Path) -> Result<Imported, SceneError> {

@@ -23,6 +23,26 @@ const EMITTERS: &[&str] = &[
 
 const UNRENDERED: &[&str] = &["directionalarea", "sunsky", "sky", "sun"];
 
+/// Mitsuba's `sampling_weight` (how often the emitter is picked for a light sample,
+/// relative to the others). Irradia's imported scenes pick every emitter equally often
+/// (Mitsuba's default of 1 everywhere), which changes the noise but not the image in
+/// expectation: a weight other than 1 is accepted with a note saying so.
+fn sampling_weight(b: &mut Builder<'_>, o: &Obj<'_>) -> Result<(), SceneError> {
+    if let Some(p) = o.get("sampling_weight") {
+        let w = p.f64()?;
+        if !(w.is_finite() && w >= 0.0) {
+            return Err(p.err("sampling_weight must be a finite number >= 0"));
+        }
+        if w != 1.0 {
+            b.notes.push(format!(
+                "emitter sampling_weight {w}: Irradia samples every emitter equally often \
+                 (the same image in expectation, different noise)"
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn v3(v: DVec3, pos: usize) -> Node {
     Node::new([v.x, v.y, v.z], pos)
 }
@@ -52,7 +72,8 @@ pub fn area_radiance<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<Option<Node
             format!("<{}> does not belong in an area emitter", n.tag),
         ));
     }
-    o.finish(&["radiance"])?;
+    sampling_weight(b, &o)?;
+    o.finish(&["radiance", "sampling_weight"])?;
     Ok(Some(r))
 }
 
@@ -223,7 +244,8 @@ pub fn emitter<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<(), SceneError> {
         }
         _ => unreachable!("area is handled above"),
     };
-    o.finish(params)?;
+    sampling_weight(b, &o)?;
+    o.finish(&[params, &["sampling_weight"]].concat())?;
     b.lights.push(l);
     Ok(())
 }

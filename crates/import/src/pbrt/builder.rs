@@ -49,6 +49,8 @@ pub struct MatRef {
 pub struct AreaLight {
     pub radiance: [f64; 3],
     pub two_sided: bool,
+    /// pbrt-v4's `power`: the radiance is scaled per shape to emit this many watts.
+    pub power: Option<f64>,
     pub pos: usize,
 }
 

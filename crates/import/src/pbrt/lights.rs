@@ -2,7 +2,8 @@
 //!
 //! pbrt-v4 divides a light's spectrum by its luminance before `scale`: an `rgb`
 //! value keeps its RGB, a blackbody or named or sampled spectrum becomes its colour at
-//! luminance 1 (`spectra`). `power` (point and spot lights) rescales as pbrt-v4 does.
+//! luminance 1 (`spectra`). `power` (point, spot and area lights) and `illuminance`
+//! (distant lights, uniform infinite lights) rescale as pbrt-v4 does.
 
 use super::builder::{vec_node, Builder};
 use super::params::{Params, Spec};
@@ -99,7 +100,11 @@ impl Builder {
                 l.put("outer_angle", outer, tp).put("inner_angle", inner, tp);
             }
             "distant" => {
-                let e = self.light_rgb(p, "L")?;
+                let mut e = self.light_rgb(p, "L")?;
+                // pbrt-v4: `illuminance` E_v scales L (already of luminance 1) to it.
+                if let Some(ev) = p.float_opt("illuminance")?.filter(|x| *x > 0.0) {
+                    e = e.map(|c| c * ev);
+                }
                 let from = DVec3::from(p.vec3("from", [0.0; 3])?);
                 let to = DVec3::from(p.vec3("to", [0.0, 0.0, 1.0])?);
                 let dir = world.transform_vector3(to - from);
@@ -118,7 +123,12 @@ impl Builder {
                 }
                 match file {
                     None => {
-                        let c = self.light_rgb(p, "L")?;
+                        let mut c = self.light_rgb(p, "L")?;
+                        // pbrt-v4: `illuminance` is what the upper hemisphere gives a
+                        // surface facing it, π L for a uniform L.
+                        if let Some(ev) = p.float_opt("illuminance")?.filter(|x| *x > 0.0) {
+                            c = c.map(|x| x * ev / std::f64::consts::PI);
+                        }
                         l.put("type", "constant", tp);
                         l.set("radiance", rgb_node(c, tp));
                     }
@@ -137,11 +147,7 @@ impl Builder {
             }
             _ => return Err(At::new(pos, format!("unknown light \"{ty}\" (valid: point, spot, distant, infinite, goniometric, projection)"))),
         }
-        self.finish_params(
-            p,
-            &format!("LightSource \"{ty}\""),
-            &["power", "illuminance"],
-        )?;
+        self.finish_params(p, &format!("LightSource \"{ty}\""), &["illuminance"])?;
         self.lights.push(l);
         Ok(())
     }
@@ -254,10 +260,12 @@ impl Builder {
                 "area light: an image of emission is not rendered (L is used)",
             );
         }
-        self.finish_params(p, "AreaLightSource \"diffuse\"", &["power"])?;
+        let power = p.float_opt("power")?.filter(|x| *x > 0.0);
+        self.finish_params(p, "AreaLightSource \"diffuse\"", &[])?;
         self.gs.area = Some(super::builder::AreaLight {
             radiance,
             two_sided,
+            power,
             pos,
         });
         Ok(())

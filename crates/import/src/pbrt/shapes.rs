@@ -18,7 +18,17 @@ use super::params::{Params, Spec};
 use super::textures::{constant, Want};
 use super::transform::swaps_handedness;
 use super::At;
+use glam::{DMat4, DVec3};
 use irradia_scene::file::tree::Node;
+use std::f64::consts::PI;
+
+/// Each triangle's area after `ctm`.
+fn triangle_areas(pts: &[[f64; 3]], tris: &[[u32; 3]], ctm: &DMat4) -> Vec<f64> {
+    let p = |i: u32| ctm.transform_point3(DVec3::from(pts[i as usize]));
+    tris.iter()
+        .map(|t| 0.5 * (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])).length())
+        .collect()
+}
 
 impl Builder {
     pub(super) fn shape(&mut self, ty: &str, p: &Params, pos: usize) -> Result<(), At> {
@@ -33,6 +43,9 @@ impl Builder {
         }
         let flip = self.gs.reverse ^ swaps_handedness(&ctm);
         let mut o = Node::table(tp);
+        // The areas pbrt-v4 gives an area light's `power` to: a quadric's (in its own
+        // frame, full: partial quadrics render whole), each triangle's (transformed).
+        let mut areas: Vec<f64> = Vec::new();
         match ty {
             "sphere" => {
                 let r = p.float("radius", 1.0)?;
@@ -40,6 +53,7 @@ impl Builder {
                     return Err(At::new(p.pos("radius", pos), format!("sphere: radius must be positive (got {r})")));
                 }
                 self.partial(p, pos, ty, r)?;
+                areas.push(4.0 * PI * r * r);
                 o.put("type", "sphere", tp).put("radius", r, tp);
                 if flip {
                     o.put("flip_normals", true, tp);
@@ -55,6 +69,7 @@ impl Builder {
                 if p.float("phimax", 360.0)? < 360.0 {
                     self.warn(p.pos("phimax", pos), "phimax", "partial quadrics (phimax < 360) are rendered whole");
                 }
+                areas.push(PI * (r * r - ri * ri));
                 o.put("type", "disk", tp)
                     .put("center", [0.0, 0.0, h], tp)
                     .put("normal", [0.0, 0.0, 1.0], tp)
@@ -76,6 +91,7 @@ impl Builder {
                 if p.float("phimax", 360.0)? < 360.0 {
                     self.warn(p.pos("phimax", pos), "phimax", "partial quadrics (phimax < 360) are rendered whole");
                 }
+                areas.push(2.0 * PI * r * (z1 - z0).abs());
                 o.put("type", "tube", tp)
                     .put("p0", [0.0, 0.0, z0.min(z1)], tp)
                     .put("p1", [0.0, 0.0, z0.max(z1)], tp)
@@ -108,6 +124,7 @@ impl Builder {
                 let normals = self.per_vertex3(p, "N", pts.len(), pos)?;
                 let uv = self.per_vertex2(p, "uv", pts.len(), pos)?;
                 let rev = self.gs.reverse && normals.is_none();
+                areas = triangle_areas(&pts, &tris, &ctm);
                 self.triangles(&mut o, &pts, tris, rev, normals, uv, tp);
                 if p.has("S") {
                     let _ = p.get("S");
@@ -162,6 +179,7 @@ impl Builder {
                     }
                 }
                 let rev = self.gs.reverse && norms.is_none();
+                areas = triangle_areas(&points, &tris, &ctm);
                 self.triangles(&mut o, &points, tris, rev, norms, uv, tp);
             }
             "plymesh" => {
@@ -212,7 +230,8 @@ impl Builder {
             if self.in_object_definition() {
                 self.warn(a.pos, "instanced-area", "area lights in object instances are not supported by pbrt-v4 either: not emitting");
             } else {
-                mat = self.emitting(&mat, a.radiance, a.two_sided, tp);
+                let radiance = self.area_power(&a, &areas, ty);
+                mat = self.emitting(&mat, radiance, a.two_sided, tp);
             }
         }
         self.finish_params(p, &format!("Shape \"{ty}\""), &["emissionfilename"])?;
@@ -226,6 +245,30 @@ impl Builder {
         });
         self.push_object(o, ctm, pos, first);
         Ok(())
+    }
+
+    /// An area light's radiance on a shape of these `areas`: with pbrt-v4's `power`,
+    /// scaled so that each shape emits it, `L · power / (π · sides · area)` (pbrt-v4's
+    /// `DiffuseAreaLight::Create`; a triangle mesh is one shape per triangle there).
+    /// Irradia's emission is one radiance per object, so a mesh of unequal triangles
+    /// gets the mean area (the same total power, spread evenly) and a warning.
+    fn area_power(&mut self, a: &super::builder::AreaLight, areas: &[f64], ty: &str) -> [f64; 3] {
+        let Some(power) = a.power else {
+            return a.radiance;
+        };
+        if areas.is_empty() {
+            self.warn(a.pos, "power-ply", format!("area light: `power` on a {ty} is not applied (its file is not read here): L is used"));
+            return a.radiance;
+        }
+        let mean = areas.iter().sum::<f64>() / areas.len() as f64;
+        if areas.iter().any(|x| (x - mean).abs() > 1e-6 * mean) {
+            self.warn(a.pos, "power-mesh", format!("area light: `power` on a {ty} of unequal triangles: every triangle emits as one of the mean area (the same total power)"));
+        }
+        if mean <= 0.0 {
+            return a.radiance;
+        }
+        let sides = if a.two_sided { 2.0 } else { 1.0 };
+        a.radiance.map(|c| c * power / (PI * sides * mean))
     }
 
     fn partial(&mut self, p: &Params, pos: usize, ty: &str, r: f64) -> Result<(), At> {

@@ -337,11 +337,14 @@ impl Builder {
         }
         let scale = p.float("scale", 1.0)?;
         if scale != 1.0 {
-            self.warn(
-                p.pos("scale", pos),
-                "imagemap-scale",
-                "imagemap: scale is not applied",
-            );
+            if !(scale.is_finite() && scale >= 0.0) {
+                return Err(At::new(
+                    p.pos("scale", pos),
+                    format!("imagemap: scale must be finite and not negative (got {scale})"),
+                ));
+            }
+            // pbrt-v4 multiplies the looked-up value: the bitmap's own `scale`.
+            t.put("scale", scale, tp);
         }
         // pbrt looks up (s, 1 - t).
         let mapping = self.uv_mapping(p, pos, tp, 1.0)?;

@@ -12,9 +12,21 @@ use irradia_scene::file::tree::Node;
 use irradia_scene::SceneError;
 use std::path::Path;
 
-/// Imports `path`.
+/// Imports `path` (`.ply`, or `.ply.gz` compressed with gzip as pbrt-v4's scenes ship
+/// their meshes).
 pub fn import(path: &Path) -> Result<Imported, SceneError> {
     let bytes = crate::read_bytes(path)?;
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"))
+    {
+        let mut plain = Vec::new();
+        std::io::Read::read_to_end(&mut flate2::read::GzDecoder::new(&bytes[..]), &mut plain)
+            .map_err(|e| {
+                SceneError::input("", format!("cannot decompress (gzip): {e}")).with_file(path)
+            })?;
+        return parse_bytes(&plain, path);
+    }
     parse_bytes(&bytes, path)
 }
 

@@ -145,8 +145,15 @@ fn read_bitmap(t: &Table) -> Result<Bitmap> {
         }),
         None => None,
     };
-    let texels = read_texels_selected(&filename, raw, image, channel)
+    let mut texels = read_texels_selected(&filename, raw, image, channel)
         .map_err(|e| file_v.err(format!("cannot load the bitmap: {e}")))?;
+    if let Some(k) = t.get("scale") {
+        let c = read_rgb(&k)?;
+        if ![c.r, c.g, c.b].iter().all(|x| x.is_finite() && *x >= 0.0) {
+            return Err(k.err("scale must be finite and not negative"));
+        }
+        texels.scale(c);
+    }
     Ok(Bitmap {
         filename,
         texels,

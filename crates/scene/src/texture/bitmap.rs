@@ -71,6 +71,28 @@ impl Texels {
         }
     }
 
+    /// Every texel times `k` (a grey image times a colour becomes a colour one): the
+    /// bitmap's `scale`, glTF's factors beside their textures, pbrt's `imagemap`
+    /// `scale`.
+    pub fn scale(&mut self, k: Rgb) {
+        if k == Rgb::splat(1.0) {
+            return;
+        }
+        if self.channels == 1 && !(k.r == k.g && k.g == k.b) {
+            self.data = self.data.iter().flat_map(|&v| [v, v, v]).collect();
+            self.channels = 3;
+        }
+        if self.channels == 1 {
+            self.data.iter_mut().for_each(|v| *v *= k.r);
+        } else {
+            for t in self.data.chunks_exact_mut(3) {
+                t[0] *= k.r;
+                t[1] *= k.g;
+                t[2] *= k.b;
+            }
+        }
+    }
+
     /// The mean over all texels.
     pub fn mean(&self) -> Rgb {
         let n = (self.width as usize * self.height as usize).max(1);
@@ -233,6 +255,22 @@ pub fn read_texels_selected(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn scale_multiplies_every_texel_and_a_colour_turns_grey_into_colour() {
+        let mut t = Texels {
+            width: 2,
+            height: 1,
+            channels: 1,
+            data: vec![0.5, 1.0],
+        };
+        t.scale(Rgb::splat(2.0));
+        assert_eq!((t.channels, t.data.clone()), (1, vec![1.0, 2.0]));
+        t.scale(Rgb::new(1.0, 0.5, 0.25));
+        assert_eq!(t.channels, 3);
+        assert_eq!(t.get(1, 0), Rgb::new(2.0, 1.0, 0.5));
+        assert_eq!(t.get(0, 0), Rgb::new(1.0, 0.5, 0.25));
+    }
 
     #[test]
     fn wrap_modes_fold_indices_as_mitsuba_does() {

@@ -15,6 +15,11 @@ Irradia's: trimesh (the textured box, as GLB) and pygltflib (everything else).
   KHR_lights_punctual point (100 cd), spot (50 cd, cones 10 and 30 degrees) and
   directional (3 lux, pointing down) lights.
 - ortho.gltf: one triangle seen by an orthographic camera (ymag 2).
+- extensions.gltf + checker.png: a quad with uv whose material uses
+  KHR_texture_transform on its base colour texture (offset (0.5, 0.25), rotation 0.3,
+  scale (2, 3)) with baseColorFactor (0.5, 1, 1), an emissive texture with
+  emissiveFactor (1, 0.5, 0.25) and KHR_materials_emissive_strength 4,
+  KHR_materials_transmission 0.8 and KHR_materials_ior 1.33.
 """
 
 import base64
@@ -196,8 +201,56 @@ def ortho():
     gl.save("ortho.gltf")
 
 
+def extensions():
+    pos, nrm, idx = quad(1.0)
+    uv = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=np.float32)
+    arrays = [pos, nrm, idx, uv]
+    blob, spans = pack(arrays)
+    gl = g.GLTF2()
+    gl.buffers.append(
+        g.Buffer(byteLength=len(blob), uri="data:application/octet-stream;base64," + base64.b64encode(blob).decode())
+    )
+    accessors(gl, spans, arrays, [g.VEC3, g.VEC3, g.SCALAR, g.VEC2],
+              [g.ARRAY_BUFFER, g.ARRAY_BUFFER, g.ELEMENT_ARRAY_BUFFER, g.ARRAY_BUFFER])
+    img = Image.new("RGB", (4, 4))
+    for y in range(4):
+        for x in range(4):
+            img.putpixel((x, y), (200, 60, 20) if (x + y) % 2 else (250, 250, 250))
+    img.save("checker.png")
+    gl.images.append(g.Image(uri="checker.png"))
+    gl.samplers.append(g.Sampler())
+    gl.textures.append(g.Texture(source=0, sampler=0))
+    transform = {"KHR_texture_transform": {"offset": [0.5, 0.25], "rotation": 0.3, "scale": [2.0, 3.0]}}
+    gl.materials.append(
+        g.Material(
+            name="lamp_glass",
+            pbrMetallicRoughness=g.PbrMetallicRoughness(
+                baseColorFactor=[0.5, 1.0, 1.0, 1.0],
+                baseColorTexture=g.TextureInfo(index=0, extensions=transform),
+                metallicFactor=0.0,
+                roughnessFactor=0.2,
+            ),
+            emissiveTexture=g.TextureInfo(index=0),
+            emissiveFactor=[1.0, 0.5, 0.25],
+            extensions={
+                "KHR_materials_emissive_strength": {"emissiveStrength": 4.0},
+                "KHR_materials_transmission": {"transmissionFactor": 0.8},
+                "KHR_materials_ior": {"ior": 1.33},
+            },
+        )
+    )
+    gl.meshes.append(g.Mesh(primitives=[g.Primitive(attributes=g.Attributes(POSITION=0, NORMAL=1, TEXCOORD_0=3), indices=2, material=0)]))
+    gl.nodes.append(g.Node(mesh=0))
+    gl.scenes.append(g.Scene(nodes=[0]))
+    gl.scene = 0
+    gl.extensionsUsed = ["KHR_texture_transform", "KHR_materials_emissive_strength",
+                         "KHR_materials_transmission", "KHR_materials_ior"]
+    gl.save("extensions.gltf")
+
+
 if __name__ == "__main__":
     textured_box()
     hierarchy()
     camera_lights()
     ortho()
+    extensions()
