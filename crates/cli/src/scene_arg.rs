@@ -78,18 +78,22 @@ pub fn check_scene_path(path: &Path) -> Result<(), CliError> {
 }
 
 /// Reads a scene file of any format Irradia imports; prints the importer's warnings
-/// and notes (what it added) on stderr, one line each.
-pub fn import_scene(path: &Path, args: &ImportArgs) -> Result<Scene, CliError> {
+/// and (unless `quiet`) its notes of what it added on stderr, one line each.
+pub fn import_scene(path: &Path, args: &ImportArgs, quiet: bool) -> Result<Scene, CliError> {
     check_scene_path(path)?;
     let (scene, imported) = irradia_import::load(path, &args.options())?;
-    report_import(&imported);
+    report_import(&imported, quiet);
     Ok(scene)
 }
 
-/// The importer's warnings and notes, on stderr.
-pub fn report_import(imported: &irradia_import::Imported) {
+/// The importer's warnings (always: something in the file is not rendered) and notes
+/// (what it added or read differently; not when `quiet`), on stderr.
+pub fn report_import(imported: &irradia_import::Imported, quiet: bool) {
     for w in &imported.warnings {
         eprintln!("irradia: warning: {w}");
+    }
+    if quiet {
+        return;
     }
     for n in &imported.notes {
         eprintln!("irradia: {n}");
@@ -97,15 +101,19 @@ pub fn report_import(imported: &irradia_import::Imported) {
 }
 
 /// Loads the scene named by `file` or `args.builtin` (the built-in `default` when
-/// neither is given) and applies the overrides.
-pub fn load_scene(file: Option<&PathBuf>, args: &SceneArgs) -> Result<Scene, CliError> {
+/// neither is given) and applies the overrides; `quiet` silences the importer's notes.
+pub fn load_scene(
+    file: Option<&PathBuf>,
+    args: &SceneArgs,
+    quiet: bool,
+) -> Result<Scene, CliError> {
     let mut scene = match (file, &args.builtin) {
         (Some(_), Some(_)) => {
             return Err(CliError::Input(
                 "give either a scene file or --builtin, not both".into(),
             ))
         }
-        (Some(path), None) => import_scene(path, &args.import)?,
+        (Some(path), None) => import_scene(path, &args.import, quiet)?,
         (None, Some(name)) => irradia_scene::builtin::load(name)?,
         (None, None) => irradia_scene::builtin::load("default")?,
     };

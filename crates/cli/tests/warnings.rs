@@ -51,3 +51,34 @@ material = "m"
         "one warning expected:\n{stderr}"
     );
 }
+
+/// A bare model's importer notes (the camera and lights it added) print without
+/// `--quiet` and not with it; a warning (a feature not rendered) prints either way.
+#[test]
+fn quiet_silences_the_importers_notes_but_not_its_warnings() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("tri.obj");
+    // `l` (a line element) is a warning: lines are not rendered.
+    std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nl 1 2\n").unwrap();
+    for quiet in [false, true] {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_irradia"));
+        cmd.args([
+            "render",
+            obj.to_str().unwrap(),
+            "--width",
+            "16",
+            "--height",
+            "12",
+        ])
+        .args(["--spp", "1", "-o"])
+        .arg(dir.path().join("t.png"));
+        if quiet {
+            cmd.arg("--quiet");
+        }
+        let out = cmd.output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        assert_eq!(stderr.contains("no camera"), !quiet, "{stderr}");
+        assert!(stderr.contains("warning"), "{stderr}");
+    }
+}

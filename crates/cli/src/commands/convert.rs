@@ -61,7 +61,7 @@ pub fn run(a: ConvertArgs) -> Result<(), CliError> {
         )));
     }
     let imported = irradia_import::import(&a.scene, &a.import.options())?;
-    report_import(&imported);
+    report_import(&imported, false);
     // The scene must be valid before anything is written.
     imported.scene()?;
     let from = match a.scene.parent() {

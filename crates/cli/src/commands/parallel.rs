@@ -204,6 +204,7 @@ fn load_input(a: &ParallelArgs, mode: Mode) -> Result<JobInput, CliError> {
                 builtin: Some(name.to_string()),
                 ..scene_args
             },
+            a.quiet,
         )?
     } else {
         let path = PathBuf::from(&a.workload);
@@ -214,7 +215,7 @@ fn load_input(a: &ParallelArgs, mode: Mode) -> Result<JobInput, CliError> {
                 a.workload
             )));
         }
-        load_scene(Some(&path), &scene_args)?
+        load_scene(Some(&path), &scene_args, a.quiet)?
     };
     check_size(scene.settings.width, scene.settings.height)?;
     let name = a.workload.clone();

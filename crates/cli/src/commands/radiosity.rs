@@ -292,9 +292,9 @@ pub fn run(mut a: RadiosityArgs) -> Result<(), CliError> {
         }
         (None, None) => SceneSource::Default,
         (None, Some(name)) => SceneSource::Builtin(name),
-        (Some(path), None) => {
-            SceneSource::Scene(Box::new(crate::scene_arg::import_scene(path, &a.import)?))
-        }
+        (Some(path), None) => SceneSource::Scene(Box::new(crate::scene_arg::import_scene(
+            path, &a.import, a.quiet,
+        )?)),
     };
     let two_pass = a.display == DisplayArg::TwoPass;
     let scene = job::load_scene(source, two_pass, a.closed).map_err(err)?;

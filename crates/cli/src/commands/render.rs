@@ -78,7 +78,8 @@ pub struct RenderArgs {
     pub path: super::render_path::PathArgs,
     #[command(flatten)]
     pub comm: super::render_comm::CommArgs,
-    /// Print nothing but errors (no progress bar, no statistics).
+    /// Print nothing but errors and the importer's warnings (no progress bar, no
+    /// statistics, no notes of what the importer added).
     #[arg(short, long, help_heading = "General options")]
     pub quiet: bool,
 }
@@ -140,7 +141,7 @@ pub fn run(mut args: RenderArgs) -> Result<(), CliError> {
     args.quiet |= ranks.rank() != 0;
     let aovs: Vec<Aov> = args.aov.iter().map(|&a| a.into()).collect();
     args.path.validate(true)?;
-    let scene = load_scene(args.scene.as_ref(), &args.scene_args)?;
+    let scene = load_scene(args.scene.as_ref(), &args.scene_args, args.quiet)?;
     let path_traced = scene.settings.integrator.is_monte_carlo();
     args.path.validate(path_traced)?;
     scene.settings.check_crop().map_err(CliError::Input)?;

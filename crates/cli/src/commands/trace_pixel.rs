@@ -56,7 +56,7 @@ pub fn run(args: TracePixelArgs) -> Result<(), CliError> {
         _ => (None, &p[0], &p[1]),
     };
     let (x, y) = (coordinate(xs, "X")?, coordinate(ys, "Y")?);
-    let scene = load_scene(file.as_ref(), &args.scene_args)?;
+    let scene = load_scene(file.as_ref(), &args.scene_args, false)?;
     let (tree, radiance) = irradia_render::trace_pixel(&scene, x, y, args.sample)?;
     let text = match args.format {
         TreeFormat::Text => format!(
