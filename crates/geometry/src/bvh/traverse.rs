@@ -2,14 +2,16 @@
 //! are visited nearest first, and a node is skipped when it starts beyond the nearest
 //! hit found so far. Shadow rays use an any-hit traversal that stops at the first hit.
 
+use super::build::MAX_SAH_DEPTH;
 use super::node::{ChildRef, NodeRay, WIDTH};
 use super::Bvh;
 use irradia_core::Ray;
 use std::mem::MaybeUninit;
 
-/// Stack depth: at most `WIDTH - 1` entries per level and the builder bounds the depth
-/// (median splits beyond binary depth 40, so below 40 + 32 levels).
-const STACK: usize = 256;
+/// Stack depth: at most `WIDTH - 1` entries per level, and the builder bounds the
+/// binary depth, and so the number of wide levels (median splits beyond binary depth
+/// `MAX_SAH_DEPTH`, which halve the set: at most 32 more levels for 32-bit counts).
+const STACK: usize = (WIDTH - 1) * (MAX_SAH_DEPTH as usize + 33);
 
 #[derive(Clone, Copy)]
 struct Entry {
@@ -18,7 +20,7 @@ struct Entry {
 }
 
 impl Bvh {
-    /// Starts fetching an inner node's two cache lines (a leaf's data is the caller's).
+    /// Starts fetching an inner node's four cache lines (a leaf's data is the caller's).
     #[inline(always)]
     fn prefetch(&self, c: ChildRef) {
         #[cfg(target_arch = "x86_64")]
@@ -26,10 +28,12 @@ impl Bvh {
             if let Some(n) = self.nodes.get(c.index as usize) {
                 use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
                 let p = n as *const _ as *const i8;
-                // SAFETY: prefetching is a hint; `p` and `p + 64` lie inside the node.
+                // SAFETY: prefetching is a hint; `p .. p + 256` is the node.
                 unsafe {
                     _mm_prefetch(p, _MM_HINT_T0);
                     _mm_prefetch(p.add(64), _MM_HINT_T0);
+                    _mm_prefetch(p.add(128), _MM_HINT_T0);
+                    _mm_prefetch(p.add(192), _MM_HINT_T0);
                 }
             }
         }
