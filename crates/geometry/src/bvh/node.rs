@@ -104,10 +104,26 @@ impl WideNode {
     /// box the ray enters within `[0, t_max]`, and the entry distances.
     #[inline(always)]
     pub fn intersect(&self, ray: &NodeRay, t_max: f32) -> (u32, [f32; WIDTH]) {
+        if ray.avx2 {
+            self.intersect_with::<true>(ray, t_max)
+        } else {
+            self.intersect_with::<false>(ray, t_max)
+        }
+    }
+
+    /// [`WideNode::intersect`] with the instruction set chosen by the caller: `AVX`
+    /// only where the CPU has AVX2 (the traversal decides once per ray and runs a copy
+    /// of itself compiled for AVX2, into which this test is inlined).
+    #[inline(always)]
+    pub(crate) fn intersect_with<const AVX: bool>(
+        &self,
+        ray: &NodeRay,
+        t_max: f32,
+    ) -> (u32, [f32; WIDTH]) {
         #[cfg(target_arch = "x86_64")]
         {
-            if ray.avx2 {
-                // SAFETY: `ray.avx2` is set only where the CPU has AVX2.
+            if AVX {
+                // SAFETY: callers pass `AVX` only where the CPU has AVX2.
                 unsafe { self.intersect_avx2(ray, t_max) }
             } else {
                 // SAFETY: SSE2 is part of the x86_64 baseline; all loads are of

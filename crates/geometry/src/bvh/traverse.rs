@@ -82,6 +82,37 @@ impl Bvh {
         ray: &Ray,
         t_max: f32,
         prefetch: P,
+        hit: F,
+    ) -> Option<f32>
+    where
+        P: Fn(ChildRef),
+        F: FnMut(ChildRef, f32) -> Option<f32>,
+    {
+        #[cfg(target_arch = "x86_64")]
+        if crate::packet::has_avx2() {
+            // SAFETY: the CPU has AVX2.
+            return unsafe { self.closest_avx2(ray, t_max, prefetch, hit) };
+        }
+        self.closest::<false, P, F>(ray, t_max, prefetch, hit)
+    }
+
+    /// The traversal compiled for AVX2, so the 8-wide box test is inlined into it.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn closest_avx2<P, F>(&self, ray: &Ray, t_max: f32, prefetch: P, hit: F) -> Option<f32>
+    where
+        P: Fn(ChildRef),
+        F: FnMut(ChildRef, f32) -> Option<f32>,
+    {
+        self.closest::<true, P, F>(ray, t_max, prefetch, hit)
+    }
+
+    #[inline(always)]
+    fn closest<const AVX: bool, P, F>(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        prefetch: P,
         mut hit: F,
     ) -> Option<f32>
     where
@@ -106,7 +137,7 @@ impl Bvh {
                 }
             } else {
                 let node = &self.nodes[current.index as usize];
-                let (mut mask, t_near) = node.intersect(&nray, t_max);
+                let (mut mask, t_near) = node.intersect_with::<AVX>(&nray, t_max);
                 if mask != 0 {
                     // Collect the entered children, sort them near to far, push all
                     // but the nearest (farthest pushed first) and descend into it.
@@ -175,7 +206,30 @@ impl Bvh {
 
     /// Like [`Bvh::any_hit`], but the closure gets a whole leaf.
     #[inline]
-    pub fn any_hit_leaves<F>(&self, ray: &Ray, t_max: f32, mut hit: F) -> bool
+    pub fn any_hit_leaves<F>(&self, ray: &Ray, t_max: f32, hit: F) -> bool
+    where
+        F: FnMut(ChildRef, f32) -> bool,
+    {
+        #[cfg(target_arch = "x86_64")]
+        if crate::packet::has_avx2() {
+            // SAFETY: the CPU has AVX2.
+            return unsafe { self.any_avx2(ray, t_max, hit) };
+        }
+        self.any::<false, F>(ray, t_max, hit)
+    }
+
+    /// The any-hit traversal compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn any_avx2<F>(&self, ray: &Ray, t_max: f32, hit: F) -> bool
+    where
+        F: FnMut(ChildRef, f32) -> bool,
+    {
+        self.any::<true, F>(ray, t_max, hit)
+    }
+
+    #[inline(always)]
+    fn any<const AVX: bool, F>(&self, ray: &Ray, t_max: f32, mut hit: F) -> bool
     where
         F: FnMut(ChildRef, f32) -> bool,
     {
@@ -190,7 +244,7 @@ impl Bvh {
                 }
             } else {
                 let node = &self.nodes[current.index as usize];
-                let (mut mask, _) = node.intersect(&nray, t_max);
+                let (mut mask, _) = node.intersect_with::<AVX>(&nray, t_max);
                 if mask != 0 {
                     let first = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
