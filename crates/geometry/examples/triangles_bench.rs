@@ -205,7 +205,7 @@ fn main() {
             let boxes = if limit == usize::MAX { &boxes[..] } else { &boxes[..1] };
             let t0 = Instant::now();
             let c0 = cpu_seconds();
-            let bvh = Bvh::build_blocked(boxes, 4);
+            let bvh = Bvh::build_blocked(boxes, 8);
             let bvh_s = t0.elapsed().as_secs_f64();
             let bvh_cpu = cpu_seconds() - c0;
             let stats = bvh.stats();
