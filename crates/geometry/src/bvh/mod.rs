@@ -68,7 +68,8 @@ impl Bvh {
     }
 
     /// Like [`Bvh::build`] for callers that intersect a leaf's primitives `block` at
-    /// a time (4 for SIMD triangle packets): the SAH then counts blocks, so leaves
+    /// a time (8 for meshes, whose leaves are tested two 4-triangle packets at a time):
+    /// the SAH then counts blocks, so leaves
     /// fill whole blocks.
     pub fn build_blocked(boxes: &[Aabb], block: usize) -> Self {
         let (nodes, order) = build::build(boxes, block);
