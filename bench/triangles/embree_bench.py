@@ -8,6 +8,8 @@ What is measured:
 - primary / incoherent: one `scene.run(origins, directions, output=1)` call on all
   rays of the set (embreex loops over them in C, one rtcIntersect1 per ray) -- the
   numpy arrays are prepared before the clock starts.
+`embree_bench.py DIR load|build` prints the peak memory (KiB) after reading the arrays
+or after building the scene instead.
 Embree's thread count is not exposed by embreex (rtcNewDevice gets no config), so the
 caller pins the process to N cores with `taskset` to give it N threads.
 """
@@ -28,6 +30,18 @@ indices = load("indices.u32", "<u4").astype(np.int32)
 po, pd = load("primary_org.f32", "<f4"), load("primary_dir.f32", "<f4")
 io, idr = load("incoherent_org.f32", "<f4"), load("incoherent_dir.f32", "<f4")
 one_o, one_d = po[:1].copy(), pd[:1].copy()
+
+if len(sys.argv) > 2:
+    # Peak memory: `load` only reads the arrays, `build` also builds the scene; the
+    # difference of the two processes' peaks is what Embree's structure costs.
+    import resource
+    if sys.argv[2] == "build":
+        scene = rtcs.EmbreeScene()
+        mesh = TriangleMesh(scene, vertices, indices)
+        scene.run(one_o, one_d, output=1)
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    print(json.dumps({"renderer": "embree", "triangles": len(indices), "peak_kib": peak}))
+    sys.exit(0)
 
 c0 = time.process_time()
 t0 = time.perf_counter()

@@ -1,15 +1,19 @@
 #!/usr/bin/env python3
-"""The triangles workload of PEERS.md: Irradia's BVH against Embree 4 (embreex).
+"""The triangles workload of PEERS.md: Irradia's BVH against Embree 4 (embreex) at 1
+thread and Open3D 0.20's RaycastingScene (Embree inside, multi-threaded) at 2 or more.
 
     python3 bench/triangles/run.py [--runs 5] [--threads 1 2] [--data DIR]
 
+embreex traces with one rtcIntersect1 per ray in a single-threaded loop, so it is the
+per-thread anchor only: at N > 1 threads the peer is Open3D (`o3d_bench.py DIR N`,
+nthreads=N), never single-threaded Embree against N Irradia threads.
+
 1. Builds `crates/geometry/examples/triangles_bench.rs` (release) and writes the gyroid
    (marching cubes, 342^3) and both ray sets once, as raw arrays, to DIR.
-2. For each thread count N, runs Irradia and Embree alternately (A B A B ...), RUNS
+2. For each thread count N, runs Irradia and the peer alternately (A B A B ...), RUNS
    times each, every process pinned to N cores with `taskset` (Irradia also gets
    RAYON_NUM_THREADS=N; embreex does not expose Embree's thread count, so the pinning
-   is what limits its TBB build threads. embreex traces with one rtcIntersect1 per ray
-   in a single-threaded loop, so Embree's tracing is 1 thread whatever N is).
+   is what limits its TBB build threads).
 3. Prints medians, ratios and the hit-count check (must agree within 0.01%).
 """
 import argparse, json, os, shutil, statistics, subprocess, sys, time
@@ -33,6 +37,11 @@ def main():
     ap.add_argument("--data", default=os.path.join(ROOT, "target", "bench-triangles"))
     args = ap.parse_args()
     try:
+        import open3d  # noqa: F401
+    except ImportError:
+        print("open3d missing: trying pip install open3d-cpu==0.20.0", file=sys.stderr)
+        subprocess.run([sys.executable, "-m", "pip", "install", "open3d-cpu==0.20.0"])
+    try:
         import embreex  # noqa: F401
     except ImportError:
         print("embreex missing: trying pip install embreex==4.4.0.post1", file=sys.stderr)
@@ -55,18 +64,20 @@ def main():
         ir, em = [], []
         for r in range(args.runs):
             ir.append(run_json(pin + [exe, "run", args.data], e))
-            em.append(run_json(pin + [sys.executable, os.path.join(HERE, "embree_bench.py"), args.data], e))
+            peer = ["embree_bench.py", args.data] if n == 1 else ["o3d_bench.py", args.data, str(n)]
+            em.append(run_json(pin + [sys.executable, os.path.join(HERE, peer[0])] + peer[1:], e))
             print(f"threads {n} run {r + 1}: irradia build {ir[-1]['mesh_build_s']:.3f}s "
                   f"primary {ir[-1]['primary_mrays']:.2f} incoherent {ir[-1]['incoherent_mrays']:.2f} | "
-                  f"embree build {em[-1]['build_s']:.3f}s primary {em[-1]['primary_mrays']:.2f} "
+                  f"{em[-1]['renderer']} build {em[-1]['build_s']:.3f}s primary {em[-1]['primary_mrays']:.2f} "
                   f"incoherent {em[-1]['incoherent_mrays']:.2f}", flush=True)
         results[n] = (ir, em)
     # Hit agreement (the last runs wrote their hit distances).
     d = args.data
     agree = {}
+    last_peer = results[args.threads[-1]][1][-1]["renderer"]
     for s in ["primary", "incoherent"]:
         a = np.fromfile(os.path.join(d, f"{s}_t_irradia.f32"), dtype="<f4")
-        b = np.fromfile(os.path.join(d, f"{s}_t_embree.f32"), dtype="<f4")
+        b = np.fromfile(os.path.join(d, f"{s}_t_{last_peer}.f32"), dtype="<f4")
         ha, hb = np.isfinite(a), np.isfinite(b)
         both = ha & hb
         rel = np.abs(a[both] - b[both]) / np.maximum(np.abs(b[both]), 1e-30)
@@ -77,10 +88,11 @@ def main():
     print()
     print(f"triangles: {results[args.threads[0]][0][0]['triangles']} triangles, medians of {args.runs} interleaved runs")
     print(f"load: {open('/proc/loadavg').read().strip()}  ({time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())})")
-    print("| threads | metric | Irradia | Embree | Irradia / Embree |")
+    print("| threads | metric | Irradia | peer | Irradia / peer |")
     print("|---|---|---|---|---|")
     for n, (ir, em) in results.items():
         b_i, b_e = med(ir, "mesh_build_s"), med(em, "build_s")
+        print(f"| {n} | peer: {em[0]['renderer']} | | | |")
         print(f"| {n} | build (s, lower is better) | {b_i:.3f} (BVH alone {med(ir, 'bvh_build_s'):.3f}) | {b_e:.3f} | {b_i / b_e:.2f} |")
         for k in ["primary", "incoherent"]:
             a, b = med(ir, f"{k}_mrays"), med(em, f"{k}_mrays")
@@ -88,7 +100,7 @@ def main():
     print()
     print("CPU seconds (user + system, all threads; on a loaded machine these show the work")
     print("done where wall time cannot; Embree's build CPU includes TBB workers spinning):")
-    print("| threads | phase | Irradia CPU s | Embree CPU s | Irradia / Embree |")
+    print("| threads | phase | Irradia CPU s | peer CPU s | Irradia / peer |")
     print("|---|---|---|---|---|")
     for n, (ir, em) in results.items():
         for k in ["build", "primary", "incoherent"]:
@@ -97,7 +109,7 @@ def main():
             print(f"| {n} | {k} | {a:.3f} | {b:.3f} | {a / b:.2f} |")
     for s, v in agree.items():
         ok = "OK" if v["diff_pct"] <= 0.01 else "MISMATCH"
-        print(f"hits {s}: irradia {v['irradia']} embree {v['embree']} ({v['diff_pct']:.4f}% apart, {ok}); "
+        print(f"hits {s}: irradia {v['irradia']} {last_peer} {v['embree']} ({v['diff_pct']:.4f}% apart, {ok}); "
               f"rays hit by one only: {v['disagree_rays']}; hit distances differing by >1e-4 relative: {v['t_rel_gt_1e4']}")
 
 

@@ -107,6 +107,9 @@ fn cpu_seconds() -> f64 {
     (ticks(11) + ticks(12)) / 100.0
 }
 
+/// Kept out of line so a profiler can select it (`valgrind --tool=callgrind
+/// --toggle-collect='*trace*'`).
+#[inline(never)]
 fn trace(mesh: &TriangleMesh, org: &[Vec3], dir: &[Vec3]) -> (Vec<f32>, f64) {
     let mut t = vec![f32::INFINITY; org.len()];
     let start = Instant::now();
@@ -124,7 +127,7 @@ fn trace(mesh: &TriangleMesh, org: &[Vec3], dir: &[Vec3]) -> (Vec<f32>, f64) {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let usage = "usage: triangles_bench write DIR [GRID] | triangles_bench run DIR";
+    let usage = "usage: triangles_bench write DIR [GRID] | triangles_bench run DIR | triangles_bench memory DIR [load|build]";
     if args.len() < 3 {
         eprintln!("{usage}");
         std::process::exit(2);
@@ -155,6 +158,31 @@ fn main() {
             write_f32(&dir.join("incoherent_org.f32"), &flat(&o));
             write_f32(&dir.join("incoherent_dir.f32"), &flat(&d));
         }
+        "memory" => {
+            // Peak memory: `load` reads the mesh arrays only, `build` also builds the
+            // mesh (its BVH, triangle packets and normals); the difference of the two
+            // processes' peaks is what the acceleration structure costs.
+            let positions = vecs(&read_f32(&dir.join("vertices.f32")));
+            let indices: Vec<[u32; 3]> = read_u32(&dir.join("indices.u32"))
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]])
+                .collect();
+            let n = indices.len();
+            if args.get(3).map(String::as_str) != Some("load") {
+                let mesh = TriangleMesh::new(positions, indices, None, None).expect("valid mesh");
+                std::hint::black_box(&mesh);
+            } else {
+                std::hint::black_box((&positions, &indices));
+            }
+            let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+            let hwm = status
+                .lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|k| k.parse::<u64>().ok())
+                .unwrap_or(0);
+            println!("{{\"renderer\": \"irradia\", \"triangles\": {n}, \"peak_kib\": {hwm}}}");
+        }
         "run" => {
             let positions = vecs(&read_f32(&dir.join("vertices.f32")));
             let indices: Vec<[u32; 3]> = read_u32(&dir.join("indices.u32"))
@@ -168,9 +196,16 @@ fn main() {
                 .par_iter()
                 .map(|t| irradia_core::Aabb::from_points(t.map(|i| positions[i as usize])))
                 .collect();
+            // TRIANGLES_RAYS=N traces only the first N rays of each set (profiling).
+            let limit: usize = std::env::var("TRIANGLES_RAYS")
+                .ok()
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(usize::MAX);
+            // (and skips the separate BVH build, whose statistics it then leaves out).
+            let boxes = if limit == usize::MAX { &boxes[..] } else { &boxes[..1] };
             let t0 = Instant::now();
             let c0 = cpu_seconds();
-            let bvh = Bvh::build_blocked(&boxes, 4);
+            let bvh = Bvh::build_blocked(boxes, 8);
             let bvh_s = t0.elapsed().as_secs_f64();
             let bvh_cpu = cpu_seconds() - c0;
             let stats = bvh.stats();
@@ -180,14 +215,13 @@ fn main() {
             let mesh = TriangleMesh::new(positions, indices, None, None).expect("valid mesh");
             let mesh_s = t0.elapsed().as_secs_f64();
             let mesh_cpu = cpu_seconds() - c_mesh;
-            let (po, pd) = (
-                vecs(&read_f32(&dir.join("primary_org.f32"))),
-                vecs(&read_f32(&dir.join("primary_dir.f32"))),
-            );
-            let (io, id) = (
-                vecs(&read_f32(&dir.join("incoherent_org.f32"))),
-                vecs(&read_f32(&dir.join("incoherent_dir.f32"))),
-            );
+            let load = |name: &str| {
+                let mut v = vecs(&read_f32(&dir.join(name)));
+                v.truncate(limit);
+                v
+            };
+            let (po, pd) = (load("primary_org.f32"), load("primary_dir.f32"));
+            let (io, id) = (load("incoherent_org.f32"), load("incoherent_dir.f32"));
             let c0 = cpu_seconds();
             let (pt, p_s) = trace(&mesh, &po, &pd);
             let c1 = cpu_seconds();
@@ -198,8 +232,10 @@ fn main() {
                 c1 - c0,
                 c2 - c1
             );
-            write_f32(&dir.join("primary_t_irradia.f32"), &pt);
-            write_f32(&dir.join("incoherent_t_irradia.f32"), &it);
+            if limit == usize::MAX {
+                write_f32(&dir.join("primary_t_irradia.f32"), &pt);
+                write_f32(&dir.join("incoherent_t_irradia.f32"), &it);
+            }
             let hits = |t: &[f32]| t.iter().filter(|x| x.is_finite()).count();
             println!(
                 "{{\"renderer\": \"irradia\", \"threads\": {}, \"triangles\": {}, \"bvh_build_s\": {:.4}, \"mesh_build_s\": {:.4}, \"primary_s\": {:.4}, \"primary_mrays\": {:.3}, \"primary_hits\": {}, \"incoherent_s\": {:.4}, \"incoherent_mrays\": {:.3}, \"incoherent_hits\": {}, \"nodes\": {}, \"leaves\": {}, \"max_depth\": {}, \"sah_cost\": {:.2}, \"cpu_s\": {{\"bvh_build\": {:.3}, \"build\": {:.3}, \"primary\": {:.3}, \"incoherent\": {:.3}}}}}",

@@ -1,9 +1,9 @@
-//! Building the wide BVH: top-down binned SAH, in parallel, straight into 4-wide nodes.
+//! Building the wide BVH: top-down binned SAH, in parallel, straight into 8-wide nodes.
 //!
 //! Each node starts as one set of primitives; the set with the largest surface area is
-//! split in two by the surface area heuristic until the node has four children or no
+//! split in two by the surface area heuristic until the node has eight children or no
 //! set is worth splitting ("collapsing" a binary SAH tree into wide nodes while it is
-//! built, as Embree's BVH4 builder does). Splits are found by binning centroids into
+//! built, as Embree's BVH8 builder does). Splits are found by binning centroids into
 //! 32 buckets per axis (Wald, "On fast Construction of SAH-based Bounding Volume
 //! Hierarchies", RT 2007). Large sets are binned in parallel and sibling subtrees are
 //! built on different threads (rayon), writing into one node array through an atomic
@@ -34,7 +34,7 @@ const PARALLEL_BINNING: usize = 1 << 16;
 const PARALLEL_SUBTREE: usize = 1 << 12;
 /// Beyond this binary depth splits are made at the median, which bounds the depth
 /// (and so the traversal stack) whatever the SAH would prefer.
-const MAX_SAH_DEPTH: u32 = 40;
+pub(crate) const MAX_SAH_DEPTH: u32 = 40;
 
 /// A primitive during the build: its box and its index in the caller's list.
 #[derive(Clone, Copy, Debug)]
@@ -400,6 +400,9 @@ struct Part {
     info: SetInfo,
     /// Decided to stay a leaf.
     leaf: bool,
+    /// Depth of the set in the binary tree the wide node collapses (what the
+    /// median-split bound and so the traversal stack bound count).
+    depth: u32,
 }
 
 fn build_node(
@@ -415,8 +418,8 @@ fn build_node(
         len: prims.len(),
         info,
         leaf: prims.len() <= 1,
+        depth,
     });
-    let mut binary_depth = depth;
     while parts.len() < WIDTH {
         // Split the set with the largest surface area that may still be split.
         let Some(k) = (0..parts.len())
@@ -426,13 +429,8 @@ fn build_node(
             break;
         };
         let p = &parts[k];
-        let (start, len) = (p.start, p.len);
-        match split(
-            &mut prims[start..start + len],
-            &p.info,
-            binary_depth,
-            arena.block,
-        ) {
+        let (start, len, d) = (p.start, p.len, p.depth);
+        match split(&mut prims[start..start + len], &p.info, d, arena.block) {
             None => parts[k].leaf = true,
             Some((mid, l, r)) => {
                 parts[k] = Part {
@@ -440,16 +438,17 @@ fn build_node(
                     len: mid,
                     info: l,
                     leaf: mid <= 1,
+                    depth: d + 1,
                 };
                 parts.push(Part {
                     start: start + mid,
                     len: len - mid,
                     info: r,
                     leaf: len - mid <= 1,
+                    depth: d + 1,
                 });
             }
         }
-        binary_depth += 1;
     }
     parts.sort_by_key(|p| p.start);
     let leaf_ref = |p: &Part| ChildRef {
@@ -482,12 +481,11 @@ fn build_node(
         slices.push((s, p));
         rest = r;
     }
-    let child_depth = binary_depth;
     let build_child = |(s, p): (&mut [PrimRef], &Part)| -> ChildRef {
         if p.leaf {
             leaf_ref(p)
         } else {
-            build_node(s, offset + p.start, p.info, child_depth, arena)
+            build_node(s, offset + p.start, p.info, p.depth, arena)
         }
     };
     if prims_len(&parts) >= PARALLEL_SUBTREE {

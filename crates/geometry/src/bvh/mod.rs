@@ -26,7 +26,7 @@
 //! assert_eq!((t, hit_index), (Some(4.0), Some(0)));
 //! ```
 //!
-//! Files: `node.rs` (the 4-wide node and its SIMD box test), `build.rs` (binned SAH,
+//! Files: `node.rs` (the 8-wide node and its SIMD box test), `build.rs` (binned SAH,
 //! parallel, collapsed to wide nodes), `traverse.rs` (ordered closest-hit and any-hit
 //! traversal).
 
@@ -39,7 +39,7 @@ use irradia_core::Aabb;
 pub use memory::advise_huge_pages;
 pub use node::{ChildRef, WideNode, WIDTH};
 
-/// A 4-wide bounding volume hierarchy.
+/// An 8-wide bounding volume hierarchy.
 #[derive(Clone, Debug)]
 pub struct Bvh {
     nodes: Vec<WideNode>,
@@ -68,7 +68,8 @@ impl Bvh {
     }
 
     /// Like [`Bvh::build`] for callers that intersect a leaf's primitives `block` at
-    /// a time (4 for SIMD triangle packets): the SAH then counts blocks, so leaves
+    /// a time (8 for meshes, whose leaves are tested two 4-triangle packets at a time):
+    /// the SAH then counts blocks, so leaves
     /// fill whole blocks.
     pub fn build_blocked(boxes: &[Aabb], block: usize) -> Self {
         let (nodes, order) = build::build(boxes, block);

@@ -2,14 +2,16 @@
 //! are visited nearest first, and a node is skipped when it starts beyond the nearest
 //! hit found so far. Shadow rays use an any-hit traversal that stops at the first hit.
 
+use super::build::MAX_SAH_DEPTH;
 use super::node::{ChildRef, NodeRay, WIDTH};
 use super::Bvh;
 use irradia_core::Ray;
 use std::mem::MaybeUninit;
 
-/// Stack depth: at most `WIDTH - 1` entries per level and the builder bounds the depth
-/// (median splits beyond binary depth 40, so below 40 + 32 levels).
-const STACK: usize = 256;
+/// Stack depth: at most `WIDTH - 1` entries per level, and the builder bounds the
+/// binary depth, and so the number of wide levels (median splits beyond binary depth
+/// `MAX_SAH_DEPTH`, which halve the set: at most 32 more levels for 32-bit counts).
+const STACK: usize = (WIDTH - 1) * (MAX_SAH_DEPTH as usize + 33);
 
 #[derive(Clone, Copy)]
 struct Entry {
@@ -18,7 +20,7 @@ struct Entry {
 }
 
 impl Bvh {
-    /// Starts fetching an inner node's two cache lines (a leaf's data is the caller's).
+    /// Starts fetching an inner node's four cache lines (a leaf's data is the caller's).
     #[inline(always)]
     fn prefetch(&self, c: ChildRef) {
         #[cfg(target_arch = "x86_64")]
@@ -26,10 +28,12 @@ impl Bvh {
             if let Some(n) = self.nodes.get(c.index as usize) {
                 use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
                 let p = n as *const _ as *const i8;
-                // SAFETY: prefetching is a hint; `p` and `p + 64` lie inside the node.
+                // SAFETY: prefetching is a hint; `p .. p + 256` is the node.
                 unsafe {
                     _mm_prefetch(p, _MM_HINT_T0);
                     _mm_prefetch(p.add(64), _MM_HINT_T0);
+                    _mm_prefetch(p.add(128), _MM_HINT_T0);
+                    _mm_prefetch(p.add(192), _MM_HINT_T0);
                 }
             }
         }
@@ -78,6 +82,37 @@ impl Bvh {
         ray: &Ray,
         t_max: f32,
         prefetch: P,
+        hit: F,
+    ) -> Option<f32>
+    where
+        P: Fn(ChildRef),
+        F: FnMut(ChildRef, f32) -> Option<f32>,
+    {
+        #[cfg(target_arch = "x86_64")]
+        if crate::packet::has_avx2() {
+            // SAFETY: the CPU has AVX2.
+            return unsafe { self.closest_avx2(ray, t_max, prefetch, hit) };
+        }
+        self.closest::<false, P, F>(ray, t_max, prefetch, hit)
+    }
+
+    /// The traversal compiled for AVX2, so the 8-wide box test is inlined into it.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn closest_avx2<P, F>(&self, ray: &Ray, t_max: f32, prefetch: P, hit: F) -> Option<f32>
+    where
+        P: Fn(ChildRef),
+        F: FnMut(ChildRef, f32) -> Option<f32>,
+    {
+        self.closest::<true, P, F>(ray, t_max, prefetch, hit)
+    }
+
+    #[inline(always)]
+    fn closest<const AVX: bool, P, F>(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        prefetch: P,
         mut hit: F,
     ) -> Option<f32>
     where
@@ -102,7 +137,7 @@ impl Bvh {
                 }
             } else {
                 let node = &self.nodes[current.index as usize];
-                let (mut mask, t_near) = node.intersect(&nray, t_max);
+                let (mut mask, t_near) = node.intersect_with::<AVX>(&nray, t_max);
                 if mask != 0 {
                     // Collect the entered children, sort them near to far, push all
                     // but the nearest (farthest pushed first) and descend into it.
@@ -171,7 +206,30 @@ impl Bvh {
 
     /// Like [`Bvh::any_hit`], but the closure gets a whole leaf.
     #[inline]
-    pub fn any_hit_leaves<F>(&self, ray: &Ray, t_max: f32, mut hit: F) -> bool
+    pub fn any_hit_leaves<F>(&self, ray: &Ray, t_max: f32, hit: F) -> bool
+    where
+        F: FnMut(ChildRef, f32) -> bool,
+    {
+        #[cfg(target_arch = "x86_64")]
+        if crate::packet::has_avx2() {
+            // SAFETY: the CPU has AVX2.
+            return unsafe { self.any_avx2(ray, t_max, hit) };
+        }
+        self.any::<false, F>(ray, t_max, hit)
+    }
+
+    /// The any-hit traversal compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn any_avx2<F>(&self, ray: &Ray, t_max: f32, hit: F) -> bool
+    where
+        F: FnMut(ChildRef, f32) -> bool,
+    {
+        self.any::<true, F>(ray, t_max, hit)
+    }
+
+    #[inline(always)]
+    fn any<const AVX: bool, F>(&self, ray: &Ray, t_max: f32, mut hit: F) -> bool
     where
         F: FnMut(ChildRef, f32) -> bool,
     {
@@ -186,7 +244,7 @@ impl Bvh {
                 }
             } else {
                 let node = &self.nodes[current.index as usize];
-                let (mut mask, _) = node.intersect(&nray, t_max);
+                let (mut mask, _) = node.intersect_with::<AVX>(&nray, t_max);
                 if mask != 0 {
                     let first = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
