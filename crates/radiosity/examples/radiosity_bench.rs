@@ -53,13 +53,14 @@ fn main() {
     let dm = r.display_mesh();
     let t_display = t2.elapsed().as_secs_f64();
     let mut line = format!(
-        "threads={} target_elements={} elements={} total_s={:.3} display_mesh_s={:.3} residual={:.2e}",
+        "threads={} target_elements={} elements={} total_s={:.3} display_mesh_s={:.3} residual={:.2e} iterations={}",
         rayon::current_num_threads(),
         elements,
         r.mesh.len(),
         t_solve,
         t_display,
-        r.solution.residual
+        r.solution.residual,
+        r.solution.history.len()
     );
     for (p, d) in &r.timings {
         line.push_str(&format!(
