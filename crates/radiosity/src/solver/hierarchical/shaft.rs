@@ -155,3 +155,62 @@ impl Shaft {
             .all(|&c| self.separated(&self.occluders[c as usize], &h))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::{side, HierarchicalOptions, Hierarchy};
+    use crate::mesh::{Mesh, MeshOptions};
+    use crate::scenes;
+    use irradia_core::sampling::hash64;
+    use irradia_core::Rng;
+
+    /// The culling is conservative: wherever a node pair of the Cornell box with blocks
+    /// is declared clear, 64 shadow rays drawn as `form_factor` draws them all pass;
+    /// and it has power: many pairs are clear, and every pair whose rays were blocked
+    /// was kept.
+    #[test]
+    fn culled_links_have_no_blocked_rays() {
+        let mesh = Mesh::build(&scenes::cornell_measured(), MeshOptions::default()).unwrap();
+        let opts = HierarchicalOptions {
+            target_leaves: Some(3000),
+            ..Default::default()
+        };
+        let h = Hierarchy::new(&mesh, opts).unwrap();
+        let (shaft, vis) = (h.shaft.as_ref().unwrap(), h.vis.as_ref().unwrap());
+        let (mut clear, mut blocked, mut tried) = (0, 0, 0);
+        let n = h.nodes.len() as u64;
+        for k in 0..20_000u64 {
+            let pi = (hash64(2 * k) % n) as usize;
+            let qi = (hash64(2 * k + 1) % n) as usize;
+            let (p, q) = (&h.nodes[pi], &h.nodes[qi]);
+            if p.patch == q.patch || !Hierarchy::faces(p, q) {
+                continue;
+            }
+            tried += 1;
+            let (pp, pq) = (&h.nodes[p.patch as usize], &h.nodes[q.patch as usize]);
+            let cands = shaft.candidates(&side(pp), &side(pq));
+            let is_clear = shaft.clear(&cands, &side(p), &side(q));
+            let mut rng = Rng::new(hash64(k), 7);
+            let mut hidden = false;
+            for _ in 0..64 {
+                let a = p.poly.sample(rng.next_f64(), rng.next_f64());
+                let b = q.poly.sample(rng.next_f64(), rng.next_f64());
+                if p.normal.dot(b - a) <= 0.0 || q.normal.dot(a - b) <= 0.0 {
+                    continue;
+                }
+                hidden |= !vis.visible(a, p.normal, b, q.normal);
+            }
+            assert!(
+                !(is_clear && hidden),
+                "nodes {pi} and {qi} culled, but a shadow ray between them is blocked"
+            );
+            clear += is_clear as usize;
+            blocked += hidden as usize;
+        }
+        assert!(tried > 5000, "{tried} facing pairs");
+        // Measured: 3,386 of 13,714 random pairs (of every level) culled.
+        assert!(clear * 5 > tried, "only {clear} of {tried} pairs culled");
+        eprintln!("{clear} culled, {blocked} with a blocked ray, of {tried} pairs");
+        assert!(blocked * 20 > tried, "only {blocked} of {tried} pairs blocked");
+    }
+}
