@@ -2,7 +2,9 @@
 # Radiosity benchmark: the measured Cornell box with blocks, hierarchical radiosity
 # (form factors with occlusion + solution) at 10,000, 100,000 and 1,000,000 elements,
 # with 1 and 2 threads, RUNS interleaved runs each (10k 100k 1M 10k 100k 1M ...);
-# prints medians of the solve time and of the peak memory (/usr/bin/time %M), the
+# prints medians of the solve time (wall), of the CPU seconds up to the end of the
+# solve (user + system, all threads: what a loaded machine does not inflate) and of
+# the peak memory (/usr/bin/time %M), the
 # 100k/10k and 1M/100k ratios and where the time goes. Results go in
 # docs/benchmarks/radiosity.md and docs/benchmarks.md (issue 14 goal 5: 1M in at most
 # 15 s on 2 threads, time growing at most linearly from 100k).
@@ -24,7 +26,7 @@ DIR=$PROFILE; [ "$PROFILE" = test ] && DIR=debug
 BIN="$CARGO_TARGET_DIR/$DIR/examples/radiosity_bench"
 echo "date: $(date -u +%Y-%m-%dT%H:%MZ)  machine: $(nproc) cores, $(free -g | awk '/Mem/{print $2}') GiB"
 echo "load: $(uptime)"
-declare -A T M
+declare -A T M C
 LAST=$(mktemp)
 trap 'rm -f "$LAST" "$LAST.mem"' EXIT
 for threads in $THREADS; do
@@ -35,6 +37,7 @@ for threads in $THREADS; do
       line=$(cat "$LAST")
       t=$(sed -E 's/.*total_s=([0-9.]+).*/\1/' <<<"$line")
       T[$threads,$n]+="$t "
+      C[$threads,$n]+="$(sed -nE 's/.*cpu_to_solve_end_s=([0-9.]+).*/\1/p' <<<"$line") "
       M[$threads,$n]+="$(cat "$LAST.mem") "
       echo "threads=$threads n=$n run=$i: $line peak_kib=$(cat "$LAST.mem")" >&2
     done
@@ -42,7 +45,7 @@ for threads in $THREADS; do
 done
 median() { tr ' ' '\n' | grep -v '^$' | sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
 echo
-printf "| threads |"; for n in $SIZES; do printf " %s elements: s (peak MiB) |" "$n"; done
+printf "| threads |"; for n in $SIZES; do printf " %s elements: s (CPU s; peak MiB) |" "$n"; done
 echo " ratios (time, each size / the one before) |"
 printf "|---|"; for n in $SIZES; do printf -- "---|"; done; echo "---|"
 for threads in $THREADS; do
@@ -51,7 +54,8 @@ for threads in $THREADS; do
   for n in $SIZES; do
     a=$(echo "${T[$threads,$n]}" | median)
     m=$(echo "${M[$threads,$n]}" | median)
-    printf " %s (%s) |" "$a" "$(awk -v m="$m" 'BEGIN{printf "%.0f", m/1024}')"
+    c=$(echo "${C[$threads,$n]}" | median)
+    printf " %s (%s; %s) |" "$a" "$c" "$(awk -v m="$m" 'BEGIN{printf "%.0f", m/1024}')"
     [ -n "$prev" ] && ratios+="$(awk -v a="$prev" -v b="$a" 'BEGIN{printf "%.2f", b/a}') "
     prev=$a
   done
