@@ -655,19 +655,21 @@ pub fn solve(
         if let Some(p) = progress {
             p(&format!("hierarchical: solving with {} links", rec.links));
         }
-        // Jacobi gather + push-pull until the change is small.
+        // Jacobi gather + push-pull until the change is small. Every node belongs to
+        // one patch, so `store_patch` overwrites all of `nb`: the two buffers swap
+        // (a fresh 32 MB vector per sweep at 1M elements was page faults and memset).
+        let mut nb = vec![[0.0f64; 3]; nn];
         for _ in 0..opts.max_iterations {
             let values: Vec<Vec<[f64; 3]>> = (0..np)
                 .into_par_iter()
                 .map(|p| h.iterate_patch(p, &links[p], &b))
                 .collect();
-            let mut nb = vec![[0.0f64; 3]; nn];
             let mut change: f64 = 0.0;
             for (p, v) in values.iter().enumerate() {
                 change = change.max(h.store_patch(p, v, &b, &mut nb));
             }
             let change = change / h.emission_scale();
-            b = nb;
+            std::mem::swap(&mut b, &mut nb);
             rec.history.push(change);
             rec.residual = change;
             if change < opts.tolerance {
