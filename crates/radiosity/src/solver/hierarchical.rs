@@ -51,9 +51,10 @@ pub use layout::{leaf_area_for, leaf_count};
 use layout::{split_to, PatchLayout};
 use shaft::{Shaft, Side};
 
-/// Patch pairs find their candidate occluders (a test of every patch) only up to this
-/// many patches; above it every link casts its shadow rays.
-const SHAFT_PATCHES: usize = 1024;
+/// Patch pairs find their candidate occluders (a test of every patch, a few ns each,
+/// against the microseconds of a link's shadow rays) only up to this many patches;
+/// above it every link casts its shadow rays.
+const SHAFT_PATCHES: usize = 256;
 
 /// Parameters of the hierarchical solver.
 #[derive(Clone, Copy, Debug)]
@@ -315,15 +316,12 @@ impl<'a> Hierarchy<'a> {
     /// links are the same as [`Hierarchy::link_pair`]'s, bit for bit.
     pub fn link_pair_reusing(&self, p: u32, q: u32, b: &[[f64; 3]], known: &[Link]) -> Vec<Link> {
         let lum = |c: [f64; 3]| (c[0] + c[1] + c[2]) / 3.0;
-        let cands = self.shaft.as_ref().map(|shaft| {
-            let (np, nq) = (&self.nodes[p as usize], &self.nodes[q as usize]);
-            shaft.candidates(&side(np), &side(nq))
-        });
         let ctx = Refine {
             b,
             lum: &lum,
             eps: self.opts.bf_epsilon * self.emax,
-            cands: cands.as_deref(),
+            pair: (p, q),
+            cands: std::cell::OnceCell::new(),
             known,
         };
         let mut out = Vec::new();
@@ -484,10 +482,23 @@ impl<'a> Hierarchy<'a> {
         front(p, q) && front(q, p)
     }
 
+    /// The candidate occluders of the patch pair being refined (found on first use).
+    fn candidates<'c>(&self, ctx: &'c Refine) -> Option<&'c [u32]> {
+        ctx.cands
+            .get_or_init(|| {
+                let (p, q) = ctx.pair;
+                self.shaft.as_ref().map(|shaft| {
+                    let (np, nq) = (&self.nodes[p as usize], &self.nodes[q as usize]);
+                    shaft.candidates(&side(np), &side(nq))
+                })
+            })
+            .as_deref()
+    }
+
     /// The link form factor: contour at Gauss points of the receiver, times visibility
-    /// (shadow rays unless the shaft between the nodes holds none of `cands`, the
-    /// pair's candidate occluders).
-    fn form_factor(&self, pi: u32, qi: u32, cands: Option<&[u32]>) -> f64 {
+    /// (shadow rays unless the shaft between the nodes holds none of the pair's
+    /// candidate occluders).
+    fn form_factor(&self, pi: u32, qi: u32, ctx: &Refine) -> f64 {
         let (p, q) = (&self.nodes[pi as usize], &self.nodes[qi as usize]);
         let pts = if self.opts.gauss_points <= 1 {
             vec![(p.centroid, p.area)]
@@ -505,7 +516,7 @@ impl<'a> Hierarchy<'a> {
         if f <= 0.0 {
             return 0.0;
         }
-        if let (Some(shaft), Some(c)) = (&self.shaft, cands) {
+        if let (Some(shaft), Some(c)) = (&self.shaft, self.candidates(ctx)) {
             if shaft.clear(c, &side(p), &side(q)) {
                 return f;
             }
@@ -569,7 +580,7 @@ impl<'a> Hierarchy<'a> {
             .binary_search_by(|l| (l.recv, l.src).cmp(&(p, q)))
         {
             Ok(i) => ctx.known[i].f,
-            Err(_) => self.form_factor(p, q, ctx.cands),
+            Err(_) => self.form_factor(p, q, ctx),
         };
         if f > 0.0 {
             out.push(Link { recv: p, src: q, f });
@@ -578,12 +589,14 @@ impl<'a> Hierarchy<'a> {
 }
 
 /// What one refinement of a patch pair reads: the radiosities, the luminance, the
-/// threshold, the pair's candidate occluders and the known form factors.
+/// threshold, the pair (receiver, source), its candidate occluders (found when a link
+/// first needs them) and the known form factors.
 struct Refine<'r> {
     b: &'r [[f64; 3]],
     lum: &'r dyn Fn([f64; 3]) -> f64,
     eps: f64,
-    cands: Option<&'r [u32]>,
+    pair: (u32, u32),
+    cands: std::cell::OnceCell<Option<Vec<u32>>>,
     known: &'r [Link],
 }
 
