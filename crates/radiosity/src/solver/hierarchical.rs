@@ -575,10 +575,7 @@ impl<'a> Hierarchy<'a> {
             }
             return;
         }
-        let f = match ctx
-            .known
-            .binary_search_by(|l| (l.recv, l.src).cmp(&(p, q)))
-        {
+        let f = match ctx.known.binary_search_by(|l| (l.recv, l.src).cmp(&(p, q))) {
             Ok(i) => ctx.known[i].f,
             Err(_) => self.form_factor(p, q, ctx),
         };
@@ -660,7 +657,9 @@ pub fn solve(
             .collect();
         if round + 1 < opts.rounds {
             known = per_pair;
-            known.par_iter_mut().for_each(|k| k.sort_unstable_by_key(|l| (l.recv, l.src)));
+            known
+                .par_iter_mut()
+                .for_each(|k| k.sort_unstable_by_key(|l| (l.recv, l.src)));
         }
         rec.links = links.iter().map(Vec::len).sum();
         rec.link_time += t_link.elapsed();

@@ -211,6 +211,9 @@ mod tests {
         // Measured: 3,386 of 13,714 random pairs (of every level) culled.
         assert!(clear * 5 > tried, "only {clear} of {tried} pairs culled");
         eprintln!("{clear} culled, {blocked} with a blocked ray, of {tried} pairs");
-        assert!(blocked * 20 > tried, "only {blocked} of {tried} pairs blocked");
+        assert!(
+            blocked * 20 > tried,
+            "only {blocked} of {tried} pairs blocked"
+        );
     }
 }
