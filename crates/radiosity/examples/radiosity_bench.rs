@@ -2,7 +2,7 @@
 //! small meshes, the matrix methods), phase by phase. Used by bench/radiosity/run.sh.
 //!
 //! `cargo run --release -p irradia-radiosity --example radiosity_bench -- ELEMENTS [METHOD SOLVER EPS]`
-//! (hierarchical: ELEMENTS is the target number of leaves) prints one line: `elements=... leaves=... links=... total_s=... <phase>_s=...`.
+//! (hierarchical: ELEMENTS is the target number of leaves) prints one line: `elements=... total_s=... <phase>_s=... iterations=... cpu_to_solve_end_s=...`.
 
 use irradia_radiosity::formfactor::{Method, Params};
 use irradia_radiosity::mesh::MeshOptions;
@@ -49,17 +49,19 @@ fn main() {
     let t = Instant::now();
     let r = run(&specs, &cfg, &NoProgress).unwrap();
     let t_solve = t.elapsed().as_secs_f64();
+    let cpu_solve = process_cpu_s();
     let t2 = Instant::now();
     let dm = r.display_mesh();
     let t_display = t2.elapsed().as_secs_f64();
     let mut line = format!(
-        "threads={} target_elements={} elements={} total_s={:.3} display_mesh_s={:.3} residual={:.2e}",
+        "threads={} target_elements={} elements={} total_s={:.3} display_mesh_s={:.3} residual={:.2e} iterations={}",
         rayon::current_num_threads(),
         elements,
         r.mesh.len(),
         t_solve,
         t_display,
-        r.solution.residual
+        r.solution.residual,
+        r.solution.history.len()
     );
     for (p, d) in &r.timings {
         line.push_str(&format!(
@@ -72,5 +74,21 @@ fn main() {
         line.push_str(&format!(" note=\"{n}\""));
     }
     line.push_str(&format!(" display_vertices={}", dm.positions.len()));
+    // CPU seconds of the whole process up to the end of the solve (user + system, all
+    // threads; Linux only): on a loaded machine the wall clock says little, this does.
+    if let Some(c) = cpu_solve {
+        line.push_str(&format!(" cpu_to_solve_end_s={c:.3}"));
+    }
     println!("{line}");
+}
+
+/// User + system CPU seconds of this process so far, from /proc/self/stat (fields 14
+/// and 15, in clock ticks of 1/100 s, the Linux default); `None` elsewhere.
+fn process_cpu_s() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // The command name (field 2) is in parentheses and may hold spaces.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
 }

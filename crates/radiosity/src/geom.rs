@@ -86,12 +86,24 @@ impl Poly {
     }
     /// A point uniformly distributed over the area for `(u, w)` uniform in [0,1)^2.
     pub fn sample(&self, u: f64, w: f64) -> DVec3 {
+        self.sample_split(self.split_fraction(), u, w)
+    }
+    /// The share of a quadrilateral's area in its first fan triangle `(v0, v1, v2)`
+    /// (1 for triangles): what [`Poly::sample_split`] needs, computed once.
+    pub fn split_fraction(&self) -> f64 {
         if self.n == 3 {
-            return sample_tri(self.v[0], self.v[1], self.v[2], u, w);
+            return 1.0;
         }
         let a1 = tri_ac(self.v[0], self.v[1], self.v[2]).0;
         let a2 = tri_ac(self.v[0], self.v[2], self.v[3]).0;
-        let split = a1 / (a1 + a2);
+        a1 / (a1 + a2)
+    }
+    /// [`Poly::sample`] with its [`Poly::split_fraction`] given.
+    #[inline]
+    pub fn sample_split(&self, split: f64, u: f64, w: f64) -> DVec3 {
+        if self.n == 3 {
+            return sample_tri(self.v[0], self.v[1], self.v[2], u, w);
+        }
         if u < split {
             sample_tri(self.v[0], self.v[1], self.v[2], u / split, w)
         } else {

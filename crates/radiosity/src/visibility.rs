@@ -104,6 +104,11 @@ impl Visibility {
         }
     }
 
+    /// How far [`Visibility::visible`] moves each end off its surface.
+    pub fn offset(&self) -> f64 {
+        self.offset
+    }
+
     /// Whether the segment from `p` (on a surface with normal `np`) to `q` (normal `nq`)
     /// is free. Each end is moved off its surface towards the other end's side.
     pub fn visible(&self, p: DVec3, np: DVec3, q: DVec3, nq: DVec3) -> bool {

@@ -18,6 +18,10 @@
 //! Link form factors are the point-to-polygon closed form (`contour`) at Gauss points of
 //! the receiver times the visible fraction of a few shadow rays through the BVH; the
 //! refinement oracle uses the cheap disk estimate `A_q cos θ_p cos θ_q / (π r² + A_q)`.
+//! Shadow rays are cast only where some patch may lie between the two nodes (shaft
+//! culling, Haines and Wallace 1994: `hierarchical/shaft.rs`), and a round takes the
+//! form factors of the links that the round before made too (a link's form factor
+//! depends on its two nodes alone), so a round costs the oracle plus the new links.
 //!
 //! The work is cut where it is independent, so that [`solve`] and the distributed
 //! solver of `irradia-parallel` (`radiosity.rs`) run the same code and agree bit for bit:
@@ -42,8 +46,15 @@ use std::f64::consts::PI;
 use std::time::Duration;
 
 mod layout;
+mod shaft;
 pub use layout::{leaf_area_for, leaf_count};
 use layout::{split_to, PatchLayout};
+use shaft::{Shaft, Side};
+
+/// Patch pairs find their candidate occluders (a test of every patch, a few ns each,
+/// against the microseconds of a link's shadow rays) only up to this many patches;
+/// above it every link casts its shadow rays.
+const SHAFT_PATCHES: usize = 256;
 
 /// Parameters of the hierarchical solver.
 #[derive(Clone, Copy, Debug)]
@@ -97,6 +108,8 @@ pub(crate) struct Node {
     child: u32,
     /// Number of children: 4 in the quadtrees, the grid's cells below a patch.
     children: u32,
+    /// [`Poly::split_fraction`], for the shadow rays' sample points.
+    split: f64,
 }
 
 /// Energy from node `src` to node `recv` with form factor `f` (node indices of the
@@ -138,8 +151,14 @@ pub struct Hierarchy<'a> {
     nodes: Vec<Node>,
     /// Descendants of patch `p` are the nodes `range[p].0..range[p].1` (its root is `p`).
     range: Vec<(u32, u32)>,
+    /// Per node, what push-pull reads (16 bytes rather than a whole `Node`): the first
+    /// child and the number of children, and the node's area over its parent's.
+    kids: Vec<(u32, u32)>,
+    weight: Vec<f64>,
     patches: &'a [Patch],
     vis: Option<Visibility>,
+    /// Shaft culling of the shadow rays, with the patches' polygons (small scenes).
+    shaft: Option<Shaft>,
     opts: HierarchicalOptions,
     /// Largest emission over patches and channels (the change is relative to it).
     emax: f64,
@@ -209,11 +228,29 @@ impl<'a> Hierarchy<'a> {
             .flat_map(|p| p.emission.iter().copied())
             .fold(0.0, f64::max)
             .max(1e-300);
+        let kids: Vec<(u32, u32)> = nodes.iter().map(|n| (n.child, n.children)).collect();
+        let mut weight = vec![1.0; nodes.len()];
+        for n in &nodes {
+            for c in n.child..n.child + n.children {
+                weight[c as usize] = nodes[c as usize].area / n.area;
+            }
+        }
+        let vis = (opts.visibility_rays > 0).then(|| Visibility::new(mesh));
+        let shaft = vis
+            .as_ref()
+            .filter(|_| mesh.patches.len() <= SHAFT_PATCHES)
+            .map(|v| {
+                let polys: Vec<Poly> = mesh.patches.iter().map(|p| p.poly).collect();
+                Shaft::new(&polys, v.offset())
+            });
         Ok(Self {
             nodes,
             range,
+            kids,
+            weight,
             patches: &mesh.patches,
-            vis: (opts.visibility_rays > 0).then(|| Visibility::new(mesh)),
+            vis,
+            shaft,
             opts,
             emax,
         })
@@ -270,10 +307,25 @@ impl<'a> Hierarchy<'a> {
     /// The links from patch `q` to patch `p` for the radiosities `b`: refined while
     /// `B_q F` exceeds `ε_BF` times the largest emission (HSA 1991, section 4).
     pub fn link_pair(&self, p: u32, q: u32, b: &[[f64; 3]]) -> Vec<Link> {
+        self.link_pair_reusing(p, q, b, &[])
+    }
+
+    /// [`Hierarchy::link_pair`], taking the form factor of a link from `known` (links
+    /// sorted by receiver, then source: the pair's links of an earlier round) where it
+    /// is there. A link's form factor is a function of its two nodes alone, so the
+    /// links are the same as [`Hierarchy::link_pair`]'s, bit for bit.
+    pub fn link_pair_reusing(&self, p: u32, q: u32, b: &[[f64; 3]], known: &[Link]) -> Vec<Link> {
         let lum = |c: [f64; 3]| (c[0] + c[1] + c[2]) / 3.0;
-        let bq = |n: u32| lum(b[n as usize]);
+        let ctx = Refine {
+            b,
+            lum: &lum,
+            eps: self.opts.bf_epsilon * self.emax,
+            pair: (p, q),
+            cands: std::cell::OnceCell::new(),
+            known,
+        };
         let mut out = Vec::new();
-        self.refine(p, q, &bq, self.opts.bf_epsilon * self.emax, &mut out);
+        self.refine(p, q, &ctx, &mut out);
         out
     }
 
@@ -290,7 +342,7 @@ impl<'a> Hierarchy<'a> {
     /// its tree. Returns the new radiosity of its nodes in [`Hierarchy::patch_nodes`]
     /// order.
     pub fn iterate_patch(&self, p: usize, links: &[Link], b: &[[f64; 3]]) -> Vec<[f64; 3]> {
-        let mut g = vec![[0.0f64; 3]; self.patch_size(p)];
+        let mut out = vec![[0.0f64; 3]; self.patch_size(p)];
         let rho = self.patches[p].reflectance;
         for run in links.chunk_by(|a, b2| a.recv == b2.recv) {
             let mut s = [0.0; 3];
@@ -300,10 +352,10 @@ impl<'a> Hierarchy<'a> {
                 s[1] += l.f * bs[1];
                 s[2] += l.f * bs[2];
             }
-            g[self.local(p, run[0].recv as usize)] = [rho[0] * s[0], rho[1] * s[1], rho[2] * s[2]];
+            out[self.local(p, run[0].recv as usize)] =
+                [rho[0] * s[0], rho[1] * s[1], rho[2] * s[2]];
         }
-        let mut out = vec![[0.0f64; 3]; g.len()];
-        self.push_pull(p, p, [0.0; 3], &g, &mut out);
+        self.push_pull(p, &mut out);
         out
     }
 
@@ -367,36 +419,44 @@ impl<'a> Hierarchy<'a> {
         }
     }
 
-    /// Leaves: `E + Σ gathers down the path`; inner nodes: area average of children
-    /// (`g` and `out` indexed as [`Hierarchy::local`]).
-    fn push_pull(
-        &self,
-        p: usize,
-        i: usize,
-        down: [f64; 3],
-        g: &[[f64; 3]],
-        out: &mut [[f64; 3]],
-    ) -> [f64; 3] {
-        let n = &self.nodes[i];
-        let li = self.local(p, i);
-        let acc = [down[0] + g[li][0], down[1] + g[li][1], down[2] + g[li][2]];
-        let r = if n.child == 0 {
-            let e = self.patches[n.patch as usize].emission;
-            [e[0] + acc[0], e[1] + acc[1], e[2] + acc[2]]
-        } else {
-            let mut s = [0.0; 3];
-            for c in 0..n.children {
-                let ci = (n.child + c) as usize;
-                let bc = self.push_pull(p, ci, acc, g, out);
-                let w = self.nodes[ci].area / n.area;
-                for k in 0..3 {
-                    s[k] += w * bc[k];
-                }
+    /// Push-pull over patch `p`'s tree (HSA 1991, section 4): `v` holds each node's
+    /// gather (indexed as [`Hierarchy::local`]) and gets its radiosity. Push: every node
+    /// adds its parent's accumulated gather (children come after their parent in the
+    /// node order, so one pass forward). Pull: a leaf's radiosity is `E +` its
+    /// accumulated gather, an inner node's the area average of its children's, summed
+    /// in child order (one pass backward).
+    fn push_pull(&self, p: usize, v: &mut [[f64; 3]]) {
+        let s = self.range[p].0 as usize;
+        // Node of local index li (0: the root p).
+        let node = |li: usize| if li == 0 { p } else { li + s - 1 };
+        for li in 0..v.len() {
+            let (child, children) = self.kids[node(li)];
+            let acc = v[li];
+            for c in 0..children as usize {
+                let lc = child as usize + c - s + 1;
+                let g = v[lc];
+                v[lc] = [acc[0] + g[0], acc[1] + g[1], acc[2] + g[2]];
             }
-            s
-        };
-        out[li] = r;
-        r
+        }
+        let e = self.patches[p].emission;
+        for li in (0..v.len()).rev() {
+            let (child, children) = self.kids[node(li)];
+            v[li] = if child == 0 {
+                let acc = v[li];
+                [e[0] + acc[0], e[1] + acc[1], e[2] + acc[2]]
+            } else {
+                let mut sum = [0.0; 3];
+                for c in 0..children as usize {
+                    let ci = child as usize + c;
+                    let w = self.weight[ci];
+                    let bc = v[ci - s + 1];
+                    for k in 0..3 {
+                        sum[k] += w * bc[k];
+                    }
+                }
+                sum
+            };
+        }
     }
 
     /// The estimated transport oracle: disk approximation from centroids.
@@ -422,8 +482,23 @@ impl<'a> Hierarchy<'a> {
         front(p, q) && front(q, p)
     }
 
-    /// The link form factor: contour at Gauss points of the receiver, times visibility.
-    fn form_factor(&self, pi: u32, qi: u32) -> f64 {
+    /// The candidate occluders of the patch pair being refined (found on first use).
+    fn candidates<'c>(&self, ctx: &'c Refine) -> Option<&'c [u32]> {
+        ctx.cands
+            .get_or_init(|| {
+                let (p, q) = ctx.pair;
+                self.shaft.as_ref().map(|shaft| {
+                    let (np, nq) = (&self.nodes[p as usize], &self.nodes[q as usize]);
+                    shaft.candidates(&side(np), &side(nq))
+                })
+            })
+            .as_deref()
+    }
+
+    /// The link form factor: contour at Gauss points of the receiver, times visibility
+    /// (shadow rays unless the shaft between the nodes holds none of the pair's
+    /// candidate occluders).
+    fn form_factor(&self, pi: u32, qi: u32, ctx: &Refine) -> f64 {
         let (p, q) = (&self.nodes[pi as usize], &self.nodes[qi as usize]);
         let pts = if self.opts.gauss_points <= 1 {
             vec![(p.centroid, p.area)]
@@ -441,6 +516,11 @@ impl<'a> Hierarchy<'a> {
         if f <= 0.0 {
             return 0.0;
         }
+        if let (Some(shaft), Some(c)) = (&self.shaft, self.candidates(ctx)) {
+            if shaft.clear(c, &side(p), &side(q)) {
+                return f;
+            }
+        }
         if let Some(vis) = &self.vis {
             let k = self.opts.visibility_rays;
             let side = (k as f64).sqrt().ceil() as usize;
@@ -451,11 +531,12 @@ impl<'a> Hierarchy<'a> {
             let (mut seen, mut facing) = (0, 0);
             for s in 0..k {
                 let (cx, cy) = ((s % side) as f64, ((s / side) % side) as f64);
-                let a = p.poly.sample(
+                let a = p.poly.sample_split(
+                    p.split,
                     (cx + rng.next_f64()) / side as f64,
                     (cy + rng.next_f64()) / side as f64,
                 );
-                let b = q.poly.sample(rng.next_f64(), rng.next_f64());
+                let b = q.poly.sample_split(q.split, rng.next_f64(), rng.next_f64());
                 if p.normal.dot(b - a) <= 0.0 || q.normal.dot(a - b) <= 0.0 {
                     continue;
                 }
@@ -472,31 +553,55 @@ impl<'a> Hierarchy<'a> {
     }
 
     /// Links receiver `p` to source `q`, refining while `b_q * F > eps`.
-    fn refine(&self, p: u32, q: u32, bq: &dyn Fn(u32) -> f64, eps: f64, out: &mut Vec<Link>) {
+    fn refine(&self, p: u32, q: u32, ctx: &Refine, out: &mut Vec<Link>) {
         let (np, nq) = (&self.nodes[p as usize], &self.nodes[q as usize]);
         if !Self::faces(np, nq) {
             return;
         }
         let est = self.estimate(np, nq);
-        let transport = est.max(self.estimate(nq, np) * nq.area / np.area) * bq(q);
+        let transport =
+            est.max(self.estimate(nq, np) * nq.area / np.area) * (ctx.lum)(ctx.b[q as usize]);
         let split_p = np.child != 0 && (np.area >= nq.area || nq.child == 0);
         let split_q = nq.child != 0 && !split_p;
-        if transport > eps && (split_p || split_q) {
+        if transport > ctx.eps && (split_p || split_q) {
             if split_p {
                 for c in 0..np.children {
-                    self.refine(np.child + c, q, bq, eps, out);
+                    self.refine(np.child + c, q, ctx, out);
                 }
             } else {
                 for c in 0..nq.children {
-                    self.refine(p, nq.child + c, bq, eps, out);
+                    self.refine(p, nq.child + c, ctx, out);
                 }
             }
             return;
         }
-        let f = self.form_factor(p, q);
+        let f = match ctx.known.binary_search_by(|l| (l.recv, l.src).cmp(&(p, q))) {
+            Ok(i) => ctx.known[i].f,
+            Err(_) => self.form_factor(p, q, ctx),
+        };
         if f > 0.0 {
             out.push(Link { recv: p, src: q, f });
         }
+    }
+}
+
+/// What one refinement of a patch pair reads: the radiosities, the luminance, the
+/// threshold, the pair (receiver, source), its candidate occluders (found when a link
+/// first needs them) and the known form factors.
+struct Refine<'r> {
+    b: &'r [[f64; 3]],
+    lum: &'r dyn Fn([f64; 3]) -> f64,
+    eps: f64,
+    pair: (u32, u32),
+    cands: std::cell::OnceCell<Option<Vec<u32>>>,
+    known: &'r [Link],
+}
+
+fn side(n: &Node) -> Side<'_> {
+    Side {
+        poly: &n.poly,
+        normal: n.normal,
+        centroid: n.centroid,
     }
 }
 
@@ -509,6 +614,7 @@ pub(crate) fn make_node(poly: Poly, patch: u32) -> Node {
         normal: poly.normal(),
         child: 0,
         children: 0,
+        split: poly.split_fraction(),
     }
 }
 
@@ -524,6 +630,7 @@ pub fn solve(
     let opts = *h.options();
     let mut b = h.initial_radiosity();
     let pairs = h.pairs();
+    let mut known: Vec<Vec<Link>> = vec![Vec::new(); pairs.len()];
     let mut rec = SolveRecord {
         residual: f64::INFINITY,
         ..Default::default()
@@ -537,34 +644,44 @@ pub fn solve(
             ));
         }
         // Refine from the patch pairs each round (re-linking from the top with the new
-        // radiosities is the BF refinement of HSA 1991 section 4).
+        // radiosities is the BF refinement of HSA 1991 section 4); the form factors of
+        // links the last round had too are taken from it.
         let per_pair: Vec<Vec<Link>> = pairs
             .par_iter()
-            .map(|&(p, q)| h.link_pair(p, q, &b))
+            .zip(known.par_iter())
+            .map(|(&(p, q), k)| h.link_pair_reusing(p, q, &b, k))
             .collect();
-        let mut per_pair = per_pair.into_iter();
+        let m = np.saturating_sub(1);
         let links: Vec<Vec<Link>> = (0..np)
-            .map(|_| h.patch_links(per_pair.by_ref().take(np - 1)))
+            .map(|p| h.patch_links(per_pair[p * m..(p + 1) * m].iter().cloned()))
             .collect();
+        if round + 1 < opts.rounds {
+            known = per_pair;
+            known
+                .par_iter_mut()
+                .for_each(|k| k.sort_unstable_by_key(|l| (l.recv, l.src)));
+        }
         rec.links = links.iter().map(Vec::len).sum();
         rec.link_time += t_link.elapsed();
         let t_solve = std::time::Instant::now();
         if let Some(p) = progress {
             p(&format!("hierarchical: solving with {} links", rec.links));
         }
-        // Jacobi gather + push-pull until the change is small.
+        // Jacobi gather + push-pull until the change is small. Every node belongs to
+        // one patch, so `store_patch` overwrites all of `nb`: the two buffers swap
+        // (a fresh 32 MB vector per sweep at 1M elements was page faults and memset).
+        let mut nb = vec![[0.0f64; 3]; nn];
         for _ in 0..opts.max_iterations {
             let values: Vec<Vec<[f64; 3]>> = (0..np)
                 .into_par_iter()
                 .map(|p| h.iterate_patch(p, &links[p], &b))
                 .collect();
-            let mut nb = vec![[0.0f64; 3]; nn];
             let mut change: f64 = 0.0;
             for (p, v) in values.iter().enumerate() {
                 change = change.max(h.store_patch(p, v, &b, &mut nb));
             }
             let change = change / h.emission_scale();
-            b = nb;
+            std::mem::swap(&mut b, &mut nb);
             rec.history.push(change);
             rec.residual = change;
             if change < opts.tolerance {
