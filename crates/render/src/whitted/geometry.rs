@@ -13,9 +13,9 @@
 //! using parallel ray tracing").
 
 use super::query::{Query, LINEAR_MAX};
-use irradia_core::Ray;
+use irradia_core::{Ray, Rgb};
 use irradia_geometry::{Accel, ObjectSet, RayQuery, SceneHit};
-use irradia_scene::Scene;
+use irradia_scene::{Scene, Texture};
 
 /// Whether any object of `scene` lets light through (a material of it, or of one of
 /// its CSG leaves, transmits). Decides whether shadow rays filter through objects.
@@ -23,6 +23,31 @@ pub fn object_transmits(scene: &Scene, object: usize) -> bool {
     let transmits = |m: u32| scene.materials[m as usize].transmission > 0.0;
     let o = &scene.objects[object];
     transmits(o.material) || o.leaf_materials.iter().any(|&m| transmits(m))
+}
+
+/// Whether every object that lets light through lets it through whole: each material
+/// of it (its own and its CSG leaves') has a constant filter colour (POV-Ray's `filter`
+/// colour, or an untextured colour) that, times its transmission, is exactly white, as
+/// POV-Ray's clear glass `rgbf <1, 1, 1, 1>`. A shadow ray's walk through such surfaces
+/// (`Trace::ComputeShadowColour`: the light times each crossed surface's transmitted
+/// colour) multiplies the light by exactly one at every crossing, so skipping the walk
+/// gives the same colour bit for bit; only opaque objects can then block the light.
+pub fn clear_passes_all(scene: &Scene) -> bool {
+    let whole = |m: u32| {
+        let m = &scene.materials[m as usize];
+        let filter = match (m.filter_color, &m.color) {
+            (Some(f), _) => f,
+            (None, Texture::Solid(c)) => *c,
+            _ => return false,
+        };
+        filter * m.transmission == Rgb::WHITE
+    };
+    (0..scene.objects.len())
+        .filter(|&i| object_transmits(scene, i))
+        .all(|i| {
+            let o = &scene.objects[i];
+            whole(o.material) && o.leaf_materials.iter().all(|&m| whole(m))
+        })
 }
 
 /// Two queries over the scene's objects: those no light passes (an any-hit test

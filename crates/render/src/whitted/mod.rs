@@ -55,6 +55,10 @@ pub struct Whitted<'s, G = SceneGeometry<'s>> {
     /// Whether any object lets light through: then shadow rays ask the opaque and the
     /// clear objects apart and filter the light through the clear ones.
     any_clear: bool,
+    /// Whether every clear object passes light whole (each of its surfaces filters by
+    /// exactly white: [`geometry::clear_passes_all`]): then a shadow ray is decided by
+    /// one any-hit query over the opaque objects, with no walk through the clear ones.
+    clear_passes_all: bool,
 }
 
 /// Per-sample state threaded through the recursion.
@@ -94,6 +98,7 @@ impl<'s, G: RayQuery> Whitted<'s, G> {
             ambient_light: s.ambient_light,
             geometry,
             any_clear: (0..scene.objects.len()).any(|i| object_transmits(scene, i)),
+            clear_passes_all: geometry::clear_passes_all(scene),
         }
     }
 
@@ -218,8 +223,8 @@ impl<'s, G: RayQuery> Whitted<'s, G> {
 
         // Coefficients of the reflected and transmitted rays.
         let (mut kr, mut kt) = (mat.reflection, filter);
-        let solid = self.geometry.is_solid(sh.instance);
-        let (eta, far_media) = if mat.transmission > 0.0 && solid {
+        // (Whether the object is a closed solid is asked only of transmitting ones.)
+        let (eta, far_media) = if mat.transmission > 0.0 && self.geometry.is_solid(sh.instance) {
             media.cross(sh.instance, mat.ior, entering)
         } else {
             (1.0, *media)

@@ -25,7 +25,6 @@ impl<G: RayQuery> Whitted<'_, G> {
         cx: &mut Ctx<'_, R>,
     ) -> Rgb {
         cx.stats.shadow_rays += 1;
-        let scene = self.scene;
         let first = Ray::new(origin, dir);
         // Stop a hair short of the light so a light on a surface is not hidden by it.
         let t_max = if dist.is_finite() {
@@ -33,6 +32,40 @@ impl<G: RayQuery> Whitted<'_, G> {
         } else {
             f32::INFINITY
         };
+        if self.any_clear && self.clear_passes_all && !R::RECORDS {
+            // Clear objects pass the light whole: only an opaque one can block it (a
+            // ray tree, which names the surfaces crossed, still walks below).
+            if self.geometry.any_hit(ObjectSet::Opaque, &first, t_max) {
+                cx.stats.shadow_blocked += 1;
+                return Rgb::BLACK;
+            }
+            return Rgb::WHITE;
+        }
+        // Most shadow rays reach their light: one any-hit query over everything
+        // settles those, here; the rest (blocked, or filtered through clear objects)
+        // go to a function of their own, kept out of line so that the tracer's hot
+        // path stays small.
+        if !self.occluded_all(&first, t_max) {
+            cx.rec.shadow(&first, depth, None, Rgb::WHITE);
+            return Rgb::WHITE;
+        }
+        self.shadow_through(origin, dir, t_max, depth, cx)
+    }
+
+    /// [`Self::shadow_transmittance`] of a shadow ray that something lies across: black
+    /// when an object no light passes blocks it, else the light filtered through every
+    /// clear surface up to `t_max`.
+    #[inline(never)]
+    fn shadow_through<R: Recorder>(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        t_max: f32,
+        depth: u32,
+        cx: &mut Ctx<'_, R>,
+    ) -> Rgb {
+        let scene = self.scene;
+        let first = Ray::new(origin, dir);
         let blocker = |h: SceneHit| Blocker {
             object: h.instance,
             name: &scene.objects[h.instance as usize].name,
@@ -40,23 +73,13 @@ impl<G: RayQuery> Whitted<'_, G> {
             normal: h.hit.normal,
         };
         if !self.any_clear {
-            // Nothing in the scene lets light through: an any-hit query decides.
-            if self.occluded_all(&first, t_max) {
-                cx.stats.shadow_blocked += 1;
-                if R::RECORDS {
-                    let b = self.intersect_all(&first, t_max).map(blocker);
-                    cx.rec.shadow(&first, depth, b, Rgb::BLACK);
-                }
-                return Rgb::BLACK;
+            // Nothing in the scene lets light through: the any-hit query decided.
+            cx.stats.shadow_blocked += 1;
+            if R::RECORDS {
+                let b = self.intersect_all(&first, t_max).map(blocker);
+                cx.rec.shadow(&first, depth, b, Rgb::BLACK);
             }
-            cx.rec.shadow(&first, depth, None, Rgb::WHITE);
-            return Rgb::WHITE;
-        }
-        // Most shadow rays reach their light: one any-hit query over everything
-        // settles those.
-        if !self.occluded_all(&first, t_max) {
-            cx.rec.shadow(&first, depth, None, Rgb::WHITE);
-            return Rgb::WHITE;
+            return Rgb::BLACK;
         }
         let geo = &self.geometry;
         if geo.any_hit(ObjectSet::Opaque, &first, t_max) {
