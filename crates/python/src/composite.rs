@@ -118,6 +118,25 @@ impl<P: Channels> Planes<'_, P> {
     }
 }
 
+/// The depth argument as a float32 array (an `IrradiaError` for anything else).
+pub fn depth_array<'py>(
+    depth: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Option<PyReadonlyArrayDyn<'py, f32>>> {
+    depth
+        .map(|d| {
+            d.extract().map_err(|_| {
+                let got = d
+                    .getattr("dtype")
+                    .map(|t| t.to_string())
+                    .unwrap_or_else(|_| d.get_type().to_string());
+                errors::input(format!(
+                    "depth: expected a float32 numpy array (inf for the background), got {got}"
+                ))
+            })
+        })
+        .transpose()
+}
+
 fn nan_depth() -> PyErr {
     errors::input("depth: NaN is not a depth (use inf for the background)")
 }
@@ -205,19 +224,26 @@ impl Channels for [f32; 4] {
     }
 }
 
-/// Fresh arrays for an image, color (h, w, 4) and depth (h, w), to be filled by Rust
-/// (zeroed by numpy's calloc: pages are mapped when written).
+/// Fresh arrays for an image, color (h, w, 4) and depth (h, w), to be filled by Rust.
 pub type ImageArrays<'py, P> = (
     Bound<'py, PyArray3<<P as Channels>::Channel>>,
     Bound<'py, PyArray2<f32>>,
 );
 
+/// [`ImageArrays`] left uninitialised (as `numpy.empty`: no pass over the memory before
+/// the one that writes it). Every caller writes every element before the arrays reach
+/// Python (`serial_into`, `gather_into` on the root, a copy of a whole layer) and drops
+/// them unseen on error.
 pub fn image_arrays<P: Channels>(py: Python<'_>, width: u32, height: u32) -> ImageArrays<'_, P> {
     let (h, w) = (height as usize, width as usize);
-    (
-        PyArray3::zeros(py, [h, w, 4], false),
-        PyArray2::zeros(py, [h, w], false),
-    )
+    // SAFETY: plain numbers (u8, f32), for which any bits are valid; see above for why
+    // nothing reads them before they are written.
+    unsafe {
+        (
+            PyArray3::new(py, [h, w, 4], false),
+            PyArray2::new(py, [h, w], false),
+        )
+    }
 }
 
 /// The planes of fresh [`image_arrays`] to write into.
@@ -364,12 +390,13 @@ pub fn display_grid(
 pub fn _composite_serial(
     py: Python<'_>,
     color: &Bound<'_, PyAny>,
-    depth: Option<PyReadonlyArrayDyn<'_, f32>>,
+    depth: Option<&Bound<'_, PyAny>>,
     op: &str,
     order: Option<Vec<usize>>,
     tiles: Option<Vec<TileSpec>>,
 ) -> PyResult<PyObject> {
     let op = operator(op)?;
+    let depth = depth_array(depth)?;
     if color.extract::<PyReadonlyArrayDyn<'_, u8>>().is_ok() {
         serial_of::<[u8; 4]>(py, color, depth, op, order, tiles.as_deref())
     } else if color.extract::<PyReadonlyArrayDyn<'_, f32>>().is_ok() {

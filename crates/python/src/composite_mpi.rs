@@ -5,7 +5,7 @@
 //! `irradia parallel --comm mpi`.
 
 use crate::composite::{
-    check_order, image_arrays, layer_arrays, layout, operator, planes, planes_mut, strategy,
+    check_order, depth_array, image_arrays, layer_arrays, layout, operator, planes, planes_mut, strategy,
     Channels, TileSpec,
 };
 use crate::errors;
@@ -132,7 +132,7 @@ fn run<P: Channels>(
 pub fn _composite_mpi(
     py: Python<'_>,
     color: &Bound<'_, PyAny>,
-    depth: Option<PyReadonlyArrayDyn<'_, f32>>,
+    depth: Option<&Bound<'_, PyAny>>,
     strategy: &str,
     op: &str,
     order: Option<Vec<usize>>,
@@ -142,6 +142,7 @@ pub fn _composite_mpi(
     timeout: f64,
     tiles: Option<Vec<TileSpec>>,
 ) -> PyResult<Option<(PyObject, PyObject)>> {
+    let depth = depth_array(depth)?;
     if color.extract::<PyReadonlyArrayDyn<'_, u8>>().is_ok() {
         run::<[u8; 4]>(
             py,
