@@ -14,8 +14,8 @@ use crate::errors;
 use irradia_parallel::composite::{self, Layer, LayerRef, Operator, Pixel, Strategy};
 use irradia_parallel::display_tiles::{DisplayLayout, DisplayTile};
 use numpy::{
-    PyArray2, PyArray3, PyArrayMethods, PyReadonlyArrayDyn, PyReadwriteArray2,
-    PyReadwriteArray3, PyUntypedArrayMethods,
+    PyArray2, PyArray3, PyArrayMethods, PyReadonlyArrayDyn, PyReadwriteArray2, PyReadwriteArray3,
+    PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 use std::borrow::Cow;
@@ -98,11 +98,17 @@ impl<P: Channels> Planes<'_, P> {
         layer.height = self.height;
         layer.color.resize(px, P::CLEAR);
         layer.depth.resize(px, composite::FAR);
-        layer.color.copy_from_slice(&self.color[k * px..(k + 1) * px]);
+        layer
+            .color
+            .copy_from_slice(&self.color[k * px..(k + 1) * px]);
         match &self.depth {
             Some(d) => {
                 let mut nan = false;
-                for (o, i) in layer.depth.chunks_mut(4096).zip(d[k * px..(k + 1) * px].chunks(4096)) {
+                for (o, i) in layer
+                    .depth
+                    .chunks_mut(4096)
+                    .zip(d[k * px..(k + 1) * px].chunks(4096))
+                {
                     nan |= o.iter_mut().zip(i).fold(false, |acc, (o, &x)| {
                         *o = x;
                         acc | x.is_nan()

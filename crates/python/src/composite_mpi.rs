@@ -5,8 +5,8 @@
 //! `irradia parallel --comm mpi`.
 
 use crate::composite::{
-    check_order, depth_array, image_arrays, layer_arrays, layout, operator, planes, planes_mut, strategy,
-    Channels, TileSpec,
+    check_order, depth_array, image_arrays, layer_arrays, layout, operator, planes, planes_mut,
+    strategy, Channels, TileSpec,
 };
 use crate::errors;
 use irradia_parallel::comm::mpi::MpiComm;
@@ -72,7 +72,8 @@ fn run<P: Channels>(
         None => None,
     };
     // The root's result goes straight into fresh numpy arrays.
-    let out = (layout.is_none() && rank == root).then(|| image_arrays::<P>(py, pl.width, pl.height));
+    let out =
+        (layout.is_none() && rank == root).then(|| image_arrays::<P>(py, pl.width, pl.height));
     let mut out_rw = out.as_ref().map(|(c, d)| (c.readwrite(), d.readwrite()));
     let out_planes = out_rw.as_mut().map(|(c, d)| planes_mut::<P>(c, d));
     // The comm is made, used and freed on this thread with the GIL released (an MPI

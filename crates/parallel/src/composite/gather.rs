@@ -79,7 +79,13 @@ pub fn gather_into<P: Pixel, C: Comm>(
             let plan = pairwise::choose(layer, &span, opts.op, opts.rle, rect);
             if plan.mode == pairwise::DENSE {
                 let (a, b) = (plan.span.start, plan.span.end);
-                let header = [span.start as u32, span.end as u32, PLANES, a as u32, b as u32];
+                let header = [
+                    span.start as u32,
+                    span.end as u32,
+                    PLANES,
+                    a as u32,
+                    b as u32,
+                ];
                 comm.send(root, TAG_PIECES, bytemuck::cast_slice(&header))?;
                 if a < b {
                     let planes = vec![
@@ -141,8 +147,7 @@ pub fn gather_into<P: Pixel, C: Comm>(
                 (msg.len() == 20).then(|| bytemuck::pod_collect_to_vec(msg));
             match words.as_deref() {
                 Some(&[start, end, PLANES, a, b]) => {
-                    let (start, end, a, b) =
-                        (start as usize, end as usize, a as usize, b as usize);
+                    let (start, end, a, b) = (start as usize, end as usize, a as usize, b as usize);
                     if !(start <= a && a <= b && b <= end && end <= layer.len()) {
                         return Err(malformed(format!(
                             "pixels {a}..{b} of span {start}..{end} in an image of {}",
@@ -166,7 +171,8 @@ pub fn gather_into<P: Pixel, C: Comm>(
                     covered.push(start..end);
                 }
                 _ => {
-                    let got = rle::apply_to(oc, od, 0, msg, rle::Apply::Paste).map_err(malformed)?;
+                    let got =
+                        rle::apply_to(oc, od, 0, msg, rle::Apply::Paste).map_err(malformed)?;
                     covered.push(got);
                 }
             }
