@@ -6,11 +6,16 @@
 For each case: the render time each reports (the driver's own clock: `Rendered ...
 in X s` / `Scene.last_render["seconds"]`) and the wall time of the call (the CLI as a
 whole process, scene loading and writing the PFM included; Python: load + render in a
-running interpreter). Prints medians and the median of the pairwise ratios
-python/cli. Checks the images are equal."""
+running interpreter) and the CPU time of the call (the CLI process's user + system
+time from getrusage; Python's process time over load + render + array, all threads):
+CPU time is what the load of a shared machine disturbs least. Prints medians and the
+median of the pairwise ratios python/cli. Checks the images are equal. The binding's
+own cost is the wall time of `scene.render()` minus the driver's clock (binding_ms;
+binding_share: its share of the call)."""
 
 import argparse
 import re
+import resource
 import statistics
 import subprocess
 import tempfile
@@ -39,25 +44,34 @@ def main():
         cmd = [a.cli, "render", "--builtin", name, *flags, "--threads", str(a.threads), "-o", tmp + "/x.pfm"]
         rows = []
         for r in range(a.rounds + 1):  # round 0 warms up
+            ru0 = resource.getrusage(resource.RUSAGE_CHILDREN)
             t0 = time.perf_counter()
             p = subprocess.run(cmd, capture_output=True, text=True, check=True)
             cli_wall = time.perf_counter() - t0
+            ru1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+            cli_cpu = (ru1.ru_utime - ru0.ru_utime) + (ru1.ru_stime - ru0.ru_stime)
             m = re.search(r"in ([0-9.]+) s", p.stderr)
             cli_render = float(m.group(1))
+            c0 = time.process_time()
             t0 = time.perf_counter()
             s = irradia.builtin(name)
+            t1 = time.perf_counter()
             img = s.render(threads=a.threads, **kw)
+            py_call = time.perf_counter() - t1
             py_wall = time.perf_counter() - t0
+            py_cpu = time.process_time() - c0
             py_render = s.last_render["seconds"]
             if r == 0:
                 assert np.array_equal(img, irradia.read_image(tmp + "/x.pfm")), "images differ"
                 continue
-            rows.append((cli_render, py_render, cli_wall, py_wall))
+            rows.append((cli_render, py_render, cli_wall, py_wall, cli_cpu, py_cpu, py_call - py_render, py_call))
         med = lambda i: statistics.median(x[i] for x in rows)
         ratio = lambda i, j: statistics.median(x[j] / x[i] for x in rows)
         print(f"RESULT case={name} {' '.join(f'{k}={v}' for k, v in kw.items())} threads={a.threads} "
               f"cli_render_s={med(0):.4f} py_render_s={med(1):.4f} render_ratio={ratio(0, 1):.4f} "
               f"cli_wall_s={med(2):.4f} py_wall_s={med(3):.4f} wall_ratio={ratio(2, 3):.4f} "
+              f"cli_cpu_s={med(4):.4f} py_cpu_s={med(5):.4f} cpu_ratio={ratio(4, 5):.4f} "
+              f"binding_ms={1e3 * med(6):.2f} binding_share={statistics.median(x[6] / x[7] for x in rows):.4f} "
               f"render_ratio_min={min(x[1] / x[0] for x in rows):.4f} render_ratio_max={max(x[1] / x[0] for x in rows):.4f}")
 
 

@@ -11,10 +11,16 @@
 
 use crate::convert::values;
 use crate::errors;
-use irradia_parallel::composite::{self, Layer, Operator, Pixel, Strategy};
+use irradia_parallel::composite::{self, Layer, LayerRef, Operator, Pixel, Strategy};
 use irradia_parallel::display_tiles::{DisplayLayout, DisplayTile};
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{
+    PyArray2, PyArray3, PyArrayMethods, PyReadonlyArrayDyn, PyReadwriteArray2, PyReadwriteArray3,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
+use std::borrow::Cow;
+use std::cell::RefCell;
+use std::thread::LocalKey;
 
 /// The operator by name ("depth" or "over").
 pub fn operator(name: &str) -> PyResult<Operator> {
@@ -36,12 +42,127 @@ pub fn strategy(name: &str) -> PyResult<Strategy> {
     })
 }
 
-/// The layers of a colour array of shape (h, w, 4) (one) or (n, h, w, 4) (a stack),
-/// with depth (h, w) / (n, h, w) or the background depth everywhere.
-pub fn layers<P: Channels>(
-    color: &PyReadonlyArrayDyn<'_, P::Channel>,
-    depth: Option<&PyReadonlyArrayDyn<'_, f32>>,
-) -> PyResult<Vec<Layer<P>>> {
+/// A colour array of shape (h, w, 4) (one layer) or (n, h, w, 4) (a stack) and its
+/// depth, (h, w) / (n, h, w) or none, checked and seen as pixel planes: C-contiguous
+/// arrays are borrowed in place (no copy), others copied once.
+pub struct Planes<'a, P: Clone> {
+    /// Layers.
+    pub n: usize,
+    pub width: u32,
+    pub height: u32,
+    /// `n * width * height` pixels, layer after layer.
+    pub color: Cow<'a, [P]>,
+    /// As many depths, or `None` (background depth everywhere).
+    pub depth: Option<Cow<'a, [f32]>>,
+}
+
+impl<P: Channels> Planes<'_, P> {
+    /// Pixels of one layer.
+    pub fn pixels(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+
+    /// Refuses NaN depths (one vectorised pass, without the GIL in the callers).
+    pub fn check_depth(&self) -> PyResult<()> {
+        if let Some(d) = &self.depth {
+            if d.chunks(4096)
+                .any(|c| c.iter().fold(false, |acc, x| acc | x.is_nan()))
+            {
+                return Err(nan_depth());
+            }
+        }
+        Ok(())
+    }
+
+    /// Layer `k` as borrowed planes (`far`: background depths of one layer, used when
+    /// there is no depth).
+    pub fn layer<'s>(&'s self, k: usize, far: &'s [f32]) -> LayerRef<'s, P> {
+        let px = self.pixels();
+        LayerRef {
+            width: self.width,
+            height: self.height,
+            color: &self.color[k * px..(k + 1) * px],
+            depth: match &self.depth {
+                Some(d) => &d[k * px..(k + 1) * px],
+                None => far,
+            },
+        }
+    }
+
+    /// Layer `k` copied into `layer` (resized to fit: a kept working layer is reused
+    /// without new allocation when its size matches), NaN depths refused in the same
+    /// pass (see [`Planes::check_depth`]).
+    pub fn copy_into(&self, k: usize, layer: &mut Layer<P>) -> PyResult<()> {
+        let px = self.pixels();
+        layer.width = self.width;
+        layer.height = self.height;
+        layer.color.resize(px, P::CLEAR);
+        layer.depth.resize(px, composite::FAR);
+        layer
+            .color
+            .copy_from_slice(&self.color[k * px..(k + 1) * px]);
+        match &self.depth {
+            Some(d) => {
+                let mut nan = false;
+                for (o, i) in layer
+                    .depth
+                    .chunks_mut(4096)
+                    .zip(d[k * px..(k + 1) * px].chunks(4096))
+                {
+                    nan |= o.iter_mut().zip(i).fold(false, |acc, (o, &x)| {
+                        *o = x;
+                        acc | x.is_nan()
+                    });
+                }
+                if nan {
+                    return Err(nan_depth());
+                }
+            }
+            None => layer.depth.fill(composite::FAR),
+        }
+        Ok(())
+    }
+}
+
+/// The depth argument as a float32 array (an `IrradiaError` for anything else).
+pub fn depth_array<'py>(
+    depth: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Option<PyReadonlyArrayDyn<'py, f32>>> {
+    depth
+        .map(|d| {
+            d.extract().map_err(|_| {
+                let got = d
+                    .getattr("dtype")
+                    .map(|t| t.to_string())
+                    .unwrap_or_else(|_| d.get_type().to_string());
+                errors::input(format!(
+                    "depth: expected a float32 numpy array (inf for the background), got {got}"
+                ))
+            })
+        })
+        .transpose()
+}
+
+fn nan_depth() -> PyErr {
+    errors::input("depth: NaN is not a depth (use inf for the background)")
+}
+
+/// The pixels of a C-contiguous array in place, any other array copied once.
+fn pixels_of<'a, P: Channels>(a: &'a PyReadonlyArrayDyn<'_, P::Channel>) -> Cow<'a, [P]> {
+    match values(a) {
+        Cow::Borrowed(s) => match bytemuck::try_cast_slice::<P::Channel, P>(s) {
+            Ok(p) => Cow::Borrowed(p),
+            Err(_) => Cow::Owned(bytemuck::pod_collect_to_vec(s)),
+        },
+        Cow::Owned(v) => Cow::Owned(bytemuck::pod_collect_to_vec(&v)),
+    }
+}
+
+/// Checks the shapes of `color` and `depth` and sees them as [`Planes`].
+pub fn planes<'a, P: Channels>(
+    color: &'a PyReadonlyArrayDyn<'_, P::Channel>,
+    depth: Option<&'a PyReadonlyArrayDyn<'_, f32>>,
+) -> PyResult<Planes<'a, P>> {
     let shape = color.shape().to_vec();
     let (n, h, w) = match shape.as_slice() {
         [h, w, 4] => (1, *h, *w),
@@ -55,12 +176,11 @@ pub fn layers<P: Channels>(
     if n == 0 || h == 0 || w == 0 {
         return Err(errors::input(format!("color: empty image {shape:?}")));
     }
-    let (wu, hu) = (
+    let (width, height) = (
         u32::try_from(w).map_err(|_| errors::input("color: too wide"))?,
         u32::try_from(h).map_err(|_| errors::input("color: too tall"))?,
     );
-    let c = values(color);
-    let d: Option<Vec<f32>> = match depth {
+    let depth = match depth {
         Some(d) => {
             let want: Vec<usize> = shape[..shape.len() - 1].to_vec();
             if d.shape() != want.as_slice() {
@@ -69,57 +189,90 @@ pub fn layers<P: Channels>(
                     d.shape()
                 )));
             }
-            let v = values(d).into_owned();
-            if v.iter().any(|x| x.is_nan()) {
-                return Err(errors::input(
-                    "depth: NaN is not a depth (use inf for the background)",
-                ));
-            }
-            Some(v)
+            Some(values(d))
         }
         None => None,
     };
-    let px = h * w;
-    Ok((0..n)
-        .map(|k| Layer {
-            width: wu,
-            height: hu,
-            // P is four channels with no padding (both are Pod): one copy.
-            color: bytemuck::cast_slice::<P::Channel, P>(&c[4 * k * px..4 * (k + 1) * px]).to_vec(),
-            depth: match &d {
-                Some(d) => d[k * px..(k + 1) * px].to_vec(),
-                None => vec![composite::FAR; px],
-            },
-        })
-        .collect())
+    Ok(Planes {
+        n,
+        width,
+        height,
+        color: pixels_of::<P>(color),
+        depth,
+    })
 }
 
 /// A pixel type made of four channels of an array's element type, with no padding
-/// (both `Pod`), so that layers and arrays convert by one copy.
+/// (both `Pod`), so that arrays are read as pixels in place.
 pub trait Channels: Pixel {
     type Channel: numpy::Element + bytemuck::Pod;
+    /// The working layer of the last composite on this thread, kept for the next one
+    /// (its memory is then already mapped: no allocation, no page faults).
+    fn kept() -> &'static LocalKey<RefCell<Option<Layer<Self>>>>;
+}
+
+thread_local! {
+    static KEPT8: RefCell<Option<Layer<[u8; 4]>>> = const { RefCell::new(None) };
+    static KEPT32: RefCell<Option<Layer<[f32; 4]>>> = const { RefCell::new(None) };
 }
 
 impl Channels for [u8; 4] {
     type Channel = u8;
+    fn kept() -> &'static LocalKey<RefCell<Option<Layer<Self>>>> {
+        &KEPT8
+    }
 }
 
 impl Channels for [f32; 4] {
     type Channel = f32;
+    fn kept() -> &'static LocalKey<RefCell<Option<Layer<Self>>>> {
+        &KEPT32
+    }
+}
+
+/// Fresh arrays for an image, color (h, w, 4) and depth (h, w), to be filled by Rust.
+pub type ImageArrays<'py, P> = (
+    Bound<'py, PyArray3<<P as Channels>::Channel>>,
+    Bound<'py, PyArray2<f32>>,
+);
+
+/// [`ImageArrays`] left uninitialised (as `numpy.empty`: no pass over the memory before
+/// the one that writes it). Every caller writes every element before the arrays reach
+/// Python (`serial_into`, `gather_into` on the root, a copy of a whole layer) and drops
+/// them unseen on error.
+pub fn image_arrays<P: Channels>(py: Python<'_>, width: u32, height: u32) -> ImageArrays<'_, P> {
+    let (h, w) = (height as usize, width as usize);
+    // SAFETY: plain numbers (u8, f32), for which any bits are valid; see above for why
+    // nothing reads them before they are written.
+    unsafe {
+        (
+            PyArray3::new(py, [h, w, 4], false),
+            PyArray2::new(py, [h, w], false),
+        )
+    }
+}
+
+/// The planes of fresh [`image_arrays`] to write into.
+pub fn planes_mut<'a, P: Channels>(
+    color: &'a mut PyReadwriteArray3<'_, P::Channel>,
+    depth: &'a mut PyReadwriteArray2<'_, f32>,
+) -> (&'a mut [P], &'a mut [f32]) {
+    (
+        bytemuck::cast_slice_mut(color.as_slice_mut().expect("a fresh array is contiguous")),
+        depth.as_slice_mut().expect("a fresh array is contiguous"),
+    )
 }
 
 /// A layer as (color (h, w, 4), depth (h, w)) arrays.
 pub fn layer_arrays<P: Channels>(py: Python<'_>, l: &Layer<P>) -> PyResult<(PyObject, PyObject)> {
-    let (h, w) = (l.height as usize, l.width as usize);
-    let color = PyArray1::from_slice(py, bytemuck::cast_slice::<P, P::Channel>(&l.color))
-        .reshape([h, w, 4])?
-        .into_any()
-        .unbind();
-    let depth = PyArray1::from_slice(py, &l.depth)
-        .reshape([h, w])?
-        .into_any()
-        .unbind();
-    Ok((color, depth))
+    let (c, d) = image_arrays::<P>(py, l.width, l.height);
+    {
+        let (mut cw, mut dw) = (c.readwrite(), d.readwrite());
+        let (oc, od) = planes_mut::<P>(&mut cw, &mut dw);
+        oc.copy_from_slice(&l.color);
+        od.copy_from_slice(&l.depth);
+    }
+    Ok((c.into_any().unbind(), d.into_any().unbind()))
 }
 
 /// The compositing order (`order[position] = rank`, front first) checked against `n`.
@@ -147,16 +300,34 @@ fn serial_of<P: Channels>(
     tiles: Option<&[TileSpec]>,
 ) -> PyResult<PyObject> {
     let c: PyReadonlyArrayDyn<'_, P::Channel> = color.extract()?;
-    let ls = layers::<P>(&c, depth.as_ref())?;
-    check_order(&order, ls.len())?;
-    let (w, h) = (ls[0].width, ls[0].height);
-    let out = py.allow_threads(|| composite::serial(&ls, op, order.as_deref()));
+    let pl = planes::<P>(&c, depth.as_ref())?;
+    check_order(&order, pl.n)?;
+    let (w, h) = (pl.width, pl.height);
+    // Straight from the arrays' memory into the result's.
+    let run = |oc: &mut [P], od: &mut [f32]| -> PyResult<()> {
+        pl.check_depth()?;
+        let far = if pl.depth.is_none() {
+            vec![composite::FAR; pl.pixels()]
+        } else {
+            Vec::new()
+        };
+        let views: Vec<LayerRef<'_, P>> = (0..pl.n).map(|k| pl.layer(k, &far)).collect();
+        composite::serial_into(&views, op, order.as_deref(), oc, od);
+        Ok(())
+    };
     match tiles {
-        None => Ok(layer_arrays(py, &out)?
-            .into_pyobject(py)?
-            .into_any()
-            .unbind()),
+        None => {
+            let (c, d) = image_arrays::<P>(py, w, h);
+            {
+                let (mut cw, mut dw) = (c.readwrite(), d.readwrite());
+                let (oc, od) = planes_mut::<P>(&mut cw, &mut dw);
+                py.allow_threads(|| run(oc, od))?;
+            }
+            Ok((c, d).into_pyobject(py)?.into_any().unbind())
+        }
         Some(tiles) => {
+            let mut out = Layer::<P>::new(w, h);
+            py.allow_threads(|| run(&mut out.color, &mut out.depth))?;
             let ranks = tiles.iter().map(|t| t.0 + 1).max().unwrap_or(1);
             let l = layout(tiles, w, h, ranks)?;
             let list = pyo3::types::PyList::empty(py);
@@ -225,12 +396,13 @@ pub fn display_grid(
 pub fn _composite_serial(
     py: Python<'_>,
     color: &Bound<'_, PyAny>,
-    depth: Option<PyReadonlyArrayDyn<'_, f32>>,
+    depth: Option<&Bound<'_, PyAny>>,
     op: &str,
     order: Option<Vec<usize>>,
     tiles: Option<Vec<TileSpec>>,
 ) -> PyResult<PyObject> {
     let op = operator(op)?;
+    let depth = depth_array(depth)?;
     if color.extract::<PyReadonlyArrayDyn<'_, u8>>().is_ok() {
         serial_of::<[u8; 4]>(py, color, depth, op, order, tiles.as_deref())
     } else if color.extract::<PyReadonlyArrayDyn<'_, f32>>().is_ok() {

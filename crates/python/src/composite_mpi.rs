@@ -5,14 +5,14 @@
 //! `irradia parallel --comm mpi`.
 
 use crate::composite::{
-    check_order, layer_arrays, layers, layout, operator, strategy, Channels, TileSpec,
+    check_order, depth_array, image_arrays, layer_arrays, layout, operator, planes, planes_mut,
+    strategy, Channels, TileSpec,
 };
 use crate::errors;
 use irradia_parallel::comm::mpi::MpiComm;
-use irradia_parallel::comm::Comm;
-use irradia_parallel::composite::{self, CompositeOptions};
+use irradia_parallel::composite::{self, ActiveRect, CompositeOptions, Layer};
 use irradia_parallel::display_tiles;
-use numpy::PyReadonlyArrayDyn;
+use numpy::{PyArrayMethods, PyReadonlyArrayDyn};
 use pyo3::prelude::*;
 use std::time::Duration;
 
@@ -31,13 +31,12 @@ fn run<P: Channels>(
     tiles: Option<Vec<TileSpec>>,
 ) -> PyResult<Option<(PyObject, PyObject)>> {
     let c: PyReadonlyArrayDyn<'_, P::Channel> = color.extract()?;
-    let mut ls = layers::<P>(&c, depth.as_ref())?;
-    if ls.len() != 1 {
+    let pl = planes::<P>(&c, depth.as_ref())?;
+    if pl.n != 1 {
         return Err(errors::input(
             "color: with a communicator each rank passes one layer of shape (height, width, 4)",
         ));
     }
-    let layer = ls.pop().expect("one layer");
     let strategy = strategy(strategy_name)?;
     let op = operator(op)?;
     let fint = i32::try_from(fortran_comm)
@@ -47,41 +46,84 @@ fn run<P: Channels>(
             "timeout: must be positive seconds (got {timeout})"
         )));
     }
+    // SAFETY: the handle comes from mpi4py's `Comm.py2f()` of a live communicator
+    // (checked not null by the Python side) and MPI is initialised by mpi4py.
+    let (rank, size) = unsafe {
+        let raw = mpi::ffi::RSMPI_Comm_f2c(fint);
+        let (mut rank, mut size) = (0, 0);
+        mpi::ffi::MPI_Comm_rank(raw, &mut rank);
+        mpi::ffi::MPI_Comm_size(raw, &mut size);
+        (rank as usize, size as usize)
+    };
+    check_order(&order, size)?;
+    if root >= size {
+        return Err(errors::input(format!(
+            "root: rank {root} is not in a communicator of {size} ranks"
+        )));
+    }
+    let opts = CompositeOptions {
+        op,
+        order,
+        rle,
+        root,
+    };
+    let layout = match &tiles {
+        Some(t) => Some(layout(t, pl.width, pl.height, size)?),
+        None => None,
+    };
+    // The root's result goes straight into fresh numpy arrays.
+    let out =
+        (layout.is_none() && rank == root).then(|| image_arrays::<P>(py, pl.width, pl.height));
+    let mut out_rw = out.as_ref().map(|(c, d)| (c.readwrite(), d.readwrite()));
+    let out_planes = out_rw.as_mut().map(|(c, d)| planes_mut::<P>(c, d));
     // The comm is made, used and freed on this thread with the GIL released (an MPI
     // communicator handle is not shared with other threads).
-    let out = py.allow_threads(move || -> PyResult<_> {
-        // SAFETY: the handle comes from mpi4py's `Comm.py2f()` of a live communicator
-        // (checked not null by the Python side); MPI is initialised by mpi4py; every
-        // rank calls `composite` together, as the duplicate requires.
+    let tile = py.allow_threads(move || -> PyResult<Option<Layer<P>>> {
+        // SAFETY: as above; every rank calls `composite` together, as the duplicate
+        // requires.
         let comm = unsafe {
             let raw = mpi::ffi::RSMPI_Comm_f2c(fint);
             MpiComm::from_raw_dup(raw, Duration::from_secs_f64(timeout))
         };
-        let size = comm.size();
-        check_order(&order, size)?;
-        if root >= size {
-            return Err(errors::input(format!(
-                "root: rank {root} is not in a communicator of {size} ranks"
-            )));
-        }
-        let opts = CompositeOptions {
-            op,
-            order,
-            rle,
-            root,
-        };
         let failed = |e: irradia_parallel::comm::CommError| {
             pyo3::exceptions::PyRuntimeError::new_err(e.to_string())
         };
-        match &tiles {
-            None => composite::composite(&comm, strategy, layer, &opts).map_err(failed),
-            Some(tiles) => {
-                let l = layout(tiles, layer.width, layer.height, size)?;
-                display_tiles::composite_to_tiles(&comm, strategy, layer, &l, &opts).map_err(failed)
+        // The working layer: the last call's (memory already mapped), filled from the
+        // array; the compositor reads and blends in it and hands it back.
+        let mut layer = P::kept()
+            .with(|k| k.borrow_mut().take())
+            .unwrap_or_else(|| Layer {
+                width: 0,
+                height: 0,
+                color: Vec::new(),
+                depth: Vec::new(),
+            });
+        pl.copy_into(0, &mut layer)?;
+        let (w, h) = (layer.width, layer.height);
+        match &layout {
+            None => {
+                let (layer, _) = composite::composite_into(
+                    &comm,
+                    strategy,
+                    layer,
+                    ActiveRect::full(w, h),
+                    &opts,
+                    out_planes,
+                )
+                .map_err(failed)?;
+                P::kept().with(|k| *k.borrow_mut() = Some(layer));
+                Ok(None)
+            }
+            Some(l) => {
+                display_tiles::composite_to_tiles(&comm, strategy, layer, l, &opts).map_err(failed)
             }
         }
     })?;
-    out.map(|l| layer_arrays(py, &l)).transpose()
+    drop(out_rw);
+    if let Some(t) = tile {
+        return Ok(Some(layer_arrays(py, &t)?));
+    }
+    Ok(out.map(|(c, d)| (c.into_any().unbind(), d.into_any().unbind())))
 }
 
 /// One layer per rank composited onto `root` (see `irradia.composite`).
@@ -91,7 +133,7 @@ fn run<P: Channels>(
 pub fn _composite_mpi(
     py: Python<'_>,
     color: &Bound<'_, PyAny>,
-    depth: Option<PyReadonlyArrayDyn<'_, f32>>,
+    depth: Option<&Bound<'_, PyAny>>,
     strategy: &str,
     op: &str,
     order: Option<Vec<usize>>,
@@ -101,6 +143,7 @@ pub fn _composite_mpi(
     timeout: f64,
     tiles: Option<Vec<TileSpec>>,
 ) -> PyResult<Option<(PyObject, PyObject)>> {
+    let depth = depth_array(depth)?;
     if color.extract::<PyReadonlyArrayDyn<'_, u8>>().is_ok() {
         run::<[u8; 4]>(
             py,

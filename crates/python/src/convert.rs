@@ -92,13 +92,14 @@ pub fn non_negative(obj: &Bound<'_, PyAny>, field: &str) -> PyResult<f32> {
 
 /// The values of an array in row-major order: a C-contiguous array is read in place,
 /// any other copied once (through a dynamic-rank iterator, which is slow per element).
+/// (`as_slice` alone is not enough: it also lends a Fortran-ordered array's memory,
+/// whose order is column-major.)
 pub fn values<'a, T: numpy::Element + Copy>(
     a: &'a numpy::PyReadonlyArrayDyn<'_, T>,
 ) -> std::borrow::Cow<'a, [T]> {
+    use numpy::PyUntypedArrayMethods;
     match a.as_slice() {
-        Ok(s) => std::borrow::Cow::Borrowed(s),
-        Err(_) => {
-            std::borrow::Cow::Owned(a.as_array().as_standard_layout().iter().copied().collect())
-        }
+        Ok(s) if a.is_c_contiguous() => std::borrow::Cow::Borrowed(s),
+        _ => std::borrow::Cow::Owned(a.as_array().as_standard_layout().iter().copied().collect()),
     }
 }

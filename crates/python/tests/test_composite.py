@@ -73,6 +73,55 @@ def test_composite_errors():
         irradia.composite(c[0], d[0], comm=object())
 
 
+def test_arrays_are_read_in_place_and_left_alone():
+    # C-contiguous arrays are read where they lie; other layouts (Fortran order, strided
+    # and reversed views) are copied once and give the same composite.
+    c, d = stack(3)
+    ref_c, ref_d = irradia.composite(c, d)
+    keep_c, keep_d = c.copy(), d.copy()
+    views = [
+        (np.asfortranarray(c), np.asfortranarray(d), lambda a: a),
+        (np.stack([c, c], 3)[..., 0, :], np.stack([d, d], 3)[..., 0], lambda a: a),
+        (c[:, ::-1], d[:, ::-1], lambda a: a[::-1]),
+    ]
+    for vc, vd, flip in views:
+        assert not vc.flags.c_contiguous and not vd.flags.c_contiguous
+        got_c, got_d = irradia.composite(vc, vd)
+        assert np.array_equal(got_c, flip(ref_c)) and np.array_equal(got_d, flip(ref_d))
+    ro_c, ro_d = c.copy(), d.copy()
+    ro_c.flags.writeable = ro_d.flags.writeable = False
+    got_c, got_d = irradia.composite(ro_c, ro_d)
+    assert np.array_equal(got_c, ref_c) and np.array_equal(got_d, ref_d)
+    assert np.array_equal(c, keep_c) and np.array_equal(d, keep_d)
+    # The result is the caller's own: fresh, writable, C-contiguous.
+    for a in (got_c, got_d):
+        assert a.flags.c_contiguous and a.flags.writeable and a.flags.owndata
+    got_c[...] = 0
+    assert np.array_equal(irradia.composite(c, d)[0], ref_c)
+
+
+def test_wrong_dtypes_raise():
+    c, d = stack(2)
+    with pytest.raises(irradia.IrradiaError, match="depth: expected a float32"):
+        irradia.composite(c, d.astype(np.float64))
+    with pytest.raises(irradia.IrradiaError, match="depth: expected a float32"):
+        irradia.composite(c, d.tolist())
+    with pytest.raises(irradia.IrradiaError, match="uint8 or float32"):
+        irradia.composite(c.astype(np.int32), d)
+    with pytest.raises(irradia.IrradiaError, match="uint8 or float32"):
+        irradia.composite(c.tolist(), d)
+
+
+def test_over_without_depth_and_sizes_in_turn():
+    # No depth: background depth everywhere; different sizes one after another.
+    for h, w in ((37, 53), (5, 7), (64, 48), (37, 53)):
+        c, _ = stack(2, h=h, w=w, opaque=False)
+        got_c, got_d = irradia.composite(c, op="over")
+        ref, _ = irradia.composite(c, np.full(c.shape[:3], np.inf, np.float32), op="over")
+        assert got_c.shape == (h, w, 4) and np.array_equal(got_c, ref)
+        assert np.all(np.isinf(got_d))
+
+
 def test_serial_tiles_are_crops():
     c, d = stack(3)
     tiles = irradia.display_grid(53, 37, 2, 2, overlap=3)

@@ -71,6 +71,47 @@ def test_display_tiles_equal_serial_crops(strategy):
         assert out is None
 
 
+def sparse_layer(k, h=61, w=89, dtype=np.uint8):
+    # A small blob per rank on background: the gather sends run lengths, not planes.
+    c = np.zeros((h, w, 4), dtype)
+    d = np.full((h, w), np.inf, np.float32)
+    y, x = 3 + 7 * k % (h - 10), 5 + 11 * k % (w - 12)
+    c[y:y + 6, x:x + 9] = 255 if dtype == np.uint8 else 1.0
+    c[y:y + 6, x:x + 9, 0] = 40 * k % 256 if dtype == np.uint8 else k / 8
+    d[y:y + 6, x:x + 9] = 1 + k % 3
+    return c, d
+
+
+@pytest.mark.parametrize("strategy", ["binary-swap", "direct-send", "radix-k"])
+@pytest.mark.parametrize("rle", [True, False])
+def test_sparse_and_dense_gathers_equal_serial(strategy, rle):
+    # Sparse layers (gathered as runs, background pasted around them), then dense ones
+    # (gathered as planes straight into the result), in turn and at several sizes: the
+    # working layer kept between calls must not leak one call's pixels into the next.
+    for h, w, make in ((61, 89, sparse_layer), (37, 53, layer), (61, 89, sparse_layer), (9, 4, layer)):
+        mine = [make(k, h=h, w=w) if make is sparse_layer else make(k, h=h, w=w, dtype=np.uint8) for k in range(SIZE)]
+        c, d = mine[RANK]
+        keep_c, keep_d = c.copy(), d.copy()
+        out = irradia.composite(c, d, strategy=strategy, comm=COMM, rle=rle)
+        ref_c, ref_d = irradia.composite(np.stack([m[0] for m in mine]), np.stack([m[1] for m in mine]))
+        assert np.array_equal(c, keep_c) and np.array_equal(d, keep_d)
+        if RANK == 0:
+            assert np.array_equal(out[0], ref_c) and np.array_equal(out[1], ref_d)
+        else:
+            assert out is None
+
+
+def test_non_contiguous_layers_equal_serial():
+    c, d = layer(RANK)
+    fc, fd = np.asfortranarray(c), np.asfortranarray(d)
+    out = irradia.composite(fc, fd, comm=COMM)
+    sc, sd = stack(SIZE)
+    ref_c, ref_d = irradia.composite(sc, sd)
+    if RANK == 0:
+        assert np.array_equal(out[0], ref_c) and np.array_equal(out[1], ref_d)
+        assert out[0].flags.c_contiguous and out[0].flags.owndata
+
+
 def test_caller_messages_untouched():
     # Irradia works on a duplicate of the communicator: a message of the caller's
     # posted before the composite is still there after it.
@@ -88,3 +129,7 @@ def test_errors_on_every_rank():
         irradia.composite(c, d, comm=COMM, root=SIZE)
     with pytest.raises(irradia.IrradiaError, match="one layer"):
         irradia.composite(np.stack([c, c]), np.stack([d, d]), comm=COMM)
+    with pytest.raises(irradia.IrradiaError, match="depth: expected a float32"):
+        irradia.composite(c, d.astype(np.float64), comm=COMM)
+    with pytest.raises(irradia.IrradiaError, match="uint8 or float32"):
+        irradia.composite(c.astype(np.float16), d, comm=COMM)

@@ -97,6 +97,15 @@ pub struct Layer<P> {
     pub depth: Vec<f32>,
 }
 
+/// A layer in borrowed memory (colour and depth planes of `width * height` pixels).
+#[derive(Clone, Copy, Debug)]
+pub struct LayerRef<'a, P> {
+    pub width: u32,
+    pub height: u32,
+    pub color: &'a [P],
+    pub depth: &'a [f32],
+}
+
 pub type Rgba8Layer = Layer<[u8; 4]>;
 pub type Rgba32Layer = Layer<[f32; 4]>;
 
@@ -114,6 +123,16 @@ impl<P: Pixel> Layer<P> {
 
     pub fn len(&self) -> usize {
         self.color.len()
+    }
+
+    /// The layer as borrowed planes.
+    pub fn view(&self) -> LayerRef<'_, P> {
+        LayerRef {
+            width: self.width,
+            height: self.height,
+            color: &self.color,
+            depth: &self.depth,
+        }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -299,6 +318,36 @@ pub fn composite_bounded<P: Pixel, C: Comm>(
     Ok(out)
 }
 
+/// [`composite_bounded`] for a caller that composites frame after frame out of its own
+/// memory (the Python binding's numpy arrays): the root's image is gathered straight
+/// into `out` (its colour and depth planes, `layer.len()` pixels each, every pixel
+/// written; `None` on the other ranks, see [`gather::gather_into`]), and the working
+/// layer is handed back so that its buffers serve the next frame. Returns the layer and
+/// whether `out` was written (this rank is `opts.root`).
+pub fn composite_into<P: Pixel, C: Comm>(
+    comm: &C,
+    strategy: Strategy,
+    layer: Layer<P>,
+    rect: ActiveRect,
+    opts: &CompositeOptions,
+    out: Option<(&mut [P], &mut [f32])>,
+) -> Result<(Layer<P>, bool), CommError> {
+    assert!(
+        rect.fits(layer.width, layer.height),
+        "active rectangle {rect:?} off the {}x{} layer",
+        layer.width,
+        layer.height
+    );
+    comm.log().begin_stage("composite");
+    let mut rect = rect;
+    let (layer, span) = reduce_tracked(comm, strategy, layer, &mut rect, opts)?;
+    comm.log().begin_stage("gather");
+    let wrote = gather::gather_into(comm, &layer, span, &rect, opts, out)?;
+    comm.barrier()?;
+    comm.log().end_stage();
+    Ok((layer, wrote))
+}
+
 /// Runs only the reduce part of `strategy`: returns the layer and the span of it that
 /// this rank now owns in the final image (empty when it owns none).
 pub fn reduce<P: Pixel, C: Comm>(
@@ -351,24 +400,55 @@ pub(crate) fn reduce_tracked<P: Pixel, C: Comm>(
 /// Composites layers one after another in `order` (front first) on one thread: the
 /// oracle the parallel strategies are tested against.
 pub fn serial<P: Pixel>(layers: &[Layer<P>], op: Operator, order: Option<&[usize]>) -> Layer<P> {
+    let views: Vec<LayerRef<'_, P>> = layers.iter().map(Layer::view).collect();
+    let n = layers[0].len();
+    let mut out = Layer {
+        width: layers[0].width,
+        height: layers[0].height,
+        color: vec![P::CLEAR; n],
+        depth: vec![0.0; n],
+    };
+    serial_into(&views, op, order, &mut out.color, &mut out.depth);
+    out
+}
+
+/// [`serial`] of borrowed layers (another program's memory, e.g. numpy arrays) into the
+/// caller's planes (`color`, `depth`: every pixel is written).
+pub fn serial_into<P: Pixel>(
+    layers: &[LayerRef<'_, P>],
+    op: Operator,
+    order: Option<&[usize]>,
+    color: &mut [P],
+    depth: &mut [f32],
+) {
     let o = Order::new(layers.len(), order);
-    let mut acc = layers[o.rank(0)].clone();
+    let front = &layers[o.rank(0)];
+    let n = front.color.len();
+    assert!(
+        layers
+            .iter()
+            .all(|l| l.color.len() == n && l.depth.len() == n)
+            && color.len() == n
+            && depth.len() == n,
+        "serial composite of layers of different sizes"
+    );
+    color.copy_from_slice(front.color);
+    depth.copy_from_slice(front.depth);
     for pos in 1..layers.len() {
         let back = &layers[o.rank(pos)];
-        for i in 0..acc.len() {
+        for i in 0..n {
             match op {
                 Operator::Depth => {
-                    if back.depth[i] < acc.depth[i] {
-                        acc.depth[i] = back.depth[i];
-                        acc.color[i] = back.color[i];
+                    if back.depth[i] < depth[i] {
+                        depth[i] = back.depth[i];
+                        color[i] = back.color[i];
                     }
                 }
                 Operator::Over => {
-                    acc.color[i] = P::over(acc.color[i], back.color[i]);
-                    acc.depth[i] = acc.depth[i].min(back.depth[i]);
+                    color[i] = P::over(color[i], back.color[i]);
+                    depth[i] = depth[i].min(back.depth[i]);
                 }
             }
         }
     }
-    acc
 }

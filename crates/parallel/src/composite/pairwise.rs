@@ -36,7 +36,7 @@ use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-const DENSE: u32 = 0;
+pub(crate) const DENSE: u32 = 0;
 const RLE: u32 = 1;
 /// Run lengths carried in the header message, after the piece sizes.
 const RLE_INLINE: u32 = 2;
@@ -106,9 +106,9 @@ thread_local! {
 
 /// What one side sends: an encoding of a sub-span of its give span, in `pieces` pieces.
 #[derive(Clone, Debug, PartialEq)]
-struct Plan {
-    mode: u32,
-    span: Range<usize>,
+pub(crate) struct Plan {
+    pub(crate) mode: u32,
+    pub(crate) span: Range<usize>,
     pieces: usize,
     /// Byte length of each run-length piece (empty for dense).
     lens: Vec<usize>,
@@ -227,7 +227,7 @@ impl Plan {
 /// Chooses how to send `give`: dense when `rle` is off; else trimmed to the active
 /// pixels (looking only inside `rect`), and run lengths when the sampled active fraction
 /// is below [`RLE_BELOW`].
-fn choose<P: Pixel>(
+pub(crate) fn choose<P: Pixel>(
     layer: &Layer<P>,
     give: &Range<usize>,
     op: Operator,

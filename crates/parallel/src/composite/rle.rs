@@ -34,18 +34,29 @@ pub fn encode_bounded<P: Pixel>(
     rle: bool,
     rect: &ActiveRect,
 ) -> Vec<u8> {
-    let n = span.len();
     let px = std::mem::size_of::<P>() + 4;
+    let mut out = Vec::with_capacity(12 + if rle { 64 } else { span.len() * px });
+    encode_bounded_into(&mut out, layer, span, op, rle, rect);
+    out
+}
+
+/// [`encode_bounded`] appended to `out` (no allocation when `out` has room).
+pub fn encode_bounded_into<P: Pixel>(
+    out: &mut Vec<u8>,
+    layer: &Layer<P>,
+    span: Range<usize>,
+    op: Operator,
+    rle: bool,
+    rect: &ActiveRect,
+) {
     if !rle {
-        let mut out = Vec::with_capacity(12 + n * px);
-        push_words(&mut out, &[span.start as u32, span.end as u32, DENSE]);
+        out.reserve(12 + span.len() * (std::mem::size_of::<P>() + 4));
+        push_words(out, &[span.start as u32, span.end as u32, DENSE]);
         out.extend_from_slice(bytemuck::cast_slice(&layer.color[span.clone()]));
         out.extend_from_slice(bytemuck::cast_slice(&layer.depth[span]));
-        return out;
+        return;
     }
-    let mut out = Vec::with_capacity(12 + 64);
-    encode_runs_into(&mut out, layer, span, op, rect);
-    out
+    encode_runs_into(out, layer, span, op, rect);
 }
 
 /// Appends the run-length message of `span` of `layer` to `out` (no allocation when
@@ -99,6 +110,9 @@ pub fn span_of(buf: &[u8]) -> Result<Range<usize>, String> {
 pub enum Apply {
     /// Overwrite (gathering final pieces).
     Replace,
+    /// Overwrite, and write background over the inactive runs too (gathering into
+    /// planes that hold nothing yet: every pixel of the span is written).
+    Paste,
     /// Composite; `incoming_front` says whether the sender is in front of this rank.
     Blend { op: Operator, incoming_front: bool },
 }
@@ -132,7 +146,12 @@ pub fn apply_to<P: Pixel>(
     }
     let cw = std::mem::size_of::<P>() / 4;
     let body = &w[3..];
-    let mut run = |at: usize, words: &[u32], count: usize| -> Result<usize, String> {
+    let run = |colors: &mut [P],
+               depths: &mut [f32],
+               at: usize,
+               words: &[u32],
+               count: usize|
+     -> Result<usize, String> {
         let need = count * (cw + 1);
         if words.len() < need {
             return Err("message ends inside a run".into());
@@ -151,7 +170,7 @@ pub fn apply_to<P: Pixel>(
     };
     match mode {
         DENSE => {
-            run(start, body, end - start)?;
+            run(colors, depths, start, body, end - start)?;
         }
         RLE => {
             let mut i = start;
@@ -162,11 +181,15 @@ pub fn apply_to<P: Pixel>(
                 }
                 let (skip, active) = (body[k] as usize, body[k + 1] as usize);
                 k += 2;
-                i += skip;
-                if i + active > end {
+                if skip > end - i || active > end - i - skip {
                     return Err("runs overflow the span".into());
                 }
-                k += run(i, &body[k..], active)?;
+                if let Apply::Paste = how {
+                    colors[i - base..i - base + skip].fill(P::CLEAR);
+                    depths[i - base..i - base + skip].fill(super::FAR);
+                }
+                i += skip;
+                k += run(colors, depths, i, &body[k..], active)?;
                 i += active;
             }
         }
@@ -178,7 +201,7 @@ pub fn apply_to<P: Pixel>(
 #[inline]
 fn apply_run<P: Pixel>(lc: &mut [P], ld: &mut [f32], colors: &[P], depths: &[f32], how: Apply) {
     match how {
-        Apply::Replace => {
+        Apply::Replace | Apply::Paste => {
             lc.copy_from_slice(colors);
             ld.copy_from_slice(depths);
         }
