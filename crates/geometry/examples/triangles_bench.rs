@@ -202,7 +202,11 @@ fn main() {
                 .and_then(|s| s.parse().ok())
                 .unwrap_or(usize::MAX);
             // (and skips the separate BVH build, whose statistics it then leaves out).
-            let boxes = if limit == usize::MAX { &boxes[..] } else { &boxes[..1] };
+            let boxes = if limit == usize::MAX {
+                &boxes[..]
+            } else {
+                &boxes[..1]
+            };
             let t0 = Instant::now();
             let c0 = cpu_seconds();
             let bvh = Bvh::build_blocked(boxes, 8);

@@ -48,7 +48,10 @@ fn check(tris: &[[Vec3; 3]], ray: &Ray, t_max: f32) -> bool {
         }
         _ => panic!("scalar {want:?} leaf {got:?} ray {ray:?}"),
     }
-    assert_eq!(occluded_leaf(&packets, tris.len(), &tray, t_max), want.is_some());
+    assert_eq!(
+        occluded_leaf(&packets, tris.len(), &tray, t_max),
+        want.is_some()
+    );
     want.is_some()
 }
 
@@ -81,12 +84,20 @@ fn leaf_kernel_equals_the_scalar_test() {
             let tris: Vec<[Vec3; 3]> = (0..n)
                 .map(|_| {
                     let a = rand_vec(&mut rng, -1.0, 1.0);
-                    [a, a + rand_vec(&mut rng, -0.7, 0.7), a + rand_vec(&mut rng, -0.7, 0.7)]
+                    [
+                        a,
+                        a + rand_vec(&mut rng, -0.7, 0.7),
+                        a + rand_vec(&mut rng, -0.7, 0.7),
+                    ]
                 })
                 .collect();
             let o = rand_vec(&mut rng, -2.0, 2.0);
             let d = rand_vec(&mut rng, -1.0, 1.0);
-            let t_max = if rng.next_f32() < 0.5 { f32::INFINITY } else { 3.0 * rng.next_f32() };
+            let t_max = if rng.next_f32() < 0.5 {
+                f32::INFINITY
+            } else {
+                3.0 * rng.next_f32()
+            };
             hits += check(&tris, &Ray::new(o, d), t_max) as usize;
         } else {
             // A fan (shared edges and a shared vertex), hit through its centre, through

@@ -169,8 +169,14 @@ impl WideNode {
         let fz = slab(far_index(ray.near[2]), 2);
         // As in the SSE path: max/min return the second operand on NaN, so NaN slabs
         // are ignored.
-        let t0 = _mm256_max_ps(nx, _mm256_max_ps(ny, _mm256_max_ps(nz, _mm256_setzero_ps())));
-        let t1 = _mm256_min_ps(fx, _mm256_min_ps(fy, _mm256_min_ps(fz, _mm256_set1_ps(t_max))));
+        let t0 = _mm256_max_ps(
+            nx,
+            _mm256_max_ps(ny, _mm256_max_ps(nz, _mm256_setzero_ps())),
+        );
+        let t1 = _mm256_min_ps(
+            fx,
+            _mm256_min_ps(fy, _mm256_min_ps(fz, _mm256_set1_ps(t_max))),
+        );
         let t1 = _mm256_mul_ps(t1, _mm256_set1_ps(ROBUST_FAR));
         let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t0, t1)) as u32;
         let mut out = [0f32; WIDTH];

@@ -10,8 +10,8 @@ pub use attributes::{
     AttributeDomain, AttributeError, AttributePoint, AttributeValue, MeshAttribute, MeshAttributes,
 };
 
-pub use crate::packet::Triangle4;
 use crate::packet::watertight4;
+pub use crate::packet::Triangle4;
 
 use crate::bvh::{Bvh, ChildRef};
 use crate::shape::{Facets, Hit, Shape, Span};
@@ -309,7 +309,8 @@ impl TriangleMesh {
         self.bvh
             .closest_hit_leaves_prefetch(ray, t_max, prefetch, |leaf, t_max| {
                 let packets = self.leaf_packets(leaf);
-                let (i, h) = watertight4::intersect_leaf(packets, leaf.count as usize, &tray, t_max)?;
+                let (i, h) =
+                    watertight4::intersect_leaf(packets, leaf.count as usize, &tray, t_max)?;
                 best = Some((self.packet_triangles[leaf.index as usize + i / 4][i % 4], h));
                 Some(h.t)
             })?;
