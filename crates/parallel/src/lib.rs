@@ -20,6 +20,7 @@ pub mod raytrace_last;
 pub mod render_job;
 pub mod report;
 pub mod scale;
+mod slot;
 pub mod sort_common;
 pub mod sort_first;
 pub mod sort_last;

@@ -16,6 +16,7 @@
 //! same order as one process would (`FilmPixel::add`). Only rank 0 holds the film.
 
 use crate::comm::{Comm, CommError};
+use crate::slot::Slot;
 use crate::wire::{put_u32, Reader};
 use irradia_render::driver::{
     read_tile, store_tile, DriverSetup, PassWork, Sink, Sweep, SweepError, Tile, TileJob,
@@ -30,8 +31,6 @@ use irradia_render::{
 };
 use irradia_scene::Scene;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 /// Tag of the work messages (rank 0 to a worker).
@@ -43,7 +42,23 @@ const IN_FLIGHT: usize = 2;
 /// How often a rank's main thread looks for messages while its pool renders. Under MPI
 /// it shares a core with a renderer: 1 ms cost less user time than 0.1 ms (9.2 s
 /// against 11.0 s over 2 ranks, built-in `cornell`) and answered sooner than 3 ms.
+/// The rank's own chunk finishing wakes it at once ([`Slot`]), so the poll only bounds
+/// how late another rank's message is seen.
 const POLL: Duration = Duration::from_millis(1);
+/// Samples per pixel a chunk holds at least (tiles x the pass's samples), so that a
+/// chunk of the first passes (1, 2, 4 samples) is not shorter than the time a message
+/// takes to be answered: 16 samples of a 32x32 tile are a few milliseconds.
+const CHUNK_SAMPLES: u32 = 16;
+/// Chunks per rank a pass is cut into at least (the balance at the end of a pass).
+const CHUNKS_PER_RANK: usize = 4;
+
+/// Tiles per chunk in a pass of `n` samples: the rank's threads times enough tiles for
+/// [`CHUNK_SAMPLES`], but no more than leaves [`CHUNKS_PER_RANK`] chunks to each rank.
+fn chunk_tiles(threads: usize, n: u32, tiles: usize, ranks: usize) -> usize {
+    let by_samples = threads * (CHUNK_SAMPLES / n.max(1)).max(1) as usize;
+    let by_balance = tiles.div_ceil(ranks * CHUNKS_PER_RANK).max(1);
+    by_samples.min(by_balance.max(threads)).max(1)
+}
 
 /// Renders `scene` under `options` on every rank of `comm`, each on its current rayon
 /// pool (`options.threads` only sizes rank 0's chunks: the caller installs the pools).
@@ -97,7 +112,7 @@ impl<C: Comm> Sweep for Spread<'_, C> {
         on_tile: &(dyn Fn(u64) + Sync),
     ) -> Result<(), SweepError> {
         let c = self.comm;
-        let mut chunks = tiles.chunks(self.chunk);
+        let mut chunks = tiles.chunks(chunk_tiles(self.chunk, work.n, tiles.len(), c.size()));
         let mut in_flight = vec![0usize; c.size()];
         let workers: Vec<usize> = (1..c.size()).collect();
         // Fill every worker's queue.
@@ -111,7 +126,7 @@ impl<C: Comm> Sweep for Spread<'_, C> {
         // This thread only talks and stores; rank 0's own chunks render on the pool
         // meanwhile, so that a worker's finished chunk is answered at once (and MPI
         // keeps moving the posted chunks, which it does only inside MPI calls).
-        let mine: Mutex<Option<Vec<(Tile, TileResult)>>> = Mutex::new(None);
+        let mine: Slot<Vec<(Tile, TileResult)>> = Slot::new();
         let mut quiet_since = Instant::now();
         rayon::in_place_scope(|scope| -> Result<(), SweepError> {
             let mut rendering_here = false;
@@ -132,7 +147,7 @@ impl<C: Comm> Sweep for Spread<'_, C> {
                 }
                 // Store this rank's chunk when done, and start the next.
                 if rendering_here {
-                    if let Some(done) = mine.lock().unwrap_or_else(|e| e.into_inner()).take() {
+                    if let Some(done) = mine.take() {
                         for (t, r) in done {
                             on_tile((t.w * t.h) as u64 * work.n as u64);
                             store_tile(sink, t, r);
@@ -153,7 +168,7 @@ impl<C: Comm> Sweep for Spread<'_, C> {
                                 .into_par_iter()
                                 .map(|(t, pixels)| (t, job.render(t, pixels, work)))
                                 .collect();
-                            *mine.lock().unwrap_or_else(|e| e.into_inner()) = Some(done);
+                            mine.put(done);
                         });
                         rendering_here = true;
                         idle = false;
@@ -182,9 +197,13 @@ impl<C: Comm> Sweep for Spread<'_, C> {
                 }
                 c.progress();
                 // On a pool's own thread (ranks as threads) render here; otherwise
-                // (the main thread under MPI) wait a little.
+                // (the main thread under MPI) wait for this rank's chunk, or a little.
                 if rayon::yield_now() != Some(rayon::Yield::Executed) {
-                    std::thread::sleep(POLL);
+                    if rendering_here {
+                        mine.wait(POLL);
+                    } else {
+                        std::thread::sleep(POLL);
+                    }
                 }
             }
         })
@@ -254,22 +273,25 @@ pub fn serve<C: Comm, I: Integrator>(comm: &C, job: &TileJob<'_, I>) -> Result<(
         };
         // The tiles render on the pool while this thread keeps the last chunk's
         // results moving to rank 0 (MPI calls stay on this thread).
-        let finished = AtomicBool::new(false);
-        let mut done = Vec::new();
-        rayon::in_place_scope(|s| {
+        let finished: Slot<Vec<(Tile, TileResult)>> = Slot::new();
+        let done = rayon::in_place_scope(|s| {
             s.spawn(|_| {
-                done = tiles
-                    .into_par_iter()
-                    .map(|(t, pixels)| (t, job.render(t, pixels, work)))
-                    .collect::<Vec<(Tile, TileResult)>>();
-                finished.store(true, Ordering::Release);
+                finished.put(
+                    tiles
+                        .into_par_iter()
+                        .map(|(t, pixels)| (t, job.render(t, pixels, work)))
+                        .collect(),
+                );
             });
-            while !finished.load(Ordering::Acquire) {
+            loop {
+                if let Some(done) = finished.take() {
+                    break done;
+                }
                 comm.progress();
                 // On a pool's own thread (ranks as threads) run the tiles here;
-                // otherwise (the main thread under MPI) let the pool work.
+                // otherwise (the main thread under MPI) wait for them, or a little.
                 if rayon::yield_now() != Some(rayon::Yield::Executed) {
-                    std::thread::sleep(POLL);
+                    finished.wait(POLL);
                 }
             }
         });

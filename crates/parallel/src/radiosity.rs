@@ -36,6 +36,7 @@
 //! error naming it.
 
 use crate::comm::{Comm, CommError};
+use crate::slot::Slot;
 use crate::wire::{put_u32, Reader};
 use irradia_radiosity::mesh::Mesh;
 use irradia_radiosity::solver::hierarchical::{
@@ -44,8 +45,6 @@ use irradia_radiosity::solver::hierarchical::{
 use irradia_radiosity::RadiosityError;
 use rayon::prelude::*;
 use std::collections::VecDeque;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 /// Tag of the work messages (rank 0 to a worker: pairs to link, or stop).
@@ -77,18 +76,28 @@ pub fn solve_distributed<C: Comm>(
     let opts = *h.options();
     let pairs = h.pairs();
     let mut b = h.initial_radiosity();
-    // Rank 0: the links each pair had in the last round (the cost of linking it).
+    // Rank 0: the links each pair had in the last round (the cost of linking it), and
+    // those links sorted by (receiver, source), whose form factors the next round reuses
+    // wherever the pair is linked (they travel with the pair).
     let mut cost = vec![1u32; pairs.len()];
+    let mut known: Vec<Vec<Link>> =
+        vec![Vec::new(); if comm.rank() == 0 { pairs.len() } else { 0 }];
     let mut rec = SolveRecord {
         residual: f64::INFINITY,
         ..Default::default()
     };
-    for _round in 0..opts.rounds.max(1) {
+    for round in 0..opts.rounds.max(1) {
         let t_link = Instant::now();
         let share = if comm.rank() == 0 {
-            let per_pair = deal_pairs(comm, &h, &pairs, &cost, &b).map_err(failure)?;
+            let per_pair = deal_pairs(comm, &h, &pairs, &cost, &known, &b).map_err(failure)?;
             for (c, l) in cost.iter_mut().zip(&per_pair) {
                 *c = (l.len() as u32).saturating_add(1);
+            }
+            if round + 1 < opts.rounds {
+                known.clone_from(&per_pair);
+                known
+                    .par_iter_mut()
+                    .for_each(|k| k.sort_unstable_by_key(|l| (l.recv, l.src)));
             }
             let np = h.patches();
             let mut it = per_pair.into_iter();
@@ -267,9 +276,10 @@ fn deal_pairs<C: Comm>(
     h: &Hierarchy<'_>,
     pairs: &[(u32, u32)],
     cost: &[u32],
+    known: &[Vec<Link>],
     b: &[[f64; 3]],
 ) -> Result<Vec<Vec<Link>>, CommError> {
-    let link = |k: usize| h.link_pair(pairs[k].0, pairs[k].1, b);
+    let link = |k: usize| h.link_pair_reusing(pairs[k].0, pairs[k].1, b, &known[k]);
     if c.size() == 1 {
         return Ok((0..pairs.len()).into_par_iter().map(link).collect());
     }
@@ -296,11 +306,13 @@ fn deal_pairs<C: Comm>(
     let workers: Vec<usize> = (1..c.size()).collect();
     let mut queue: Vec<VecDeque<Vec<usize>>> = vec![VecDeque::new(); c.size()];
     let post = |w: usize, chunk: Vec<usize>, queue: &mut [VecDeque<Vec<usize>>]| {
-        // Wire: u8 1 | u32 pairs | u32 pair index each.  Stop: u8 0.
+        // Wire: u8 1 | u32 pairs | per pair: u32 index, its last round's links
+        // (`put_links`).  Stop: u8 0.
         let mut m = vec![1u8];
         put_u32(&mut m, chunk.len() as u32);
         for &k in &chunk {
             put_u32(&mut m, k as u32);
+            put_links(&mut m, &known[k]);
         }
         queue[w].push_back(chunk);
         c.post(w, TAG_WORK, m)
@@ -314,7 +326,7 @@ fn deal_pairs<C: Comm>(
     }
     // This thread talks and stores; rank 0's own chunks compute on its pool meanwhile.
     type Done = Vec<(usize, Vec<Link>)>;
-    let here: Mutex<Option<Done>> = Mutex::new(None);
+    let here: Slot<Done> = Slot::new();
     let mut quiet_since = Instant::now();
     let outcome = rayon::in_place_scope(|scope| -> Result<(), CommError> {
         let mut working_here = false;
@@ -341,7 +353,7 @@ fn deal_pairs<C: Comm>(
                 idle = false;
             }
             if working_here {
-                if let Some(done) = here.lock().unwrap_or_else(|e| e.into_inner()).take() {
+                if let Some(done) = here.take() {
                     for (k, l) in done {
                         results[k] = l;
                     }
@@ -354,7 +366,7 @@ fn deal_pairs<C: Comm>(
                     let here = &here;
                     scope.spawn(move |_| {
                         let done: Done = chunk.into_par_iter().map(|k| (k, link(k))).collect();
-                        *here.lock().unwrap_or_else(|e| e.into_inner()) = Some(done);
+                        here.put(done);
                     });
                     working_here = true;
                     idle = false;
@@ -382,9 +394,13 @@ fn deal_pairs<C: Comm>(
             }
             c.progress();
             // On a pool's own thread (ranks as threads) compute here; otherwise (the
-            // main thread under MPI) wait a little.
+            // main thread under MPI) wait for this rank's chunk, or a little.
             if rayon::yield_now() != Some(rayon::Yield::Executed) {
-                std::thread::sleep(POLL);
+                if working_here {
+                    here.wait(POLL);
+                } else {
+                    std::thread::sleep(POLL);
+                }
             }
         }
     });
@@ -404,27 +420,32 @@ fn serve_pairs<C: Comm>(
 ) -> Result<(), CommError> {
     loop {
         let msg = c.recv(0, TAG_WORK)?;
-        let chunk = decode_work(&msg, pairs.len())
+        let chunk = decode_work(&msg, h, pairs)
             .map_err(|message| CommError::Malformed { rank: 0, message })?;
         let Some(chunk) = chunk else {
             return Ok(());
         };
         // The pairs compute on the pool while this thread keeps the last chunk's
         // links moving to rank 0 (MPI calls stay on this thread).
-        let finished = AtomicBool::new(false);
-        let mut done: Vec<(usize, Vec<Link>)> = Vec::new();
-        rayon::in_place_scope(|s| {
+        let finished: Slot<Vec<(usize, Vec<Link>)>> = Slot::new();
+        let done = rayon::in_place_scope(|s| {
             s.spawn(|_| {
-                done = chunk
-                    .par_iter()
-                    .map(|&k| (k, h.link_pair(pairs[k].0, pairs[k].1, b)))
-                    .collect();
-                finished.store(true, Ordering::Release);
+                finished.put(
+                    chunk
+                        .par_iter()
+                        .map(|(k, known)| {
+                            (*k, h.link_pair_reusing(pairs[*k].0, pairs[*k].1, b, known))
+                        })
+                        .collect(),
+                );
             });
-            while !finished.load(Ordering::Acquire) {
+            loop {
+                if let Some(done) = finished.take() {
+                    break done;
+                }
                 c.progress();
                 if rayon::yield_now() != Some(rayon::Yield::Executed) {
-                    std::thread::sleep(POLL);
+                    finished.wait(POLL);
                 }
             }
         });
@@ -451,12 +472,18 @@ fn put_links(b: &mut Vec<u8>, links: &[Link]) {
     }
 }
 
-/// A work message: `None` for stop.
-fn decode_work(msg: &[u8], npairs: usize) -> Result<Option<Vec<usize>>, String> {
+/// A work message, the pairs with their last round's links: `None` for stop.
+type Work = Vec<(usize, Vec<Link>)>;
+fn decode_work(
+    msg: &[u8],
+    h: &Hierarchy<'_>,
+    pairs: &[(u32, u32)],
+) -> Result<Option<Work>, String> {
     let mut r = Reader(msg);
     if r.u8()? == 0 {
         return Ok(None);
     }
+    let npairs = pairs.len();
     let n = r.u32()? as usize;
     let mut chunk = Vec::with_capacity(n.min(npairs));
     for _ in 0..n {
@@ -464,7 +491,12 @@ fn decode_work(msg: &[u8], npairs: usize) -> Result<Option<Vec<usize>>, String> 
         if k >= npairs {
             return Err(format!("pair {k} of {npairs}"));
         }
-        chunk.push(k);
+        let (p, q) = pairs[k];
+        let known = decode_links(&mut r, h, p as usize, Some(q as usize))?;
+        if !known.is_sorted_by_key(|l| (l.recv, l.src)) {
+            return Err(format!("the known links of pair {k} are not sorted"));
+        }
+        chunk.push((k, known));
     }
     Ok(Some(chunk))
 }
