@@ -73,10 +73,8 @@ pub struct TriangleMesh {
     /// Leaves index `packets`: a leaf of n triangles owns ceil(n / 4) consecutive
     /// packets.
     bvh: Bvh,
-    /// Triangle corners in leaf order, four to a packet.
+    /// Triangle corners in leaf order, four to a packet, with each lane's triangle index.
     packets: Vec<Triangle4>,
-    /// The triangle index of each packet lane.
-    packet_triangles: Vec<[u32; 4]>,
     bounds: Aabb,
 }
 
@@ -177,7 +175,6 @@ impl TriangleMesh {
         // At most one packet per leaf beyond a full packet per 4 triangles.
         let mut packets = Vec::with_capacity(slot_triangles.len() / 2 + 1);
         crate::bvh::advise_huge_pages(&mut packets);
-        let mut packet_triangles = Vec::with_capacity(slot_triangles.len() / 3 + 1);
         bvh.map_leaves(|start, count| {
             let first = packets.len() as u32;
             let tris = &slot_triangles[start as usize..(start + count) as usize];
@@ -186,10 +183,7 @@ impl TriangleMesh {
                     .iter()
                     .map(|&t| corners(&indices[t as usize]))
                     .collect();
-                packets.push(Triangle4::new(&corners));
-                let mut ids = [u32::MAX; 4];
-                ids[..chunk.len()].copy_from_slice(chunk);
-                packet_triangles.push(ids);
+                packets.push(Triangle4::new(&corners).with_ids(chunk));
             }
             first
         });
@@ -205,7 +199,6 @@ impl TriangleMesh {
             attributes: MeshAttributes::default(),
             bvh,
             packets,
-            packet_triangles,
             bounds,
         })
     }
@@ -292,7 +285,8 @@ impl TriangleMesh {
                 use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
                 let p = p as *const Triangle4 as *const i8;
                 // SAFETY: a prefetch is only a hint (never faults); the lines hold the
-                // leaf's one or two 144-byte packets.
+                // leaf's one or two 160-byte packets (16-byte aligned, so one packet
+                // spans up to 4 lines, two up to 6: the last byte's line is fetched too).
                 unsafe {
                     _mm_prefetch(p, _MM_HINT_T0);
                     _mm_prefetch(p.add(64), _MM_HINT_T0);
@@ -300,6 +294,9 @@ impl TriangleMesh {
                     if leaf.count > 4 {
                         _mm_prefetch(p.add(192), _MM_HINT_T0);
                         _mm_prefetch(p.add(256), _MM_HINT_T0);
+                        _mm_prefetch(p.add(319), _MM_HINT_T0);
+                    } else {
+                        _mm_prefetch(p.add(159), _MM_HINT_T0);
                     }
                 }
             }
@@ -311,7 +308,7 @@ impl TriangleMesh {
                 let packets = self.leaf_packets(leaf);
                 let (i, h) =
                     watertight4::intersect_leaf(packets, leaf.count as usize, &tray, t_max)?;
-                best = Some((self.packet_triangles[leaf.index as usize + i / 4][i % 4], h));
+                best = Some((packets[i / 4].ids[i % 4], h));
                 Some(h.t)
             })?;
         best

@@ -76,7 +76,7 @@ impl TriangleMesh {
                         mask &= mask - 1;
                         let [a, b, c] = packet.corners(lane);
                         if let Some(h) = tray.intersect(a, b, c, f32::INFINITY) {
-                            let tri = self.packet_triangles[leaf.index as usize + k][lane];
+                            let tri = packet.ids[lane];
                             let n = (b - a).cross(c - a).normalize() * orientation as f32;
                             let uv = match &self.uvs {
                                 Some(_) => self.hit_record(tri, &h).uv,

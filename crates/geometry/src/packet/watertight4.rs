@@ -17,16 +17,21 @@ use crate::packet::has_avx2;
 use crate::triangle::{TriangleHit, TriangleRay};
 use glam::Vec3;
 
-/// Corners of up to four triangles, structure of arrays: `p[corner][axis][lane]`.
+/// Corners of up to four triangles, structure of arrays: `p[corner][axis][lane]`, and
+/// the caller's id of each lane's triangle (160 bytes). The ids ride in the packet, as
+/// Embree's Triangle4 leaves carry their primitive ids, so reporting a hit reads the
+/// cache lines the test has just loaded instead of missing in a separate array (on
+/// incoherent rays that miss was about 15% of the traversal's samples).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(16))]
 pub struct Triangle4 {
     pub p: [[[f32; 4]; 3]; 3],
+    pub ids: [u32; 4],
 }
 
 impl Triangle4 {
     /// Packs up to four triangles; missing lanes repeat the last triangle (the caller
-    /// masks them out by count).
+    /// masks them out by count). Every id is `u32::MAX` (see [`Triangle4::with_ids`]).
     pub fn new(tris: &[[Vec3; 3]]) -> Self {
         assert!(!tris.is_empty() && tris.len() <= 4);
         let mut p = [[[0f32; 4]; 3]; 3];
@@ -38,7 +43,16 @@ impl Triangle4 {
                 }
             }
         }
-        Self { p }
+        Self {
+            p,
+            ids: [u32::MAX; 4],
+        }
+    }
+
+    /// The packet with lane `i`'s id set to `ids[i]` (missing lanes keep `u32::MAX`).
+    pub fn with_ids(mut self, ids: &[u32]) -> Self {
+        self.ids[..ids.len()].copy_from_slice(ids);
+        self
     }
 
     #[inline]
