@@ -76,7 +76,7 @@ impl Budget {
         options.target_error = self.target_error;
         options.checkpoint = self.checkpoint.clone();
         options.resume = self.resume.clone();
-        options.seed = self.seed.unwrap_or(0);
+        options.seed = self.seed;
         options.checkpoint_interval = Duration::from_secs(30);
     }
 }

@@ -118,8 +118,9 @@ pub struct RenderOptions {
     /// Continue the render saved in this checkpoint (and keep writing it there unless
     /// `checkpoint` names another file).
     pub resume: Option<PathBuf>,
-    /// Selects an independent family of random streams (path tracer).
-    pub seed: u32,
+    /// Selects an independent family of random streams (path tracer) instead of the
+    /// scene's `seed`.
+    pub seed: Option<u32>,
     /// Set it (from any thread) to stop the render: tiles not yet started are
     /// skipped and [`render`] returns [`RenderError::Cancelled`] ([`cancel`]).
     pub cancel: Option<Arc<AtomicBool>>,
@@ -138,7 +139,7 @@ impl Default for RenderOptions {
             checkpoint: None,
             checkpoint_interval: Duration::from_secs(30),
             resume: None,
-            seed: 0,
+            seed: None,
             cancel: None,
         }
     }
@@ -280,7 +281,7 @@ pub fn progressive_options(scene: &Scene, options: &RenderOptions) -> Progressiv
             .clone()
             .or_else(|| options.resume.clone()),
         checkpoint_interval: options.checkpoint_interval,
-        seed: options.seed,
+        seed: options.seed.unwrap_or(scene.settings.seed),
     }
 }
 

@@ -61,6 +61,10 @@ pub struct RenderSettings {
     pub crop: Option<CropWindow>,
     /// How next-event estimation chooses the emitter it samples.
     pub light_selection: LightSelection,
+    /// The family of random streams the path tracer draws from (Mitsuba's sampler
+    /// `seed`): renders with different seeds are independent estimates of the same
+    /// image. The command line's `--seed` overrides it.
+    pub seed: u32,
 }
 
 /// How the Monte Carlo integrators choose one emitter per light sample. Both are
@@ -147,6 +151,7 @@ impl Default for RenderSettings {
             filter: PixelFilter::default(),
             crop: None,
             light_selection: LightSelection::Power,
+            seed: 0,
         }
     }
 }

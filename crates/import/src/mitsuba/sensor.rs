@@ -331,7 +331,14 @@ fn sampler<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<(), SceneError> {
             .err("sample_count must be at least 1"));
     }
     b.render.put("spp", spp, e.main_pos);
-    o.accept(&["seed", "jitter", "strength"]);
+    if let Some(seed) = o.get("seed") {
+        let v = seed.int()?;
+        if !(0..=u32::MAX as i64).contains(&v) {
+            return Err(seed.err("seed must be between 0 and 4294967295"));
+        }
+        b.render.put("seed", v, e.main_pos);
+    }
+    o.accept(&["jitter", "strength"]);
     o.finish(&["sample_count", "seed", "jitter", "strength"])?;
     Ok(())
 }

@@ -147,6 +147,7 @@ pub fn read_settings(image: Option<Val>, render: Option<Val>) -> Result<RenderSe
         s.max_depth = t.u32_or("max_depth", s.max_depth)?;
         s.min_weight = t.non_negative_or("min_weight", s.min_weight)?;
         s.spp = t.count_or("spp", s.spp)?;
+        s.seed = t.u32_or("seed", s.seed)?;
         if let Some(a) = t.get("adaptive_threshold") {
             s.adaptive_threshold = Some(a.positive()?);
         }
