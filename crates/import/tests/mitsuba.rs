@@ -116,6 +116,24 @@ fn every_scene_of_mitsubas_test_suite_imports_and_round_trips() {
 }
 
 #[test]
+fn the_samplers_seed_reaches_the_scene() {
+    let with = |sampler: &str| {
+        let xml = format!(
+            r#"<scene version="3.0.0"><sensor type="perspective">{sampler}</sensor></scene>"#
+        );
+        parse(&xml)
+    };
+    let seeded = with(r#"<sampler type="independent"><integer name="seed" value="7"/></sampler>"#);
+    assert_eq!(seeded.unwrap().scene().unwrap().settings.seed, 7);
+    let unseeded = with(r#"<sampler type="independent"/>"#);
+    assert_eq!(unseeded.unwrap().scene().unwrap().settings.seed, 0);
+    let err = with(r#"<sampler type="independent"><integer name="seed" value="-3"/></sampler>"#)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("seed must be between 0"), "{err}");
+}
+
+#[test]
 fn lookat_and_focal_length_give_mitsubas_camera() {
     let xml = r#"<scene version="3.0.0"><sensor type="perspective">
         <transform name="to_world"><lookat origin="1,2,3" target="1,2,0" up="0,1,0"/></transform>
