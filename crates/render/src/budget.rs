@@ -19,7 +19,7 @@ pub struct Budget {
     pub checkpoint: Option<PathBuf>,
     /// Continue the render saved in this checkpoint.
     pub resume: Option<PathBuf>,
-    /// Random stream family (0, the default, is the usual image).
+    /// Random stream family instead of the scene's `seed` (0 unless the scene sets one).
     pub seed: Option<u32>,
 }
 

@@ -23,7 +23,7 @@ pub struct PathArgs {
     #[arg(long, value_name = "FILE")]
     pub resume: Option<PathBuf>,
     /// Random stream family (Mitsuba's sampler `seed`): renders with different seeds
-    /// are independent estimates of the same image; 0 (the default) is the usual image.
+    /// are independent estimates of the same image; overrides the scene's `seed` (0 unless set).
     #[arg(long, value_name = "N")]
     pub seed: Option<u32>,
 }
