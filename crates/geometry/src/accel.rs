@@ -5,7 +5,7 @@
 
 use crate::bvh::Bvh;
 use crate::instance::Instance;
-use crate::shape::Hit;
+use crate::shape::{CastHit, Hit};
 use irradia_core::Ray;
 
 /// A hit in the scene: which instance, and the hit in world space.
@@ -71,6 +71,26 @@ impl Accel {
             let i = self.bvh.order()[slot as usize];
             let hit = self.instances[i as usize].intersect(ray, t_max)?;
             best = Some(SceneHit { instance: i, hit });
+            Some(hit.t)
+        });
+        best
+    }
+
+    /// [`Self::intersect`] as ray casting reports it: the instance and
+    /// [`Instance::intersect_cast`]'s hit (the same `t`, primitive, uv and normal).
+    pub fn intersect_cast(&self, ray: &Ray, t_max: f32) -> Option<(u32, CastHit)> {
+        let mut best: Option<(u32, CastHit)> = None;
+        let mut t_max = t_max;
+        for &i in &self.unbounded {
+            if let Some(hit) = self.instances[i as usize].intersect_cast(ray, t_max) {
+                t_max = hit.t;
+                best = Some((i, hit));
+            }
+        }
+        self.bvh.closest_hit(ray, t_max, |slot, t_max| {
+            let i = self.bvh.order()[slot as usize];
+            let hit = self.instances[i as usize].intersect_cast(ray, t_max)?;
+            best = Some((i, hit));
             Some(hit.t)
         });
         best

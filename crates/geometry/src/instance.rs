@@ -2,7 +2,7 @@
 //! into object space (the direction is not renormalised, so `t` is shared).
 
 use crate::mesh::AttributePoint;
-use crate::shape::{Hit, Shape, Span};
+use crate::shape::{CastHit, Hit, Shape, Span};
 use glam::{Affine3A, Mat3A, Vec3};
 use irradia_core::{Aabb, Ray};
 use std::sync::Arc;
@@ -120,6 +120,21 @@ impl Instance {
             + (ray.origin.abs().max_element() + (ray.dir * h.t).abs().max_element())
                 * 4.0
                 * f32::EPSILON;
+        Some(h)
+    }
+
+    /// [`Self::intersect`] as ray casting reports it ([`Shape::intersect_cast`]): the
+    /// normal carried to world space as there, `t`, primitive and uv as they are.
+    pub fn intersect_cast(&self, ray: &Ray, t_max: f32) -> Option<CastHit> {
+        if self.identity {
+            return self.shape.intersect_cast(ray, t_max);
+        }
+        let mut h = self.shape.intersect_cast(&self.object_ray(ray), t_max)?;
+        h.normal = self
+            .normal_to_world
+            .mul_vec3a(h.normal.into())
+            .normalize()
+            .into();
         Some(h)
     }
 

@@ -27,4 +27,4 @@ pub use group::ShapeGroup;
 pub use instance::Instance;
 pub use mesh::{MeshError, TriangleMesh};
 pub use query::{ObjectSet, RayQuery, RaySegment};
-pub use shape::{Boundary, Facets, Hit, Shape, Span};
+pub use shape::{Boundary, CastHit, Facets, Hit, Shape, Span};

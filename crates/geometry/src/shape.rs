@@ -30,6 +30,28 @@ pub struct Hit {
     pub error: f32,
 }
 
+/// What ray casting reports of a hit (Open3D's `RaycastingScene.cast_rays`): the
+/// fields of [`Hit`] of the same names.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CastHit {
+    pub t: f32,
+    pub prim: u32,
+    pub uv: Vec2,
+    pub normal: Vec3,
+}
+
+impl From<&Hit> for CastHit {
+    #[inline]
+    fn from(h: &Hit) -> Self {
+        Self {
+            t: h.t,
+            prim: h.prim,
+            uv: h.uv,
+            normal: h.normal,
+        }
+    }
+}
+
 impl Hit {
     /// A hit with the shading normal equal to the geometric one and no error.
     pub fn new(t: f32, point: Vec3, normal: Vec3, uv: Vec2) -> Self {
@@ -117,6 +139,14 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
 
     /// The nearest hit with `0 < t < t_max`.
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit>;
+
+    /// The nearest hit as ray casting reports it (`t`, primitive, uv, geometric
+    /// normal): the same values as [`Self::intersect`]'s, which this default takes
+    /// them from. A shape overrides it where those four come cheaper than a whole
+    /// [`Hit`] (a triangle mesh: straight from the leaf that was hit).
+    fn intersect_cast(&self, ray: &Ray, t_max: f32) -> Option<CastHit> {
+        self.intersect(ray, t_max).map(|h| CastHit::from(&h))
+    }
 
     /// The partial derivatives `(dp/du, dp/dv)` of the surface point with respect to its
     /// texture coordinates at the hit with object-space point `p`, `uv` and primitive

@@ -260,3 +260,28 @@ fn closed_meshes_are_solids_with_spans() {
     open.spans(&Ray::new(Vec3::ZERO, Vec3::X), &mut spans);
     assert!(spans.is_empty());
 }
+
+/// `Shape::intersect_cast` (the mesh answering from the leaf it hit) reports exactly
+/// what `intersect`'s whole hit says: without normals (the leaf path) and with given
+/// normals that turn the geometric ones (the whole-hit path).
+#[test]
+fn cast_hits_equal_whole_hits() {
+    use irradia_geometry::CastHit;
+    let (v, f) = icosphere(3);
+    let inward: Vec<Vec3> = v.iter().map(|p| -*p).collect();
+    let plain = TriangleMesh::new(v.clone(), f.clone(), None, None).unwrap();
+    let turned = TriangleMesh::new(v, f, Some(inward), None).unwrap();
+    let mut rng = Rng::new(3, 4);
+    let mut hits = 0;
+    for _ in 0..20_000 {
+        let o = (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5) * 6.0;
+        let d = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5;
+        let ray = Ray::new(o, d);
+        for m in [&plain, &turned] {
+            let whole = m.intersect(&ray, f32::INFINITY).map(|h| CastHit::from(&h));
+            assert_eq!(m.intersect_cast(&ray, f32::INFINITY), whole, "ray {o} {d}");
+            hits += usize::from(whole.is_some());
+        }
+    }
+    assert!(hits > 2_000, "{hits}");
+}

@@ -5,86 +5,79 @@
 //! of shape (..., 6), results named t_hit, geometry_ids, primitive_ids, primitive_uvs
 //! and primitive_normals, misses at t_hit = inf with ids 4294967295
 //! (`RaycastingScene.INVALID_ID`).
+//!
+//! Nothing is staged between numpy and the kernel: C-contiguous float32 rays are read
+//! in place (any other layout is copied once), the five result arrays are allocated
+//! once with their final shapes, and every chunk of rays, with the GIL released, asks
+//! the scene's hierarchy ray by ray for only the four values returned
+//! (`Accel::intersect_cast`) and writes them straight into its slices of those arrays.
 
 use crate::convert::values;
 use crate::errors;
 use irradia_core::{Ray, Vec3};
-use irradia_geometry::{ObjectSet, RayQuery, RaySegment};
-use irradia_render::PreparedScene;
+use irradia_geometry::CastHit;
 use irradia_scene::Scene;
-use numpy::{PyArray1, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Id of a ray that hit nothing (Open3D's `RaycastingScene.INVALID_ID`).
 pub const INVALID_ID: u32 = u32::MAX;
 
-/// Rays handed to one batched query.
+/// Rays per parallel task.
 const CHUNK: usize = 256;
 
-/// One ray's answer.
+/// Where the rays are: one (..., 6) array, or origins and directions (..., 3).
 #[derive(Clone, Copy)]
-struct Answer {
-    t: f32,
-    object: u32,
-    prim: u32,
-    uv: [f32; 2],
-    normal: [f32; 3],
+enum Rays<'a> {
+    Packed(&'a [f32]),
+    Split(&'a [f32], &'a [f32]),
 }
 
-const MISS: Answer = Answer {
-    t: f32::INFINITY,
-    object: INVALID_ID,
-    prim: INVALID_ID,
-    uv: [0.0; 2],
-    normal: [0.0; 3],
-};
-
-/// The rays and the leading shape of the input.
-fn read_rays(
-    rays: &PyReadonlyArrayDyn<'_, f32>,
-    directions: Option<&PyReadonlyArrayDyn<'_, f32>>,
-) -> PyResult<(Vec<Ray>, Vec<usize>)> {
-    let shape = rays.shape().to_vec();
-    let last = shape.last().copied().unwrap_or(0);
-    let lead = shape[..shape.len().saturating_sub(1)].to_vec();
-    let pairs: Vec<Ray> = match directions {
-        None => {
-            if shape.is_empty() || last != 6 {
-                return Err(errors::input(format!(
-                    "rays: expected an array of shape (..., 6) (origin, direction), got {shape:?}; \
-                     or pass origins and directions of shape (..., 3)"
-                )));
+impl Rays<'_> {
+    #[inline]
+    fn ray(&self, i: usize) -> Ray {
+        match self {
+            Rays::Packed(r) => {
+                let r = &r[6 * i..6 * i + 6];
+                Ray::new(Vec3::new(r[0], r[1], r[2]), Vec3::new(r[3], r[4], r[5]))
             }
-            values(rays)
-                .chunks_exact(6)
-                .map(|r| Ray::new(Vec3::new(r[0], r[1], r[2]), Vec3::new(r[3], r[4], r[5])))
-                .collect()
+            Rays::Split(o, d) => Ray::new(
+                Vec3::from_slice(&o[3 * i..3 * i + 3]),
+                Vec3::from_slice(&d[3 * i..3 * i + 3]),
+            ),
         }
-        Some(d) => {
-            if shape.is_empty() || last != 3 || d.shape() != shape.as_slice() {
-                return Err(errors::input(format!(
-                    "origins and directions: expected two arrays of the same shape (..., 3), got {shape:?} and {:?}",
-                    d.shape()
-                )));
-            }
-            let (o, d) = (values(rays), values(d));
-            o.chunks_exact(3)
-                .zip(d.chunks_exact(3))
-                .map(|(o, d)| Ray::new(Vec3::from_slice(o), Vec3::from_slice(d)))
-                .collect()
-        }
-    };
-    if let Some(i) = pairs
-        .iter()
-        .position(|r| !(r.origin.is_finite() && r.dir.is_finite()))
-    {
-        return Err(errors::input(format!(
-            "rays[{i}]: origin and direction must be finite numbers"
-        )));
     }
-    Ok((pairs, lead))
+
+    /// The first ray whose origin or direction is not finite.
+    fn first_bad(&self, n: usize) -> Option<usize> {
+        (0..n).find(|&i| !finite(&self.ray(i)))
+    }
+}
+
+#[inline]
+fn finite(r: &Ray) -> bool {
+    r.origin.is_finite() && r.dir.is_finite()
+}
+
+/// The result arrays, in the order of `NAMES`.
+const NAMES: [&str; 5] = [
+    "t_hit",
+    "geometry_ids",
+    "primitive_ids",
+    "primitive_uvs",
+    "primitive_normals",
+];
+
+/// One chunk's slices of the five result arrays.
+struct Out<'a> {
+    t: &'a mut [f32],
+    object: &'a mut [u32],
+    prim: &'a mut [u32],
+    uv: &'a mut [f32],
+    normal: &'a mut [f32],
 }
 
 /// Casts `rays` (see the module); `t_max` ends every ray (default: unbounded).
@@ -96,83 +89,176 @@ pub fn cast_rays(
     t_max: Option<f32>,
     threads: Option<u32>,
 ) -> PyResult<PyObject> {
-    let (rays, lead) = read_rays(&rays, directions.as_ref())?;
+    let shape = rays.shape().to_vec();
+    let last = shape.last().copied().unwrap_or(0);
+    let lead = shape[..shape.len().saturating_sub(1)].to_vec();
+    let n: usize = lead.iter().product();
+    let (packed, split);
+    let input = match directions.as_ref() {
+        None => {
+            if shape.is_empty() || last != 6 {
+                return Err(errors::input(format!(
+                    "rays: expected an array of shape (..., 6) (origin, direction), got {shape:?}; \
+                     or pass origins and directions of shape (..., 3)"
+                )));
+            }
+            packed = values(&rays);
+            Rays::Packed(&packed)
+        }
+        Some(d) => {
+            if shape.is_empty() || last != 3 || d.shape() != shape.as_slice() {
+                return Err(errors::input(format!(
+                    "origins and directions: expected two arrays of the same shape (..., 3), got {shape:?} and {:?}",
+                    d.shape()
+                )));
+            }
+            split = (values(&rays), values(d));
+            Rays::Split(&split.0, &split.1)
+        }
+    };
     let t_max = t_max.unwrap_or(f32::INFINITY);
+    let bad_rays = |i: usize| {
+        errors::input(format!(
+            "rays[{i}]: origin and direction must be finite numbers"
+        ))
+    };
     if t_max.is_nan() || t_max <= 0.0 {
+        // A bad ray is reported first, as the rays are read before the options.
+        if let Some(i) = input.first_bad(n) {
+            return Err(bad_rays(i));
+        }
         return Err(errors::input(format!(
             "t_max: must be positive (got {t_max})"
         )));
     }
-    let answers = py
-        .allow_threads(|| {
-            irradia_render::pool::with_threads(threads.map(|t| t.max(1) as usize), || {
-                cast(scene, &rays, t_max)
-            })
-        })
-        .map_err(errors::render)?;
-    let n = answers.len();
-    let shaped = |v: PyObject, extra: Option<usize>| -> PyResult<PyObject> {
+    let with = |extra: Option<usize>| {
         let mut s = lead.clone();
         s.extend(extra);
-        Ok(v.bind(py).call_method1("reshape", (s,))?.unbind())
+        s
     };
-    let d = PyDict::new(py);
-    let t: Vec<f32> = answers.iter().map(|a| a.t).collect();
-    d.set_item(
-        "t_hit",
-        shaped(PyArray1::from_vec(py, t).into_any().unbind(), None)?,
-    )?;
-    let g: Vec<u32> = answers.iter().map(|a| a.object).collect();
-    d.set_item(
-        "geometry_ids",
-        shaped(PyArray1::from_vec(py, g).into_any().unbind(), None)?,
-    )?;
-    let p: Vec<u32> = answers.iter().map(|a| a.prim).collect();
-    d.set_item(
-        "primitive_ids",
-        shaped(PyArray1::from_vec(py, p).into_any().unbind(), None)?,
-    )?;
-    let mut uv = Vec::with_capacity(2 * n);
-    let mut nrm = Vec::with_capacity(3 * n);
-    for a in &answers {
-        uv.extend_from_slice(&a.uv);
-        nrm.extend_from_slice(&a.normal);
+    // SAFETY (the five `new`): every element is written below before Python sees the
+    // arrays; on an error they are dropped unread.
+    let t = unsafe { PyArrayDyn::<f32>::new(py, with(None), false) };
+    let g = unsafe { PyArrayDyn::<u32>::new(py, with(None), false) };
+    let p = unsafe { PyArrayDyn::<u32>::new(py, with(None), false) };
+    let uv = unsafe { PyArrayDyn::<f32>::new(py, with(Some(2)), false) };
+    let nrm = unsafe { PyArrayDyn::<f32>::new(py, with(Some(3)), false) };
+    {
+        let (mut tw, mut gw, mut pw, mut uvw, mut nw) = (
+            t.readwrite(),
+            g.readwrite(),
+            p.readwrite(),
+            uv.readwrite(),
+            nrm.readwrite(),
+        );
+        let slice = |e| errors::input(format!("cast_rays: result array not contiguous ({e})"));
+        let out = Out {
+            t: tw.as_slice_mut().map_err(slice)?,
+            object: gw.as_slice_mut().map_err(slice)?,
+            prim: pw.as_slice_mut().map_err(slice)?,
+            uv: uvw.as_slice_mut().map_err(slice)?,
+            normal: nw.as_slice_mut().map_err(slice)?,
+        };
+        let bad = py
+            .allow_threads(|| {
+                irradia_render::pool::with_threads(threads.map(|t| t.max(1) as usize), || {
+                    cast(scene, input, t_max, out)
+                })
+            })
+            .map_err(errors::render)?;
+        if let Some(i) = bad {
+            return Err(bad_rays(i));
+        }
     }
-    d.set_item(
-        "primitive_uvs",
-        shaped(PyArray1::from_vec(py, uv).into_any().unbind(), Some(2))?,
-    )?;
-    d.set_item(
-        "primitive_normals",
-        shaped(PyArray1::from_vec(py, nrm).into_any().unbind(), Some(3))?,
-    )?;
+    let d = PyDict::new(py);
+    d.set_item(NAMES[0], t)?;
+    d.set_item(NAMES[1], g)?;
+    d.set_item(NAMES[2], p)?;
+    d.set_item(NAMES[3], uv)?;
+    d.set_item(NAMES[4], nrm)?;
     Ok(d.into_any().unbind())
 }
 
-/// The closest hit of every ray, in parallel chunks of batched queries.
-fn cast(scene: &Scene, rays: &[Ray], t_max: f32) -> Vec<Answer> {
-    let prepared = PreparedScene::new(scene);
-    // Build the query structure once, before the threads ask for it.
-    let _ = prepared.objects();
-    let mut out = vec![MISS; rays.len()];
-    out.par_chunks_mut(CHUNK)
-        .zip(rays.par_chunks(CHUNK))
-        .for_each(|(out, rays)| {
-            let segments: Vec<RaySegment> =
-                rays.iter().map(|r| RaySegment::new(*r, t_max)).collect();
-            let mut hits = vec![None; rays.len()];
-            prepared.closest_hits(ObjectSet::All, &segments, &mut hits);
-            for (o, h) in out.iter_mut().zip(hits) {
-                if let Some(h) = h {
-                    *o = Answer {
-                        t: h.hit.t,
-                        object: h.instance,
-                        prim: h.hit.prim,
-                        uv: h.hit.uv.to_array(),
-                        normal: h.hit.normal.to_array(),
-                    };
+/// The closest hit of every ray into `out`, in parallel chunks of rays; the first ray
+/// that is not finite, if any (then `out` is partly written).
+///
+/// Each ray goes through the scene's two-level hierarchy (`Accel::intersect_cast`:
+/// the same hits as the renderer's `RayQuery::closest_hit` over all objects), asking
+/// only for what is returned: a triangle mesh answers from the leaf it hit (its
+/// packet holds the triangle id and corners), so no mesh index, vertex or vertex
+/// normal is looked up, as in the kernel of bench/triangles.
+fn cast(scene: &Scene, rays: Rays<'_>, t_max: f32, out: Out<'_>) -> Option<usize> {
+    let accel = &scene.accel;
+    let bad = AtomicUsize::new(usize::MAX);
+    out.t
+        .par_chunks_mut(CHUNK)
+        .zip(out.object.par_chunks_mut(CHUNK))
+        .zip(out.prim.par_chunks_mut(CHUNK))
+        .zip(out.uv.par_chunks_mut(2 * CHUNK))
+        .zip(out.normal.par_chunks_mut(3 * CHUNK))
+        .enumerate()
+        .for_each(|(c, ((((t, object), prim), uv), normal))| {
+            let first = c * CHUNK;
+            for k in 0..t.len() {
+                let r = rays.ray(first + k);
+                if !finite(&r) {
+                    bad.fetch_min(first + k, Ordering::Relaxed);
+                    return;
                 }
+                let (tk, ok, pk, uvk, nk) = match accel.intersect_cast(&r, t_max) {
+                    Some((i, h)) => (h.t, i, h.prim, h.uv.to_array(), h.normal.to_array()),
+                    None => (f32::INFINITY, INVALID_ID, INVALID_ID, [0.0; 2], [0.0; 3]),
+                };
+                t[k] = tk;
+                object[k] = ok;
+                prim[k] = pk;
+                uv[2 * k..2 * k + 2].copy_from_slice(&uvk);
+                normal[3 * k..3 * k + 3].copy_from_slice(&nk);
             }
         });
-    out
+    match bad.into_inner() {
+        usize::MAX => None,
+        i => Some(i),
+    }
+}
+
+/// Seconds the kernel alone takes on `rays` (..., 6), for the benchmark's "binding
+/// overhead" (bench/python/cast_rays_gyroid.py: `cast_rays` time minus this): the
+/// rays are read and the answers' buffer allocated before the clock starts, then the
+/// same queries run in the same chunks on the same threads as `cast_rays`, the answers
+/// left as the kernel gives them.
+pub fn kernel_seconds(
+    py: Python<'_>,
+    scene: &Scene,
+    rays: PyReadonlyArrayDyn<'_, f32>,
+    threads: Option<u32>,
+) -> PyResult<f64> {
+    if rays.shape().last() != Some(&6) {
+        return Err(errors::input("rays: expected an array of shape (..., 6)"));
+    }
+    let v = values(&rays);
+    let input = Rays::Packed(&v);
+    let n = v.len() / 6;
+    if let Some(i) = input.first_bad(n) {
+        return Err(errors::input(format!(
+            "rays[{i}]: origin and direction must be finite numbers"
+        )));
+    }
+    let rays: Vec<Ray> = (0..n).map(|i| input.ray(i)).collect();
+    let mut hits: Vec<Option<(u32, CastHit)>> = vec![None; n];
+    py.allow_threads(|| {
+        irradia_render::pool::with_threads(threads.map(|t| t.max(1) as usize), || {
+            let accel = &scene.accel;
+            let start = std::time::Instant::now();
+            hits.par_chunks_mut(CHUNK)
+                .zip(rays.par_chunks(CHUNK))
+                .for_each(|(h, r)| {
+                    for (h, r) in h.iter_mut().zip(r) {
+                        *h = accel.intersect_cast(r, f32::INFINITY);
+                    }
+                });
+            start.elapsed().as_secs_f64()
+        })
+    })
+    .map_err(errors::render)
 }

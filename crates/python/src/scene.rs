@@ -587,6 +587,18 @@ impl PyScene {
         crate::raycast::cast_rays(py, &self.scene, rays, directions, t_max, threads)
     }
 
+    /// Seconds the ray kernel alone takes on `rays` (..., 6) (no numpy in or out):
+    /// the benchmark's reference for what `cast_rays` adds (bench/python).
+    #[pyo3(signature = (rays, *, threads=None))]
+    fn _cast_rays_kernel_seconds(
+        &self,
+        py: Python<'_>,
+        rays: PyReadonlyArrayDyn<'_, f32>,
+        threads: Option<u32>,
+    ) -> PyResult<f64> {
+        crate::raycast::kernel_seconds(py, &self.scene, rays, threads)
+    }
+
     fn __repr__(&self) -> String {
         let s = &self.scene.settings;
         format!(

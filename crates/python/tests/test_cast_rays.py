@@ -1,5 +1,7 @@
 """Scene.cast_rays against closed forms, in Open3D's RaycastingScene conventions."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -86,3 +88,138 @@ def test_bad_rays():
         s.cast_rays(np.zeros((2, 6), np.float64))
     with pytest.raises(irradia.IrradiaError, match="t_max"):
         s.cast_rays(np.zeros((2, 6), np.float32), t_max=-1.0)
+
+
+def _icosphere_triangles(subdiv=1):
+    """An icosphere's triangles as (n, 3, 3) corners, wound outwards."""
+    t = (1 + 5 ** 0.5) / 2
+    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+         (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
+         (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
+         (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    tris = np.array([[v[i] for i in tri] for tri in f], np.float64)
+    tris /= np.linalg.norm(tris, axis=-1, keepdims=True)
+    for _ in range(subdiv):
+        a, b, c = tris[:, 0], tris[:, 1], tris[:, 2]
+        ab, bc, ca = [m / np.linalg.norm(m, axis=-1, keepdims=True) for m in ((a + b) / 2, (b + c) / 2, (c + a) / 2)]
+        tris = np.concatenate([np.stack(x, 1) for x in ((a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca))])
+    return tris.astype(np.float32)
+
+
+def _mesh_scene():
+    """Two `triangles` objects with unshared corners (so that the renderer's shading
+    normal is the face's own): an icosphere and a quad behind it."""
+    sphere = _icosphere_triangles()
+    quad = np.array([[[-1.5, -1.5, -2], [1.5, -1.5, -2], [1.5, 1.5, -2]], [[-1.5, -1.5, -2], [1.5, 1.5, -2], [-1.5, 1.5, -2]]],
+                    np.float32)
+    objects = [
+        {"type": "triangles", "positions": tris.reshape(-1, 3).tolist(),
+         "indices": np.arange(3 * len(tris)).reshape(-1, 3).tolist(), "material": "m"}
+        for tris in (sphere, quad)
+    ]
+    doc = {
+        "image": {"width": 24, "height": 18},
+        "camera": {"eye": [0.3, 0.2, 4], "look_at": [0, 0, 0], "fov": 50},
+        "materials": {"m": {"color": [0.5, 0.5, 0.5]}},
+        "lights": [{"type": "point", "position": [2, 3, 5], "intensity": 20}],
+        "objects": objects,
+    }
+    return doc, [sphere, quad]
+
+
+def _reference(objects, o, d):
+    """Closest hits by brute force in float64 (Moeller-Trumbore over every triangle):
+    t, object, triangle, barycentric (b1, b2), unit geometric normal, and the smallest
+    barycentric (how far inside its triangle the hit is)."""
+    o, d = o.astype(np.float64), d.astype(np.float64)
+    n = len(o)
+    best = dict(t=np.full(n, np.inf), obj=np.full(n, -1), prim=np.full(n, -1), uv=np.zeros((n, 2)),
+                normal=np.zeros((n, 3)), margin=np.zeros(n))
+    for oi, tris in enumerate(objects):
+        tris = tris.astype(np.float64)
+        p0, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+        pv = np.cross(d[:, None], e2[None])
+        det = np.einsum("rtk,tk->rt", pv, e1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = 1 / det
+            s = o[:, None] - p0[None]
+            u = np.einsum("rtk,rtk->rt", s, pv) * inv
+            q = np.cross(s, e1[None])
+            v = np.einsum("rk,rtk->rt", d, q) * inv
+            t = np.einsum("tk,rtk->rt", e2, q) * inv
+        ok = (det != 0) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+        t = np.where(ok, t, np.inf)
+        k = np.argmin(t, 1)
+        tk = t[np.arange(n), k]
+        closer = tk < best["t"]
+        r = np.arange(n)[closer]
+        kk = k[closer]
+        uu, vv = u[r, kk], v[r, kk]
+        ng = np.cross(e1[kk], e2[kk])
+        best["t"][closer] = tk[closer]
+        best["obj"][closer] = oi
+        best["prim"][closer] = kk
+        best["uv"][closer] = np.stack([uu, vv], -1)
+        best["normal"][closer] = ng / np.linalg.norm(ng, axis=-1, keepdims=True)
+        best["margin"][closer] = np.minimum(np.minimum(uu, vv), 1 - uu - vv)
+    return best
+
+
+def test_mesh_against_reference_and_cli(cli, tmp_path):
+    """cast_rays on a small mesh scene against the renderer's own ray query (the camera
+    rays of `irradia trace-pixel --format json`: object, point, normal) and against a
+    float64 brute-force intersection (t, object and triangle ids, uv, normal)."""
+    doc, objects = _mesh_scene()
+    path = tmp_path / "mesh.json"
+    path.write_text(json.dumps(doc))
+    s = irradia.load(path)
+
+    # The CLI's camera rays: the renderer's closest hit of each.
+    pixels = [(x, y) for x in (1, 5, 9, 12, 15, 19, 23) for y in (2, 8, 13, 17)]
+    rays, want = [], []
+    for x, y in pixels:
+        node = json.loads(cli("trace-pixel", path, x, y, "--format", "json").stdout)["tree"]
+        assert node["kind"] == "camera"
+        rays.append(node["origin"] + node["direction"])
+        want.append(node)
+    r = s.cast_rays(np.array(rays, np.float32))
+    n_hit = 0
+    for k, node in enumerate(want):
+        hit = node.get("hit")
+        if not hit:
+            assert np.isinf(r["t_hit"][k]) and r["geometry_ids"][k] == irradia.INVALID_ID, (pixels[k], node)
+            continue
+        n_hit += 1
+        assert r["geometry_ids"][k] == hit["object"], (pixels[k], hit)
+        p = np.array(rays[k][:3]) + r["t_hit"][k] * np.array(rays[k][3:])
+        assert np.allclose(p, hit["point"], rtol=1e-5, atol=1e-5), (pixels[k], p, hit)
+        assert abs(np.dot(r["primitive_normals"][k], hit["normal"])) > 0.9999, (pixels[k], hit)
+    assert 0 < n_hit < len(want)
+
+    # Many rays, some past the sphere to the quad, some missing both.
+    rng = np.random.default_rng(7)
+    o = np.column_stack([rng.uniform(-0.5, 0.5, 3000), rng.uniform(-0.5, 0.5, 3000), np.full(3000, 4.0)])
+    aim = rng.uniform(-3.5, 3.5, (3000, 3)) * [1, 1, 0] + [0, 0, -2]
+    d = ((aim - o) * rng.uniform(0.5, 2, (3000, 1))).astype(np.float32)
+    o = o.astype(np.float32)
+    r = s.cast_rays(o, d)
+    ref = _reference(objects, o, d)
+    hit = np.isfinite(ref["t"])
+    inside = hit & (ref["margin"] > 1e-4)  # away from edges, where float32 may pick the neighbour
+    assert hit.sum() > 400 and (~hit).sum() > 1000 and (ref["obj"] == 1).sum() > 100
+    assert np.array_equal(np.isfinite(r["t_hit"])[inside | ~hit], hit[inside | ~hit])
+    assert np.allclose(r["t_hit"][inside], ref["t"][inside], rtol=1e-4, atol=0)
+    assert np.array_equal(r["geometry_ids"][inside], ref["obj"][inside])
+    assert np.array_equal(r["primitive_ids"][inside], ref["prim"][inside])
+    assert np.allclose(r["primitive_uvs"][inside], ref["uv"][inside], atol=1e-4)
+    assert (np.sum(r["primitive_normals"][inside] * ref["normal"][inside], -1) > 0.9999).all()
+    miss = ~hit & ~np.isfinite(r["t_hit"])
+    assert (r["primitive_ids"][miss] == irradia.INVALID_ID).all()
+    assert (r["primitive_uvs"][miss] == 0).all() and (r["primitive_normals"][miss] == 0).all()
+    # The same answers from the (..., 6) form, on one thread and on two.
+    packed = np.concatenate([o, d], -1)
+    for threads in (1, 2):
+        r6 = s.cast_rays(packed, threads=threads)
+        for key in r:
+            assert np.array_equal(r6[key], r[key]), key

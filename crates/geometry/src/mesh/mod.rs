@@ -14,7 +14,7 @@ use crate::packet::watertight4;
 pub use crate::packet::Triangle4;
 
 use crate::bvh::{Bvh, ChildRef};
-use crate::shape::{Facets, Hit, Shape, Span};
+use crate::shape::{CastHit, Facets, Hit, Shape, Span};
 use crate::triangle::{TriangleHit, TriangleRay};
 use glam::{Vec2, Vec3};
 use irradia_core::{Aabb, Ray};
@@ -277,8 +277,35 @@ impl TriangleMesh {
     /// the fast path for benchmarks and ray casting that needs only `t`.
     #[inline]
     pub fn intersect_triangle(&self, ray: &Ray, t_max: f32) -> Option<(u32, TriangleHit)> {
+        let (packet, lane, h) = self.closest_lane(ray, t_max)?;
+        Some((packet.ids[lane], h))
+    }
+
+    /// The nearest hit as ray casting reports it, with no look-up beyond the leaf that
+    /// was hit: the triangle id and the corners come from its packet (the geometric
+    /// normal `(p1 - p0) x (p2 - p0)` of the same corners as [`Shape::intersect`]'s),
+    /// uv is the barycentric `(b1, b2)`. Meshes whose hits need more (given normals
+    /// turn the geometric one, given uvs are interpolated) go through the whole hit.
+    #[inline]
+    pub fn intersect_cast_hit(&self, ray: &Ray, t_max: f32) -> Option<CastHit> {
+        if self.normals_given || self.uvs.is_some() {
+            return self.intersect(ray, t_max).map(|h| CastHit::from(&h));
+        }
+        let (packet, lane, h) = self.closest_lane(ray, t_max)?;
+        let [p0, p1, p2] = packet.corners(lane);
+        Some(CastHit {
+            t: h.t,
+            prim: packet.ids[lane],
+            uv: Vec2::new(h.b1, h.b2),
+            normal: (p1 - p0).cross(p2 - p0).normalize(),
+        })
+    }
+
+    /// The nearest hit's packet, lane and hit.
+    #[inline]
+    fn closest_lane(&self, ray: &Ray, t_max: f32) -> Option<(&Triangle4, usize, TriangleHit)> {
         let tray = TriangleRay::new(ray);
-        let mut best: Option<(u32, TriangleHit)> = None;
+        let mut best: Option<(&Triangle4, usize, TriangleHit)> = None;
         let prefetch = |leaf: ChildRef| {
             #[cfg(target_arch = "x86_64")]
             if let Some(p) = self.packets.get(leaf.index as usize) {
@@ -308,7 +335,7 @@ impl TriangleMesh {
                 let packets = self.leaf_packets(leaf);
                 let (i, h) =
                     watertight4::intersect_leaf(packets, leaf.count as usize, &tray, t_max)?;
-                best = Some((packets[i / 4].ids[i % 4], h));
+                best = Some((&packets[i / 4], i % 4, h));
                 Some(h.t)
             })?;
         best
@@ -422,6 +449,10 @@ impl Shape for TriangleMesh {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let (tri, h) = self.intersect_triangle(ray, t_max)?;
         Some(self.hit_record(tri, &h))
+    }
+
+    fn intersect_cast(&self, ray: &Ray, t_max: f32) -> Option<CastHit> {
+        self.intersect_cast_hit(ray, t_max)
     }
 
     fn uv_derivatives(&self, _p: Vec3, _uv: Vec2, prim: u32) -> (Vec3, Vec3) {
