@@ -12,9 +12,11 @@
 //! Larrabee" (Dr. Dobb's, 2009): no branch per pixel, so the unpredictable
 //! enter/leave branches of small triangles disappear. Depth (a plane in f64, as in
 //! [`Setup::depth_in_row`]) is tested on the eight lanes at once, and the covered,
-//! passing lanes are written with masked stores; when any lane passes, the
-//! perspective-correct colour is computed for all eight from the edge values themselves, which are the
-//! unnormalised barycentric weights (Olano and Greer, "Triangle Scan Conversion using
+//! passing lanes are written (blended into an unmasked store of the eight pixels, or
+//! with masked stores at the end of the band); when any lane passes, the
+//! perspective-correct colour is computed for all eight from the edge values
+//! themselves, which are the unnormalised barycentric weights (Olano and Greer,
+//! "Triangle Scan Conversion using
 //! 2D Homogeneous Coordinates", 1997; Heckbert and Moreton 1991; see `interpolate`).
 //!
 //! Triangles that cannot pass the depth test anywhere are skipped before scanning
@@ -135,6 +137,7 @@ pub(crate) unsafe fn draw_interpolated_rgba8(
     let all = _mm256_set1_epi32(-1);
 
     let step_y: [i64; 3] = std::array::from_fn(|k| s.b[k] * ONE);
+    let len = depth_buf.len().min(color.len());
     let depth_ptr = depth_buf.as_mut_ptr();
     let color_ptr = color.as_mut_ptr() as *mut i32;
     for y in y0..=y1 {
@@ -160,9 +163,20 @@ pub(crate) unsafe fn draw_interpolated_rgba8(
                 ));
                 let z = _mm256_set_m128(z_hi, z_lo);
                 // SAFETY: covered lanes are pixels x..=x1 of row y, inside the slices
-                // (checked above); masked-off lanes are neither read nor written.
+                // (checked above); masked-off lanes are neither read nor written, except
+                // when all eight pixels lie inside both slices (`whole`), which this
+                // call borrows mutably.
                 let dp = depth_ptr.add(row_i + x as usize);
-                let stored = _mm256_maskload_ps(dp, covered);
+                // Eight whole pixels of the band's own rows: read and written back
+                // unmasked (blended), cheaper than masked moves (slow stores on AMD
+                // Zen); lanes not written keep the value read. At a row's right end
+                // the masked moves stay inside the slices.
+                let whole = row_i + x as usize + 8 <= len;
+                let stored = if whole {
+                    _mm256_loadu_ps(dp)
+                } else {
+                    _mm256_maskload_ps(dp, covered)
+                };
                 let pass = match func {
                     DepthFunc::Less => _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LT_OQ>(z, stored)),
                     DepthFunc::LessEqual => {
@@ -172,7 +186,14 @@ pub(crate) unsafe fn draw_interpolated_rgba8(
                 };
                 let write = _mm256_and_si256(covered, pass);
                 if _mm256_testz_si256(write, write) == 0 {
-                    _mm256_maskstore_ps(dp, write, z);
+                    if whole {
+                        _mm256_storeu_ps(
+                            dp,
+                            _mm256_blendv_ps(stored, z, _mm256_castsi256_ps(write)),
+                        );
+                    } else {
+                        _mm256_maskstore_ps(dp, write, z);
+                    }
                     // Screen-space weights, then perspective-correct ones (interpolate.rs).
                     let p: [__m256; 3] = std::array::from_fn(|k| {
                         let l = _mm256_mul_ps(
@@ -201,7 +222,14 @@ pub(crate) unsafe fn draw_interpolated_rgba8(
                             _mm256_sllv_epi32(q, _mm256_set1_epi32(8 * ch as i32)),
                         );
                     }
-                    _mm256_maskstore_epi32(color_ptr.add(row_i + x as usize), write, packed);
+                    let cp = color_ptr.add(row_i + x as usize);
+                    if whole {
+                        let old = _mm256_loadu_si256(cp as *const __m256i);
+                        let new = _mm256_blendv_epi8(old, packed, write);
+                        _mm256_storeu_si256(cp as *mut __m256i, new);
+                    } else {
+                        _mm256_maskstore_epi32(cp, write, packed);
+                    }
                 }
             }
             for k in 0..3 {
