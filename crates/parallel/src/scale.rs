@@ -16,6 +16,7 @@
 //!   collects and deals every round's links and whose every iteration ends with each
 //!   rank sending its radiosities to every other.
 
+use crate::composite::gather::DENSE_HEADER_BYTES;
 use crate::composite::pairwise::{piece_count, HEADER_BYTES};
 use crate::composite::radix_k::factors;
 use crate::netmodel::NetModel;
@@ -81,7 +82,10 @@ pub fn composite_time(
             merged *= f as f64;
         }
         if case.gather {
-            net += (ranks - 1) as f64 * model.message((span * bpp) as usize + 12);
+            // Each other rank sends its span to the root as a header and the colour and
+            // depth planes (composite/gather.rs).
+            let bytes = DENSE_HEADER_BYTES as f64 + span * bpp;
+            net += (ranks - 1) as f64 * (3.0 * model.alpha + bytes / model.beta);
         }
         net += p.log2().ceil() * model.alpha;
     }
@@ -194,7 +198,8 @@ mod tests {
     fn binary_swap_halves_and_direct_send_sends_p_minus_one() {
         // 4 ranks of 4096 pixels x 1 byte. Binary swap: rounds of 2048 pixels (header +
         // 2 pieces of colour and depth) and 1024 (header + 1 piece), the gather of 3
-        // pieces of 1024 + 12 bytes, 2 barrier rounds.
+        // spans of 1024 (each a header and the two planes: 3 messages),
+        // 2 barrier rounds.
         let h = HEADER_BYTES;
         let case = CompositeCase {
             pixels: 4096,
@@ -202,19 +207,19 @@ mod tests {
             bricks: false,
             gather: true,
         };
+        let gather = 3.0 * (3.0 * NET.alpha + (DENSE_HEADER_BYTES + 1024) as f64 / NET.beta);
         let b = composite_time(NET, 4, 2, case, 0.0);
         let want = 5.0 * NET.alpha
             + (h + 2048) as f64 / NET.beta
             + 3.0 * NET.alpha
             + (h + 1024) as f64 / NET.beta
-            + 3.0 * NET.message(1024 + 12)
+            + gather
             + 2.0 * NET.alpha;
         assert!((b.network_s - want).abs() < 1e-15, "{} {want}", b.network_s);
         // Direct send: one round of 3 partners of 1024 pixels, the same gather.
         let d = composite_time(NET, 4, 4, case, 0.0);
-        let want = 3.0 * (3.0 * NET.alpha + (h + 1024) as f64 / NET.beta)
-            + 3.0 * NET.message(1024 + 12)
-            + 2.0 * NET.alpha;
+        let want =
+            3.0 * (3.0 * NET.alpha + (h + 1024) as f64 / NET.beta) + gather + 2.0 * NET.alpha;
         assert!((d.network_s - want).abs() < 1e-15);
         assert_eq!(composite_time(NET, 1, 2, case, 1.0).total_s, 0.0);
         // Bricks: 8 ranks in one round of 8 (direct send) send (1/8)^(2/3) = 1/4 of each

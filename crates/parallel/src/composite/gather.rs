@@ -19,6 +19,12 @@ const TAG_PLANES: u32 = TAG_PIECES + 0x4000;
 /// is background.
 const PLANES: u32 = 2;
 
+/// Bytes of the header a rank sends before its dense span's colour and depth planes
+/// (span start and end, the planes tag, the sent range): the gather of a dense span is
+/// three messages, this header and the two planes (the network model of `scale.rs`
+/// counts them so).
+pub const DENSE_HEADER_BYTES: usize = 5 * 4;
+
 thread_local! {
     /// The message a rank sends (or the one the root receives), reused.
     static BUFS: RefCell<Vec<Vec<u8>>> = const { RefCell::new(Vec::new()) };
@@ -86,6 +92,7 @@ pub fn gather_into<P: Pixel, C: Comm>(
                     a as u32,
                     b as u32,
                 ];
+                const { assert!(std::mem::size_of::<[u32; 5]>() == DENSE_HEADER_BYTES) };
                 comm.send(root, TAG_PIECES, bytemuck::cast_slice(&header))?;
                 if a < b {
                     let planes = vec![
