@@ -233,6 +233,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let albedo = field3(&ws.shading, &b.material, mat::ALBEDO);
     let emission = field3(&ws.shading, &b.material, mat::EMISSION);
     let emission_two_sided = field(&ws.shading, &b.material, mat::TWO_SIDED).ne(0.0);
+    let front_only = field(&ws.shading, &b.material, mat::FRONT_ONLY).ne(0.0);
     let f = &ws.facets;
     let (la, lb, lc, ln) = (
         field3(f, &facet_index, facet::A),
@@ -260,6 +261,9 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let ns = n;
     let (fs, ft) = frame(ns);
     let wo = to_local(wo_world, fs, ft, ns);
+    // A one-sided BSDF seen from behind scatters nothing (Mitsuba's `diffuse`: its
+    // eval, pdf and sample are zero unless cos(wo) > 0).
+    let sc = sc & !(front_only & wo.z.le(0.0));
     let f = albedo.scale(F8::splat(FRAC_1_PI));
 
     // Next-event estimation: a point on the chosen facet.

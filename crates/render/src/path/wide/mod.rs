@@ -66,6 +66,9 @@ pub(crate) mod mat {
     pub const ALBEDO: usize = 0;
     pub const EMISSION: usize = 3;
     pub const TWO_SIDED: usize = 6;
+    /// 1 for a one-sided BSDF (Mitsuba's `diffuse`: nothing is scattered when the
+    /// path arrives from behind the surface), 0 for the lecture's two-sided Lambert.
+    pub const FRONT_ONLY: usize = 7;
     pub const LEN: usize = 8;
 }
 /// Fields of a [`WideScene::facets`] record.
@@ -141,13 +144,18 @@ impl<'s, 'a> WideScene<'s, 'a> {
         let mut materials = Vec::new();
         let mut shading = Vec::new();
         for (i, m) in scene.materials.iter().enumerate() {
-            let Some(Some(Bsdf::LectureMix(bsdf))) = ps.bsdfs.get(i) else {
-                return None;
-            };
-            let mut lobes = bsdf.lobes();
-            let albedo = match (lobes.next(), lobes.next()) {
-                (None, _) => None,
-                (Some(LectureLobe::Lambert { albedo }), None) => Some(*albedo),
+            // The lecture's Lambert (two-sided) or Mitsuba's `diffuse` (one-sided), both
+            // with a constant albedo (a textured one has no BSDF here).
+            let (albedo, front_only) = match ps.bsdfs.get(i) {
+                Some(Some(Bsdf::LectureMix(bsdf))) => {
+                    let mut lobes = bsdf.lobes();
+                    match (lobes.next(), lobes.next()) {
+                        (None, _) => (None, false),
+                        (Some(LectureLobe::Lambert { albedo }), None) => (Some(*albedo), false),
+                        _ => return None,
+                    }
+                }
+                Some(Some(Bsdf::Diffuse(d))) => (Some(d.reflectance), true),
                 _ => return None,
             };
             materials.push(WideMaterial {
@@ -157,7 +165,8 @@ impl<'s, 'a> WideScene<'s, 'a> {
             let a = albedo.unwrap_or(Rgb::BLACK);
             let e = m.emission;
             let two = if m.emission_two_sided { 1.0 } else { 0.0 };
-            shading.push([a.r, a.g, a.b, e.r, e.g, e.b, two, 0.0]);
+            let front = if front_only { 1.0 } else { 0.0 };
+            shading.push([a.r, a.g, a.b, e.r, e.g, e.b, two, front]);
         }
         let mut triangles = Vec::new();
         let mut triangle_owner = Vec::new();
