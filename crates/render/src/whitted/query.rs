@@ -25,21 +25,17 @@ impl Query {
         if instances.len() > LINEAR_MAX {
             return Query::Tree(Accel::build(instances));
         }
-        let mut list: Vec<_> = instances
-            .into_iter()
-            .zip(ids)
-            .map(|(inst, id)| {
-                let b = inst.bounds();
-                let bounds = (b.is_finite() && !b.is_empty()).then_some(b);
-                (inst, bounds, id)
-            })
-            .collect();
-        // Bounded objects first, unbounded ones (planes) last: a ray that hits an
-        // object standing on a ground plane then meets the plane with `t_max` already
-        // at that hit, and the plane refuses it at its one division instead of
-        // building a hit (point, texture coordinates) that would be thrown away.
-        list.sort_by_key(|(_, bounds, _)| bounds.is_none());
-        Query::Linear(list)
+        Query::Linear(
+            instances
+                .into_iter()
+                .zip(ids)
+                .map(|(inst, id)| {
+                    let b = inst.bounds();
+                    let bounds = (b.is_finite() && !b.is_empty()).then_some(b);
+                    (inst, bounds, id)
+                })
+                .collect(),
+        )
     }
 
     /// Nearest hit with `0 < t < t_max`; `instance` is the object index. For the tree,
