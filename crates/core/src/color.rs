@@ -84,11 +84,7 @@ impl Rgb {
     /// boundaries between codes (no `powf` per channel).
     #[inline]
     pub fn to_srgb8(self) -> [u8; 3] {
-        [
-            encode_srgb8(self.r),
-            encode_srgb8(self.g),
-            encode_srgb8(self.b),
-        ]
+        Srgb8Encoder::new().encode(self)
     }
 
     /// Decodes from 8-bit sRGB.
@@ -138,6 +134,53 @@ pub fn encode_srgb8(v: f32) -> u8 {
         code + 1
     } else {
         code
+    }
+}
+
+/// [`encode_srgb8`] with its two tables looked up once, for encoding many values
+/// (a whole image) without asking the lazily built tables for each channel.
+#[derive(Clone, Copy)]
+pub struct Srgb8Encoder {
+    start: &'static [u8; SRGB8_BINS],
+    boundaries: &'static [f32; 255],
+}
+
+impl Srgb8Encoder {
+    #[inline]
+    pub fn new() -> Self {
+        Self {
+            start: srgb8_start(),
+            boundaries: srgb8_boundaries(),
+        }
+    }
+
+    /// [`encode_srgb8`] of one value.
+    #[inline]
+    pub fn encode_one(&self, v: f32) -> u8 {
+        let v = v.clamp(0.0, 1.0);
+        let bin = ((v * SRGB8_BINS as f32) as usize).min(SRGB8_BINS - 1);
+        let code = self.start[bin];
+        if code < 255 && self.boundaries[code as usize] <= v {
+            code + 1
+        } else {
+            code
+        }
+    }
+
+    /// [`Rgb::to_srgb8`].
+    #[inline]
+    pub fn encode(&self, c: Rgb) -> [u8; 3] {
+        [
+            self.encode_one(c.r),
+            self.encode_one(c.g),
+            self.encode_one(c.b),
+        ]
+    }
+}
+
+impl Default for Srgb8Encoder {
+    fn default() -> Self {
+        Self::new()
     }
 }
 

@@ -140,9 +140,10 @@ impl Image {
 
     /// The image as 8-bit sRGB bytes, row-major RGB.
     pub fn to_srgb8(&self) -> Vec<u8> {
-        let mut out = Vec::with_capacity(self.pixels.len() * 3);
-        for p in &self.pixels {
-            out.extend_from_slice(&p.to_srgb8());
+        let enc = crate::color::Srgb8Encoder::new();
+        let mut out = vec![0u8; self.pixels.len() * 3];
+        for (o, p) in out.chunks_exact_mut(3).zip(&self.pixels) {
+            o.copy_from_slice(&enc.encode(*p));
         }
         out
     }

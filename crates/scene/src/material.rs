@@ -42,6 +42,15 @@ pub enum Texture {
     },
 }
 
+/// `x.floor() as i64` without the call to libm's `floorf` (x86-64's baseline has no
+/// rounding instruction): truncate, then step down for negative non-integers. Same
+/// result for every input, NaN (0) and the saturated ends included.
+#[inline]
+fn floor_i64(x: f32) -> i64 {
+    let i = x as i64;
+    i.saturating_sub((x < i as f32) as i64)
+}
+
 impl Texture {
     /// The colour at a world point `p` with surface coordinates `uv`.
     pub fn eval(&self, p: glam::Vec3, uv: Vec2) -> Rgb {
@@ -51,9 +60,7 @@ impl Texture {
                 let q = p / *scale;
                 // A tiny bias keeps points that lie exactly on a cell face (a floor at
                 // y = 0) on one side, as POV-Ray does.
-                let s = (q.x + 1e-4).floor() as i64
-                    + (q.y + 1e-4).floor() as i64
-                    + (q.z + 1e-4).floor() as i64;
+                let s = floor_i64(q.x + 1e-4) + floor_i64(q.y + 1e-4) + floor_i64(q.z + 1e-4);
                 if s.rem_euclid(2) == 0 {
                     *a
                 } else {

@@ -117,7 +117,7 @@ pub fn mitsuba_sphere_uv(n: Vec3) -> Vec2 {
 /// error below 2e-5 rad, several times cheaper than libm's, which matters because
 /// texture coordinates are computed for every sphere hit.
 #[inline]
-fn atan2_approx(y: f32, x: f32) -> f32 {
+pub(crate) fn atan2_approx(y: f32, x: f32) -> f32 {
     use std::f32::consts::{FRAC_PI_2, PI};
     let (ax, ay) = (x.abs(), y.abs());
     let (num, den) = if ay > ax { (ax, ay) } else { (ay, ax) };

@@ -83,9 +83,45 @@ impl<G: RayQuery> Whitted<'_, G> {
 /// `powf`; `powf` otherwise.
 #[inline]
 fn phong_power(x: f32, n: f32) -> f32 {
-    if n.fract() == 0.0 && (0.0..=4096.0).contains(&n) {
-        x.powi(n as i32)
+    // (`n as u32` saturates, so the range check comes first; no libm `truncf` call.)
+    if (0.0..=4096.0).contains(&n) && (n as u32) as f32 == n {
+        powi_u32(x, n as u32)
     } else {
         x.powf(n)
+    }
+}
+
+/// `x^n` by binary exponentiation, inline: the same products in the same order as
+/// `f32::powi` (compiler-rt's `__powisf2`), so the same bits, without the call.
+#[inline]
+fn powi_u32(mut x: f32, mut n: u32) -> f32 {
+    let mut r = 1.0f32;
+    loop {
+        if n & 1 == 1 {
+            r *= x;
+        }
+        n >>= 1;
+        if n == 0 {
+            return r;
+        }
+        x *= x;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integer_power_matches_powi() {
+        for &x in &[0.0f32, 0.3, 0.5, 0.77, 0.999, 1.0] {
+            for n in [0u32, 1, 2, 3, 7, 80, 120, 4096] {
+                // (black_box: as in rendering, `powi` is called, not folded at compile
+                // time, which LLVM does with a differently rounded power.)
+                let (xb, nb) = (std::hint::black_box(x), std::hint::black_box(n as i32));
+                assert_eq!(powi_u32(x, n).to_bits(), xb.powi(nb).to_bits());
+            }
+        }
+        assert_eq!(phong_power(0.9, 2.5), 0.9f32.powf(2.5));
     }
 }
