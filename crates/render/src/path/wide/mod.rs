@@ -28,10 +28,12 @@
 //! comparison would catch a different stream).
 //!
 //! **What qualifies a scene** ([`WideScene::new`]): every material is a solid-coloured
-//! Lambertian (albedo `diffuse * color`, possibly black, i.e. no lobe), optionally
-//! emissive; no mirror, gloss or glass; every emitter is an emissive object sampled by
-//! its world-space facets (polygons, boxes, polyhedra, emissive meshes); no point, spot,
-//! directional, rectangle or sphere lights and a black background (no environment). The
+//! Lambertian, the lecture's two-sided one (albedo `diffuse * color`, possibly black,
+//! i.e. no lobe) or Mitsuba's one-sided `diffuse` with a constant `reflectance`,
+//! optionally emissive; no mirror, gloss or glass; every emitter is an emissive object
+//! sampled by its world-space facets (polygons, rectangles, boxes, polyhedra, emissive
+//! meshes); no point, spot, directional or sphere lights and a black background (no
+//! environment). The
 //! Cornell box qualifies. Every object must be baked into the [`FlatScene`]'s
 //! triangles (polygons, boxes, polyhedra, flat meshes: no spheres, quadrics, CSG or
 //! implicit surfaces). Other scenes render with the scalar `radiance_in`.
