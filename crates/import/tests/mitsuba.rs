@@ -134,6 +134,43 @@ fn the_samplers_seed_reaches_the_scene() {
 }
 
 #[test]
+fn an_emitter_without_a_bsdf_reflects_nothing() {
+    // Mitsuba 3 gives a shape without a BSDF a diffuse one of reflectance 0.5, but 0
+    // when the shape emits (Shape's constructor); a lamp that reflected its
+    // neighbours' light made Veach's MIS scene 1% too bright.
+    let xml = r#"<scene version="3.0.0">
+        <shape type="sphere"><emitter type="area"><rgb name="radiance" value="2"/></emitter></shape>
+        <shape type="sphere"><point name="center" x="3" y="0" z="0"/></shape>
+    </scene>"#;
+    let imported = parse(xml).unwrap();
+    let objects = imported.tree.get("objects").unwrap();
+    let Value::Array(objects) = &objects.value else {
+        panic!("no objects")
+    };
+    let material = |k: usize| match &objects[k].get("material").unwrap().value {
+        Value::Str(s) => imported
+            .tree
+            .get("materials")
+            .unwrap()
+            .get(s)
+            .unwrap()
+            .clone(),
+        v => panic!("material is {v:?}"),
+    };
+    let lamp = material(0);
+    assert!(lamp.get("emission").is_some());
+    assert_eq!(
+        num(lamp.get("reflectance").expect("black reflectance")),
+        0.0
+    );
+    let plain = material(1);
+    assert!(plain.get("emission").is_none());
+    assert!(plain.get("reflectance").is_none(), "diffuse's default 0.5");
+    let scene = imported.scene().unwrap();
+    assert_eq!(scene.objects.len(), 2);
+}
+
+#[test]
 fn lookat_and_focal_length_give_mitsubas_camera() {
     let xml = r#"<scene version="3.0.0"><sensor type="perspective">
         <transform name="to_world"><lookat origin="1,2,3" target="1,2,0" up="0,1,0"/></transform>

@@ -197,15 +197,25 @@ fn nested<'e>(b: &mut Builder<'e>, e: &'e Elem) -> Result<Node, SceneError> {
     bsdf_table(b, e)
 }
 
-/// Mitsuba's default BSDF: diffuse, reflectance 0.5.
-pub fn default_material(b: &mut Builder) -> String {
-    if !b.used_names.contains("mitsuba_default") {
-        b.used_names.insert("mitsuba_default".into());
+/// Mitsuba's default BSDF of a shape that names none: diffuse with reflectance 0.5,
+/// or 0 when the shape carries an area emitter (Mitsuba 3's `Shape` constructor: an
+/// emitter without a BSDF reflects nothing).
+pub fn default_material(b: &mut Builder, emitter: bool) -> String {
+    let name = if emitter {
+        "mitsuba_default_emitter"
+    } else {
+        "mitsuba_default"
+    };
+    if !b.used_names.contains(name) {
+        b.used_names.insert(name.into());
         let mut t = Node::table(0);
         t.put("type", "diffuse", 0);
-        b.materials.set("mitsuba_default", t);
+        if emitter {
+            t.put("reflectance", 0.0, 0);
+        }
+        b.materials.set(name, t);
     }
-    "mitsuba_default".into()
+    name.into()
 }
 
 /// The material table of a `<bsdf>` element.

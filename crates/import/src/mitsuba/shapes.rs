@@ -295,7 +295,7 @@ fn object<'e>(
     }
     let mut material = match bsdf {
         Some(m) => material_name(b, m)?,
-        None => default_material(b),
+        None => default_material(b, area.is_some()),
     };
     if let Some(a) = area.filter(|a| {
         if in_group {
