@@ -8,7 +8,10 @@ Times, from a barrier, slowest rank, median of the repetitions: (1) irradia.comp
 (binary swap, then the gather onto rank 0, as the function always does); (2) the
 mpi4py + numpy binary swap of bench/composite/binary_swap_mpi4py.py followed by a
 Gatherv of the owned pieces onto rank 0 (the same work); (3) that binary swap alone
-(bench/composite's baseline). Checks (1) equals (2) on rank 0."""
+(bench/composite's baseline); (4) the transfer floor: the same messages as (2) (the
+Sendrecv of every swap round, then the Gatherv), with no blending and no copies, i.e.
+the least time any binary swap with a gather can take through this MPI on this machine.
+Checks (1) equals (2) on rank 0."""
 
 import argparse
 import time
@@ -56,6 +59,33 @@ def swap_numpy(comm, color, depth, gather):
     return None
 
 
+def transfer_floor(comm, color, depth, bufs):
+    """The messages of `swap_numpy(..., gather=True)` alone: the same sizes, partners
+    and order, sent from and received into buffers made beforehand, no blending."""
+    rank, p = comm.Get_rank(), comm.Get_size()
+    n = depth.size
+    lo, hi, bit = 0, n, 1
+    while bit < p:
+        partner = rank ^ bit
+        mid = (lo + hi) // 2
+        keep, give = ((lo, mid), (mid, hi)) if rank & bit == 0 else ((mid, hi), (lo, mid))
+        k = keep[1] - keep[0]
+        rc, rd = bufs["c"][:k], bufs["d"][:k]
+        comm.Sendrecv(color[give[0]:give[1]], dest=partner, sendtag=1, recvbuf=rc, source=partner, recvtag=1)
+        comm.Sendrecv(depth[give[0]:give[1]], dest=partner, sendtag=2, recvbuf=rd, source=partner, recvtag=2)
+        lo, hi = keep
+        bit <<= 1
+    spans = comm.gather((lo, hi), root=0)
+    if rank == 0:
+        counts = [spans[r][1] - spans[r][0] for r in range(p)]
+        displ = [spans[r][0] for r in range(p)]
+        comm.Gatherv(color[lo:hi], [bufs["oc"], [4 * c for c in counts], [4 * x for x in displ], MPI.UNSIGNED_CHAR], root=0)
+        comm.Gatherv(depth[lo:hi], [bufs["od"], counts, displ, MPI.FLOAT], root=0)
+    else:
+        comm.Gatherv(color[lo:hi], None, root=0)
+        comm.Gatherv(depth[lo:hi], None, root=0)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--width", type=int, default=1280)
@@ -68,7 +98,10 @@ def main():
     rng = np.random.default_rng(rank + 1)
     color0 = rng.integers(0, 256, size=(h, w, 4), dtype=np.uint8)
     depth0 = rng.random((h, w), dtype=np.float32)
-    times = {"irradia": [], "numpy_gather": [], "numpy_swap_only": []}
+    times = {"irradia": [], "numpy_gather": [], "numpy_swap_only": [], "floor": []}
+    n = h * w
+    bufs = {"c": np.empty((n, 4), np.uint8), "d": np.empty(n, np.float32),
+            "oc": np.empty((n, 4), np.uint8), "od": np.empty(n, np.float32)}
     check = None
     for rep in range(a.reps + 1):
         for case in times:
@@ -77,13 +110,15 @@ def main():
             t0 = time.perf_counter()
             if case == "irradia":
                 out = irradia.composite(color, depth, strategy="binary-swap", comm=comm)
+            elif case == "floor":
+                out = transfer_floor(comm, color.reshape(-1, 4), depth.reshape(-1), bufs)
             else:
                 out = swap_numpy(comm, color.reshape(-1, 4), depth.reshape(-1), case == "numpy_gather")
             t = time.perf_counter() - t0
             t = max(comm.allgather(t))
             if rep:
                 times[case].append(t)
-            elif rank == 0 and case != "numpy_swap_only":
+            elif rank == 0 and case in ("irradia", "numpy_gather"):
                 check = out if check is None else check
                 if case == "numpy_gather":
                     assert np.array_equal(check[0].reshape(-1, 4), out[0]) and np.array_equal(check[1].reshape(-1), out[1])
@@ -91,7 +126,8 @@ def main():
         m = {k: 1e3 * float(np.median(v)) for k, v in times.items()}
         print(f"RESULT np={p} irradia_ms={m['irradia']:.3f} numpy_gather_ms={m['numpy_gather']:.3f} "
               f"numpy_swap_only_ms={m['numpy_swap_only']:.3f} ratio_same_work={m['irradia'] / m['numpy_gather']:.3f} "
-              f"ratio_vs_swap_only={m['irradia'] / m['numpy_swap_only']:.3f}")
+              f"ratio_vs_swap_only={m['irradia'] / m['numpy_swap_only']:.3f} floor_ms={m['floor']:.3f} "
+              f"floor_over_numpy={m['floor'] / m['numpy_gather']:.3f}")
 
 
 if __name__ == "__main__":

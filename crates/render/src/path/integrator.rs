@@ -242,6 +242,11 @@ pub fn radiance_recorded<T: Tracer, R: Recorder>(
     counters.paths += 1;
     let mut l = Rgb::BLACK;
     let mut beta = Rgb::WHITE;
+    // The product of the relative indices of refraction crossed so far: radiance
+    // loses a factor eta^2 entering glass and gets it back leaving, so Russian
+    // roulette judges `beta * eta^2` (as Mitsuba's `path` does) and does not end
+    // paths for being inside a denser medium.
+    let mut eta = 1.0f32;
     // Recording only: per open segment, its weight and `l` when it began.
     let mut open: Vec<(Rgb, Rgb)> = Vec::new();
     let mut kind = RayKind::Camera;
@@ -344,6 +349,7 @@ pub fn radiance_recorded<T: Tracer, R: Recorder>(
             break;
         }
         beta *= s.weight;
+        eta *= s.eta;
         if beta.is_black() || !beta.is_finite() {
             break;
         }
@@ -361,7 +367,7 @@ pub fn radiance_recorded<T: Tracer, R: Recorder>(
             RayKind::Reflected
         };
         if depth + 1 >= params.rr_depth {
-            let q = beta.max_component().min(0.95);
+            let q = (beta.max_component() * (eta * eta)).min(0.95);
             if rng.next_f32() >= q {
                 if R::RECORDS {
                     rec.cut(kind, depth, beta, "roulette");
