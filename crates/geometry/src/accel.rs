@@ -5,6 +5,7 @@
 
 use crate::bvh::Bvh;
 use crate::instance::Instance;
+use crate::mesh::TriangleMesh;
 use crate::shape::{CastHit, Hit};
 use irradia_core::Ray;
 
@@ -94,6 +95,18 @@ impl Accel {
             Some(hit.t)
         });
         best
+    }
+
+    /// The scene's one triangle mesh, when the scene is exactly one untransformed mesh:
+    /// then [`Self::intersect_cast`]'s answer to every ray is instance 0 and the mesh's
+    /// [`TriangleMesh::intersect_cast_hit`] (the same routine the general path reaches
+    /// through the top-level hierarchy and a dynamic call), so a caller tracing many
+    /// rays may ask the mesh directly.
+    pub fn sole_mesh(&self) -> Option<&TriangleMesh> {
+        match self.instances.as_slice() {
+            [only] if only.is_identity() => only.shape.as_triangle_mesh(),
+            _ => None,
+        }
     }
 
     /// Whether anything is hit with `0 < t < t_max`.

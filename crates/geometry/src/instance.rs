@@ -57,6 +57,12 @@ impl Instance {
         &self.to_object
     }
 
+    /// Whether the object-to-world map is the identity (object space is world space).
+    #[inline]
+    pub fn is_identity(&self) -> bool {
+        self.identity
+    }
+
     /// World-space bounds.
     #[inline]
     pub fn bounds(&self) -> Aabb {

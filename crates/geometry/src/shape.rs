@@ -1,6 +1,6 @@
 //! The `Shape` interface: intersection, bounds, and spans for CSG.
 
-use crate::mesh::{AttributePoint, MeshAttributes};
+use crate::mesh::{AttributePoint, MeshAttributes, TriangleMesh};
 use glam::{Vec2, Vec3};
 use irradia_core::{Aabb, Ray};
 
@@ -146,6 +146,14 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     /// [`Hit`] (a triangle mesh: straight from the leaf that was hit).
     fn intersect_cast(&self, ray: &Ray, t_max: f32) -> Option<CastHit> {
         self.intersect(ray, t_max).map(|h| CastHit::from(&h))
+    }
+
+    /// The shape as a triangle mesh, when it is one (`None` for every other shape): lets
+    /// a caller that traces many rays against a scene of one mesh call the mesh's own
+    /// closest-hit routine directly, with no dynamic call per ray (see
+    /// [`crate::Accel::sole_mesh`]).
+    fn as_triangle_mesh(&self) -> Option<&TriangleMesh> {
+        None
     }
 
     /// The partial derivatives `(dp/du, dp/dv)` of the surface point with respect to its

@@ -10,7 +10,9 @@
 //! in place (any other layout is copied once), the five result arrays are allocated
 //! once with their final shapes, and every chunk of rays, with the GIL released, asks
 //! the scene's hierarchy ray by ray for only the four values returned
-//! (`Accel::intersect_cast`) and writes them straight into its slices of those arrays.
+//! (`Accel::intersect_cast`; when the scene is one untransformed mesh, that mesh's own
+//! routine, `Accel::sole_mesh`) and writes them straight into its slices of those
+//! arrays.
 
 use crate::convert::values;
 use crate::errors;
@@ -186,9 +188,26 @@ pub fn cast_rays(
 /// the same hits as the renderer's `RayQuery::closest_hit` over all objects), asking
 /// only for what is returned: a triangle mesh answers from the leaf it hit (its
 /// packet holds the triangle id and corners), so no mesh index, vertex or vertex
-/// normal is looked up, as in the kernel of bench/triangles.
+/// normal is looked up, as in the kernel of bench/triangles. A scene of one
+/// untransformed triangle mesh (`Accel::sole_mesh`) skips the top level and the
+/// dynamic call: every ray goes straight to that mesh's closest-hit routine, the one
+/// the general path ends in (tests/test_cast_rays.py holds the two equal).
 fn cast(scene: &Scene, rays: Rays<'_>, t_max: f32, out: Out<'_>) -> Option<usize> {
     let accel = &scene.accel;
+    match accel.sole_mesh() {
+        Some(mesh) => cast_with(rays, t_max, out, |r, t| {
+            mesh.intersect_cast_hit(r, t).map(|h| (0, h))
+        }),
+        None => cast_with(rays, t_max, out, |r, t| accel.intersect_cast(r, t)),
+    }
+}
+
+/// [`cast`] with the query `hit(ray, t_max)` (the object and its hit), compiled once
+/// per kind of query so that the loop over a chunk calls it inline.
+fn cast_with<Q>(rays: Rays<'_>, t_max: f32, out: Out<'_>, hit: Q) -> Option<usize>
+where
+    Q: Fn(&Ray, f32) -> Option<(u32, CastHit)> + Sync,
+{
     let bad = AtomicUsize::new(usize::MAX);
     out.t
         .par_chunks_mut(CHUNK)
@@ -205,7 +224,7 @@ fn cast(scene: &Scene, rays: Rays<'_>, t_max: f32, out: Out<'_>) -> Option<usize
                     bad.fetch_min(first + k, Ordering::Relaxed);
                     return;
                 }
-                let (tk, ok, pk, uvk, nk) = match accel.intersect_cast(&r, t_max) {
+                let (tk, ok, pk, uvk, nk) = match hit(&r, t_max) {
                     Some((i, h)) => (h.t, i, h.prim, h.uv.to_array(), h.normal.to_array()),
                     None => (f32::INFINITY, INVALID_ID, INVALID_ID, [0.0; 2], [0.0; 3]),
                 };
@@ -225,8 +244,9 @@ fn cast(scene: &Scene, rays: Rays<'_>, t_max: f32, out: Out<'_>) -> Option<usize
 /// Seconds the kernel alone takes on `rays` (..., 6), for the benchmark's "binding
 /// overhead" (bench/python/cast_rays_gyroid.py: `cast_rays` time minus this): the
 /// rays are read and the answers' buffer allocated before the clock starts, then the
-/// same queries run in the same chunks on the same threads as `cast_rays`, the answers
-/// left as the kernel gives them.
+/// same queries (the sole mesh's or the scene's, as [`cast`] picks) run in the same
+/// chunks on the same threads as `cast_rays`, the answers left as the kernel gives
+/// them.
 pub fn kernel_seconds(
     py: Python<'_>,
     scene: &Scene,
@@ -250,15 +270,29 @@ pub fn kernel_seconds(
         irradia_render::pool::with_threads(threads.map(|t| t.max(1) as usize), || {
             let accel = &scene.accel;
             let start = std::time::Instant::now();
-            hits.par_chunks_mut(CHUNK)
-                .zip(rays.par_chunks(CHUNK))
-                .for_each(|(h, r)| {
-                    for (h, r) in h.iter_mut().zip(r) {
-                        *h = accel.intersect_cast(r, f32::INFINITY);
-                    }
-                });
+            match accel.sole_mesh() {
+                Some(mesh) => answer_all(&rays, &mut hits, |r, t| {
+                    mesh.intersect_cast_hit(r, t).map(|h| (0, h))
+                }),
+                None => answer_all(&rays, &mut hits, |r, t| accel.intersect_cast(r, t)),
+            }
             start.elapsed().as_secs_f64()
         })
     })
     .map_err(errors::render)
+}
+
+/// `hits[i]` = `hit(rays[i], inf)`, in [`cast`]'s chunks (the kernel of
+/// [`kernel_seconds`]).
+fn answer_all<Q>(rays: &[Ray], hits: &mut [Option<(u32, CastHit)>], hit: Q)
+where
+    Q: Fn(&Ray, f32) -> Option<(u32, CastHit)> + Sync,
+{
+    hits.par_chunks_mut(CHUNK)
+        .zip(rays.par_chunks(CHUNK))
+        .for_each(|(h, r)| {
+            for (h, r) in h.iter_mut().zip(r) {
+                *h = hit(r, f32::INFINITY);
+            }
+        });
 }

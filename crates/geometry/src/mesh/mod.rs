@@ -455,6 +455,10 @@ impl Shape for TriangleMesh {
         self.intersect_cast_hit(ray, t_max)
     }
 
+    fn as_triangle_mesh(&self) -> Option<&TriangleMesh> {
+        Some(self)
+    }
+
     fn uv_derivatives(&self, _p: Vec3, _uv: Vec2, prim: u32) -> (Vec3, Vec3) {
         self.triangle_uv_derivatives(prim)
     }
