@@ -352,6 +352,40 @@ fn wide_samples_equal_scalar_samples_up_to_rounding() {
     }
 }
 
+/// The mesh cases above would catch a kernel that ignored the vertex normals: shading
+/// the same balls with their faces' normals changes far more than 1% of the samples.
+#[test]
+fn smooth_normals_change_enough_samples_to_be_seen() {
+    let params = PathParams::default();
+    for (rings, segments) in [(2, 4), (8, 12)] {
+        let ball = |n| cornell_with_mesh(32, 32, true, uv_sphere_mesh(rings, segments, n), false);
+        let (smooth, _) = both_estimates(
+            &ball(SphereNormals::Outward),
+            2,
+            &params,
+            0,
+            Variant::Default,
+        );
+        let (flat, _) = both_estimates(
+            &ball(SphereNormals::Faceted),
+            2,
+            &params,
+            0,
+            Variant::Default,
+        );
+        let same = fraction_equal(&smooth, &flat);
+        println!(
+            "{rings} x {segments} ball: {:.2}% of samples agree",
+            same * 100.0
+        );
+        assert!(
+            same < 0.97,
+            "{rings} x {segments}: {:.1}% agree",
+            same * 100.0
+        );
+    }
+}
+
 fn render(scene: &Scene, spp: u32, seed: u32, scalar_only: bool) -> Film {
     let opts = ProgressiveOptions {
         spp,

@@ -160,6 +160,9 @@ pub enum SphereNormals {
     Inward,
     /// None given: the mesh averages its faces' normals.
     Computed,
+    /// Flat: every triangle its own corners, each given the face's normal (what
+    /// ignoring the vertex normals would shade with).
+    Faceted,
 }
 
 /// A coarse unit sphere as a triangle mesh of `rings` bands of `segments` quads
@@ -200,6 +203,21 @@ pub fn uv_sphere_mesh(
         SphereNormals::Outward => Some(positions.clone()),
         SphereNormals::Inward => Some(positions.iter().map(|p| -*p).collect()),
         SphereNormals::Computed => None,
+        SphereNormals::Faceted => {
+            let corners: Vec<Vec3> = indices
+                .iter()
+                .flat_map(|t| t.map(|i| positions[i as usize]))
+                .collect();
+            let normals = corners
+                .chunks(3)
+                .flat_map(|c| [(c[1] - c[0]).cross(c[2] - c[0]).normalize_or(Vec3::Y); 3])
+                .collect();
+            let indices = (0..indices.len() as u32)
+                .map(|k| [3 * k, 3 * k + 1, 3 * k + 2])
+                .collect();
+            return irradia_geometry::TriangleMesh::new(corners, indices, Some(normals), None)
+                .unwrap();
+        }
     };
     irradia_geometry::TriangleMesh::new(positions, indices, given, None).unwrap()
 }

@@ -14,6 +14,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::{facet, mat, smooth, tri, LightPick, WideScene};
+use crate::path::flat_scene::prefetch_bytes;
 use crate::path::integrator::{PathCounters, PathParams};
 use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
@@ -428,6 +429,14 @@ fn run<const FMA: bool>(
                 for lane in (0..W).filter(|&l| live.get(l)) {
                     let (o, d) = (paths.origin.lane(lane), paths.dir.lane(lane));
                     if let Some((t, ph)) = ps.tracer.nearest_triangle(o, d) {
+                        // Start loading what the next stages read of the triangle
+                        // while the other lanes are traced (large scenes: not in cache).
+                        let t_ = t as usize;
+                        prefetch_bytes(&ws.triangle_owner[t_], 8);
+                        prefetch_bytes(&ws.triangles[t_], 4 * tri::LEN);
+                        if let Some(table) = &ws.smooth {
+                            prefetch_bytes(&table[t_], 4 * smooth::LEN);
+                        }
                         h.hit.set(lane, true);
                         h.triangle[lane] = t;
                         h.t.0[lane] = ph.t;

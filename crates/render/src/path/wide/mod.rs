@@ -11,8 +11,8 @@
 //! 2. all lanes at once ([`kernel`], 8-wide AVX2 + FMA chosen at run time, or the same
 //!    code in SSE): the nearest hits ([`ray8`](irradia_geometry::packet::ray8): eight rays against every triangle of
 //!    a small scene; larger scenes walk the [`FlatScene`]'s hierarchy lane by lane,
-//!    with Wald et al.'s SIMD triangle packets), the hit points (triangle, material
-//!    and light data gathered by index), emission with MIS, the light choice and
+//!    with Wald et al.'s SIMD triangle packets), the hit points (triangle, material,
+//!    vertex normal and light data gathered by index), emission with MIS, the light choice and
 //!    sample, the BSDF value and density, the cosine-weighted direction (with a
 //!    polynomial sine and cosine), the new rays, the Russian-roulette probability and
 //!    the shadow rays;
@@ -35,8 +35,13 @@
 //! meshes); no point, spot, directional or sphere lights and a black background (no
 //! environment). The
 //! Cornell box qualifies. Every object must be baked into the [`FlatScene`]'s
-//! triangles (polygons, boxes, polyhedra, flat meshes: no spheres, quadrics, CSG or
-//! implicit surfaces). Other scenes render with the scalar `radiance_in`.
+//! triangles (polygons, rectangles, boxes, polyhedra, and triangle meshes of any size,
+//! whose materials are untextured: no spheres, quadrics, CSG or implicit surfaces).
+//! Mesh triangles shade with their interpolated vertex normals as the scalar code
+//! does (`SmoothNormals`: the normals gathered by triangle index from a side table,
+//! blended with the hit's barycentrics, given normals turning the geometric normal);
+//! so the Stanford bunny in the Cornell box qualifies. Other scenes render with the
+//! scalar `radiance_in`.
 
 pub mod kernel;
 
