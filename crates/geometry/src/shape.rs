@@ -219,6 +219,14 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         false
     }
 
+    /// The shape as a triangle mesh, when it is one: a renderer may then intersect its
+    /// triangles itself and interpolate its vertex normals as
+    /// [`TriangleMesh`](crate::mesh::TriangleMesh)'s hits do (the path tracer's flat
+    /// scene).
+    fn as_mesh(&self) -> Option<&crate::mesh::TriangleMesh> {
+        None
+    }
+
     /// Surface area in object space, for shapes that can be sampled as emitters
     /// (the path tracer's next-event estimation and instant radiosity).
     fn area(&self) -> Option<f32> {

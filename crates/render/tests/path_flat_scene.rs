@@ -3,6 +3,8 @@
 //! through the built-in scenes, the same object is hit at the same distance with the
 //! same normal and material, and shadow queries agree.
 
+mod path_common;
+
 use glam::Vec3;
 use irradia_core::{sampling, Aabb, Ray, Rng};
 use irradia_render::path::flat_scene::FlatScene;
@@ -136,4 +138,79 @@ material = "m"
         "{}",
         hit.hit.uv
     );
+}
+
+/// Triangle meshes are baked with their vertex normals: on random rays at a mesh
+/// ball placed by a rotation and a non-uniform scale, the flat scene reports the
+/// mesh's own geometric and shading normals (given outward or inward, or computed),
+/// and the shading normals are far from the geometric ones on most hits (so the
+/// comparison sees them).
+#[test]
+fn smooth_meshes_are_baked_with_the_meshes_normals() {
+    use irradia_geometry::Instance;
+    use irradia_scene::{Object, Scene};
+    use path_common::{uv_sphere_mesh, SphereNormals};
+    for normals in [
+        SphereNormals::Outward,
+        SphereNormals::Inward,
+        SphereNormals::Computed,
+    ] {
+        let to_world = glam::Affine3A::from_scale_rotation_translation(
+            Vec3::new(0.45, 0.3, 0.4),
+            glam::Quat::from_rotation_y(0.5),
+            Vec3::new(-0.3, -0.6, 0.4),
+        );
+        let mesh = uv_sphere_mesh(2, 4, normals);
+        let scene = Scene::new(
+            path_common::camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 40.0),
+            path_common::settings(8, 8, 4, irradia_core::Rgb::BLACK),
+            vec![path_common::diffuse(0.5, 0.0)],
+            vec![],
+            vec![Object {
+                name: "ball".into(),
+                material: 0,
+                leaf_materials: vec![],
+            }],
+            vec![Instance::new(std::sync::Arc::new(mesh), to_world)],
+        );
+        let flat = FlatScene::new(&scene);
+        assert_eq!((flat.baked_objects(), flat.generic_objects()), (1, 0));
+        let generic = AccelTracer { scene: &scene };
+        let mut rng = Rng::new(3, 5);
+        let (mut hits, mut smooth, mut mismatches) = (0, 0, 0);
+        for _ in 0..4000 {
+            // From a point around the ball towards a point inside it.
+            let from = Vec3::new(-0.3, -0.6, 0.4) + 2.0 * sampling::uniform_sphere(rng.next_2d());
+            let to = Vec3::new(-0.3, -0.6, 0.4)
+                + 0.1 * (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5);
+            let ray = Ray::new(from, to - from);
+            let (Some(a), Some(b)) = (
+                flat.intersect(&ray, f32::INFINITY),
+                generic.intersect(&ray, f32::INFINITY),
+            ) else {
+                panic!("{normals:?}: the ray misses the ball");
+            };
+            hits += 1;
+            let same = (a.hit.t - b.hit.t).abs() < 1e-4 * b.hit.t
+                && a.hit.normal.dot(b.hit.normal) > 1.0 - 1e-5
+                && a.hit.shading_normal.dot(b.hit.shading_normal) > 1.0 - 1e-4
+                && a.hit.prim == b.hit.prim;
+            if !same {
+                // Rays through an edge may take either triangle (rounding).
+                mismatches += 1;
+                eprintln!("{normals:?}: {ray:?}\n  flat {a:?}\n  mesh {b:?}");
+            }
+            if a.hit.shading_normal.dot(a.hit.normal) < 0.99 {
+                smooth += 1;
+            }
+        }
+        assert!(
+            mismatches <= 2,
+            "{normals:?}: {mismatches} of {hits} hits differ"
+        );
+        assert!(
+            smooth * 2 > hits,
+            "{normals:?}: {smooth} of {hits} hits look smooth"
+        );
+    }
 }

@@ -5,10 +5,10 @@
 
 mod path_common;
 
-use glam::Vec3;
+use glam::{Affine3A, Quat, Vec3};
 use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::shapes::Cuboid;
-use irradia_geometry::Instance;
+use irradia_geometry::{Instance, TriangleMesh};
 use irradia_render::driver::ProgressiveOptions;
 use irradia_render::filter::FilterSampler;
 use irradia_render::path::flat_scene::FlatScene;
@@ -22,6 +22,7 @@ use irradia_render::Film;
 use irradia_scene::bsdf::{BsdfDesc, Diffuse};
 use irradia_scene::camera::CameraRays;
 use irradia_scene::{Material, Object, Scene, Texture};
+use path_common::{uv_sphere_mesh, SphereNormals};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -80,12 +81,75 @@ fn cornell_one_sided(width: u32, height: u32, behind: bool) -> Scene {
     scene
 }
 
+/// The Cornell box (`one_sided`: with Mitsuba's `diffuse`) with a smooth-shaded mesh
+/// ball on the floor, placed by a rotation and a non-uniform scale (so that its normals
+/// go through the inverse transpose), in the box's white or, `emissive`, glowing.
+fn cornell_with_mesh(
+    width: u32,
+    height: u32,
+    one_sided: bool,
+    mesh: TriangleMesh,
+    emissive: bool,
+) -> Scene {
+    let base = if one_sided {
+        cornell_one_sided(width, height, false)
+    } else {
+        cornell(width, height)
+    };
+    let mut materials = base.materials.clone();
+    let white = materials
+        .iter()
+        .position(|m| m.name == "white")
+        .expect("a white material") as u32;
+    let material = if emissive {
+        let mut glow = materials[white as usize].clone();
+        glow.name = "glow".into();
+        glow.emission = Rgb::new(2.0, 3.0, 4.0);
+        materials.push(glow);
+        materials.len() as u32 - 1
+    } else {
+        white
+    };
+    let mut objects = base.objects.clone();
+    let mut instances = base.accel.instances().to_vec();
+    objects.push(Object {
+        name: "ball".into(),
+        material,
+        leaf_materials: vec![],
+    });
+    let to_world = Affine3A::from_scale_rotation_translation(
+        Vec3::new(0.45, 0.3, 0.4),
+        Quat::from_rotation_y(0.5),
+        Vec3::new(-0.3, -0.6, 0.4),
+    );
+    instances.push(Instance::new(Arc::new(mesh), to_world));
+    Scene::new(
+        base.camera.clone(),
+        base.settings.clone(),
+        materials,
+        base.lights.clone(),
+        objects,
+        instances,
+    )
+}
+
 /// Sample `i` of pixel (x, y) as the path tracer draws it (box filter, independent
 /// sampler of stream family `seed`).
 fn pixel_sample(cam: &CameraRays, x: u32, y: u32, i: u32, seed: u32) -> (Ray, Rng) {
     let filter = FilterSampler::new(Default::default());
     let s = camera_sample(cam, &filter, Sampler::Independent { seed }, x, y, i);
     (s.ray, s.rng)
+}
+
+/// A smooth-shaded octahedron (8 triangles, and 8 degenerate ones at the poles):
+/// with the Cornell box, at most 64 triangles.
+fn octahedron(normals: SphereNormals) -> TriangleMesh {
+    uv_sphere_mesh(2, 4, normals)
+}
+
+/// A smooth-shaded sphere of 168 triangles: with the Cornell box, more than 64.
+fn sphere(normals: SphereNormals) -> TriangleMesh {
+    uv_sphere_mesh(8, 12, normals)
 }
 
 /// Which build of the wide kernel runs.
@@ -193,6 +257,60 @@ fn wide_samples_equal_scalar_samples_up_to_rounding() {
             cornell_one_sided(24, 24, true),
             Variant::Portable,
         ),
+        // Smooth-shaded meshes: an octahedron's interpolated normals are far from its
+        // faces' (small: eight rays at once), a 12 x 8 sphere's (large: the hierarchy,
+        // lane by lane) less so; given normals, outward or inward (they turn the
+        // geometric normal), and computed ones.
+        (
+            "cornell + smooth octahedron",
+            cornell_with_mesh(32, 32, false, octahedron(SphereNormals::Outward), false),
+            Variant::Default,
+        ),
+        (
+            "cornell + smooth octahedron, one-sided diffuse",
+            cornell_with_mesh(32, 32, true, octahedron(SphereNormals::Outward), false),
+            Variant::Default,
+        ),
+        (
+            "cornell + smooth octahedron, one-sided, normals inward",
+            cornell_with_mesh(32, 32, true, octahedron(SphereNormals::Inward), false),
+            Variant::Default,
+        ),
+        (
+            "cornell + glowing smooth octahedron, one-sided",
+            cornell_with_mesh(32, 32, true, octahedron(SphereNormals::Outward), true),
+            Variant::Default,
+        ),
+        (
+            "cornell + smooth octahedron, lane by lane",
+            cornell_with_mesh(24, 24, true, octahedron(SphereNormals::Outward), false),
+            Variant::LaneByLane,
+        ),
+        (
+            "cornell + smooth octahedron, portable",
+            cornell_with_mesh(24, 24, true, octahedron(SphereNormals::Inward), false),
+            Variant::Portable,
+        ),
+        (
+            "cornell + smooth sphere mesh",
+            cornell_with_mesh(32, 32, false, sphere(SphereNormals::Outward), false),
+            Variant::Default,
+        ),
+        (
+            "cornell + smooth sphere mesh, one-sided diffuse",
+            cornell_with_mesh(32, 32, true, sphere(SphereNormals::Outward), false),
+            Variant::Default,
+        ),
+        (
+            "cornell + smooth sphere mesh, one-sided, computed normals",
+            cornell_with_mesh(32, 32, true, sphere(SphereNormals::Computed), false),
+            Variant::Default,
+        ),
+        (
+            "cornell + glowing smooth sphere mesh, normals inward",
+            cornell_with_mesh(32, 32, true, sphere(SphereNormals::Inward), true),
+            Variant::Default,
+        ),
     ] {
         let (scalar, wide) = both_estimates(&scene, 2, &params, 0, variant);
         assert!(
@@ -230,6 +348,40 @@ fn wide_samples_equal_scalar_samples_up_to_rounding() {
             chance < 0.5,
             "{name}: {:.1}% agree by chance",
             chance * 100.0
+        );
+    }
+}
+
+/// The mesh cases above would catch a kernel that ignored the vertex normals: shading
+/// the same balls with their faces' normals changes far more than 1% of the samples.
+#[test]
+fn smooth_normals_change_enough_samples_to_be_seen() {
+    let params = PathParams::default();
+    for (rings, segments) in [(2, 4), (8, 12)] {
+        let ball = |n| cornell_with_mesh(32, 32, true, uv_sphere_mesh(rings, segments, n), false);
+        let (smooth, _) = both_estimates(
+            &ball(SphereNormals::Outward),
+            2,
+            &params,
+            0,
+            Variant::Default,
+        );
+        let (flat, _) = both_estimates(
+            &ball(SphereNormals::Faceted),
+            2,
+            &params,
+            0,
+            Variant::Default,
+        );
+        let same = fraction_equal(&smooth, &flat);
+        println!(
+            "{rings} x {segments} ball: {:.2}% of samples agree",
+            same * 100.0
+        );
+        assert!(
+            same < 0.97,
+            "{rings} x {segments}: {:.1}% agree",
+            same * 100.0
         );
     }
 }
@@ -311,9 +463,37 @@ fn only_lambertian_scenes_with_facet_emitters_qualify() {
         let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
         WideScene::new(&ps).is_some()
     };
+    let at_once = |scene: &Scene| {
+        let lights = LightSampler::new(scene);
+        let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
+        WideScene::new(&ps).unwrap().traces_eight_at_once()
+    };
     assert!(check(&cornell(8, 8)));
     assert!(check(&furnace_box(0.5, 1.0)));
     assert!(check(&cornell_one_sided(8, 8, false)));
+    // Triangle meshes with smooth normals, small and large, emissive or not.
+    let mesh_scene = |one_sided, mesh, emissive| cornell_with_mesh(8, 8, one_sided, mesh, emissive);
+    assert!(check(&mesh_scene(
+        true,
+        octahedron(SphereNormals::Outward),
+        false
+    )));
+    assert!(check(&mesh_scene(
+        false,
+        sphere(SphereNormals::Computed),
+        true
+    )));
+    // The octahedron's case traces eight rays at once, the sphere's walks the hierarchy.
+    assert!(at_once(&mesh_scene(
+        true,
+        octahedron(SphereNormals::Inward),
+        false
+    )));
+    assert!(!at_once(&mesh_scene(
+        true,
+        sphere(SphereNormals::Inward),
+        false
+    )));
     // A sphere emitter (sampled by its own sampler), glossy and glass balls.
     assert!(!check(&path_common::small_room()));
     // Mirrors, glass, point lights.

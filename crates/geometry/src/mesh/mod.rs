@@ -266,6 +266,13 @@ impl TriangleMesh {
     pub fn uvs(&self) -> Option<&[Vec2]> {
         self.uvs.as_deref()
     }
+    /// Whether the vertex normals came from the caller (then a hit's geometric normal
+    /// is turned to the side of the interpolated one, as pbrt does) or were averaged
+    /// from the faces (then the interpolated normal is turned to the geometric one's
+    /// side); see the hits' `shading_normal`.
+    pub fn normals_given(&self) -> bool {
+        self.normals_given
+    }
     pub fn bvh(&self) -> &Bvh {
         &self.bvh
     }
@@ -485,6 +492,10 @@ impl Shape for TriangleMesh {
 
     fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
         self.solid_spans(ray, out)
+    }
+
+    fn as_mesh(&self) -> Option<&TriangleMesh> {
+        Some(self)
     }
 
     fn facets(&self, _detail: u32) -> Option<Facets> {

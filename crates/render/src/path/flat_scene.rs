@@ -15,20 +15,29 @@
 //! ([`PacketBounds`]); more are indexed by the geometry crate's 4-wide SAH hierarchy
 //! (Wald, Benthin, Boulos, "Getting Rid of Packets", RT 2008) with packet leaves.
 //!
-//! Everything else (spheres, quadrics, tori, CSG, implicit surfaces, meshes with
-//! smooth normals, textured objects whose `uv` matters) stays in an [`Accel`] of
-//! the remaining instances; a ray is tested against both and the nearer hit wins.
+//! Triangle meshes ([`Shape::as_mesh`](irradia_geometry::Shape::as_mesh)) are baked
+//! too, triangle by triangle, each with the geometric normal the mesh's hit reports
+//! and its three vertex normals carried to world space ([`SmoothNormals`]): a hit
+//! interpolates them into the shading normal with the mesh's own rules (Phong shading
+//! normals; given normals turn the geometric normal to their side, as in pbrt).
+//!
+//! Everything else (spheres, quadrics, tori, CSG, implicit surfaces, textured objects
+//! whose `uv` matters) stays in an [`Accel`] of the remaining instances; a ray is
+//! tested against both and the nearer hit wins.
 //!
 //! The geometry is the same surface, so the image is statistically the same; hits
-//! differ from the shapes' own tests only by rounding (f32 triangles instead of the
-//! polygons' f64 plane test). Surface coordinates `uv` of baked hits are the
-//! triangle's barycentrics, which is why objects with textured materials are not baked.
+//! differ from the shapes' own tests only by rounding (f32 world-space triangles
+//! instead of the polygons' f64 plane test or the mesh's watertight object-space
+//! test). Surface coordinates `uv` of baked hits are the triangle's barycentrics
+//! (not a mesh's texture coordinates), which is why objects with textured materials
+//! are not baked.
 
 use super::material_map::{desc_anisotropic, desc_uniform};
 use super::tracer::{SubsetAccel, Tracer};
 use glam::{DVec3, Vec2, Vec3};
 use irradia_core::{Aabb, Ray};
 use irradia_geometry::bvh::{Bvh, ChildRef};
+use irradia_geometry::mesh::TriangleMesh;
 #[cfg(target_arch = "x86_64")]
 use irradia_geometry::packet::bounds8::{any_culled_avx2, nearest_culled_avx2};
 use irradia_geometry::packet::lanes::{F8, M8, V3, W};
@@ -49,11 +58,106 @@ struct FlatTriangle {
     material: u32,
     /// The face of the shape's facets the triangle belongs to (reported as `Hit::prim`).
     face: u32,
+    /// A mesh triangle's vertex normals (smooth shading); `None` for flat faces.
+    smooth: Option<SmoothNormals>,
 }
 
 /// A baked triangle as the 8-wide kernel reads it: corners, unit normal, instance,
-/// material.
-pub(crate) type BakedTriangle = ([Vec3; 3], Vec3, u32, u32);
+/// material, vertex normals of a mesh triangle.
+pub(crate) type BakedTriangle = ([Vec3; 3], Vec3, u32, u32, Option<SmoothNormals>);
+
+/// The vertex normals of a baked mesh triangle, for smooth shading as
+/// [`TriangleMesh`]'s own hits do it (Phong's interpolated normals, the shading normal of
+/// pbrt's and Mitsuba's triangle meshes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct SmoothNormals {
+    /// The mesh's unit vertex normals carried to world space by the inverse transpose
+    /// and *not* renormalised: the transform is linear, so their barycentric blend,
+    /// normalised, points where the mesh's blend (normalised in object space, carried,
+    /// normalised again) does, up to rounding.
+    pub normals: [Vec3; 3],
+    /// [`TriangleMesh::normals_given`]: given normals turn the geometric normal to
+    /// their side, computed ones are turned to the geometric normal's side.
+    pub given: bool,
+}
+
+impl SmoothNormals {
+    /// The geometric and shading normals at barycentrics `(b1, b2)` of the triangle
+    /// whose unit geometric normal is `n`, with `TriangleMesh::hit_record`'s rules
+    /// (in world space): the blend of the vertex normals, normalised (the geometric
+    /// normal where it vanishes); given normals turn the geometric normal to their
+    /// side, then the shading normal is turned to the geometric one's side.
+    #[inline(always)]
+    pub fn at(&self, n: Vec3, b1: f32, b2: f32) -> (Vec3, Vec3) {
+        let b0 = 1.0 - b1 - b2;
+        let [n0, n1, n2] = self.normals;
+        let ns = (b0 * n0 + b1 * n1 + b2 * n2).normalize_or_zero();
+        if ns == Vec3::ZERO {
+            return (n, n);
+        }
+        let n = if self.given && n.dot(ns) < 0.0 { -n } else { n };
+        let ns = if n.dot(ns) < 0.0 { -ns } else { ns };
+        (n, ns)
+    }
+}
+
+/// A face of an object as baked: world-space corners, unit normal, the face's index in
+/// the shape, vertex normals (meshes).
+struct BakedFace {
+    corners: [Vec3; 3],
+    normal: Vec3,
+    face: u32,
+    smooth: Option<SmoothNormals>,
+}
+
+/// The world-space triangles of a mesh placed by `instance`, each with its geometric
+/// normal as the mesh's hit reports it (`(p1 - p0) x (p2 - p0)` normalised in object
+/// space, carried by the inverse transpose and normalised, unless the transform is the
+/// identity) and its vertex normals. Degenerate triangles, which the mesh never hits,
+/// are left out. `None` when a normal is not finite (the mesh keeps its own test).
+fn bake_mesh(instance: &Instance, mesh: &TriangleMesh) -> Option<Vec<BakedFace>> {
+    let to_world = *instance.to_world();
+    let identity = to_world == glam::Affine3A::IDENTITY;
+    let normal_to_world = instance.to_object().matrix3.transpose();
+    let carry = |n: Vec3| Vec3::from(normal_to_world * glam::Vec3A::from(n));
+    let (positions, normals) = (mesh.positions(), mesh.normals());
+    let given = mesh.normals_given();
+    let mut out = Vec::with_capacity(mesh.triangle_count());
+    for (face, t) in mesh.indices().iter().enumerate() {
+        let [i0, i1, i2] = t.map(|i| i as usize);
+        let (p0, p1, p2) = (positions[i0], positions[i1], positions[i2]);
+        let cross = (p1 - p0).cross(p2 - p0);
+        if cross == Vec3::ZERO {
+            continue;
+        }
+        let normal = if identity {
+            cross.normalize()
+        } else {
+            carry(cross.normalize()).normalize()
+        };
+        if !normal.is_finite() {
+            return None;
+        }
+        let (corners, vertex_normals) = if identity {
+            ([p0, p1, p2], [normals[i0], normals[i1], normals[i2]])
+        } else {
+            (
+                [p0, p1, p2].map(|p| to_world.transform_point3(p)),
+                [normals[i0], normals[i1], normals[i2]].map(carry),
+            )
+        };
+        out.push(BakedFace {
+            corners,
+            normal,
+            face: face as u32,
+            smooth: Some(SmoothNormals {
+                normals: vertex_normals,
+                given,
+            }),
+        });
+    }
+    Some(out)
+}
 
 /// The scene as the path tracer traces it: baked triangles plus the remaining shapes.
 #[derive(Debug)]
@@ -70,10 +174,14 @@ pub struct FlatScene {
     ray_lanes: Option<RayLaneTriangles>,
 }
 
-/// The world-space triangles of `instance` (corners, unit normal, face index), or
-/// `None` when it cannot be baked exactly.
-fn bake_instance(instance: &Instance) -> Option<Vec<([Vec3; 3], Vec3, u32)>> {
+/// The world-space triangles of `instance` (triangle meshes with their vertex normals,
+/// shapes whose facets are exact fan-triangulated), or `None` when it cannot be baked
+/// exactly.
+fn bake_instance(instance: &Instance) -> Option<Vec<BakedFace>> {
     let shape = instance.shape.as_ref();
+    if let Some(mesh) = shape.as_mesh() {
+        return bake_mesh(instance, mesh);
+    }
     if !shape.facets_exact() {
         return None;
     }
@@ -114,14 +222,38 @@ fn bake_instance(instance: &Instance) -> Option<Vec<([Vec3; 3], Vec3, u32)>> {
         }
         let world = |p: DVec3| to_world.transform_point3(p.as_vec3());
         for k in 1..v.len() - 1 {
-            out.push((
-                [world(v[0]), world(v[k]), world(v[k + 1])],
+            out.push(BakedFace {
+                corners: [world(v[0]), world(v[k]), world(v[k + 1])],
                 normal,
-                face_index as u32,
-            ));
+                face: face_index as u32,
+                smooth: None,
+            });
         }
     }
     Some(out)
+}
+
+/// Asks the CPU to start loading the cache lines of the first `bytes` of `*p` (a hint:
+/// no effect on the result, never a fault).
+#[inline(always)]
+pub(crate) fn prefetch_bytes<T>(p: &T, bytes: usize) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let p = p as *const T as *const i8;
+        let bytes = bytes.min(std::mem::size_of::<T>()).max(1);
+        let mut at = 0;
+        while at < bytes {
+            // SAFETY: a prefetch is only a hint; the address is inside `*p`.
+            unsafe { _mm_prefetch(p.add(at), _MM_HINT_T0) };
+            at += 64;
+        }
+        // The last byte's line, when `p` is not aligned to a line.
+        // SAFETY: as above.
+        unsafe { _mm_prefetch(p.add(bytes - 1), _MM_HINT_T0) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (p, bytes);
 }
 
 /// Up to this many triangles are tested one packet after another without a
@@ -245,7 +377,14 @@ impl Baked {
             None => packet::nearest(&self.packets, o, d, t_max)?,
             Some(bvh) => {
                 let mut best = None;
-                bvh.closest_hit_leaves(ray, t_max, |leaf, t| {
+                // Start loading a leaf's packets when its box is entered (large meshes:
+                // most leaves are not in cache).
+                let prefetch = |leaf: ChildRef| {
+                    if let Some(first) = self.packets.get(leaf.index as usize) {
+                        prefetch_bytes(first, std::mem::size_of::<TrianglePacket>());
+                    }
+                };
+                bvh.closest_hit_leaves_prefetch(ray, t_max, prefetch, |leaf, t| {
                     let (k, h) = packet::nearest(self.leaf_packets(leaf), o, d, t)?;
                     best = Some((leaf.index as usize + k, h));
                     Some(h.t)
@@ -304,16 +443,14 @@ impl FlatScene {
             match plain.then(|| bake_instance(instance)).flatten() {
                 Some(tris) => {
                     baked_objects += 1;
-                    triangles.extend(
-                        tris.into_iter()
-                            .map(|(corners, normal, face)| FlatTriangle {
-                                corners,
-                                normal,
-                                instance: i as u32,
-                                material,
-                                face,
-                            }),
-                    )
+                    triangles.extend(tris.into_iter().map(|f| FlatTriangle {
+                        corners: f.corners,
+                        normal: f.normal,
+                        instance: i as u32,
+                        material,
+                        face: f.face,
+                        smooth: f.smooth,
+                    }))
                 }
                 None => {
                     rest.push(instance.clone());
@@ -366,9 +503,9 @@ impl FlatScene {
             .map(|b| b.stats())
     }
 
-    /// Every baked triangle as (corners, unit normal, instance, material) when the
-    /// whole scene is baked (no shape is left to its own test), for the 8-wide kernel
-    /// ([`super::wide`]); `None` otherwise.
+    /// Every baked triangle as (corners, unit normal, instance, material, vertex
+    /// normals) when the whole scene is baked (no shape is left to its own test), for
+    /// the 8-wide kernel ([`super::wide`]); `None` otherwise.
     pub(crate) fn all_triangles(&self) -> Option<Vec<BakedTriangle>> {
         if self.rest.is_some() {
             return None;
@@ -378,9 +515,20 @@ impl FlatScene {
             baked
                 .triangles
                 .iter()
-                .map(|t| (t.corners, t.normal, t.instance, t.material))
+                .map(|t| (t.corners, t.normal, t.instance, t.material, t.smooth))
                 .collect(),
         )
+    }
+
+    /// The geometric and shading normals of baked triangle `tri` at barycentrics
+    /// `(b1, b2)`, as its hits report them.
+    #[inline]
+    pub(crate) fn hit_normals(&self, tri: u32, b1: f32, b2: f32) -> Option<(Vec3, Vec3)> {
+        let t = self.baked.as_ref()?.triangles.get(tri as usize)?;
+        Some(match &t.smooth {
+            Some(s) => s.at(t.normal, b1, b2),
+            None => (t.normal, t.normal),
+        })
     }
 
     /// The baked triangles in the order the packets hold them (the order in which a
@@ -432,13 +580,17 @@ impl FlatScene {
             b2,
         }
         .point_and_error(p0, p1, p2);
+        let (normal, shading_normal) = match &tri.smooth {
+            Some(s) => s.at(tri.normal, b1, b2),
+            None => (tri.normal, tri.normal),
+        };
         SceneHit {
             instance: tri.instance,
             hit: Hit {
                 t,
                 point,
-                normal: tri.normal,
-                shading_normal: tri.normal,
+                normal,
+                shading_normal,
                 uv: Vec2::new(b1, b2),
                 prim: tri.face,
                 leaf: 0,

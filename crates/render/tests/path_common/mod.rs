@@ -150,3 +150,74 @@ pub fn soft_room() -> Scene {
         vec![room, ball, ball2, lamp],
     )
 }
+
+/// Which vertex normals [`uv_sphere_mesh`] gets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SphereNormals {
+    /// Given: the sphere's outward normals.
+    Outward,
+    /// Given, pointing into the sphere (they turn the geometric normal inwards).
+    Inward,
+    /// None given: the mesh averages its faces' normals.
+    Computed,
+    /// Flat: every triangle its own corners, each given the face's normal (what
+    /// ignoring the vertex normals would shade with).
+    Faceted,
+}
+
+/// A coarse unit sphere as a triangle mesh of `rings` bands of `segments` quads
+/// (wound counter-clockwise seen from outside; the pole quads are triangles plus a
+/// degenerate one), with smooth vertex normals: with few triangles the interpolated
+/// normals are far from the faces' normals.
+pub fn uv_sphere_mesh(
+    rings: u32,
+    segments: u32,
+    normals: SphereNormals,
+) -> irradia_geometry::TriangleMesh {
+    use std::f32::consts::PI;
+    let mut positions = Vec::new();
+    for i in 0..=rings {
+        let theta = PI * i as f32 / rings as f32;
+        for j in 0..segments {
+            let phi = 2.0 * PI * j as f32 / segments as f32;
+            positions.push(Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            ));
+        }
+    }
+    let at = |i: u32, j: u32| i * segments + j % segments;
+    let mut indices = Vec::new();
+    for i in 0..rings {
+        for j in 0..segments {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            indices.push([a, c, b]);
+            indices.push([a, d, c]);
+        }
+    }
+    // Outward winding: the face normal of a band triangle points away from the centre.
+    let [a, b, c] = indices[2].map(|i| positions[i as usize]);
+    assert!((b - a).cross(c - a).dot(a + b + c) > 0.0, "winding");
+    let given = match normals {
+        SphereNormals::Outward => Some(positions.clone()),
+        SphereNormals::Inward => Some(positions.iter().map(|p| -*p).collect()),
+        SphereNormals::Computed => None,
+        SphereNormals::Faceted => {
+            let corners: Vec<Vec3> = indices
+                .iter()
+                .flat_map(|t| t.map(|i| positions[i as usize]))
+                .collect();
+            let normals = corners
+                .chunks(3)
+                .flat_map(|c| [(c[1] - c[0]).cross(c[2] - c[0]).normalize_or(Vec3::Y); 3])
+                .collect();
+            let indices = (0..indices.len() as u32)
+                .map(|k| [3 * k, 3 * k + 1, 3 * k + 2])
+                .collect();
+            return irradia_geometry::TriangleMesh::new(corners, indices, Some(normals), None)
+                .unwrap();
+        }
+    };
+    irradia_geometry::TriangleMesh::new(positions, indices, given, None).unwrap()
+}

@@ -13,7 +13,8 @@
 // Lane loops index several arrays by the lane on purpose.
 #![allow(clippy::needless_range_loop)]
 
-use super::{facet, mat, tri, LightPick, WideScene};
+use super::{facet, mat, smooth, tri, LightPick, WideScene};
+use crate::path::flat_scene::prefetch_bytes;
 use crate::path::integrator::{PathCounters, PathParams};
 use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
@@ -183,6 +184,36 @@ fn frame(n: V3) -> (V3, V3) {
     (s, t)
 }
 
+/// The geometric and shading normals at the hits (`SmoothNormals::at` in every lane):
+/// for a mesh triangle the blend of its vertex normals with barycentrics
+/// `(b0, b1, b2)`, normalised as `normalize_or_zero` does; given normals turn the
+/// geometric normal `n` to their side, then the shading normal is turned to the
+/// geometric one's side. Flat faces, and blends that vanish, shade with `n`.
+#[inline(always)]
+fn smooth_normals(
+    table: &[[f32; smooth::LEN]],
+    triangle: &[u32; W],
+    (b0, b1, b2): (F8, F8, F8),
+    n: V3,
+) -> (V3, V3) {
+    checked(table, triangle);
+    let (n0, n1, n2) = (
+        field3(table, triangle, smooth::N0),
+        field3(table, triangle, smooth::N1),
+        field3(table, triangle, smooth::N2),
+    );
+    let is_smooth = field(table, triangle, smooth::SMOOTH).ne(0.0);
+    let given = field(table, triangle, smooth::GIVEN).ne(0.0);
+    let blend = n0.scale(b0).add(n1.scale(b1)).add(n2.scale(b2));
+    let rcp = 1.0 / blend.dot(blend).sqrt();
+    let interpolated = is_smooth & rcp.finite() & rcp.gt(0.0);
+    let ns = blend.scale(rcp);
+    let turn = interpolated & given & n.dot(ns).lt(0.0);
+    let n = V3::select(turn, n.neg(), n);
+    let ns = V3::select(n.dot(ns).lt(0.0), ns.neg(), ns);
+    (n, V3::select(interpolated, ns, n))
+}
+
 /// `Frame::to_local` in every lane.
 #[inline(always)]
 fn to_local(v: V3, s: V3, t: V3, n: V3) -> V3 {
@@ -226,6 +257,12 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     );
     let n = field3(t, &b.triangle, tri::N);
     let b0 = 1.0 - b.b1 - b.b2;
+    // Mesh triangles: the interpolated shading normal (and the geometric normal turned
+    // to given normals); flat faces shade with their geometric normal.
+    let (n, ns) = match &ws.smooth {
+        Some(table) => smooth_normals(table, &b.triangle, (b0, b.b1, b.b2), n),
+        None => (n, n),
+    };
     let (q0, q1, q2) = (p0.scale(b0), p1.scale(b.b1), p2.scale(b.b2));
     let p = q0.add(q1).add(q2);
     let abs_sum = q0.abs().add(q1.abs()).add(q2.abs());
@@ -257,8 +294,8 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     paths.radiance = V3::select(lit, paths.radiance.add(emitted), paths.radiance);
 
     let sc = b.scatter;
-    // Shading frame: baked triangles shade with their geometric normal.
-    let ns = n;
+    // Shading frame about the shading normal (on the geometric normal's side, as
+    // `surface_at` keeps it).
     let (fs, ft) = frame(ns);
     let wo = to_local(wo_world, fs, ft, ns);
     // A one-sided BSDF seen from behind scatters nothing (Mitsuba's `diffuse`: its
@@ -392,6 +429,14 @@ fn run<const FMA: bool>(
                 for lane in (0..W).filter(|&l| live.get(l)) {
                     let (o, d) = (paths.origin.lane(lane), paths.dir.lane(lane));
                     if let Some((t, ph)) = ps.tracer.nearest_triangle(o, d) {
+                        // Start loading what the next stages read of the triangle
+                        // while the other lanes are traced (large scenes: not in cache).
+                        let t_ = t as usize;
+                        prefetch_bytes(&ws.triangle_owner[t_], 8);
+                        prefetch_bytes(&ws.triangles[t_], 4 * tri::LEN);
+                        if let Some(table) = &ws.smooth {
+                            prefetch_bytes(&table[t_], 4 * smooth::LEN);
+                        }
                         h.hit.set(lane, true);
                         h.triangle[lane] = t;
                         h.t.0[lane] = ph.t;
@@ -432,6 +477,15 @@ fn run<const FMA: bool>(
                 // and the flat scene compute it.
                 let r = &ws.triangles[t as usize];
                 let v = |k: usize| Vec3::new(r[k], r[k + 1], r[k + 2]);
+                // The geometric normal as the hit reports it (given vertex normals
+                // may turn it).
+                let n = match ws.smooth {
+                    Some(_) => ps
+                        .tracer
+                        .hit_normals(t, h.b1, h.b2)
+                        .map_or(v(tri::N), |x| x.0),
+                    None => v(tri::N),
+                };
                 let (point, _) = TriangleHit {
                     t: h.t,
                     b0: 1.0 - h.b1 - h.b2,
@@ -439,13 +493,9 @@ fn run<const FMA: bool>(
                     b2: h.b2,
                 }
                 .point_and_error(v(tri::P0), v(tri::P1), v(tri::P2));
-                b.light_pdf.0[lane] = ps.lights.pdf_object(
-                    ps.scene,
-                    instance,
-                    paths.prev_p.lane(lane),
-                    point,
-                    v(tri::N),
-                );
+                b.light_pdf.0[lane] =
+                    ps.lights
+                        .pdf_object(ps.scene, instance, paths.prev_p.lane(lane), point, n);
             }
             let scatters = m.scatters && paths.depth[lane] < params.max_depth;
             b.scatter.set(lane, scatters);

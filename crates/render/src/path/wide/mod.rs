@@ -11,8 +11,8 @@
 //! 2. all lanes at once ([`kernel`], 8-wide AVX2 + FMA chosen at run time, or the same
 //!    code in SSE): the nearest hits ([`ray8`](irradia_geometry::packet::ray8): eight rays against every triangle of
 //!    a small scene; larger scenes walk the [`FlatScene`]'s hierarchy lane by lane,
-//!    with Wald et al.'s SIMD triangle packets), the hit points (triangle, material
-//!    and light data gathered by index), emission with MIS, the light choice and
+//!    with Wald et al.'s SIMD triangle packets), the hit points (triangle, material,
+//!    vertex normal and light data gathered by index), emission with MIS, the light choice and
 //!    sample, the BSDF value and density, the cosine-weighted direction (with a
 //!    polynomial sine and cosine), the new rays, the Russian-roulette probability and
 //!    the shadow rays;
@@ -35,8 +35,13 @@
 //! meshes); no point, spot, directional or sphere lights and a black background (no
 //! environment). The
 //! Cornell box qualifies. Every object must be baked into the [`FlatScene`]'s
-//! triangles (polygons, boxes, polyhedra, flat meshes: no spheres, quadrics, CSG or
-//! implicit surfaces). Other scenes render with the scalar `radiance_in`.
+//! triangles (polygons, rectangles, boxes, polyhedra, and triangle meshes of any size,
+//! whose materials are untextured: no spheres, quadrics, CSG or implicit surfaces).
+//! Mesh triangles shade with their interpolated vertex normals as the scalar code
+//! does (`SmoothNormals`: the normals gathered by triangle index from a side table,
+//! blended with the hit's barycentrics, given normals turning the geometric normal);
+//! so the Stanford bunny in the Cornell box qualifies. Other scenes render with the
+//! scalar `radiance_in`.
 
 pub mod kernel;
 
@@ -61,6 +66,18 @@ pub(crate) mod tri {
     pub const P1: usize = 3;
     pub const P2: usize = 6;
     pub const N: usize = 9;
+    pub const LEN: usize = 12;
+}
+/// Fields of a [`WideScene::smooth`] record (flags are 0.0 or 1.0).
+pub(crate) mod smooth {
+    /// The vertex normals in world space (not renormalised; see `SmoothNormals`).
+    pub const N0: usize = 0;
+    pub const N1: usize = 3;
+    pub const N2: usize = 6;
+    /// 1 for a mesh triangle (interpolated shading normal), 0 for a flat face.
+    pub const SMOOTH: usize = 9;
+    /// 1 when the mesh's normals were given (they turn the geometric normal).
+    pub const GIVEN: usize = 10;
     pub const LEN: usize = 12;
 }
 /// Fields of a [`WideScene::shading`] record (flags are 0.0 or 1.0).
@@ -93,6 +110,9 @@ pub struct WideScene<'s, 'a> {
     pub(crate) triangles: Vec<[f32; tri::LEN]>,
     /// Per baked triangle: its material and instance.
     pub(crate) triangle_owner: Vec<(u32, u32)>,
+    /// Per baked triangle: its vertex normals ([`smooth`]), when some triangle has
+    /// them (a mesh); `None` when every triangle shades with its geometric normal.
+    pub(crate) smooth: Option<Vec<[f32; smooth::LEN]>>,
     pub(crate) materials: Vec<WideMaterial>,
     /// Per material: albedo, emission, sidedness ([`mat`]).
     pub(crate) shading: Vec<[f32; mat::LEN]>,
@@ -175,14 +195,28 @@ impl<'s, 'a> WideScene<'s, 'a> {
         let baked = ps.tracer.all_triangles()?;
         let corners: Vec<_> = baked.iter().map(|t| t.0).collect();
         let rays = RayLaneTriangles::new(&corners, &ps.tracer.packet_order());
-        for (c, n, instance, material) in baked {
+        let any_smooth = baked.iter().any(|t| t.4.is_some());
+        let mut smooth_table = Vec::new();
+        for (c, n, instance, material, vertex_normals) in baked {
             let mut r = [0.0; tri::LEN];
             for (k, v) in [c[0], c[1], c[2], n].iter().enumerate() {
                 r[3 * k..3 * k + 3].copy_from_slice(&v.to_array());
             }
             triangles.push(r);
             triangle_owner.push((material, instance));
+            if any_smooth {
+                let mut r = [0.0; smooth::LEN];
+                if let Some(s) = vertex_normals {
+                    for (k, v) in s.normals.iter().enumerate() {
+                        r[3 * k..3 * k + 3].copy_from_slice(&v.to_array());
+                    }
+                    r[smooth::SMOOTH] = 1.0;
+                    r[smooth::GIVEN] = if s.given { 1.0 } else { 0.0 };
+                }
+                smooth_table.push(r);
+            }
         }
+        let smooth = any_smooth.then_some(smooth_table);
         let emitters: Vec<FacetEmitter<'_>> = ps.lights.facet_emitters()?;
         let mut facets = Vec::new();
         let mut facet_start = Vec::new();
@@ -230,6 +264,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             ps,
             triangles,
             triangle_owner,
+            smooth,
             materials,
             shading,
             facets,
@@ -247,6 +282,13 @@ impl<'s, 'a> WideScene<'s, 'a> {
         self.rays = None;
         self.pick = None;
         self
+    }
+
+    /// Whether the kernel traces its eight rays at once against every triangle (small
+    /// scenes) rather than lane by lane through the hierarchy; for tests.
+    #[doc(hidden)]
+    pub fn traces_eight_at_once(&self) -> bool {
+        self.rays.is_some()
     }
 
     /// [`Self::radiance_batch`] with the portable build of the kernel (no AVX2, no
