@@ -151,7 +151,8 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     /// The shape as a triangle mesh, when it is one (`None` for every other shape): lets
     /// a caller that traces many rays against a scene of one mesh call the mesh's own
     /// closest-hit routine directly, with no dynamic call per ray (see
-    /// [`crate::Accel::sole_mesh`]).
+    /// [`crate::Accel::sole_mesh`]), and a renderer bake its triangles and interpolate
+    /// its vertex normals as the mesh's hits do (the path tracer's flat scene).
     fn as_triangle_mesh(&self) -> Option<&TriangleMesh> {
         None
     }
@@ -217,14 +218,6 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     /// then intersect the facets instead of the shape (the path tracer's flat scene).
     fn facets_exact(&self) -> bool {
         false
-    }
-
-    /// The shape as a triangle mesh, when it is one: a renderer may then intersect its
-    /// triangles itself and interpolate its vertex normals as
-    /// [`TriangleMesh`](crate::mesh::TriangleMesh)'s hits do (the path tracer's flat
-    /// scene).
-    fn as_mesh(&self) -> Option<&crate::mesh::TriangleMesh> {
-        None
     }
 
     /// Surface area in object space, for shapes that can be sampled as emitters

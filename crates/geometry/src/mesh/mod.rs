@@ -494,10 +494,6 @@ impl Shape for TriangleMesh {
         self.solid_spans(ray, out)
     }
 
-    fn as_mesh(&self) -> Option<&TriangleMesh> {
-        Some(self)
-    }
-
     fn facets(&self, _detail: u32) -> Option<Facets> {
         Some(Facets {
             vertices: self.positions.clone(),

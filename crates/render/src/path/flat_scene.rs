@@ -15,7 +15,7 @@
 //! ([`PacketBounds`]); more are indexed by the geometry crate's 4-wide SAH hierarchy
 //! (Wald, Benthin, Boulos, "Getting Rid of Packets", RT 2008) with packet leaves.
 //!
-//! Triangle meshes ([`Shape::as_mesh`](irradia_geometry::Shape::as_mesh)) are baked
+//! Triangle meshes ([`Shape::as_triangle_mesh`](irradia_geometry::Shape::as_triangle_mesh)) are baked
 //! too, triangle by triangle, each with the geometric normal the mesh's hit reports
 //! and its three vertex normals carried to world space ([`SmoothNormals`]): a hit
 //! interpolates them into the shading normal with the mesh's own rules (Phong shading
@@ -179,7 +179,7 @@ pub struct FlatScene {
 /// exactly.
 fn bake_instance(instance: &Instance) -> Option<Vec<BakedFace>> {
     let shape = instance.shape.as_ref();
-    if let Some(mesh) = shape.as_mesh() {
+    if let Some(mesh) = shape.as_triangle_mesh() {
         return bake_mesh(instance, mesh);
     }
     if !shape.facets_exact() {
