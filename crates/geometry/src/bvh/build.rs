@@ -108,12 +108,37 @@ impl SetInfo {
     }
 }
 
-/// Per-axis bins: how many centroids fall in each and the bounds of their boxes and
-/// centroids.
+/// The box bounds of the primitives in one bin. Bins keep no centroid bounds: the
+/// partition that follows a split visits every primitive anyway and gathers the two
+/// sides' centroid bounds there (as Embree's binned builders do), which halves the
+/// bounds updated per primitive and axis while binning.
+#[derive(Clone, Copy, Debug)]
+struct BinBox {
+    lo: Vec3A,
+    hi: Vec3A,
+}
+
+impl BinBox {
+    const EMPTY: BinBox = BinBox {
+        lo: Vec3A::splat(f32::INFINITY),
+        hi: Vec3A::splat(f32::NEG_INFINITY),
+    };
+    #[inline]
+    fn merge(&mut self, o: &BinBox) {
+        self.lo = self.lo.min(o.lo);
+        self.hi = self.hi.max(o.hi);
+    }
+    fn area(&self) -> f32 {
+        let e = (self.hi - self.lo).max(Vec3A::ZERO);
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+}
+
+/// Per-axis bins: how many centroids fall in each and the bounds of their boxes.
 #[derive(Clone)]
 struct Bins {
     count: [[u32; BINS]; 3],
-    info: [[SetInfo; BINS]; 3],
+    bounds: [[BinBox; BINS]; 3],
 }
 
 /// Maps doubled centroids to bin numbers along each axis.
@@ -168,13 +193,13 @@ impl Binner {
 }
 
 impl Bins {
-    fn new() -> Box<Self> {
-        Box::new(Bins {
+    fn new() -> Self {
+        Bins {
             count: [[0; BINS]; 3],
-            info: [[SetInfo::EMPTY; BINS]; 3],
-        })
+            bounds: [[BinBox::EMPTY; BINS]; 3],
+        }
     }
-    fn fill(binner: &Binner, prims: &[PrimRef]) -> Box<Self> {
+    fn fill(binner: &Binner, prims: &[PrimRef]) -> Self {
         if prims.len() >= PARALLEL_BINNING {
             use rayon::prelude::*;
             return prims
@@ -189,9 +214,12 @@ impl Bins {
         let mut bins = Bins::new();
         for p in prims {
             let b = binner.bins(p);
+            let (lo, hi) = (p.lo(), p.hi());
             for axis in 0..3 {
                 bins.count[axis][b[axis]] += 1;
-                bins.info[axis][b[axis]].add(p);
+                let bb = &mut bins.bounds[axis][b[axis]];
+                bb.lo = bb.lo.min(lo);
+                bb.hi = bb.hi.max(hi);
             }
         }
         bins
@@ -203,7 +231,7 @@ impl Bins {
                     continue;
                 }
                 self.count[axis][i] += o.count[axis][i];
-                self.info[axis][i].merge(&o.info[axis][i]);
+                self.bounds[axis][i].merge(&o.bounds[axis][i]);
             }
         }
     }
@@ -215,27 +243,28 @@ struct Split {
     bin: usize,
     /// SAH cost of the split relative to the parent (`C_t + C_i Σ A_c N_c / A`).
     cost: f32,
-    left: SetInfo,
-    right: SetInfo,
+    /// Box bounds of the two sides (their centroid bounds come from the partition).
+    left: BinBox,
+    right: BinBox,
 }
 
 fn best_split(bins: &Bins, nb: usize, parent_area: f32, block: usize) -> Option<Split> {
     let mut best: Option<Split> = None;
     for axis in 0..3 {
         let mut right_area = [0f32; BINS];
-        let mut acc = SetInfo::EMPTY;
+        let mut acc = BinBox::EMPTY;
         let mut n = 0u32;
         let mut right_count = [0u32; BINS];
         for i in (1..nb).rev() {
-            acc.merge(&bins.info[axis][i]);
+            acc.merge(&bins.bounds[axis][i]);
             n += bins.count[axis][i];
             right_area[i] = acc.area();
             right_count[i] = n;
         }
-        let mut left = SetInfo::EMPTY;
+        let mut left = BinBox::EMPTY;
         let mut nl = 0u32;
         for i in 1..nb {
-            left.merge(&bins.info[axis][i - 1]);
+            left.merge(&bins.bounds[axis][i - 1]);
             nl += bins.count[axis][i - 1];
             let nr = right_count[i];
             if nl == 0 || nr == 0 {
@@ -249,15 +278,15 @@ fn best_split(bins: &Bins, nb: usize, parent_area: f32, block: usize) -> Option<
                     bin: i,
                     cost,
                     left,
-                    right: SetInfo::EMPTY,
+                    right: BinBox::EMPTY,
                 });
             }
         }
     }
     let mut s = best?;
-    let mut right = SetInfo::EMPTY;
+    let mut right = BinBox::EMPTY;
     for i in s.bin..nb {
-        right.merge(&bins.info[s.axis][i]);
+        right.merge(&bins.bounds[s.axis][i]);
     }
     s.right = right;
     s.cost = TRAVERSAL_COST + INTERSECT_COST * s.cost / parent_area.max(f32::MIN_POSITIVE);
@@ -276,6 +305,12 @@ fn split(
     if n <= 1 {
         return None;
     }
+    if n <= MAX_LEAF && depth < MAX_SAH_DEPTH && TRAVERSAL_COST >= INTERSECT_COST * blocks(n, block)
+    {
+        // Any split costs at least a node visit, which is already as much as testing
+        // the whole set as one leaf (sets of up to `block` primitives): a leaf.
+        return None;
+    }
     if n <= SWEEP_MAX && depth < MAX_SAH_DEPTH {
         return sweep_split(prims, info, block);
     }
@@ -291,9 +326,15 @@ fn split(
             if n <= MAX_LEAF && s.cost >= INTERSECT_COST * blocks(n, block) {
                 return None;
             }
-            let mid = partition(prims, |p| binner.bin_on(p, s.axis) < s.bin);
+            let (mid, cl, cr) = partition(prims, |p| binner.bin_on(p, s.axis) < s.bin);
             debug_assert!(mid > 0 && mid < n);
-            Some((mid, s.left, s.right))
+            let side = |b: BinBox, c: Centroids| SetInfo {
+                lo: b.lo,
+                hi: b.hi,
+                clo: c.lo,
+                chi: c.hi,
+            };
+            Some((mid, side(s.left, cl), side(s.right, cr)))
         }
         None => {
             if n <= MAX_LEAF && depth < MAX_SAH_DEPTH {
@@ -347,19 +388,58 @@ fn sweep_split(
     Some((mid, SetInfo::of(&prims[..mid]), SetInfo::of(&prims[mid..])))
 }
 
-/// In-place partition; returns the number of elements for which `left` holds.
-fn partition(prims: &mut [PrimRef], left: impl Fn(&PrimRef) -> bool) -> usize {
+/// Bounds of (doubled) centroids.
+#[derive(Clone, Copy, Debug)]
+struct Centroids {
+    lo: Vec3A,
+    hi: Vec3A,
+}
+
+impl Centroids {
+    const EMPTY: Centroids = Centroids {
+        lo: Vec3A::splat(f32::INFINITY),
+        hi: Vec3A::splat(f32::NEG_INFINITY),
+    };
+    #[inline(always)]
+    fn add(&mut self, p: &PrimRef) {
+        let c = p.centroid2();
+        self.lo = self.lo.min(c);
+        self.hi = self.hi.max(c);
+    }
+}
+
+/// In-place partition; returns the number of elements for which `left` holds, and
+/// the centroid bounds of the two sides. Every element is classified once and added
+/// to its side's bounds then.
+fn partition(
+    prims: &mut [PrimRef],
+    left: impl Fn(&PrimRef) -> bool,
+) -> (usize, Centroids, Centroids) {
+    let (mut cl, mut cr) = (Centroids::EMPTY, Centroids::EMPTY);
     let (mut i, mut j) = (0usize, prims.len());
     loop {
-        while i < j && left(&prims[i]) {
+        while i < j {
+            let p = &prims[i];
+            if !left(p) {
+                break;
+            }
+            cl.add(p);
             i += 1;
         }
-        while i < j && !left(&prims[j - 1]) {
+        while i < j {
+            let p = &prims[j - 1];
+            if left(p) {
+                break;
+            }
+            cr.add(p);
             j -= 1;
         }
         if i >= j {
-            return i;
+            return (i, cl, cr);
         }
+        // prims[i] goes right and prims[j - 1] left.
+        cr.add(&prims[i]);
+        cl.add(&prims[j - 1]);
         prims.swap(i, j - 1);
         i += 1;
         j -= 1;

@@ -117,6 +117,25 @@ impl Bvh {
         }
     }
 
+    /// Like [`Bvh::map_leaves`], but `f` gets the leaf's primitives (the caller's
+    /// indices, in slot order) instead of its slot range, so a caller repacking its
+    /// primitives by leaf needs no copy of [`Bvh::order`].
+    pub fn map_leaf_primitives(&mut self, mut f: impl FnMut(&[u32]) -> u32) {
+        let order = &self.order;
+        let mut stack = vec![0u32];
+        while let Some(n) = stack.pop() {
+            for i in (0..WIDTH).rev() {
+                let c = self.nodes[n as usize].child_ref(i);
+                if c.is_leaf() {
+                    let prims = &order[c.index as usize..(c.index + c.count) as usize];
+                    self.nodes[n as usize].child[i] = f(prims);
+                } else if !c.is_empty() {
+                    stack.push(c.index);
+                }
+            }
+        }
+    }
+
     /// Counts nodes, leaves and depth, and the SAH cost of the tree.
     pub fn stats(&self) -> BvhStats {
         let mut s = BvhStats {

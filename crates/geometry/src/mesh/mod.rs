@@ -171,23 +171,20 @@ impl TriangleMesh {
         // the gyroid against blocks of four: 5-7% faster rays, 13% faster build.
         let mut bvh = Bvh::build_blocked(&boxes, 8);
         drop(boxes);
-        let mut slot_triangles: Vec<u32> = bvh.order().to_vec();
         // At most one packet per leaf beyond a full packet per 4 triangles.
-        let mut packets = Vec::with_capacity(slot_triangles.len() / 2 + 1);
+        let mut packets = Vec::with_capacity(bvh.order().len() / 2 + 1);
         crate::bvh::advise_huge_pages(&mut packets);
-        bvh.map_leaves(|start, count| {
+        bvh.map_leaf_primitives(|tris| {
             let first = packets.len() as u32;
-            let tris = &slot_triangles[start as usize..(start + count) as usize];
             for chunk in tris.chunks(4) {
-                let corners: Vec<[Vec3; 3]> = chunk
-                    .iter()
-                    .map(|&t| corners(&indices[t as usize]))
-                    .collect();
-                packets.push(Triangle4::new(&corners).with_ids(chunk));
+                let mut lanes = [[Vec3::ZERO; 3]; 4];
+                for (lane, &t) in lanes.iter_mut().zip(chunk) {
+                    *lane = corners(&indices[t as usize]);
+                }
+                packets.push(Triangle4::new(&lanes[..chunk.len()]).with_ids(chunk));
             }
             first
         });
-        slot_triangles.clear();
         let bounds = bvh.bounds();
         Ok(TriangleMesh {
             positions,
