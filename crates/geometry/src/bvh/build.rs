@@ -42,6 +42,7 @@ pub(crate) struct PrimRef {
     lo_: [f32; 3],
     pub index: u32,
     hi_: [f32; 3],
+    /// 1 while the list is filled for a box left out, else 0.
     _pad: u32,
 }
 
@@ -176,19 +177,43 @@ impl Binner {
         let b = ((p.centroid2() - self.origin) * self.scale)
             .max(Vec3A::ZERO)
             .min(Vec3A::splat((self.bins - 1) as f32));
-        [b.x as usize, b.y as usize, b.z as usize]
+        truncate(b)
     }
 }
 
 impl Binner {
-    /// The bin along one axis (the same arithmetic as `bins`, so partitions agree
-    /// with the counts).
-    #[inline]
-    fn bin_on(&self, p: &PrimRef, axis: usize) -> usize {
+    /// Whether the bin along `axis` is below `bin`: the same arithmetic as `bins`,
+    /// so partitions agree with the counts, but compared as a float (for an integer
+    /// `bin >= 1`, `floor(x) < bin` exactly when `x < bin`), which spares the
+    /// float-to-integer conversion in the partition's inner loop.
+    #[inline(always)]
+    fn below(&self, p: &PrimRef, axis: usize, bin: f32) -> bool {
         let c = p.lo_[axis] + p.hi_[axis];
         ((c - self.origin[axis]) * self.scale[axis])
             .max(0.0)
-            .min((self.bins - 1) as f32) as usize
+            .min((self.bins - 1) as f32)
+            < bin
+    }
+}
+
+/// The integer parts of three bin coordinates already clamped to `[0, BINS - 1]`, in
+/// one SIMD conversion (Rust's `as` would add a saturation check per lane).
+#[inline(always)]
+fn truncate(b: Vec3A) -> [usize; 3] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::*;
+        let mut out = [0i32; 4];
+        // SAFETY: SSE2 is part of the x86_64 baseline; `out` has room for 16 bytes.
+        unsafe {
+            let i = _mm_cvttps_epi32(b.into());
+            _mm_storeu_si128(out.as_mut_ptr() as *mut __m128i, i);
+        }
+        [out[0] as usize, out[1] as usize, out[2] as usize]
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        [b.x as usize, b.y as usize, b.z as usize]
     }
 }
 
@@ -326,7 +351,7 @@ fn split(
             if n <= MAX_LEAF && s.cost >= INTERSECT_COST * blocks(n, block) {
                 return None;
             }
-            let (mid, cl, cr) = partition(prims, |p| binner.bin_on(p, s.axis) < s.bin);
+            let (mid, cl, cr) = partition(prims, |p| binner.below(p, s.axis, s.bin as f32));
             debug_assert!(mid > 0 && mid < n);
             let side = |b: BinBox, c: Centroids| SetInfo {
                 lo: b.lo,
@@ -591,21 +616,31 @@ fn prims_len(parts: &[Part]) -> usize {
     parts.iter().map(|p| p.len).sum()
 }
 
-/// Builds the node array over `boxes`. Boxes that are empty or not finite are left
+/// Builds the node array over the boxes `box_of(0..count)`. Boxes that are empty or not finite are left
 /// out. Returns the nodes (root first) and the primitive order (slot -> index).
-pub(crate) fn build(boxes: &[Aabb], block: usize) -> (Vec<WideNode>, Vec<u32>) {
+pub(crate) fn build(
+    count: usize,
+    box_of: impl Fn(usize) -> Aabb + Sync,
+    block: usize,
+) -> (Vec<WideNode>, Vec<u32>) {
     use rayon::prelude::*;
-    let mut prims: Vec<PrimRef> = boxes
-        .par_iter()
-        .enumerate()
-        .filter(|(_, b)| b.is_finite() && !b.is_empty())
-        .map(|(i, b)| PrimRef {
-            lo_: b.min.to_array(),
-            hi_: b.max.to_array(),
-            index: i as u32,
-            _pad: 0,
+    // An indexed collect writes straight into one vector (a filtered one would gather
+    // pieces and copy them); the boxes left out are then squeezed out in place.
+    let mut prims: Vec<PrimRef> = (0..count)
+        .into_par_iter()
+        .map(|i| {
+            let b = box_of(i);
+            PrimRef {
+                lo_: b.min.to_array(),
+                hi_: b.max.to_array(),
+                index: i as u32,
+                _pad: u32::from(!b.is_finite() || b.is_empty()),
+            }
         })
         .collect();
+    if prims.iter().any(|p| p._pad != 0) {
+        prims.retain(|p| p._pad == 0);
+    }
     if prims.is_empty() {
         return (vec![WideNode::EMPTY], Vec::new());
     }
@@ -644,4 +679,109 @@ pub(crate) fn build(boxes: &[Aabb], block: usize) -> (Vec<WideNode>, Vec<u32>) {
     // and reallocating would lose the huge-page advice.
     let order = prims.par_iter().map(|p| p.index).collect();
     (nodes, order)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use irradia_core::Rng;
+
+    fn random_prims(rng: &mut Rng, n: usize) -> Vec<PrimRef> {
+        (0..n)
+            .map(|i| {
+                let c = Vec3A::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 10.0;
+                let e = Vec3A::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 0.3;
+                PrimRef {
+                    lo_: (c - e).to_array(),
+                    hi_: (c + e).to_array(),
+                    index: i as u32,
+                    _pad: 0,
+                }
+            })
+            .collect()
+    }
+
+    fn same(a: &SetInfo, b: &SetInfo) -> bool {
+        a.lo == b.lo && a.hi == b.hi && a.clo == b.clo && a.chi == b.chi
+    }
+
+    #[test]
+    fn partition_counts_and_gathers_the_centroid_bounds_of_each_side() {
+        let mut rng = Rng::new(7, 1);
+        for n in [1, 2, 3, 10, 100, 1000] {
+            let mut prims = random_prims(&mut rng, n);
+            let cut = 10.0 * rng.next_f32();
+            let left = |p: &PrimRef| p.centroid2().x < cut;
+            let want = prims.iter().filter(|p| left(p)).count();
+            let (mid, cl, cr) = partition(&mut prims, left);
+            assert_eq!(mid, want);
+            assert!(prims[..mid].iter().all(left) && !prims[mid..].iter().any(left));
+            let (l, r) = (SetInfo::of(&prims[..mid]), SetInfo::of(&prims[mid..]));
+            assert_eq!((cl.lo, cl.hi), (l.clo, l.chi));
+            assert_eq!((cr.lo, cr.hi), (r.clo, r.chi));
+        }
+    }
+
+    #[test]
+    fn binned_splits_report_the_exact_bounds_of_both_sides() {
+        let mut rng = Rng::new(7, 2);
+        for n in [9, 40, 200, 3000] {
+            for block in [1, 8] {
+                let mut prims = random_prims(&mut rng, n);
+                let info = SetInfo::of(&prims);
+                let (mid, l, r) = split(&mut prims, &info, 0, block).expect("a split");
+                assert!(mid > 0 && mid < n);
+                assert!(same(&l, &SetInfo::of(&prims[..mid])), "n {n} block {block}");
+                assert!(same(&r, &SetInfo::of(&prims[mid..])), "n {n} block {block}");
+                // The two sides are the two sides of one bin boundary.
+                let binner = Binner::new(&info, n);
+                let axis = (0..3)
+                    .find(|&a| {
+                        (1..binner.bins).any(|b| {
+                            prims[..mid].iter().all(|p| binner.bins(p)[a] < b)
+                                && prims[mid..].iter().all(|p| binner.bins(p)[a] >= b)
+                        })
+                    })
+                    .is_some();
+                assert!(axis, "n {n} block {block}");
+            }
+        }
+    }
+
+    #[test]
+    fn sets_no_larger_than_a_block_stay_leaves_and_larger_ones_are_split() {
+        let mut rng = Rng::new(7, 3);
+        for n in 2..=MAX_LEAF {
+            let mut prims = random_prims(&mut rng, n);
+            let info = SetInfo::of(&prims);
+            assert!(split(&mut prims, &info, 0, 8).is_none(), "n {n}");
+            // Past the SAH depth limit sets are split at the median whatever their size.
+            let (mid, _, _) = split(&mut prims, &info, MAX_SAH_DEPTH, 8).expect("median");
+            assert_eq!(mid, n / 2);
+        }
+        // Far-apart pairs are worth splitting when each primitive is its own block.
+        let mut prims = random_prims(&mut rng, 2);
+        prims[1].lo_ = [1e3; 3];
+        prims[1].hi_ = [1e3 + 1.0; 3];
+        let info = SetInfo::of(&prims);
+        assert!(split(&mut prims, &info, 0, 1).is_some());
+    }
+
+    #[test]
+    fn the_bin_test_of_the_partition_agrees_with_the_bin_numbers() {
+        let mut rng = Rng::new(7, 4);
+        let prims = random_prims(&mut rng, 2000);
+        let info = SetInfo::of(&prims);
+        for n in [20, 500, 2000] {
+            let binner = Binner::new(&info, n);
+            for p in &prims {
+                let b = binner.bins(p);
+                for axis in 0..3 {
+                    for bin in 1..binner.bins {
+                        assert_eq!(binner.below(p, axis, bin as f32), b[axis] < bin);
+                    }
+                }
+            }
+        }
+    }
 }

@@ -72,7 +72,18 @@ impl Bvh {
     /// the SAH then counts blocks, so leaves
     /// fill whole blocks.
     pub fn build_blocked(boxes: &[Aabb], block: usize) -> Self {
-        let (nodes, order) = build::build(boxes, block);
+        Self::build_blocked_by(boxes.len(), |i| boxes[i], block)
+    }
+
+    /// Like [`Bvh::build_blocked`] over the boxes `box_of(0..count)`, asked for once
+    /// each while the build's own primitive list is filled: a caller that computes its
+    /// boxes (a mesh, from its triangles) needs no array of them.
+    pub fn build_blocked_by(
+        count: usize,
+        box_of: impl Fn(usize) -> Aabb + Sync,
+        block: usize,
+    ) -> Self {
+        let (nodes, order) = build::build(count, box_of, block);
         let bounds = (0..WIDTH)
             .map(|i| nodes[0].child_bounds(i))
             .fold(Aabb::EMPTY, Aabb::union);
