@@ -15,6 +15,7 @@ use irradia_core::Aabb;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 const BINS: usize = 32;
+const _: () = assert!(BINS.is_power_of_two());
 /// Sets up to this size are split by an exact sweep instead of binning.
 const SWEEP_MAX: usize = 8;
 /// Leaves never hold more primitives than this.
@@ -28,6 +29,8 @@ const INTERSECT_COST: f32 = 1.0;
 fn blocks(n: usize, block: usize) -> f32 {
     n.div_ceil(block) as f32
 }
+/// Sets at least this large are binned into two sets of bins (see `Bins::fill`).
+const DUAL_BINS: usize = 128;
 /// Sets larger than this are binned with several threads.
 const PARALLEL_BINNING: usize = 1 << 16;
 /// Subtrees larger than this are built as separate tasks.
@@ -237,17 +240,40 @@ impl Bins {
                 .unwrap_or_else(Bins::new);
         }
         let mut bins = Bins::new();
-        for p in prims {
-            let b = binner.bins(p);
-            let (lo, hi) = (p.lo(), p.hi());
-            for axis in 0..3 {
-                bins.count[axis][b[axis]] += 1;
-                let bb = &mut bins.bounds[axis][b[axis]];
-                bb.lo = bb.lo.min(lo);
-                bb.hi = bb.hi.max(hi);
+        if prims.len() < DUAL_BINS {
+            for p in prims {
+                bins.add(binner, p);
             }
+            return bins;
         }
+        // Neighbouring primitives often fall in the same bins, and each update then
+        // waits for the previous one's store: two sets of bins, for the even and the
+        // odd primitives, make two independent chains.
+        let mut odd = Bins::new();
+        let mut pairs = prims.chunks_exact(2);
+        for pair in &mut pairs {
+            bins.add(binner, &pair[0]);
+            odd.add(binner, &pair[1]);
+        }
+        for p in pairs.remainder() {
+            bins.add(binner, p);
+        }
+        bins.merge(&odd);
         bins
+    }
+    #[inline(always)]
+    fn add(&mut self, binner: &Binner, p: &PrimRef) {
+        let b = binner.bins(p);
+        let (lo, hi) = (p.lo(), p.hi());
+        for axis in 0..3 {
+            // Bin numbers are below BINS already; the mask only lets the compiler
+            // drop the bounds checks.
+            let k = b[axis] & (BINS - 1);
+            self.count[axis][k] += 1;
+            let bb = &mut self.bounds[axis][k];
+            bb.lo = bb.lo.min(lo);
+            bb.hi = bb.hi.max(hi);
+        }
     }
     fn merge(&mut self, o: &Bins) {
         for axis in 0..3 {
