@@ -296,8 +296,21 @@ fn building_from_a_box_function_equals_building_from_a_box_list() {
         assert_eq!(a.order(), b.order());
         assert!(!a.order().contains(&17) && !a.order().contains(&4000));
         assert_eq!(a.nodes().len(), b.nodes().len());
-        for (x, y) in a.nodes().iter().zip(b.nodes()) {
-            assert_eq!((x.bounds, x.child, x.count), (y.bounds, y.child, y.count));
+        // Subtrees built in parallel number their nodes in whatever order the threads
+        // run, so the trees are compared by walking both from the root.
+        let mut stack = vec![(0u32, 0u32)];
+        while let Some((i, j)) = stack.pop() {
+            let (x, y) = (&a.nodes()[i as usize], &b.nodes()[j as usize]);
+            assert_eq!(x.bounds, y.bounds);
+            for k in 0..8 {
+                let (cx, cy) = (x.child_ref(k), y.child_ref(k));
+                if cx.is_leaf() || cx.is_empty() {
+                    assert_eq!(cx, cy);
+                } else {
+                    assert!(!cy.is_leaf() && !cy.is_empty());
+                    stack.push((cx.index, cy.index));
+                }
+            }
         }
         assert_eq!(a.stats(), b.stats());
     }
