@@ -265,10 +265,10 @@ impl Bins {
     fn add(&mut self, binner: &Binner, p: &PrimRef) {
         let b = binner.bins(p);
         let (lo, hi) = (p.lo(), p.hi());
-        for axis in 0..3 {
+        for (axis, &bin) in b.iter().enumerate() {
             // Bin numbers are below BINS already; the mask only lets the compiler
             // drop the bounds checks.
-            let k = b[axis] & (BINS - 1);
+            let k = bin & (BINS - 1);
             self.count[axis][k] += 1;
             let bb = &mut self.bounds[axis][k];
             bb.lo = bb.lo.min(lo);
@@ -846,9 +846,9 @@ mod tests {
             let binner = Binner::new(&info, n);
             for p in &prims {
                 let b = binner.bins(p);
-                for axis in 0..3 {
+                for (axis, &got) in b.iter().enumerate() {
                     for bin in 1..binner.bins {
-                        assert_eq!(binner.below(p, axis, bin as f32), b[axis] < bin);
+                        assert_eq!(binner.below(p, axis, bin as f32), got < bin);
                     }
                 }
             }
