@@ -279,3 +279,66 @@ fn accel_equals_brute_force_over_instances() {
     }
     assert!(hits > 1000);
 }
+
+#[test]
+fn building_from_a_box_function_equals_building_from_a_box_list() {
+    let mut rng = Rng::new(11, 3);
+    let mut boxes: Vec<Aabb> = random_triangles(&mut rng, 5000)
+        .iter()
+        .map(|t| Aabb::from_points(*t))
+        .collect();
+    // Boxes left out: empty and not finite.
+    boxes[17] = Aabb::EMPTY;
+    boxes[4000] = Aabb::new(Vec3::ZERO, Vec3::splat(f32::INFINITY));
+    for block in [1, 8] {
+        let a = Bvh::build_blocked(&boxes, block);
+        let b = Bvh::build_blocked_by(boxes.len(), |i| boxes[i], block);
+        assert_eq!(a.order(), b.order());
+        assert!(!a.order().contains(&17) && !a.order().contains(&4000));
+        assert_eq!(a.nodes().len(), b.nodes().len());
+        // Subtrees built in parallel number their nodes in whatever order the threads
+        // run, so the trees are compared by walking both from the root.
+        let mut stack = vec![(0u32, 0u32)];
+        while let Some((i, j)) = stack.pop() {
+            let (x, y) = (&a.nodes()[i as usize], &b.nodes()[j as usize]);
+            assert_eq!(x.bounds, y.bounds);
+            for k in 0..8 {
+                let (cx, cy) = (x.child_ref(k), y.child_ref(k));
+                if cx.is_leaf() || cx.is_empty() {
+                    assert_eq!(cx, cy);
+                } else {
+                    assert!(!cy.is_leaf() && !cy.is_empty());
+                    stack.push((cx.index, cy.index));
+                }
+            }
+        }
+        assert_eq!(a.stats(), b.stats());
+    }
+}
+
+#[test]
+fn leaf_primitives_are_the_slots_of_each_leaf() {
+    let mut rng = Rng::new(11, 4);
+    let boxes: Vec<Aabb> = random_triangles(&mut rng, 3000)
+        .iter()
+        .map(|t| Aabb::from_points(*t))
+        .collect();
+    let bvh = Bvh::build_blocked(&boxes, 8);
+    let mut by_slots = Vec::new();
+    let mut a = bvh.clone();
+    a.map_leaves(|start, count| {
+        by_slots.push(bvh.order()[start as usize..(start + count) as usize].to_vec());
+        by_slots.len() as u32 - 1
+    });
+    let mut by_prims = Vec::new();
+    let mut b = bvh.clone();
+    b.map_leaf_primitives(|prims| {
+        by_prims.push(prims.to_vec());
+        by_prims.len() as u32 - 1
+    });
+    assert_eq!(by_slots, by_prims);
+    assert_eq!(by_prims.iter().map(Vec::len).sum::<usize>(), boxes.len());
+    for (x, y) in a.nodes().iter().zip(b.nodes()) {
+        assert_eq!((x.child, x.count), (y.child, y.count));
+    }
+}

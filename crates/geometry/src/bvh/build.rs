@@ -15,6 +15,7 @@ use irradia_core::Aabb;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 const BINS: usize = 32;
+const _: () = assert!(BINS.is_power_of_two());
 /// Sets up to this size are split by an exact sweep instead of binning.
 const SWEEP_MAX: usize = 8;
 /// Leaves never hold more primitives than this.
@@ -28,6 +29,8 @@ const INTERSECT_COST: f32 = 1.0;
 fn blocks(n: usize, block: usize) -> f32 {
     n.div_ceil(block) as f32
 }
+/// Sets at least this large are binned into two sets of bins (see `Bins::fill`).
+const DUAL_BINS: usize = 128;
 /// Sets larger than this are binned with several threads.
 const PARALLEL_BINNING: usize = 1 << 16;
 /// Subtrees larger than this are built as separate tasks.
@@ -42,6 +45,7 @@ pub(crate) struct PrimRef {
     lo_: [f32; 3],
     pub index: u32,
     hi_: [f32; 3],
+    /// 1 while the list is filled for a box left out, else 0.
     _pad: u32,
 }
 
@@ -108,12 +112,37 @@ impl SetInfo {
     }
 }
 
-/// Per-axis bins: how many centroids fall in each and the bounds of their boxes and
-/// centroids.
+/// The box bounds of the primitives in one bin. Bins keep no centroid bounds: the
+/// partition that follows a split visits every primitive anyway and gathers the two
+/// sides' centroid bounds there (as Embree's binned builders do), which halves the
+/// bounds updated per primitive and axis while binning.
+#[derive(Clone, Copy, Debug)]
+struct BinBox {
+    lo: Vec3A,
+    hi: Vec3A,
+}
+
+impl BinBox {
+    const EMPTY: BinBox = BinBox {
+        lo: Vec3A::splat(f32::INFINITY),
+        hi: Vec3A::splat(f32::NEG_INFINITY),
+    };
+    #[inline]
+    fn merge(&mut self, o: &BinBox) {
+        self.lo = self.lo.min(o.lo);
+        self.hi = self.hi.max(o.hi);
+    }
+    fn area(&self) -> f32 {
+        let e = (self.hi - self.lo).max(Vec3A::ZERO);
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+}
+
+/// Per-axis bins: how many centroids fall in each and the bounds of their boxes.
 #[derive(Clone)]
 struct Bins {
     count: [[u32; BINS]; 3],
-    info: [[SetInfo; BINS]; 3],
+    bounds: [[BinBox; BINS]; 3],
 }
 
 /// Maps doubled centroids to bin numbers along each axis.
@@ -151,30 +180,54 @@ impl Binner {
         let b = ((p.centroid2() - self.origin) * self.scale)
             .max(Vec3A::ZERO)
             .min(Vec3A::splat((self.bins - 1) as f32));
-        [b.x as usize, b.y as usize, b.z as usize]
+        truncate(b)
     }
 }
 
 impl Binner {
-    /// The bin along one axis (the same arithmetic as `bins`, so partitions agree
-    /// with the counts).
-    #[inline]
-    fn bin_on(&self, p: &PrimRef, axis: usize) -> usize {
+    /// Whether the bin along `axis` is below `bin`: the same arithmetic as `bins`,
+    /// so partitions agree with the counts, but compared as a float (for an integer
+    /// `bin >= 1`, `floor(x) < bin` exactly when `x < bin`), which spares the
+    /// float-to-integer conversion in the partition's inner loop.
+    #[inline(always)]
+    fn below(&self, p: &PrimRef, axis: usize, bin: f32) -> bool {
         let c = p.lo_[axis] + p.hi_[axis];
         ((c - self.origin[axis]) * self.scale[axis])
             .max(0.0)
-            .min((self.bins - 1) as f32) as usize
+            .min((self.bins - 1) as f32)
+            < bin
+    }
+}
+
+/// The integer parts of three bin coordinates already clamped to `[0, BINS - 1]`, in
+/// one SIMD conversion (Rust's `as` would add a saturation check per lane).
+#[inline(always)]
+fn truncate(b: Vec3A) -> [usize; 3] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::*;
+        let mut out = [0i32; 4];
+        // SAFETY: SSE2 is part of the x86_64 baseline; `out` has room for 16 bytes.
+        unsafe {
+            let i = _mm_cvttps_epi32(b.into());
+            _mm_storeu_si128(out.as_mut_ptr() as *mut __m128i, i);
+        }
+        [out[0] as usize, out[1] as usize, out[2] as usize]
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        [b.x as usize, b.y as usize, b.z as usize]
     }
 }
 
 impl Bins {
-    fn new() -> Box<Self> {
-        Box::new(Bins {
+    fn new() -> Self {
+        Bins {
             count: [[0; BINS]; 3],
-            info: [[SetInfo::EMPTY; BINS]; 3],
-        })
+            bounds: [[BinBox::EMPTY; BINS]; 3],
+        }
     }
-    fn fill(binner: &Binner, prims: &[PrimRef]) -> Box<Self> {
+    fn fill(binner: &Binner, prims: &[PrimRef]) -> Self {
         if prims.len() >= PARALLEL_BINNING {
             use rayon::prelude::*;
             return prims
@@ -187,14 +240,40 @@ impl Bins {
                 .unwrap_or_else(Bins::new);
         }
         let mut bins = Bins::new();
-        for p in prims {
-            let b = binner.bins(p);
-            for axis in 0..3 {
-                bins.count[axis][b[axis]] += 1;
-                bins.info[axis][b[axis]].add(p);
+        if prims.len() < DUAL_BINS {
+            for p in prims {
+                bins.add(binner, p);
             }
+            return bins;
         }
+        // Neighbouring primitives often fall in the same bins, and each update then
+        // waits for the previous one's store: two sets of bins, for the even and the
+        // odd primitives, make two independent chains.
+        let mut odd = Bins::new();
+        let mut pairs = prims.chunks_exact(2);
+        for pair in &mut pairs {
+            bins.add(binner, &pair[0]);
+            odd.add(binner, &pair[1]);
+        }
+        for p in pairs.remainder() {
+            bins.add(binner, p);
+        }
+        bins.merge(&odd);
         bins
+    }
+    #[inline(always)]
+    fn add(&mut self, binner: &Binner, p: &PrimRef) {
+        let b = binner.bins(p);
+        let (lo, hi) = (p.lo(), p.hi());
+        for (axis, &bin) in b.iter().enumerate() {
+            // Bin numbers are below BINS already; the mask only lets the compiler
+            // drop the bounds checks.
+            let k = bin & (BINS - 1);
+            self.count[axis][k] += 1;
+            let bb = &mut self.bounds[axis][k];
+            bb.lo = bb.lo.min(lo);
+            bb.hi = bb.hi.max(hi);
+        }
     }
     fn merge(&mut self, o: &Bins) {
         for axis in 0..3 {
@@ -203,7 +282,7 @@ impl Bins {
                     continue;
                 }
                 self.count[axis][i] += o.count[axis][i];
-                self.info[axis][i].merge(&o.info[axis][i]);
+                self.bounds[axis][i].merge(&o.bounds[axis][i]);
             }
         }
     }
@@ -215,27 +294,28 @@ struct Split {
     bin: usize,
     /// SAH cost of the split relative to the parent (`C_t + C_i Σ A_c N_c / A`).
     cost: f32,
-    left: SetInfo,
-    right: SetInfo,
+    /// Box bounds of the two sides (their centroid bounds come from the partition).
+    left: BinBox,
+    right: BinBox,
 }
 
 fn best_split(bins: &Bins, nb: usize, parent_area: f32, block: usize) -> Option<Split> {
     let mut best: Option<Split> = None;
     for axis in 0..3 {
         let mut right_area = [0f32; BINS];
-        let mut acc = SetInfo::EMPTY;
+        let mut acc = BinBox::EMPTY;
         let mut n = 0u32;
         let mut right_count = [0u32; BINS];
         for i in (1..nb).rev() {
-            acc.merge(&bins.info[axis][i]);
+            acc.merge(&bins.bounds[axis][i]);
             n += bins.count[axis][i];
             right_area[i] = acc.area();
             right_count[i] = n;
         }
-        let mut left = SetInfo::EMPTY;
+        let mut left = BinBox::EMPTY;
         let mut nl = 0u32;
         for i in 1..nb {
-            left.merge(&bins.info[axis][i - 1]);
+            left.merge(&bins.bounds[axis][i - 1]);
             nl += bins.count[axis][i - 1];
             let nr = right_count[i];
             if nl == 0 || nr == 0 {
@@ -249,15 +329,15 @@ fn best_split(bins: &Bins, nb: usize, parent_area: f32, block: usize) -> Option<
                     bin: i,
                     cost,
                     left,
-                    right: SetInfo::EMPTY,
+                    right: BinBox::EMPTY,
                 });
             }
         }
     }
     let mut s = best?;
-    let mut right = SetInfo::EMPTY;
+    let mut right = BinBox::EMPTY;
     for i in s.bin..nb {
-        right.merge(&bins.info[s.axis][i]);
+        right.merge(&bins.bounds[s.axis][i]);
     }
     s.right = right;
     s.cost = TRAVERSAL_COST + INTERSECT_COST * s.cost / parent_area.max(f32::MIN_POSITIVE);
@@ -276,6 +356,12 @@ fn split(
     if n <= 1 {
         return None;
     }
+    if n <= MAX_LEAF && depth < MAX_SAH_DEPTH && TRAVERSAL_COST >= INTERSECT_COST * blocks(n, block)
+    {
+        // Any split costs at least a node visit, which is already as much as testing
+        // the whole set as one leaf (sets of up to `block` primitives): a leaf.
+        return None;
+    }
     if n <= SWEEP_MAX && depth < MAX_SAH_DEPTH {
         return sweep_split(prims, info, block);
     }
@@ -291,9 +377,15 @@ fn split(
             if n <= MAX_LEAF && s.cost >= INTERSECT_COST * blocks(n, block) {
                 return None;
             }
-            let mid = partition(prims, |p| binner.bin_on(p, s.axis) < s.bin);
+            let (mid, cl, cr) = partition(prims, |p| binner.below(p, s.axis, s.bin as f32));
             debug_assert!(mid > 0 && mid < n);
-            Some((mid, s.left, s.right))
+            let side = |b: BinBox, c: Centroids| SetInfo {
+                lo: b.lo,
+                hi: b.hi,
+                clo: c.lo,
+                chi: c.hi,
+            };
+            Some((mid, side(s.left, cl), side(s.right, cr)))
         }
         None => {
             if n <= MAX_LEAF && depth < MAX_SAH_DEPTH {
@@ -347,19 +439,98 @@ fn sweep_split(
     Some((mid, SetInfo::of(&prims[..mid]), SetInfo::of(&prims[mid..])))
 }
 
-/// In-place partition; returns the number of elements for which `left` holds.
-fn partition(prims: &mut [PrimRef], left: impl Fn(&PrimRef) -> bool) -> usize {
+/// Bounds of (doubled) centroids.
+#[derive(Clone, Copy, Debug)]
+struct Centroids {
+    lo: Vec3A,
+    hi: Vec3A,
+}
+
+impl Centroids {
+    const EMPTY: Centroids = Centroids {
+        lo: Vec3A::splat(f32::INFINITY),
+        hi: Vec3A::splat(f32::NEG_INFINITY),
+    };
+    #[inline(always)]
+    fn add(&mut self, p: &PrimRef) {
+        let c = p.centroid2();
+        self.lo = self.lo.min(c);
+        self.hi = self.hi.max(c);
+    }
+}
+
+/// Sets up to this size (256 KiB of primitives, in cache) are partitioned without
+/// branches on the side of each primitive; larger ones, where the build waits on
+/// memory rather than on mispredicted branches, by Hoare's scheme, which writes only
+/// the primitives on the wrong side.
+const BRANCHLESS_PARTITION: usize = 1 << 13;
+
+/// In-place partition; returns the number of elements for which `left` holds, and
+/// the centroid bounds of the two sides. Every element is classified once and added
+/// to its side's bounds then. Which scheme runs changes only the order of the
+/// primitives within each side, never the sides.
+fn partition(
+    prims: &mut [PrimRef],
+    left: impl Fn(&PrimRef) -> bool,
+) -> (usize, Centroids, Centroids) {
+    if prims.len() <= BRANCHLESS_PARTITION {
+        partition_branchless(prims, left)
+    } else {
+        partition_hoare(prims, left)
+    }
+}
+
+/// Lomuto's scheme with an unconditional swap: `prims[..i]` go left, `prims[i..j]`
+/// right, so swapping `prims[j]` into place and advancing `i` by the outcome keeps
+/// both true whichever side `prims[j]` is on, and the outcome never steers a branch
+/// (the branch-free partitions of Edelkamp and Weiß, "BlockQuicksort: Avoiding Branch
+/// Mispredictions in Quicksort", ESA 2016).
+fn partition_branchless(
+    prims: &mut [PrimRef],
+    left: impl Fn(&PrimRef) -> bool,
+) -> (usize, Centroids, Centroids) {
+    let mut sides = [Centroids::EMPTY; 2];
+    let mut i = 0usize;
+    for j in 0..prims.len() {
+        let p = prims[j];
+        let is_left = left(&p);
+        sides[is_left as usize].add(&p);
+        prims[j] = prims[i];
+        prims[i] = p;
+        i += is_left as usize;
+    }
+    (i, sides[1], sides[0])
+}
+
+fn partition_hoare(
+    prims: &mut [PrimRef],
+    left: impl Fn(&PrimRef) -> bool,
+) -> (usize, Centroids, Centroids) {
+    let (mut cl, mut cr) = (Centroids::EMPTY, Centroids::EMPTY);
     let (mut i, mut j) = (0usize, prims.len());
     loop {
-        while i < j && left(&prims[i]) {
+        while i < j {
+            let p = &prims[i];
+            if !left(p) {
+                break;
+            }
+            cl.add(p);
             i += 1;
         }
-        while i < j && !left(&prims[j - 1]) {
+        while i < j {
+            let p = &prims[j - 1];
+            if left(p) {
+                break;
+            }
+            cr.add(p);
             j -= 1;
         }
         if i >= j {
-            return i;
+            return (i, cl, cr);
         }
+        // prims[i] goes right and prims[j - 1] left.
+        cr.add(&prims[i]);
+        cl.add(&prims[j - 1]);
         prims.swap(i, j - 1);
         i += 1;
         j -= 1;
@@ -511,21 +682,31 @@ fn prims_len(parts: &[Part]) -> usize {
     parts.iter().map(|p| p.len).sum()
 }
 
-/// Builds the node array over `boxes`. Boxes that are empty or not finite are left
+/// Builds the node array over the boxes `box_of(0..count)`. Boxes that are empty or not finite are left
 /// out. Returns the nodes (root first) and the primitive order (slot -> index).
-pub(crate) fn build(boxes: &[Aabb], block: usize) -> (Vec<WideNode>, Vec<u32>) {
+pub(crate) fn build(
+    count: usize,
+    box_of: impl Fn(usize) -> Aabb + Sync,
+    block: usize,
+) -> (Vec<WideNode>, Vec<u32>) {
     use rayon::prelude::*;
-    let mut prims: Vec<PrimRef> = boxes
-        .par_iter()
-        .enumerate()
-        .filter(|(_, b)| b.is_finite() && !b.is_empty())
-        .map(|(i, b)| PrimRef {
-            lo_: b.min.to_array(),
-            hi_: b.max.to_array(),
-            index: i as u32,
-            _pad: 0,
+    // An indexed collect writes straight into one vector (a filtered one would gather
+    // pieces and copy them); the boxes left out are then squeezed out in place.
+    let mut prims: Vec<PrimRef> = (0..count)
+        .into_par_iter()
+        .map(|i| {
+            let b = box_of(i);
+            PrimRef {
+                lo_: b.min.to_array(),
+                hi_: b.max.to_array(),
+                index: i as u32,
+                _pad: u32::from(!b.is_finite() || b.is_empty()),
+            }
         })
         .collect();
+    if prims.iter().any(|p| p._pad != 0) {
+        prims.retain(|p| p._pad == 0);
+    }
     if prims.is_empty() {
         return (vec![WideNode::EMPTY], Vec::new());
     }
@@ -564,4 +745,113 @@ pub(crate) fn build(boxes: &[Aabb], block: usize) -> (Vec<WideNode>, Vec<u32>) {
     // and reallocating would lose the huge-page advice.
     let order = prims.par_iter().map(|p| p.index).collect();
     (nodes, order)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use irradia_core::Rng;
+
+    fn random_prims(rng: &mut Rng, n: usize) -> Vec<PrimRef> {
+        (0..n)
+            .map(|i| {
+                let c = Vec3A::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 10.0;
+                let e = Vec3A::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 0.3;
+                PrimRef {
+                    lo_: (c - e).to_array(),
+                    hi_: (c + e).to_array(),
+                    index: i as u32,
+                    _pad: 0,
+                }
+            })
+            .collect()
+    }
+
+    fn same(a: &SetInfo, b: &SetInfo) -> bool {
+        a.lo == b.lo && a.hi == b.hi && a.clo == b.clo && a.chi == b.chi
+    }
+
+    #[test]
+    fn partition_counts_and_gathers_the_centroid_bounds_of_each_side() {
+        let mut rng = Rng::new(7, 1);
+        for n in [1, 2, 3, 4, 10, 11, 100, 101, 1000, 1001] {
+            let mut prims = random_prims(&mut rng, n);
+            let cut = 10.0 * rng.next_f32();
+            let left = |p: &PrimRef| p.centroid2().x < cut;
+            let want = prims.iter().filter(|p| left(p)).count();
+            let (mid, cl, cr) = if n % 2 == 0 {
+                partition_hoare(&mut prims, left)
+            } else {
+                partition_branchless(&mut prims, left)
+            };
+            assert_eq!(mid, want);
+            assert!(prims[..mid].iter().all(left) && !prims[mid..].iter().any(left));
+            let (l, r) = (SetInfo::of(&prims[..mid]), SetInfo::of(&prims[mid..]));
+            assert_eq!((cl.lo, cl.hi), (l.clo, l.chi));
+            assert_eq!((cr.lo, cr.hi), (r.clo, r.chi));
+        }
+    }
+
+    #[test]
+    fn binned_splits_report_the_exact_bounds_of_both_sides() {
+        let mut rng = Rng::new(7, 2);
+        for n in [9, 40, 200, 3000] {
+            for block in [1, 8] {
+                let mut prims = random_prims(&mut rng, n);
+                let info = SetInfo::of(&prims);
+                let (mid, l, r) = split(&mut prims, &info, 0, block).expect("a split");
+                assert!(mid > 0 && mid < n);
+                assert!(same(&l, &SetInfo::of(&prims[..mid])), "n {n} block {block}");
+                assert!(same(&r, &SetInfo::of(&prims[mid..])), "n {n} block {block}");
+                // The two sides are the two sides of one bin boundary.
+                let binner = Binner::new(&info, n);
+                let axis = (0..3)
+                    .find(|&a| {
+                        (1..binner.bins).any(|b| {
+                            prims[..mid].iter().all(|p| binner.bins(p)[a] < b)
+                                && prims[mid..].iter().all(|p| binner.bins(p)[a] >= b)
+                        })
+                    })
+                    .is_some();
+                assert!(axis, "n {n} block {block}");
+            }
+        }
+    }
+
+    #[test]
+    fn sets_no_larger_than_a_block_stay_leaves_and_larger_ones_are_split() {
+        let mut rng = Rng::new(7, 3);
+        for n in 2..=MAX_LEAF {
+            let mut prims = random_prims(&mut rng, n);
+            let info = SetInfo::of(&prims);
+            assert!(split(&mut prims, &info, 0, 8).is_none(), "n {n}");
+            // Past the SAH depth limit sets are split at the median whatever their size.
+            let (mid, _, _) = split(&mut prims, &info, MAX_SAH_DEPTH, 8).expect("median");
+            assert_eq!(mid, n / 2);
+        }
+        // Far-apart pairs are worth splitting when each primitive is its own block.
+        let mut prims = random_prims(&mut rng, 2);
+        prims[1].lo_ = [1e3; 3];
+        prims[1].hi_ = [1e3 + 1.0; 3];
+        let info = SetInfo::of(&prims);
+        assert!(split(&mut prims, &info, 0, 1).is_some());
+    }
+
+    #[test]
+    fn the_bin_test_of_the_partition_agrees_with_the_bin_numbers() {
+        let mut rng = Rng::new(7, 4);
+        let prims = random_prims(&mut rng, 2000);
+        let info = SetInfo::of(&prims);
+        for n in [20, 500, 2000] {
+            let binner = Binner::new(&info, n);
+            for p in &prims {
+                let b = binner.bins(p);
+                for (axis, &got) in b.iter().enumerate() {
+                    for bin in 1..binner.bins {
+                        assert_eq!(binner.below(p, axis, bin as f32), got < bin);
+                    }
+                }
+            }
+        }
+    }
 }

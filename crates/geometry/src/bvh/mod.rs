@@ -72,7 +72,18 @@ impl Bvh {
     /// the SAH then counts blocks, so leaves
     /// fill whole blocks.
     pub fn build_blocked(boxes: &[Aabb], block: usize) -> Self {
-        let (nodes, order) = build::build(boxes, block);
+        Self::build_blocked_by(boxes.len(), |i| boxes[i], block)
+    }
+
+    /// Like [`Bvh::build_blocked`] over the boxes `box_of(0..count)`, asked for once
+    /// each while the build's own primitive list is filled: a caller that computes its
+    /// boxes (a mesh, from its triangles) needs no array of them.
+    pub fn build_blocked_by(
+        count: usize,
+        box_of: impl Fn(usize) -> Aabb + Sync,
+        block: usize,
+    ) -> Self {
+        let (nodes, order) = build::build(count, box_of, block);
         let bounds = (0..WIDTH)
             .map(|i| nodes[0].child_bounds(i))
             .fold(Aabb::EMPTY, Aabb::union);
@@ -110,6 +121,25 @@ impl Bvh {
                 let c = self.nodes[n as usize].child_ref(i);
                 if c.is_leaf() {
                     self.nodes[n as usize].child[i] = f(c.index, c.count);
+                } else if !c.is_empty() {
+                    stack.push(c.index);
+                }
+            }
+        }
+    }
+
+    /// Like [`Bvh::map_leaves`], but `f` gets the leaf's primitives (the caller's
+    /// indices, in slot order) instead of its slot range, so a caller repacking its
+    /// primitives by leaf needs no copy of [`Bvh::order`].
+    pub fn map_leaf_primitives(&mut self, mut f: impl FnMut(&[u32]) -> u32) {
+        let order = &self.order;
+        let mut stack = vec![0u32];
+        while let Some(n) = stack.pop() {
+            for i in (0..WIDTH).rev() {
+                let c = self.nodes[n as usize].child_ref(i);
+                if c.is_leaf() {
+                    let prims = &order[c.index as usize..(c.index + c.count) as usize];
+                    self.nodes[n as usize].child[i] = f(prims);
                 } else if !c.is_empty() {
                     stack.push(c.index);
                 }
