@@ -7,9 +7,9 @@
 //! error on [0, 1] (Lawson's iteratively reweighted least squares, the classical route
 //! to a minimax fit; see Muller, *Elementary Functions*, 3rd ed., 2016, ch. 3); the
 //! octant and quadrant are restored with `π/2 - r` and `π - r` (Abramowitz and Stegun
-//! 4.4.8 and 4.4.34). The result is within 2·10⁻⁷ radians of the exact value (the test
-//! below checks it against `f64::atan2`), about two units in the last place of an
-//! `f32` near π/4: far below a texel of any environment map.
+//! 4.4.8 and 4.4.34). The result is within 4·10⁻⁷ radians of the exact value (the test
+//! below checks it against `f64::atan2`; 1.5·10⁻⁷ from the polynomial, the rest the
+//! rounding of `π - r` near ±π): far below a texel of any environment map.
 
 use std::f32::consts::{FRAC_PI_2, PI};
 
@@ -61,7 +61,7 @@ pub fn atan2(y: f32, x: f32) -> f32 {
 mod tests {
     use super::*;
 
-    /// Within 2·10⁻⁷ of `f64::atan2` on a dense grid of directions of every octant, at
+    /// Within 4·10⁻⁷ of `f64::atan2` on a dense grid of directions of every octant, at
     /// very different magnitudes, and on the axes.
     #[test]
     fn matches_atan2_closely() {
@@ -78,7 +78,7 @@ mod tests {
                 worst = worst.max(err);
             }
         }
-        assert!(worst < 2e-7, "worst error {worst}");
+        assert!(worst < 4e-7, "worst error {worst}");
         for (y, x, want) in [
             (0.0f32, 1.0f32, 0.0f32),
             (1.0, 0.0, FRAC_PI_2),
@@ -87,7 +87,7 @@ mod tests {
             (1.0, 1.0, std::f32::consts::FRAC_PI_4),
             (0.0, 0.0, 0.0),
         ] {
-            assert!((atan2(y, x) - want).abs() < 2e-7, "atan2({y}, {x})");
+            assert!((atan2(y, x) - want).abs() < 4e-7, "atan2({y}, {x})");
         }
         assert!(atan2(f32::NAN, 1.0).is_nan());
     }

@@ -45,7 +45,7 @@ impl EnvMap {
     pub fn uv_sin_theta(&self, dir: Vec3) -> (Vec2, f32) {
         let d = (self.to_world.transpose() * dir).normalize();
         // The polynomial arctangent of [`crate::atan`] (no call into the C library);
-        // θ = acos d.y as atan2(√(x² + z²), y), exact to the same 2·10⁻⁷ at the poles.
+        // θ = acos d.y as atan2(√(x² + z²), y), exact to the same 4·10⁻⁷ at the poles.
         let u = atan2(d.x, -d.z) * (0.5 / PI);
         let u = if u < 0.0 { u + 1.0 } else { u };
         let sin_theta = (d.x * d.x + d.z * d.z).sqrt();

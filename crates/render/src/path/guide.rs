@@ -92,7 +92,7 @@ mod tests {
             }
             *cdf.last_mut().unwrap() = 1.0;
             let guide = GuideTable::new(&cdf);
-            let mut check = |u: f32| {
+            let check = |u: f32| {
                 assert_eq!(
                     guide.partition_point(&cdf, u),
                     cdf.partition_point(|&c| c <= u),
