@@ -13,6 +13,7 @@
 //! coordinates of `(u, v)` are `(s, t) = ((u - ½/W) mod 1, v)`: cell `(i, j)` covers
 //! `s ∈ [i, i+1) / W`, `t ∈ [j, j+1) / (H - 1)`.
 
+use crate::atan::atan2;
 use glam::{Mat3, Vec2, Vec3};
 use irradia_core::{Image, Rgb};
 use std::f32::consts::PI;
@@ -35,19 +36,42 @@ impl EnvMap {
     /// The map's `(u, v)` of world direction `dir` (any length).
     #[inline]
     pub fn uv(&self, dir: Vec3) -> Vec2 {
+        self.uv_sin_theta(dir).0
+    }
+
+    /// [`EnvMap::uv`] of `dir` and the `sin θ` of `dir` (`sin(π v)`, read off the
+    /// direction rather than recomputed from `v`).
+    #[inline]
+    pub fn uv_sin_theta(&self, dir: Vec3) -> (Vec2, f32) {
         let d = (self.to_world.transpose() * dir).normalize();
-        let u = d.x.atan2(-d.z) * (0.5 / PI);
+        // The polynomial arctangent of [`crate::atan`] (no call into the C library);
+        // θ = acos d.y as atan2(√(x² + z²), y), exact to the same 4·10⁻⁷ at the poles.
+        let u = atan2(d.x, -d.z) * (0.5 / PI);
         let u = if u < 0.0 { u + 1.0 } else { u };
-        Vec2::new(u.min(1.0 - f32::EPSILON), d.y.clamp(-1.0, 1.0).acos() / PI)
+        let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
+        let theta = atan2(sin_theta, d.y);
+        (
+            Vec2::new(u.min(1.0 - f32::EPSILON), (theta / PI).clamp(0.0, 1.0)),
+            sin_theta,
+        )
     }
 
     /// The unit world direction at `(u, v)`; `sin θ` of it is `sin(π v)`.
     #[inline]
     pub fn direction(&self, uv: Vec2) -> Vec3 {
+        self.direction_sin_theta(uv).0
+    }
+
+    /// [`EnvMap::direction`] and its `sin θ = sin(π v)`, found together.
+    #[inline]
+    pub fn direction_sin_theta(&self, uv: Vec2) -> (Vec3, f32) {
         let (phi, theta) = (2.0 * PI * uv.x, PI * uv.y);
         let (sp, cp) = phi.sin_cos();
         let (st, ct) = theta.sin_cos();
-        (self.to_world * Vec3::new(sp * st, ct, -cp * st)).normalize()
+        (
+            (self.to_world * Vec3::new(sp * st, ct, -cp * st)).normalize(),
+            st,
+        )
     }
 
     /// The grid coordinates `(s, t)` of map coordinates `(u, v)`, each in [0, 1].

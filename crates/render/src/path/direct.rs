@@ -113,10 +113,7 @@ pub fn radiance_direct<T: Tracer>(
         let next = Ray::new(offset_ray_origin(hit.point, side, hit.error), wi_world);
         counters.rays += 1;
         let (le, pdf_e) = match tracer.intersect(&next, f32::INFINITY) {
-            None if lights.has_environment() => (
-                lights.environment_radiance(wi_world),
-                lights.pdf_environment(wi_world),
-            ),
+            None if lights.has_environment() => lights.environment_radiance_pdf(wi_world, true),
             None => continue,
             Some(eh) => {
                 let m = &scene.materials[eh.material as usize];

@@ -4,6 +4,7 @@
 //! the 2D one is the marginal density of a row times the conditional density of a
 //! column within it, so `pdf` is exactly the density `sample` draws from.
 
+use super::guide::GuideTable;
 use glam::Vec2;
 
 /// A density on [0, 1) proportional to `n` non-negative cell values.
@@ -15,6 +16,8 @@ pub struct Piecewise1D {
     cdf: Vec<f32>,
     /// The integral of the step function over [0, 1): mean of `func`.
     integral: f32,
+    /// Finds a `u`'s cell in `cdf` in expected constant time ([`GuideTable`]).
+    guide: GuideTable,
 }
 
 impl Piecewise1D {
@@ -51,6 +54,7 @@ impl Piecewise1D {
         *cdf.last_mut().unwrap() = 1.0;
         Self {
             func,
+            guide: GuideTable::new(&cdf),
             cdf,
             integral: (acc / n as f64) as f32,
         }
@@ -72,7 +76,8 @@ impl Piecewise1D {
     #[inline]
     pub fn sample(&self, u: f32) -> (f32, usize) {
         let n = self.func.len();
-        let i = self.cdf.partition_point(|&c| c <= u).clamp(1, n) - 1;
+        // The binary search's cell, found through the guide table.
+        let i = self.guide.partition_point(&self.cdf, u).clamp(1, n) - 1;
         let (lo, hi) = (self.cdf[i], self.cdf[i + 1]);
         let du = if hi > lo {
             ((u - lo) / (hi - lo)).clamp(0.0, 1.0 - f32::EPSILON)
@@ -99,6 +104,11 @@ impl Piecewise1D {
 pub struct Piecewise2D {
     rows: Vec<Piecewise1D>,
     marginal: Piecewise1D,
+    /// `pdf(i, j)` of every cell, row by row: the product of the marginal and
+    /// conditional densities worked out once (the same `f32` product, so the same bits),
+    /// one load per query instead of four dependent ones and two divisions.
+    pdfs: Vec<f32>,
+    width: usize,
 }
 
 impl Piecewise2D {
@@ -108,7 +118,19 @@ impl Piecewise2D {
             .map(|j| Piecewise1D::new(&func[j * width..(j + 1) * width]))
             .collect();
         let marginal = Piecewise1D::new(&rows.iter().map(|r| r.integral()).collect::<Vec<_>>());
-        Self { rows, marginal }
+        let width = rows.first().map_or(1, |r| r.len());
+        let pdfs = (0..rows.len())
+            .flat_map(|j| {
+                let (m, row) = (marginal.pdf(j), &rows[j]);
+                (0..width).map(move |i| m * row.pdf(i))
+            })
+            .collect();
+        Self {
+            rows,
+            marginal,
+            pdfs,
+            width,
+        }
     }
 
     /// The integral of the step function over the unit square.
@@ -128,7 +150,7 @@ impl Piecewise2D {
     #[inline]
     pub fn pdf(&self, i: usize, j: usize) -> f32 {
         let j = j.min(self.rows.len() - 1);
-        self.marginal.pdf(j) * self.rows[j].pdf(i)
+        self.pdfs[j * self.width + i.min(self.width - 1)]
     }
 }
 
@@ -146,5 +168,51 @@ mod tests {
         assert_eq!(d.pdf(1), 0.0);
         let (x, _) = d.sample(0.625); // halfway through the last cell's share
         assert!((x - (2.0 + 0.5) / 3.0).abs() < 1e-6, "{x}");
+    }
+
+    /// The table of cell densities holds exactly the product of the marginal and the
+    /// conditional densities (empty rows and cells included), and `sample`'s cells are
+    /// drawn in proportion to the cell values (chi-square).
+    #[test]
+    fn two_dimensions_pdf_table_and_sampling() {
+        let (w, h) = (4, 3);
+        let func = [
+            1.0, 2.0, 0.0, 3.0, //
+            0.0, 0.0, 0.0, 0.0, //
+            5.0, 0.5, 4.0, 0.25,
+        ];
+        let d = Piecewise2D::new(&func, w, h);
+        for j in 0..h {
+            for i in 0..w {
+                let want = d.marginal.pdf(j) * d.rows[j].pdf(i);
+                assert_eq!(d.pdf(i, j).to_bits(), want.to_bits(), "({i}, {j})");
+            }
+        }
+        let total: f32 = func.iter().sum();
+        let n = 200_000;
+        let mut counts = vec![0u32; w * h];
+        let mut rng = irradia_core::Rng::for_pixel(7, 8, 9, 10);
+        for _ in 0..n {
+            let (p, (i, j)) = d.sample(rng.next_2d());
+            assert_eq!(
+                (i, j),
+                ((p.x * w as f32) as usize, (p.y * h as f32) as usize)
+            );
+            // The density of the point is the cell's share times the cell count.
+            let share = func[j * w + i] / total;
+            assert!((d.pdf(i, j) - share * (w * h) as f32).abs() < 1e-4);
+            counts[j * w + i] += 1;
+        }
+        let mut chi2 = 0.0;
+        for (c, &f) in counts.iter().zip(&func) {
+            let expected = n as f64 * (f / total) as f64;
+            if expected == 0.0 {
+                assert_eq!(*c, 0, "an empty cell was sampled");
+            } else {
+                chi2 += (*c as f64 - expected).powi(2) / expected;
+            }
+        }
+        // Eight non-empty cells: 7 degrees of freedom; 24.3 is the 0.999 quantile.
+        assert!(chi2 < 24.3, "chi-square {chi2}: {counts:?}");
     }
 }

@@ -85,13 +85,13 @@ impl EnvmapSampler {
         }
         let (st, (i, j)) = self.dist.sample(u);
         let uv = self.map.uv_of_grid(st);
-        let sin_theta = (PI * uv.y).sin();
+        let (wi, sin_theta) = self.map.direction_sin_theta(uv);
         let p = self.dist.pdf(i, j);
         if sin_theta <= 0.0 || p <= 0.0 {
             return None;
         }
         Some(EnvmapSample {
-            wi: self.map.direction(uv),
+            wi,
             radiance: self.map.eval_uv(uv),
             pdf: p / (2.0 * PI * PI * sin_theta),
         })
@@ -100,12 +100,32 @@ impl EnvmapSampler {
     /// The solid-angle density with which `sample` produces world direction `dir`.
     #[inline]
     pub fn pdf(&self, dir: Vec3) -> f32 {
+        let (uv, sin_theta) = self.map.uv_sin_theta(dir);
+        self.pdf_uv(uv, sin_theta)
+    }
+
+    /// The radiance arriving from world direction `dir` and, with `want_pdf`, the
+    /// density [`EnvmapSampler::pdf`] of `dir` (else 0): the map's coordinates of `dir`
+    /// (two inverse trigonometric functions) found once for both.
+    #[inline]
+    pub fn radiance_pdf(&self, dir: Vec3, want_pdf: bool) -> (Rgb, f32) {
+        let (uv, sin_theta) = self.map.uv_sin_theta(dir);
+        let pdf = if want_pdf {
+            self.pdf_uv(uv, sin_theta)
+        } else {
+            0.0
+        };
+        (self.map.eval_uv(uv), pdf)
+    }
+
+    /// [`EnvmapSampler::pdf`] at the map's coordinates `uv` (where `sin θ` is
+    /// `sin_theta`).
+    #[inline]
+    fn pdf_uv(&self, uv: Vec2, sin_theta: f32) -> f32 {
         if self.dist.integral() <= 0.0 {
             return 0.0;
         }
-        let uv = self.map.uv(dir);
         let (i, j) = self.map.cell(self.map.grid(uv));
-        let sin_theta = (PI * uv.y).sin();
         if sin_theta <= 0.0 {
             return 0.0;
         }

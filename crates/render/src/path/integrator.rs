@@ -17,6 +17,7 @@ use irradia_core::{offset_ray_origin, Frame, Ray, Rgb, Rng};
 use irradia_scatter::{Bsdf, LobeFlags, Scatter};
 use irradia_scene::texture::TextureQuery;
 use irradia_scene::{Material, Scene};
+use std::borrow::Cow;
 
 /// Parameters of the estimator.
 #[derive(Clone, Copy, Debug)]
@@ -126,7 +127,13 @@ fn needs_tangent_frame(material: &irradia_scene::Material) -> bool {
 /// towards the viewer: Mitsuba's one-sided BSDFs
 /// see light from inside as arriving on their back (`wo.z < 0`), and the lecture
 /// mixture, which scatters on both sides, renders as before.
-pub(crate) fn surface_at<T: Tracer>(ps: &PathScene<'_, T>, sh: &PathHit) -> Option<(Bsdf, Frame)> {
+///
+/// A material whose BSDF is the same everywhere lends the prepared one (no copy of the
+/// BSDF, no reference count touched by every hit of every thread).
+pub(crate) fn surface_at<'p, T: Tracer>(
+    ps: &'p PathScene<'_, T>,
+    sh: &PathHit,
+) -> Option<(Cow<'p, Bsdf>, Frame)> {
     let hit = &sh.hit;
     let ns = if hit.shading_normal.dot(hit.normal) < 0.0 {
         -hit.shading_normal
@@ -158,10 +165,10 @@ pub(crate) fn surface_at<T: Tracer>(ps: &PathScene<'_, T>, sh: &PathHit) -> Opti
         (Frame::from_normal(ns), Tangents::default())
     };
     let bsdf = match ps.bsdfs.get(sh.material as usize) {
-        Some(Some(b)) => b.clone(),
+        Some(Some(b)) => Cow::Borrowed(b),
         _ => {
             let q = texture_query(ps.scene, sh);
-            material_bsdf_query(material, hit.point, &q, &tangents)
+            Cow::Owned(material_bsdf_query(material, hit.point, &q, &tangents))
         }
     };
     if bsdf.flags() == LobeFlags::NONE {
@@ -260,11 +267,12 @@ pub fn radiance_recorded<T: Tracer, R: Recorder>(
         }
         let Some(sh) = tracer.intersect(&ray, f32::INFINITY) else {
             if lights.has_environment() {
+                let (le, pdf_light) = lights.environment_radiance_pdf(ray.dir, prev.is_some());
                 let w = match prev {
-                    Some((_, pdf)) => mis(pdf, lights.pdf_environment(ray.dir)),
+                    Some((_, pdf)) => mis(pdf, pdf_light),
                     None => 1.0,
                 };
-                l += beta * lights.environment_radiance(ray.dir) * w;
+                l += beta * le * w;
             }
             break;
         };

@@ -496,10 +496,14 @@ impl LightSampler {
         }
         let total = *self.cdf.last()?;
         let x = u_pick * total;
-        let idx = self
-            .cdf
-            .partition_point(|&c| c <= x)
-            .min(self.emitters.len() - 1);
+        // The binary search's index; a short table (a scene's few lights) is counted
+        // without branches instead, as the facets of [`WorldFacets::pick`].
+        let idx = if self.cdf.len() <= 16 {
+            self.cdf.iter().map(|&c| (c <= x) as usize).sum::<usize>()
+        } else {
+            self.cdf.partition_point(|&c| c <= x)
+        }
+        .min(self.emitters.len() - 1);
         let pick = self.probability[idx];
         (pick > 0.0).then_some((idx, pick))
     }
@@ -769,6 +773,31 @@ impl LightSampler {
             }
         }
         l
+    }
+
+    /// [`LightSampler::environment_radiance`] of `dir` and, with `want_pdf`, its
+    /// [`LightSampler::pdf_environment`] (else 0), the same values bit for bit, with each
+    /// environment map's coordinates of `dir` found once for both (a ray that leaves the
+    /// scene needs both for its MIS weight).
+    #[inline]
+    pub fn environment_radiance_pdf(&self, dir: Vec3, want_pdf: bool) -> (Rgb, f32) {
+        let (mut l, mut pdf) = match self.environment {
+            Some(i) => match &self.emitters[i as usize] {
+                Emitter::Environment { radiance, .. } => {
+                    (*radiance, self.probability[i as usize] / (4.0 * PI))
+                }
+                _ => (Rgb::BLACK, 0.0),
+            },
+            None => (Rgb::BLACK, 0.0),
+        };
+        for &i in &self.envmaps {
+            if let Emitter::Envmap { sampler, .. } = &self.emitters[i as usize] {
+                let (li, p) = sampler.radiance_pdf(dir, want_pdf);
+                l += li;
+                pdf += self.probability[i as usize] * p;
+            }
+        }
+        (l, if want_pdf { pdf } else { 0.0 })
     }
 
     /// The solid-angle density with which `sample` produces direction `dir` towards

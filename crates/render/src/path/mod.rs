@@ -4,7 +4,8 @@
 //! - [`material_map`]: scene materials to BSDFs of `irradia_scatter` (Whitted scenes
 //!   render unchanged);
 //! - [`lights`]: emitters and light selection proportional to power; [`envmap`] and
-//!   [`distribution`]: environment maps importance sampled by luminance;
+//!   [`distribution`]: environment maps importance sampled by luminance, searched
+//!   through [`guide`] tables;
 //! - [`tracer`] and [`flat_scene`]: ray queries; planar objects baked into one
 //!   world-space triangle hierarchy;
 //! - [`integrator`]: next-event estimation + BSDF sampling with MIS, Russian roulette;
@@ -19,6 +20,7 @@ pub mod direct;
 pub mod distribution;
 pub mod envmap;
 pub mod flat_scene;
+pub mod guide;
 pub mod integrator;
 pub mod lights;
 pub mod material_map;
