@@ -5,6 +5,7 @@
 //! floating-point image with its PNG / EXR / PFM files (written atomically).
 
 pub mod aabb;
+pub mod atan;
 pub mod color;
 pub mod frame;
 pub mod image;
@@ -14,6 +15,7 @@ pub mod sampling;
 pub mod text;
 
 pub use aabb::Aabb;
+pub use atan::atan2;
 pub use color::Rgb;
 pub use frame::Frame;
 pub use glam::{Affine3A, DVec3, Mat3, Mat3A, Mat4, Vec2, Vec3, Vec3A, Vec4};

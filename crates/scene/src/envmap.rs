@@ -13,8 +13,8 @@
 //! coordinates of `(u, v)` are `(s, t) = ((u - ½/W) mod 1, v)`: cell `(i, j)` covers
 //! `s ∈ [i, i+1) / W`, `t ∈ [j, j+1) / (H - 1)`.
 
-use crate::atan::atan2;
 use glam::{Mat3, Vec2, Vec3};
+use irradia_core::atan2;
 use irradia_core::{Image, Rgb};
 use std::f32::consts::PI;
 use std::path::PathBuf;
@@ -44,7 +44,7 @@ impl EnvMap {
     #[inline]
     pub fn uv_sin_theta(&self, dir: Vec3) -> (Vec2, f32) {
         let d = (self.to_world.transpose() * dir).normalize();
-        // The polynomial arctangent of [`crate::atan`] (no call into the C library);
+        // The polynomial arctangent of [`irradia_core::atan`] (no call into the C library);
         // θ = acos d.y as atan2(√(x² + z²), y), exact to the same 4·10⁻⁷ at the poles.
         let u = atan2(d.x, -d.z) * (0.5 / PI);
         let u = if u < 0.0 { u + 1.0 } else { u };

@@ -3,7 +3,6 @@
 //!
 //! Integrators never parse files; they receive a [`Scene`].
 
-pub mod atan;
 pub mod bsdf;
 pub mod builtin;
 pub mod camera;

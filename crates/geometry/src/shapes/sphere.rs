@@ -105,43 +105,12 @@ impl Sphere {
 /// `(atan2(y, x) / 2π` in `[0, 1)`, `acos(z) / π)`.
 #[inline]
 pub fn mitsuba_sphere_uv(n: Vec3) -> Vec2 {
-    let mut phi = atan2_approx(n.y, n.x) / std::f32::consts::TAU;
+    let mut phi = irradia_core::atan2(n.y, n.x) / std::f32::consts::TAU;
     if phi < 0.0 {
         phi = (phi + 1.0).min(1.0 - f32::EPSILON / 2.0);
     }
-    let theta = atan2_approx((n.x * n.x + n.y * n.y).sqrt(), n.z);
+    let theta = irradia_core::atan2((n.x * n.x + n.y * n.y).sqrt(), n.z);
     Vec2::new(phi, theta / std::f32::consts::PI)
-}
-
-/// atan2 by a degree-11 odd minimax polynomial on [0, 1] and octant folding: absolute
-/// error below 2e-5 rad, several times cheaper than libm's, which matters because
-/// texture coordinates are computed for every sphere hit.
-#[inline]
-pub(crate) fn atan2_approx(y: f32, x: f32) -> f32 {
-    use std::f32::consts::{FRAC_PI_2, PI};
-    let (ax, ay) = (x.abs(), y.abs());
-    let (num, den) = if ay > ax { (ax, ay) } else { (ay, ax) };
-    if den == 0.0 {
-        return 0.0;
-    }
-    let a = num / den;
-    let s = a * a;
-    let mut r = ((((-0.011_721_2 * s + 0.052_653_32) * s - 0.116_432_87) * s + 0.193_543_46) * s
-        - 0.332_623_47)
-        * s
-        + 0.999_977_26;
-    r *= a;
-    if ay > ax {
-        r = FRAC_PI_2 - r;
-    }
-    if x < 0.0 {
-        r = PI - r;
-    }
-    if y < 0.0 {
-        -r
-    } else {
-        r
-    }
 }
 
 impl Shape for Sphere {
@@ -280,20 +249,6 @@ pub(crate) fn uv_sphere(detail: u32) -> Facets {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn fast_atan2_is_accurate_everywhere() {
-        for i in 0..3600 {
-            let a = (i as f32 / 10.0).to_radians();
-            for r in [1e-3f32, 1.0, 1e3] {
-                let (y, x) = (r * a.sin(), r * a.cos());
-                let e = (atan2_approx(y, x) - y.atan2(x)).abs();
-                let e = e.min((e - std::f32::consts::TAU).abs());
-                assert!(e < 2e-5, "angle {a}: error {e}");
-            }
-        }
-        assert_eq!(atan2_approx(0.0, 0.0), 0.0);
-    }
 
     #[test]
     fn hits_from_outside_and_inside() {

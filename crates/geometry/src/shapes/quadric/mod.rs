@@ -264,7 +264,7 @@ impl Quadric {
     fn uv_at(&self, p: DVec3, side: u32) -> Vec2 {
         use std::f32::consts::{PI, TAU};
         let l = self.to_local.transform_point3(p).as_vec3();
-        let angle = || 0.5 + crate::shapes::sphere::atan2_approx(l.z, l.x) / TAU;
+        let angle = || 0.5 + irradia_core::atan2(l.z, l.x) / TAU;
         match self.kind {
             QuadricKind::Ellipsoid { radii } => {
                 let u = (l / radii.as_vec3()).normalize_or_zero();
