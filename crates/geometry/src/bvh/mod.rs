@@ -33,6 +33,7 @@
 mod build;
 mod memory;
 pub mod node;
+mod partition;
 mod traverse;
 
 use irradia_core::Aabb;
