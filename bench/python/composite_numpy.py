@@ -22,14 +22,23 @@ from mpi4py import MPI
 import irradia
 
 
+def rounds(rank, p, n):
+    """The binary swap's rounds for `rank` of `p` over `n` pixels: per round the
+    partner, the span kept and the span given away; the last span kept is the rank's."""
+    lo, hi, bit = 0, n, 1
+    while bit < p:
+        mid = (lo + hi) // 2
+        keep, give = ((lo, mid), (mid, hi)) if rank & bit == 0 else ((mid, hi), (lo, mid))
+        yield rank ^ bit, keep, give
+        lo, hi = keep
+        bit <<= 1
+
+
 def swap_numpy(comm, color, depth, gather):
     rank, p = comm.Get_rank(), comm.Get_size()
     n = depth.size
-    lo, hi, bit = 0, n, 1
-    while bit < p:
-        partner = rank ^ bit
-        mid = (lo + hi) // 2
-        keep, give = ((lo, mid), (mid, hi)) if rank & bit == 0 else ((mid, hi), (lo, mid))
+    lo, hi = 0, n
+    for partner, keep, give in rounds(rank, p, n):
         k = keep[1] - keep[0]
         rc = np.empty((k, 4), np.uint8)
         rd = np.empty(k, np.float32)
@@ -42,7 +51,6 @@ def swap_numpy(comm, color, depth, gather):
         lc[closer] = rc[closer]
         ld[closer] = rd[closer]
         lo, hi = keep
-        bit <<= 1
     if not gather:
         return None
     spans = comm.gather((lo, hi), root=0)
@@ -64,17 +72,13 @@ def transfer_floor(comm, color, depth, bufs):
     and order, sent from and received into buffers made beforehand, no blending."""
     rank, p = comm.Get_rank(), comm.Get_size()
     n = depth.size
-    lo, hi, bit = 0, n, 1
-    while bit < p:
-        partner = rank ^ bit
-        mid = (lo + hi) // 2
-        keep, give = ((lo, mid), (mid, hi)) if rank & bit == 0 else ((mid, hi), (lo, mid))
+    lo, hi = 0, n
+    for partner, keep, give in rounds(rank, p, n):
         k = keep[1] - keep[0]
         rc, rd = bufs["c"][:k], bufs["d"][:k]
         comm.Sendrecv(color[give[0]:give[1]], dest=partner, sendtag=1, recvbuf=rc, source=partner, recvtag=1)
         comm.Sendrecv(depth[give[0]:give[1]], dest=partner, sendtag=2, recvbuf=rd, source=partner, recvtag=2)
         lo, hi = keep
-        bit <<= 1
     spans = comm.gather((lo, hi), root=0)
     if rank == 0:
         counts = [spans[r][1] - spans[r][0] for r in range(p)]
