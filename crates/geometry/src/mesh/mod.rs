@@ -377,21 +377,10 @@ impl TriangleMesh {
         let [i0, i1, i2] = self.indices[tri as usize].map(|i| i as usize);
         let (p0, p1, p2) = (self.positions[i0], self.positions[i1], self.positions[i2]);
         let (point, error) = h.point_and_error(p0, p1, p2);
-        let mut normal = (p1 - p0).cross(p2 - p0).normalize();
+        let normal = (p1 - p0).cross(p2 - p0).normalize();
         let ns = (h.b0 * self.normals[i0] + h.b1 * self.normals[i1] + h.b2 * self.normals[i2])
             .normalize_or_zero();
-        let shading_normal = if ns == Vec3::ZERO {
-            normal
-        } else {
-            if self.normals_given && normal.dot(ns) < 0.0 {
-                normal = -normal;
-            }
-            if normal.dot(ns) < 0.0 {
-                -ns
-            } else {
-                ns
-            }
-        };
+        let (normal, shading_normal) = oriented_normals(normal, ns, self.normals_given);
         let uv = match &self.uvs {
             Some(uv) => h.b0 * uv[i0] + h.b1 * uv[i1] + h.b2 * uv[i2],
             None => Vec2::new(h.b1, h.b2),
@@ -438,6 +427,25 @@ pub fn area_weighted_normals(positions: &[Vec3], indices: &[[u32; 3]]) -> Vec<Ve
         }
     }
     acc.into_par_iter().map(|n| n.normalize_or_zero()).collect()
+}
+
+/// A smooth-shaded triangle's geometric and shading normals on one side: `ns` is the
+/// normalised blend of the vertex normals (zero when they cancel: the geometric normal
+/// stands in). Normals given by the file turn the geometric normal to their side;
+/// then the shading normal is turned to the geometric normal's side. The mesh's hits
+/// and the path tracer's baked copy of the mesh both apply these rules.
+#[inline]
+pub fn oriented_normals(normal: Vec3, ns: Vec3, normals_given: bool) -> (Vec3, Vec3) {
+    if ns == Vec3::ZERO {
+        return (normal, normal);
+    }
+    let normal = if normals_given && normal.dot(ns) < 0.0 {
+        -normal
+    } else {
+        normal
+    };
+    let ns = if normal.dot(ns) < 0.0 { -ns } else { ns };
+    (normal, ns)
 }
 
 impl Shape for TriangleMesh {

@@ -83,21 +83,15 @@ pub(crate) struct SmoothNormals {
 
 impl SmoothNormals {
     /// The geometric and shading normals at barycentrics `(b1, b2)` of the triangle
-    /// whose unit geometric normal is `n`, with `TriangleMesh::hit_record`'s rules
-    /// (in world space): the blend of the vertex normals, normalised (the geometric
-    /// normal where it vanishes); given normals turn the geometric normal to their
-    /// side, then the shading normal is turned to the geometric one's side.
+    /// whose unit geometric normal is `n`: the blend of the vertex normals, normalised,
+    /// oriented by the mesh's own rules
+    /// ([`oriented_normals`](irradia_geometry::mesh::oriented_normals)), in world space.
     #[inline(always)]
     pub fn at(&self, n: Vec3, b1: f32, b2: f32) -> (Vec3, Vec3) {
         let b0 = 1.0 - b1 - b2;
         let [n0, n1, n2] = self.normals;
         let ns = (b0 * n0 + b1 * n1 + b2 * n2).normalize_or_zero();
-        if ns == Vec3::ZERO {
-            return (n, n);
-        }
-        let n = if self.given && n.dot(ns) < 0.0 { -n } else { n };
-        let ns = if n.dot(ns) < 0.0 { -ns } else { ns };
-        (n, ns)
+        irradia_geometry::mesh::oriented_normals(n, ns, self.given)
     }
 }
 
