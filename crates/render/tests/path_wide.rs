@@ -325,6 +325,10 @@ fn mean_and_error(v: &[Rgb]) -> (f64, f64) {
     (mean, (var / n).sqrt())
 }
 
+/// Least fraction of the samples that agree in the sphere cases (all of them did,
+/// 2026-12-03).
+const SPHERES_AGREE: f64 = 0.999;
+
 #[test]
 fn wide_samples_equal_scalar_samples_up_to_rounding() {
     let params = PathParams::default();
@@ -449,10 +453,17 @@ fn wide_samples_equal_scalar_samples_up_to_rounding() {
         println!("{name}: {:.2}% of samples agree to 1e-4", same * 100.0);
         // The disk warp's sine and cosine are a polynomial in the kernel: a path
         // can take another Russian-roulette or shadow decision when a direction
-        // differs in its last bit, which happens to very few paths.
+        // differs in its last bit, which happens to very few paths. The sphere cases
+        // are held tighter: a wrong glass Fresnel reflectance changes only the
+        // lobe choices near it (see `a_wrong_fresnel_reflectance_is_caught`).
+        let least = if name.contains("spheres") {
+            SPHERES_AGREE
+        } else {
+            0.99
+        };
         assert!(
-            same > 0.99,
-            "{name}: only {:.1}% of samples agree",
+            same > least,
+            "{name}: only {:.2}% of samples agree",
             same * 100.0
         );
         let (ms, es) = mean_and_error(&scalar);
@@ -516,8 +527,9 @@ fn smooth_normals_change_enough_samples_to_be_seen() {
 
 /// The sphere cases above would catch a wrong Fresnel reflectance: the same kernel with
 /// the glass's reflectance scaled by 1.5 (it only chooses between reflection and
-/// refraction), or the aluminium's by 1.02 (it weights every mirror bounce), disagrees
-/// with the scalar estimator on more than the 1% of samples allowed.
+/// refraction, so few samples change), or the aluminium's by 1.02 (it weights every
+/// mirror bounce), disagrees with the scalar estimator on more than the 0.1% of samples
+/// the sphere cases allow.
 #[test]
 fn a_wrong_fresnel_reflectance_is_caught() {
     let params = PathParams::default();
@@ -542,10 +554,10 @@ fn a_wrong_fresnel_reflectance_is_caught() {
             same * 100.0,
             wrong_same * 100.0
         );
-        assert!(same > 0.99, "{name}: {:.1}% agree", same * 100.0);
+        assert!(same > SPHERES_AGREE, "{name}: {:.2}% agree", same * 100.0);
         assert!(
-            wrong_same < 0.985,
-            "{name}: {:.1}% agree with a wrong Fresnel",
+            wrong_same < SPHERES_AGREE - 0.004,
+            "{name}: {:.2}% agree with a wrong Fresnel",
             wrong_same * 100.0
         );
     }
