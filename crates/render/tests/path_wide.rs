@@ -7,7 +7,7 @@ mod path_common;
 
 use glam::{Affine3A, Quat, Vec3};
 use irradia_core::{Ray, Rgb, Rng};
-use irradia_geometry::shapes::Cuboid;
+use irradia_geometry::shapes::{Cuboid, Sphere};
 use irradia_geometry::{Instance, TriangleMesh};
 use irradia_render::driver::ProgressiveOptions;
 use irradia_render::filter::FilterSampler;
@@ -19,7 +19,7 @@ use irradia_render::path::Kernel;
 use irradia_render::path::{self, PathCounters, PathParams};
 use irradia_render::sampler::{camera_sample, Sampler};
 use irradia_render::Film;
-use irradia_scene::bsdf::{BsdfDesc, Diffuse};
+use irradia_scene::bsdf::{BsdfDesc, Conductor, Dielectric, Diffuse};
 use irradia_scene::camera::CameraRays;
 use irradia_scene::{Material, Object, Scene, Texture};
 use path_common::{uv_sphere_mesh, SphereNormals};
@@ -133,6 +133,95 @@ fn cornell_with_mesh(
     )
 }
 
+/// What stands in a sphere-scene's ball: its material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Ball {
+    /// The box's white (Mitsuba's one-sided `diffuse`).
+    White,
+    /// Mitsuba's smooth `dielectric`, BK7 in air (`int_ior / ext_ior = 1.5046 /
+    /// 1.000277`).
+    Glass,
+    /// Mitsuba's smooth `conductor`, aluminium's complex index.
+    Mirror,
+    /// A perfect mirror (Mitsuba's default `material = "none"`: eta 0, k 1).
+    PerfectMirror,
+}
+
+fn ball_material(ball: Ball, white: &Material) -> Material {
+    let conductor = |eta: Rgb, k: Rgb| {
+        BsdfDesc::Conductor(Conductor {
+            material: None,
+            eta: eta.into(),
+            k: k.into(),
+            specular_reflectance: Rgb::WHITE.into(),
+        })
+    };
+    let desc = match ball {
+        Ball::White => return white.clone(),
+        Ball::Glass => BsdfDesc::Dielectric(Dielectric {
+            int_ior: 1.5046,
+            ext_ior: 1.000277,
+            specular_reflectance: Rgb::WHITE.into(),
+            specular_transmittance: Rgb::WHITE.into(),
+        }),
+        Ball::Mirror => conductor(
+            Rgb::new(1.6574, 0.8803, 0.5212),
+            Rgb::new(9.2238, 6.2695, 4.837),
+        ),
+        Ball::PerfectMirror => conductor(Rgb::BLACK, Rgb::WHITE),
+    };
+    Material::from_bsdf(&format!("{ball:?}"), desc)
+}
+
+/// The Cornell box with Mitsuba's `diffuse` and analytic spheres (not baked: the
+/// kernel traces them with their own test), as the Mitsuba importer builds them: the
+/// first untransformed (centre and radius), the second a unit sphere placed by a scale
+/// and a translation.
+fn cornell_with_spheres(width: u32, height: u32, balls: &[Ball]) -> Scene {
+    let base = cornell_one_sided(width, height, false);
+    let mut materials = base.materials.clone();
+    let white = materials
+        .iter()
+        .find(|m| m.name == "white")
+        .expect("a white material")
+        .clone();
+    let mut objects = base.objects.clone();
+    let mut instances = base.accel.instances().to_vec();
+    let places = [
+        (Vec3::new(0.4, -0.6, 0.3), 0.4),
+        (Vec3::new(-0.4, -0.55, -0.35), 0.45),
+    ];
+    for (k, &ball) in balls.iter().enumerate() {
+        materials.push(ball_material(ball, &white));
+        objects.push(Object {
+            name: format!("ball {k}"),
+            material: materials.len() as u32 - 1,
+            leaf_materials: vec![],
+        });
+        let (centre, radius) = places[k % 2];
+        instances.push(if k % 2 == 0 {
+            Instance::untransformed(Arc::new(Sphere::new(centre, radius)))
+        } else {
+            Instance::new(
+                Arc::new(Sphere::new(Vec3::ZERO, 1.0)),
+                Affine3A::from_scale_rotation_translation(
+                    Vec3::splat(radius),
+                    Quat::from_rotation_y(0.3),
+                    centre,
+                ),
+            )
+        });
+    }
+    Scene::new(
+        base.camera.clone(),
+        base.settings.clone(),
+        materials,
+        base.lights.clone(),
+        objects,
+        instances,
+    )
+}
+
 /// Sample `i` of pixel (x, y) as the path tracer draws it (box filter, independent
 /// sampler of stream family `seed`).
 fn pixel_sample(cam: &CameraRays, x: u32, y: u32, i: u32, seed: u32) -> (Ray, Rng) {
@@ -161,6 +250,9 @@ enum Variant {
     LaneByLane,
     /// The portable build (no AVX2).
     Portable,
+    /// The default build with the smooth conductor's and dielectric's Fresnel
+    /// reflectance multiplied by this factor (a wrong kernel).
+    WrongFresnel(f32),
 }
 
 /// Sample values of every pixel (`spp` each) by the scalar estimator and by the wide
@@ -177,6 +269,9 @@ fn both_estimates(
     let mut wide = WideScene::new(&ps).expect("the scene qualifies for the wide kernel");
     if variant == Variant::LaneByLane {
         wide = wide.lane_by_lane();
+    }
+    if let Variant::WrongFresnel(scale) = variant {
+        wide = wide.with_fresnel_scale(scale);
     }
     let (w, h) = (scene.settings.width, scene.settings.height);
     let cam = scene.camera.rays(w, h);
@@ -229,6 +324,10 @@ fn mean_and_error(v: &[Rgb]) -> (f64, f64) {
     let var = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
     (mean, (var / n).sqrt())
 }
+
+/// Least fraction of the samples that agree in the sphere cases (all of them did,
+/// 2026-12-03).
+const SPHERES_AGREE: f64 = 0.999;
 
 #[test]
 fn wide_samples_equal_scalar_samples_up_to_rounding() {
@@ -311,6 +410,39 @@ fn wide_samples_equal_scalar_samples_up_to_rounding() {
             cornell_with_mesh(32, 32, true, sphere(SphereNormals::Inward), true),
             Variant::Default,
         ),
+        // Analytic spheres (traced lane by lane with their own test, one placed by a
+        // transform) in diffuse white, glass and mirrors (delta lobes: no light sample,
+        // full emission after them, Russian roulette on max(beta) eta²).
+        (
+            "cornell + white spheres",
+            cornell_with_spheres(32, 32, &[Ball::White, Ball::White]),
+            Variant::Default,
+        ),
+        (
+            "cornell + glass spheres",
+            cornell_with_spheres(32, 32, &[Ball::Glass, Ball::Glass]),
+            Variant::Default,
+        ),
+        (
+            "cornell + aluminium and perfect mirror spheres",
+            cornell_with_spheres(32, 32, &[Ball::Mirror, Ball::PerfectMirror]),
+            Variant::Default,
+        ),
+        (
+            "cornell + glass and mirror spheres",
+            cornell_with_spheres(32, 32, &[Ball::Glass, Ball::Mirror]),
+            Variant::Default,
+        ),
+        (
+            "cornell + glass and mirror spheres, lane by lane",
+            cornell_with_spheres(24, 24, &[Ball::Glass, Ball::Mirror]),
+            Variant::LaneByLane,
+        ),
+        (
+            "cornell + glass and mirror spheres, portable",
+            cornell_with_spheres(24, 24, &[Ball::Glass, Ball::Mirror]),
+            Variant::Portable,
+        ),
     ] {
         let (scalar, wide) = both_estimates(&scene, 2, &params, 0, variant);
         assert!(
@@ -321,10 +453,17 @@ fn wide_samples_equal_scalar_samples_up_to_rounding() {
         println!("{name}: {:.2}% of samples agree to 1e-4", same * 100.0);
         // The disk warp's sine and cosine are a polynomial in the kernel: a path
         // can take another Russian-roulette or shadow decision when a direction
-        // differs in its last bit, which happens to very few paths.
+        // differs in its last bit, which happens to very few paths. The sphere cases
+        // are held tighter: a wrong glass Fresnel reflectance changes only the
+        // lobe choices near it (see `a_wrong_fresnel_reflectance_is_caught`).
+        let least = if name.contains("spheres") {
+            SPHERES_AGREE
+        } else {
+            0.99
+        };
         assert!(
-            same > 0.99,
-            "{name}: only {:.1}% of samples agree",
+            same > least,
+            "{name}: only {:.2}% of samples agree",
             same * 100.0
         );
         let (ms, es) = mean_and_error(&scalar);
@@ -382,6 +521,44 @@ fn smooth_normals_change_enough_samples_to_be_seen() {
             same < 0.97,
             "{rings} x {segments}: {:.1}% agree",
             same * 100.0
+        );
+    }
+}
+
+/// The sphere cases above would catch a wrong Fresnel reflectance: the same kernel with
+/// the glass's reflectance scaled by 1.5 (it only chooses between reflection and
+/// refraction, so few samples change), or the aluminium's by 1.02 (it weights every
+/// mirror bounce), disagrees with the scalar estimator on more than the 0.1% of samples
+/// the sphere cases allow.
+#[test]
+fn a_wrong_fresnel_reflectance_is_caught() {
+    let params = PathParams::default();
+    for (name, scene, scale) in [
+        (
+            "glass",
+            cornell_with_spheres(32, 32, &[Ball::Glass, Ball::Glass]),
+            1.5,
+        ),
+        (
+            "aluminium",
+            cornell_with_spheres(32, 32, &[Ball::Mirror, Ball::White]),
+            1.02,
+        ),
+    ] {
+        let (_, right) = both_estimates(&scene, 2, &params, 0, Variant::Default);
+        let (scalar, wrong) = both_estimates(&scene, 2, &params, 0, Variant::WrongFresnel(scale));
+        let same = fraction_equal(&scalar, &right);
+        let wrong_same = fraction_equal(&scalar, &wrong);
+        println!(
+            "{name}: {:.2}% agree, {:.2}% with the Fresnel reflectance scaled by {scale}",
+            same * 100.0,
+            wrong_same * 100.0
+        );
+        assert!(same > SPHERES_AGREE, "{name}: {:.2}% agree", same * 100.0);
+        assert!(
+            wrong_same < SPHERES_AGREE - 0.004,
+            "{name}: {:.2}% agree with a wrong Fresnel",
+            wrong_same * 100.0
         );
     }
 }
@@ -493,6 +670,17 @@ fn only_lambertian_scenes_with_facet_emitters_qualify() {
         true,
         sphere(SphereNormals::Inward),
         false
+    )));
+    // Analytic spheres (white, glass, mirrors) among the triangles.
+    assert!(check(&cornell_with_spheres(
+        8,
+        8,
+        &[Ball::White, Ball::Glass]
+    )));
+    assert!(check(&cornell_with_spheres(
+        8,
+        8,
+        &[Ball::Mirror, Ball::PerfectMirror]
     )));
     // A sphere emitter (sampled by its own sampler), glossy and glass balls.
     assert!(!check(&path_common::small_room()));

@@ -504,6 +504,12 @@ impl FlatScene {
         if self.rest.is_some() {
             return None;
         }
+        self.baked_triangles()
+    }
+
+    /// Every baked triangle as [`Self::all_triangles`] lists them, whether or not some
+    /// shapes are left to their own tests; `None` when nothing was baked.
+    pub(crate) fn baked_triangles(&self) -> Option<Vec<BakedTriangle>> {
         let baked = self.baked.as_ref()?;
         Some(
             baked
@@ -553,6 +559,28 @@ impl FlatScene {
         self.baked
             .as_ref()
             .is_some_and(|b| b.occluded(&Ray::new(o, d), t_max))
+    }
+
+    /// The scene indices of the objects left to their own shapes' tests (none when
+    /// every object is baked).
+    pub(crate) fn rest_objects(&self) -> &[u32] {
+        self.rest.as_ref().map_or(&[], |r| &r.scene_index)
+    }
+
+    /// The nearest hit with `0 < t < t_max` among the objects left to their own
+    /// shapes, with the scene's instance index: the second half of
+    /// [`RayQuery::closest_hit`] (which asks it with `t_max` the baked hit's `t`).
+    #[inline]
+    pub(crate) fn nearest_rest(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<SceneHit> {
+        self.rest.as_ref()?.intersect(&Ray::new(o, d), t_max)
+    }
+
+    /// Whether an object left to its own shape is hit with `0 < t < t_max`.
+    #[inline]
+    pub(crate) fn occluded_rest(&self, o: Vec3, d: Vec3, t_max: f32) -> bool {
+        self.rest
+            .as_ref()
+            .is_some_and(|r| r.accel.occluded(&Ray::new(o, d), t_max))
     }
 
     /// How many objects are intersected through their own shapes.

@@ -16,6 +16,7 @@
 use super::{facet, mat, smooth, tri, LightPick, WideScene};
 use crate::path::flat_scene::prefetch_bytes;
 use crate::path::integrator::{PathCounters, PathParams};
+use crate::path::tracer::Tracer;
 use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::bvh::node::gamma;
@@ -23,8 +24,8 @@ use irradia_geometry::packet::lanes::{
     gather, offset_ray_origin, sin_cos_quarter_pi, F8, M8, V3, W,
 };
 use irradia_geometry::packet::ray8::LaneHits;
-use irradia_geometry::packet::PacketHit;
 use irradia_geometry::triangle::TriangleHit;
+use irradia_scatter::optics::fresnel_conductor_rgb;
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_4};
 
 /// No sample in the lane.
@@ -44,6 +45,9 @@ struct Paths {
     prev_p: V3,
     prev_pdf: F8,
     has_prev: M8,
+    /// The product of the relative indices of refraction crossed (Russian roulette
+    /// judges `max(beta) eta²`, as the scalar estimator does).
+    eta: F8,
 }
 
 /// What the per-lane stage hands to the vector stage, per bounce: indices into the
@@ -59,9 +63,19 @@ struct Bounce {
     b1: F8,
     b2: F8,
     material: [u32; W],
+    /// Lanes whose hit is on an object left to its own shape's test (a sphere), with
+    /// the hit as that test reports it: point, geometric and shading normals, error
+    /// bound (`triangle` is then 0, a valid index whose record is not used).
+    other: M8,
+    point: V3,
+    normal: V3,
+    shading: V3,
+    error: F8,
     /// `pdf_object` of the hit as seen from the previous vertex (emissive hits).
     light_pdf: F8,
-    /// Uniform numbers of the BSDF sample.
+    /// Uniform numbers of the BSDF sample: the lobe choice (the dielectric's
+    /// reflection or refraction) and the direction.
+    u_lobe: F8,
     u_bsdf: [F8; 2],
     /// The light sample: a facet was chosen (`light`), which one, the probability of
     /// choosing its emitter and the point of the square to warp into the triangle.
@@ -237,6 +251,67 @@ fn cosine_hemisphere(u: [F8; 2]) -> V3 {
     V3::new(dx, dy, z)
 }
 
+/// The smooth conductor's Fresnel reflectance (`fresnel_conductor_rgb`, in `f64` as
+/// the scalar BSDF computes it) at cosine `cos` in the lanes of `active`, zero
+/// elsewhere.
+#[inline(always)]
+fn conductor_fresnel(ws: &WideScene<'_, '_>, material: &[u32; W], cos: F8, active: M8) -> V3 {
+    let mut f = V3::ZERO;
+    if !active.any() {
+        return f;
+    }
+    for lane in 0..W {
+        if !active.get(lane) {
+            continue;
+        }
+        if let Some((eta, k)) = ws.materials[material[lane] as usize].conductor {
+            let r = fresnel_conductor_rgb(cos.0[lane], eta, k) * ws.fresnel_scale;
+            f.set_lane(lane, Vec3::new(r.r, r.g, r.b));
+        }
+    }
+    f
+}
+
+/// The smooth dielectric's sample in every lane (`Dielectric::sample`, with
+/// `fresnel_dielectric` and `refract` of the scatter crate's optics, Born and Wolf
+/// §1.5.2, as Mitsuba 3's `dielectric`): whether `u_lobe` chooses the reflection, the
+/// refracted direction and the relative indices `η_t/η_i`, `η_i/η_t`.
+struct DielectricSample {
+    reflects: M8,
+    refracted: V3,
+    eta_it: F8,
+    eta_ti: F8,
+}
+
+#[inline(always)]
+fn dielectric(wo: V3, eta: F8, u_lobe: F8, scale: f32) -> DielectricSample {
+    let c = wo.z;
+    let outside = c.ge(0.0);
+    let inv = 1.0 / eta;
+    let eta_it = outside.select(eta, inv);
+    let eta_ti = outside.select(inv, eta);
+    // Snell's law: sin²θt = (η_i/η_t)² sin²θi.
+    let cos2_t = 1.0 - (1.0 - c * c) * eta_ti * eta_ti;
+    let cos_i = c.abs();
+    let cos_t = cos2_t.max(0.0).sqrt();
+    let r_s = (cos_i - eta_it * cos_t) / (cos_i + eta_it * cos_t);
+    let r_p = (eta_it * cos_i - cos_t) / (eta_it * cos_i + cos_t);
+    // (`scale` is 1 but in a test: see `WideScene::with_fresnel_scale`.)
+    let fr = 0.5 * (r_s * r_s + r_p * r_p) * scale;
+    let fr = (cos_i.eq(0.0) | cos2_t.le(0.0)).select(F8::splat(1.0), fr);
+    let fr = eta.eq(1.0).select(F8::ZERO, fr);
+    DielectricSample {
+        reflects: u_lobe.le(fr),
+        refracted: V3::new(
+            -eta_ti * wo.x,
+            -eta_ti * wo.y,
+            outside.select(-cos_t, cos_t),
+        ),
+        eta_it,
+        eta_ti,
+    }
+}
+
 /// The vector stage: the hit point, emission, the light sample and the BSDF sample of
 /// every lane.
 #[inline(always)]
@@ -267,7 +342,25 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let p = q0.add(q1).add(q2);
     let abs_sum = q0.abs().add(q1.abs()).add(q2.abs());
     let error = gamma(7) * abs_sum.x.max(abs_sum.y.max(abs_sum.z));
+    // Hits on objects with their own tests (spheres): the hit as the shape reports
+    // it, the shading normal turned to the geometric one's side (`surface_at`).
+    let (p, n, ns, error) = if ws.has_rest {
+        let o = b.other;
+        let turn = o & b.shading.dot(b.normal).lt(0.0);
+        let other_ns = V3::select(turn, b.shading.neg(), b.shading);
+        (
+            V3::select(o, b.point, p),
+            V3::select(o, b.normal, n),
+            V3::select(o, other_ns, ns),
+            o.select(b.error, error),
+        )
+    } else {
+        (p, n, ns, error)
+    };
     let albedo = field3(&ws.shading, &b.material, mat::ALBEDO);
+    let mirror = field(&ws.shading, &b.material, mat::MIRROR).ne(0.0);
+    let glass = field(&ws.shading, &b.material, mat::GLASS).ne(0.0);
+    let lambert = !(mirror | glass);
     let emission = field3(&ws.shading, &b.material, mat::EMISSION);
     let emission_two_sided = field(&ws.shading, &b.material, mat::TWO_SIDED).ne(0.0);
     let front_only = field(&ws.shading, &b.material, mat::FRONT_ONLY).ne(0.0);
@@ -312,7 +405,8 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let wi = d.div(dist2.sqrt());
     let l_facing = -wi.dot(ln);
     let cos_l = ltwo_sided.select(l_facing.abs(), l_facing);
-    let light_ok = sc & light & cos_l.gt(0.0) & pdf_area.gt(0.0);
+    // No light sample on delta lobes (the scalar code draws its numbers, unused).
+    let light_ok = sc & lambert & light & cos_l.gt(0.0) & pdf_area.gt(0.0);
     let l_side = V3::select(l_facing.gt(0.0), ln, ln.neg());
     let target = offset_ray_origin(q, l_side, F8::ZERO);
     let l_pdf = pick * pdf_area * dist2 / cos_l;
@@ -331,28 +425,50 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
         .mul(lradiance)
         .scale(wi_local.z.abs() * w_light / l_pdf);
 
-    // BSDF sampling: a cosine-weighted direction on the side of `wo`.
+    // BSDF sampling: a cosine-weighted direction on the side of `wo` (Lambert), the
+    // mirror direction (conductor), or the dielectric's reflection or refraction.
     let mut wi_b = cosine_hemisphere(b.u_bsdf);
     wi_b.z = wo.z.lt(0.0).select(-wi_b.z, wi_b.z);
     let pdf_b = wi_b.z.abs().max(0.0) * FRAC_1_PI;
-    let wi_world = fs.scale(wi_b.x).add(ft.scale(wi_b.y)).add(ns.scale(wi_b.z));
+    let lambert_ok = lambert & wo.z.ne(0.0) & pdf_b.gt(0.0);
+    let reflected = V3::new(-wo.x, -wo.y, wo.z);
+    let spec_r = field3(&ws.shading, &b.material, mat::SPEC_R);
+    let mirror_weight = spec_r.mul(conductor_fresnel(ws, &b.material, wo.z, sc & mirror));
+    let g = dielectric(
+        wo,
+        field(&ws.shading, &b.material, mat::ETA),
+        b.u_lobe,
+        ws.fresnel_scale,
+    );
+    let spec_t = field3(&ws.shading, &b.material, mat::SPEC_T);
+    let refracts = glass & !g.reflects;
+    let wi_s = V3::select(lambert, wi_b, V3::select(refracts, g.refracted, reflected));
+    let weight = V3::select(
+        lambert,
+        albedo,
+        V3::select(
+            mirror,
+            mirror_weight,
+            V3::select(refracts, spec_t.scale(g.eta_ti * g.eta_ti), spec_r),
+        ),
+    );
+    let eta_s = refracts.select(g.eta_it, F8::splat(1.0));
+    let sampled = lambert_ok | (mirror & wo.z.gt(0.0)) | glass;
+    let wi_world = fs.scale(wi_s.x).add(ft.scale(wi_s.y)).add(ns.scale(wi_s.z));
     let cos_w = wi_world.dot(n);
-    let beta = paths.beta.mul(albedo);
-    let go_on = sc
-        & wo.z.ne(0.0)
-        & pdf_b.gt(0.0)
-        & (cos_w * wi_b.z).gt(0.0)
-        & !beta.is_zero()
-        & beta.finite();
+    let beta = paths.beta.mul(weight);
+    let go_on = sc & sampled & (cos_w * wi_s.z).gt(0.0) & !beta.is_zero() & beta.finite();
     let side = V3::select(cos_w.gt(0.0), n, n.neg());
     let origin = offset_ray_origin(p, side, error);
     paths.beta = V3::select(go_on, beta, paths.beta);
+    paths.eta = go_on.select(paths.eta * eta_s, paths.eta);
     paths.origin = V3::select(go_on, origin, paths.origin);
     paths.dir = V3::select(go_on, wi_world, paths.dir);
     paths.prev_p = V3::select(go_on, p, paths.prev_p);
     paths.prev_pdf = go_on.select(pdf_b, paths.prev_pdf);
-    paths.has_prev = paths.has_prev | go_on;
-    let q = paths.beta.max_component().min(0.95);
+    // After a delta bounce an emitter hit counts in full (no MIS).
+    paths.has_prev = (go_on & lambert) | (!go_on & paths.has_prev);
+    let q = (paths.beta.max_component() * (paths.eta * paths.eta)).min(0.95);
     Scattered {
         nee,
         shadow_origin,
@@ -385,6 +501,7 @@ fn run<const FMA: bool>(
         prev_p: V3::ZERO,
         prev_pdf: F8::ZERO,
         has_prev: M8::FALSE,
+        eta: F8::splat(1.0),
     };
     let mut next = 0usize;
     let mut b = Bounce::default();
@@ -408,6 +525,7 @@ fn run<const FMA: bool>(
                 paths.beta.set_lane(lane, Vec3::ONE);
                 paths.radiance.set_lane(lane, Vec3::ZERO);
                 paths.has_prev.set(lane, false);
+                paths.eta.0[lane] = 1.0;
                 counters.paths += 1;
             }
             live.set(lane, true);
@@ -452,47 +570,77 @@ fn run<const FMA: bool>(
                 continue;
             }
             counters.rays += 1;
-            if !hits.hit.get(lane) {
+            // Then the objects with their own tests (spheres), up to the triangle's
+            // `t`, as the flat scene's `closest_hit` asks them.
+            let other = if ws.has_rest {
+                let t_max = if hits.hit.get(lane) {
+                    hits.t.0[lane]
+                } else {
+                    f32::INFINITY
+                };
+                let (o, d) = (paths.origin.lane(lane), paths.dir.lane(lane));
+                ps.tracer.nearest_rest(o, d, t_max)
+            } else {
+                None
+            };
+            b.other.set(lane, other.is_some());
+            if !hits.hit.get(lane) && other.is_none() {
                 // Black background: the path ends with what it has.
                 b.hit.set(lane, false);
                 b.scatter.set(lane, false);
                 continue;
             }
-            let t = hits.triangle[lane];
-            let h = PacketHit {
-                lane: 0,
-                t: hits.t.0[lane],
-                b1: hits.b1.0[lane],
-                b2: hits.b2.0[lane],
-            };
-            let (material, instance) = ws.triangle_owner[t as usize];
-            let m = &ws.materials[material as usize];
             b.hit.set(lane, true);
-            b.triangle[lane] = t;
+            let (material, instance) = match &other {
+                Some(sh) => {
+                    let material = ps.tracer.material(sh.instance, sh.hit.leaf);
+                    b.triangle[lane] = 0;
+                    b.point.set_lane(lane, sh.hit.point);
+                    b.normal.set_lane(lane, sh.hit.normal);
+                    b.shading.set_lane(lane, sh.hit.shading_normal);
+                    b.error.0[lane] = sh.hit.error;
+                    (material, sh.instance)
+                }
+                None => {
+                    let t = hits.triangle[lane];
+                    b.triangle[lane] = t;
+                    b.b1.0[lane] = hits.b1.0[lane];
+                    b.b2.0[lane] = hits.b2.0[lane];
+                    ws.triangle_owner[t as usize]
+                }
+            };
+            let m = &ws.materials[material as usize];
             b.material[lane] = material;
-            b.b1.0[lane] = h.b1;
-            b.b2.0[lane] = h.b2;
             if m.emissive && paths.has_prev.get(lane) {
                 // Rare (emitter hits after a bounce): the point as the vector stage
                 // and the flat scene compute it.
-                let r = &ws.triangles[t as usize];
-                let v = |k: usize| Vec3::new(r[k], r[k + 1], r[k + 2]);
-                // The geometric normal as the hit reports it (given vertex normals
-                // may turn it).
-                let n = match ws.smooth {
-                    Some(_) => ps
-                        .tracer
-                        .hit_normals(t, h.b1, h.b2)
-                        .map_or(v(tri::N), |x| x.0),
-                    None => v(tri::N),
+                let (point, n) = match &other {
+                    Some(sh) => (sh.hit.point, sh.hit.normal),
+                    None => {
+                        let t = hits.triangle[lane];
+                        let (b1, b2) = (hits.b1.0[lane], hits.b2.0[lane]);
+                        let r = &ws.triangles[t as usize];
+                        let v = |k: usize| Vec3::new(r[k], r[k + 1], r[k + 2]);
+                        // The geometric normal as the hit reports it (given vertex
+                        // normals may turn it).
+                        let n = match ws.smooth {
+                            Some(_) => ps.tracer.hit_normals(t, b1, b2).map_or(v(tri::N), |x| x.0),
+                            None => v(tri::N),
+                        };
+                        let (point, _) = TriangleHit {
+                            t: hits.t.0[lane],
+                            b0: 1.0 - b1 - b2,
+                            b1,
+                            b2,
+                        }
+                        .point_and_error(
+                            v(tri::P0),
+                            v(tri::P1),
+                            v(tri::P2),
+                        );
+                        (point, n)
+                    }
                 };
-                let (point, _) = TriangleHit {
-                    t: h.t,
-                    b0: 1.0 - h.b1 - h.b2,
-                    b1: h.b1,
-                    b2: h.b2,
-                }
-                .point_and_error(v(tri::P0), v(tri::P1), v(tri::P2));
                 b.light_pdf.0[lane] =
                     ps.lights
                         .pdf_object(ps.scene, instance, paths.prev_p.lane(lane), point, n);
@@ -505,7 +653,9 @@ fn run<const FMA: bool>(
             let rng = &mut paths.rng[lane];
             let u_pick = rng.next_f32();
             let u_light = rng.next_2d();
-            let _u_lobe = rng.next_f32(); // one lobe: drawn, not used (as the scalar code)
+            // The lobe choice: the dielectric's; drawn and unused by the one-lobe BSDFs
+            // (as the scalar code).
+            b.u_lobe.0[lane] = rng.next_f32();
             let u_bsdf = rng.next_2d();
             b.u_bsdf[0].0[lane] = u_bsdf.x;
             b.u_bsdf[1].0[lane] = u_bsdf.y;
@@ -544,6 +694,22 @@ fn run<const FMA: bool>(
                         1.0,
                     )
             }),
+        };
+        // And the objects with their own tests (spheres), for shadow rays the
+        // triangles leave through.
+        let blocked = if ws.has_rest {
+            blocked
+                | M8::from_fn(|lane| {
+                    s.nee.get(lane)
+                        && !blocked.get(lane)
+                        && ps.tracer.occluded_rest(
+                            s.shadow_origin.lane(lane),
+                            s.shadow_dir.lane(lane),
+                            1.0,
+                        )
+                })
+        } else {
+            blocked
         };
         for lane in 0..W {
             if paths.sample[lane] == IDLE {

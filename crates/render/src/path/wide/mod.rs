@@ -27,16 +27,33 @@
 //! (tests/path_wide.rs checks that every sample agrees to 1e-4 and that the
 //! comparison would catch a different stream).
 //!
-//! **What qualifies a scene** ([`WideScene::new`]): every material is a solid-coloured
-//! Lambertian, the lecture's two-sided one (albedo `diffuse * color`, possibly black,
-//! i.e. no lobe) or Mitsuba's one-sided `diffuse` with a constant `reflectance`,
-//! optionally emissive; no mirror, gloss or glass; every emitter is an emissive object
+//! **What qualifies a scene** ([`WideScene::new`]): every material is one of
+//! - a solid-coloured Lambertian, the lecture's two-sided one (albedo `diffuse *
+//!   color`, possibly black, i.e. no lobe) or Mitsuba's one-sided `diffuse` with a
+//!   constant `reflectance`;
+//! - Mitsuba's smooth `conductor` (one-sided; a delta reflection weighted by the exact
+//!   conductor Fresnel reflectance, evaluated lane by lane in `f64` as the scalar BSDF
+//!   does) or smooth `dielectric` (delta reflection or refraction chosen by the
+//!   lobe number against the exact dielectric Fresnel reflectance), with constant
+//!   parameters;
+//!
+//! each optionally emissive; no lecture mirror, gloss or glass and no rough BSDFs.
+//! Delta lobes follow the scalar estimator exactly: no light sample (its random
+//! numbers are drawn and unused), emission hit after them counts in full (no MIS), and
+//! Russian roulette judges `max(beta) eta²` with `eta` the product of the relative
+//! indices crossed. Every emitter is an emissive object
 //! sampled by its world-space facets (polygons, rectangles, boxes, polyhedra, emissive
 //! meshes); no point, spot, directional or sphere lights and a black background (no
 //! environment). The
 //! Cornell box qualifies. Every object must be baked into the [`FlatScene`]'s
 //! triangles (polygons, rectangles, boxes, polyhedra, and triangle meshes of any size,
-//! whose materials are untextured: no spheres, quadrics, CSG or implicit surfaces).
+//! whose materials are untextured) or be a sphere (possibly placed by a transform, as
+//! the Mitsuba importer builds them; no quadrics, CSG or implicit surfaces). Spheres are
+//! traced lane by lane after the lanes' triangles, with the flat scene's own test of
+//! its unbaked objects up to the triangle's distance (the scalar `closest_hit`'s order
+//! and arithmetic, so the hits, normals and error bounds are the scalar ones), and so
+//! are the shadow rays the triangles leave through. So the speed suite's
+//! `glass_mirror.xml` (a glass and an aluminium sphere in the Cornell box) qualifies.
 //! Mesh triangles shade with their interpolated vertex normals as the scalar code
 //! does (`SmoothNormals`: the normals gathered by triangle index from a side table,
 //! blended with the hit's barycentrics, given normals turning the geometric normal);
@@ -58,6 +75,9 @@ pub(crate) struct WideMaterial {
     /// Whether the BSDF has its lobe (otherwise paths end at the surface).
     pub scatters: bool,
     pub emissive: bool,
+    /// A smooth conductor's complex index `(eta, k)`, whose Fresnel reflectance the
+    /// vector stage evaluates lane by lane (in `f64`, as the scalar BSDF does).
+    pub conductor: Option<(Rgb, Rgb)>,
 }
 
 /// Fields of a [`WideScene::triangles`] record.
@@ -85,10 +105,22 @@ pub(crate) mod mat {
     pub const ALBEDO: usize = 0;
     pub const EMISSION: usize = 3;
     pub const TWO_SIDED: usize = 6;
-    /// 1 for a one-sided BSDF (Mitsuba's `diffuse`: nothing is scattered when the
-    /// path arrives from behind the surface), 0 for the lecture's two-sided Lambert.
+    /// 1 for a one-sided BSDF (Mitsuba's `diffuse` and `conductor`: nothing is
+    /// scattered when the path arrives from behind the surface), 0 for the lecture's
+    /// two-sided Lambert and the dielectric.
     pub const FRONT_ONLY: usize = 7;
-    pub const LEN: usize = 8;
+    /// 1 for Mitsuba's smooth `conductor` (a delta reflection; the albedo is 0).
+    pub const MIRROR: usize = 8;
+    /// 1 for Mitsuba's smooth `dielectric` (delta reflection and refraction; the
+    /// albedo is 0).
+    pub const GLASS: usize = 9;
+    /// The dielectric's `int_ior / ext_ior`.
+    pub const ETA: usize = 10;
+    /// `specular_reflectance` (conductor and dielectric) and `specular_transmittance`
+    /// (dielectric).
+    pub const SPEC_R: usize = 11;
+    pub const SPEC_T: usize = 14;
+    pub const LEN: usize = 17;
 }
 /// Fields of a [`WideScene::facets`] record.
 pub(crate) mod facet {
@@ -127,6 +159,13 @@ pub struct WideScene<'s, 'a> {
     /// The triangles for tracing eight rays at once (small scenes); otherwise each
     /// lane walks the flat scene's hierarchy.
     pub(crate) rays: Option<RayLaneTriangles>,
+    /// Whether some objects (spheres) are not baked: each lane then also asks the
+    /// flat scene's own test of those after the triangles.
+    pub(crate) has_rest: bool,
+    /// A factor on the smooth conductor's and dielectric's Fresnel reflectance: 1
+    /// (exact: the product is the reflectance itself) except in the test that shows
+    /// a wrong reflectance is caught.
+    pub(crate) fresnel_scale: f32,
 }
 
 /// What choosing a light facet reads (`LightSampler::pick_facet`, lane by lane): the
@@ -165,34 +204,72 @@ impl<'s, 'a> WideScene<'s, 'a> {
         }
         let mut materials = Vec::new();
         let mut shading = Vec::new();
+        let flag = |b: bool| if b { 1.0 } else { 0.0 };
         for (i, m) in scene.materials.iter().enumerate() {
+            let mut row = [0.0; mat::LEN];
+            let mut conductor = None;
             // The lecture's Lambert (two-sided) or Mitsuba's `diffuse` (one-sided), both
-            // with a constant albedo (a textured one has no BSDF here).
-            let (albedo, front_only) = match ps.bsdfs.get(i) {
+            // with a constant albedo (a textured one has no BSDF here); Mitsuba's
+            // smooth `conductor` (one-sided) and `dielectric`.
+            let (albedo, front_only, scatters) = match ps.bsdfs.get(i) {
                 Some(Some(Bsdf::LectureMix(bsdf))) => {
                     let mut lobes = bsdf.lobes();
                     match (lobes.next(), lobes.next()) {
-                        (None, _) => (None, false),
-                        (Some(LectureLobe::Lambert { albedo }), None) => (Some(*albedo), false),
+                        (None, _) => (Rgb::BLACK, false, false),
+                        (Some(LectureLobe::Lambert { albedo }), None) => (*albedo, false, true),
                         _ => return None,
                     }
                 }
-                Some(Some(Bsdf::Diffuse(d))) => (Some(d.reflectance), true),
+                Some(Some(Bsdf::Diffuse(d))) => (d.reflectance, true, true),
+                Some(Some(Bsdf::Conductor(c))) => {
+                    row[mat::MIRROR] = 1.0;
+                    let r = c.specular_reflectance;
+                    row[mat::SPEC_R..mat::SPEC_R + 3].copy_from_slice(&[r.r, r.g, r.b]);
+                    conductor = Some((c.eta, c.k));
+                    (Rgb::BLACK, true, true)
+                }
+                Some(Some(Bsdf::Dielectric(d))) => {
+                    row[mat::GLASS] = 1.0;
+                    row[mat::ETA] = d.eta;
+                    let (r, t) = (d.specular_reflectance, d.specular_transmittance);
+                    row[mat::SPEC_R..mat::SPEC_R + 3].copy_from_slice(&[r.r, r.g, r.b]);
+                    row[mat::SPEC_T..mat::SPEC_T + 3].copy_from_slice(&[t.r, t.g, t.b]);
+                    (Rgb::BLACK, false, true)
+                }
                 _ => return None,
             };
             materials.push(WideMaterial {
-                scatters: albedo.is_some(),
+                scatters,
                 emissive: !m.emission.is_black(),
+                conductor,
             });
-            let a = albedo.unwrap_or(Rgb::BLACK);
-            let e = m.emission;
-            let two = if m.emission_two_sided { 1.0 } else { 0.0 };
-            let front = if front_only { 1.0 } else { 0.0 };
-            shading.push([a.r, a.g, a.b, e.r, e.g, e.b, two, front]);
+            let (a, e) = (albedo, m.emission);
+            row[..8].copy_from_slice(&[
+                a.r,
+                a.g,
+                a.b,
+                e.r,
+                e.g,
+                e.b,
+                flag(m.emission_two_sided),
+                flag(front_only),
+            ]);
+            shading.push(row);
         }
+        // Objects the flat scene does not bake are traced lane by lane with their own
+        // shapes' tests (the scalar code's, so hits agree): spheres only, whole objects
+        // (no CSG leaves).
+        for &i in ps.tracer.rest_objects() {
+            let instance = &scene.accel.instances()[i as usize];
+            let object = &scene.objects[i as usize];
+            if instance.shape.kind() != "sphere" || !object.leaf_materials.is_empty() {
+                return None;
+            }
+        }
+        let has_rest = !ps.tracer.rest_objects().is_empty();
         let mut triangles = Vec::new();
         let mut triangle_owner = Vec::new();
-        let baked = ps.tracer.all_triangles()?;
+        let baked = ps.tracer.baked_triangles()?;
         let corners: Vec<_> = baked.iter().map(|t| t.0).collect();
         let rays = RayLaneTriangles::new(&corners, &ps.tracer.packet_order());
         let any_smooth = baked.iter().any(|t| t.4.is_some());
@@ -271,6 +348,8 @@ impl<'s, 'a> WideScene<'s, 'a> {
             facet_start,
             pick,
             rays,
+            has_rest,
+            fresnel_scale: 1.0,
         })
     }
 
@@ -281,6 +360,15 @@ impl<'s, 'a> WideScene<'s, 'a> {
     pub fn lane_by_lane(mut self) -> Self {
         self.rays = None;
         self.pick = None;
+        self
+    }
+
+    /// The same kernel with a wrong Fresnel reflectance (the smooth conductor's and
+    /// dielectric's, times `scale`); for the test that shows the comparison with the
+    /// scalar estimator catches it.
+    #[doc(hidden)]
+    pub fn with_fresnel_scale(mut self, scale: f32) -> Self {
+        self.fresnel_scale = scale;
         self
     }
 

@@ -1,0 +1,84 @@
+//! The speed suite's glass-and-mirror scene (`bench/pathtrace/suite/glass_mirror.xml`:
+//! the Cornell box with a smooth `dielectric` sphere and a smooth `conductor` sphere),
+//! imported from Mitsuba XML, qualifies for the 8-wide path kernel, and the kernel's
+//! samples are the scalar estimator's (same random streams) up to rounding, as
+//! crates/render/tests/path_wide.rs checks for hand-built scenes.
+
+use irradia_core::{Rgb, Rng};
+use irradia_import::{load, Options};
+use irradia_render::filter::FilterSampler;
+use irradia_render::path::flat_scene::FlatScene;
+use irradia_render::path::integrator::{radiance_in, PathScene};
+use irradia_render::path::lights::LightSampler;
+use irradia_render::path::wide::WideScene;
+use irradia_render::path::{PathCounters, PathParams};
+use irradia_render::sampler::{camera_sample, Sampler};
+use std::path::Path;
+
+/// Fraction of samples whose three channels agree to `1e-4` relative.
+fn fraction_equal(a: &[Rgb], b: &[Rgb]) -> f64 {
+    let close = |x: f32, y: f32| (x - y).abs() <= 1e-4 * x.abs().max(y.abs()) + 1e-7;
+    let same = a
+        .iter()
+        .zip(b)
+        .filter(|(p, q)| close(p.r, q.r) && close(p.g, q.g) && close(p.b, q.b))
+        .count();
+    same as f64 / a.len() as f64
+}
+
+#[test]
+fn imported_glass_mirror_scene_runs_in_the_wide_kernel_sample_for_sample() {
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../bench/pathtrace/suite/glass_mirror.xml");
+    let opts = Options {
+        defines: vec![("res".into(), "32".into())],
+        strict: false,
+    };
+    let (scene, _) = load(&path, &opts).expect("glass_mirror.xml imports");
+    let params = PathParams::for_settings(&scene.settings);
+    let lights = LightSampler::new(&scene);
+    let ps = PathScene::new(&scene, FlatScene::new(&scene), &lights);
+    assert_eq!(
+        ps.tracer.generic_objects(),
+        2,
+        "the two spheres are not baked"
+    );
+    let wide = WideScene::new(&ps).expect("the scene qualifies for the wide kernel");
+    let (w, h) = (scene.settings.width, scene.settings.height);
+    assert!(w <= 32 && h <= 32, "{w} x {h}");
+    let cam = scene.camera.rays(w, h);
+    let filter = FilterSampler::new(Default::default());
+    let spp = 2u32;
+    let n = (w * h * spp) as usize;
+    let sample = |k: usize, seed: u32| -> (irradia_core::Ray, Rng) {
+        let (pixel, i) = (k as u32 / spp, k as u32 % spp);
+        let s = camera_sample(
+            &cam,
+            &filter,
+            Sampler::Independent { seed },
+            pixel % w,
+            pixel / w,
+            i,
+        );
+        (s.ray, s.rng)
+    };
+    let scalar = |seed: u32| -> Vec<Rgb> {
+        let mut c = PathCounters::default();
+        (0..n)
+            .map(|k| {
+                let (ray, mut rng) = sample(k, seed);
+                radiance_in(&ps, &params, ray, &mut rng, &mut c)
+            })
+            .collect()
+    };
+    let mut out = vec![Rgb::splat(f32::NAN); n];
+    let mut c = PathCounters::default();
+    wide.radiance_batch(&params, |k| sample(k, 0), &mut out, &mut c);
+    assert!(out.iter().all(|c| c.is_finite()), "unwritten sample");
+    let same = fraction_equal(&scalar(0), &out);
+    println!("glass_mirror: {:.2}% of samples agree", same * 100.0);
+    assert!(same > 0.99, "only {:.1}% of samples agree", same * 100.0);
+    // The comparison can fail: another stream's samples do not agree.
+    let chance = fraction_equal(&scalar(7), &out);
+    assert!(chance < 0.5, "{:.1}% agree by chance", chance * 100.0);
+}
