@@ -5,6 +5,9 @@
 
 pub mod attributes;
 mod spans;
+mod stream;
+
+pub use stream::TIE_ULPS;
 
 pub use attributes::{
     AttributeDomain, AttributeError, AttributePoint, AttributeValue, MeshAttribute, MeshAttributes,
@@ -295,13 +298,19 @@ impl TriangleMesh {
             return self.intersect(ray, t_max).map(|h| CastHit::from(&h));
         }
         let (packet, lane, h) = self.closest_lane(ray, t_max)?;
+        Some(Self::cast_hit_of(packet, lane, &h))
+    }
+
+    /// What ray casting reports of hit `h` on lane `lane` of `packet`.
+    #[inline]
+    fn cast_hit_of(packet: &Triangle4, lane: usize, h: &TriangleHit) -> CastHit {
         let [p0, p1, p2] = packet.corners(lane);
-        Some(CastHit {
+        CastHit {
             t: h.t,
             prim: packet.ids[lane],
             uv: Vec2::new(h.b1, h.b2),
             normal: (p1 - p0).cross(p2 - p0).normalize(),
-        })
+        }
     }
 
     /// The nearest hit's packet, lane and hit.
