@@ -82,7 +82,7 @@ impl TriangleMesh {
                 None
             };
             match packet.and_then(|p| self.closest_lanes_packet(group, &p, t_max)) {
-                Some(hits) => {
+                Some((hits, _)) => {
                     for (k, h) in hits.into_iter().take(group.len()).enumerate() {
                         emit(base + k, h);
                     }
@@ -98,14 +98,15 @@ impl TriangleMesh {
 
     /// The packet traversal's answers for `rays` (prepared as `packet`), each the
     /// single-ray answer (rays whose answer could depend on the visit order are
-    /// traced again alone); `None` where the packet traversal is not available.
+    /// traced again alone, bits of the second value); `None` where the packet
+    /// traversal is not available.
     #[inline]
     fn closest_lanes_packet<'a>(
         &'a self,
         rays: &[Ray],
         packet: &PacketRay,
         t_max: f32,
-    ) -> Option<[LaneHit<'a>; PACKET]> {
+    ) -> Option<([LaneHit<'a>; PACKET], u32)> {
         let trays: [TriangleRay; PACKET] =
             std::array::from_fn(|k| TriangleRay::new(&rays[k.min(rays.len() - 1)]));
         let mut best: [LaneHit<'a>; PACKET] = [None; PACKET];
@@ -150,13 +151,77 @@ impl TriangleMesh {
             return None;
         }
         let tie = 1.0 + TIE_ULPS * f32::EPSILON;
+        let mut retraced = 0;
         for k in 0..rays.len() {
             if let Some((_, _, h)) = best[k] {
                 if second[k] <= h.t * tie {
                     best[k] = self.closest_lane(&rays[k], t_max);
+                    retraced |= 1 << k;
                 }
             }
         }
-        Some(best)
+        Some((best, retraced))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// A flat grid of `n` x `n` unit squares in z = 0, two triangles each.
+    fn grid(n: u32) -> TriangleMesh {
+        let mut positions = Vec::new();
+        for y in 0..=n {
+            for x in 0..=n {
+                positions.push(Vec3::new(x as f32, y as f32, 0.0));
+            }
+        }
+        let v = |x: u32, y: u32| y * (n + 1) + x;
+        let mut indices = Vec::new();
+        for y in 0..n {
+            for x in 0..n {
+                indices.push([v(x, y), v(x + 1, y), v(x + 1, y + 1)]);
+                indices.push([v(x, y), v(x + 1, y + 1), v(x, y + 1)]);
+            }
+        }
+        TriangleMesh::new(positions, indices, None, None).unwrap()
+    }
+
+    /// Rays from one eye through grid vertices and edge midpoints hit several triangles
+    /// at (nearly) the same t: the packet must notice the near-tie, trace those rays
+    /// alone, and so answer exactly as the single-ray query does.
+    #[test]
+    fn near_ties_are_traced_alone_and_agree() {
+        if !crate::packet::has_avx2() {
+            return;
+        }
+        let mesh = grid(32);
+        let eye = Vec3::new(13.3, 9.7, 7.0);
+        let mut retraced_total = 0;
+        for y in 0..64 {
+            let rays: Vec<Ray> = (0..64)
+                .map(|x| Ray::new(eye, Vec3::new(x as f32 * 0.5, y as f32 * 0.5, 0.0) - eye))
+                .collect();
+            for group in rays.chunks(PACKET) {
+                let packet = PacketRay::new(group);
+                let Some(packet) = packet else { continue };
+                let (hits, retraced) = mesh
+                    .closest_lanes_packet(group, &packet, f32::INFINITY)
+                    .unwrap();
+                retraced_total += retraced.count_ones();
+                for (k, r) in group.iter().enumerate() {
+                    let a = hits[k].map(|(p, l, h)| (p.ids[l], h.t.to_bits(), h.b1.to_bits()));
+                    let b = mesh
+                        .closest_lane(r, f32::INFINITY)
+                        .map(|(p, l, h)| (p.ids[l], h.t.to_bits(), h.b1.to_bits()));
+                    assert_eq!(a, b, "ray {r:?}");
+                }
+            }
+        }
+        assert!(
+            retraced_total > 0,
+            "the grid's vertices must produce near-ties"
+        );
     }
 }
