@@ -29,6 +29,10 @@ use std::mem::MaybeUninit;
 /// Rays in a packet.
 pub const PACKET: usize = 8;
 
+/// Subtrees that fewer rays than this enter are walked ray by ray (a packet's box
+/// test costs one pass per child, a single ray's one pass per node).
+pub const SINGLE_BELOW: usize = 3;
+
 /// Stack depth, as for the single-ray traversal.
 const STACK: usize = (WIDTH - 1) * (MAX_SAH_DEPTH as usize + 33);
 
@@ -102,35 +106,128 @@ impl Bvh {
     /// Walks the tree with the rays of `packet` in the lanes `active` (a subset of
     /// [`PacketRay::lanes`]). `t_max[k]` bounds ray `k`: boxes it enters beyond it are
     /// not entered. `leaf(leaf, lanes, t_max)` is called for each leaf with the lanes
-    /// whose ray entered its box (never empty) and may lower their `t_max`.
+    /// whose ray entered its box (never empty) and may lower their `t_max`;
+    /// `prefetch(leaf)` as soon as some ray enters a leaf's box, so the caller can
+    /// start loading its data.
+    ///
+    /// Where fewer than [`SINGLE_BELOW`] rays remain active in a subtree, each walks
+    /// it alone (the ordered single-ray traversal, with the same box test), as
+    /// Benthin et al. switch from packet to single-ray traversal.
     ///
     /// Needs AVX2 (the box test runs eight rays per instruction): returns `false`,
     /// having done nothing, where the CPU lacks it.
     #[inline]
-    pub fn packet_leaves<F>(
+    pub fn packet_leaves<P, F>(
         &self,
         packet: &PacketRay,
         active: u32,
         t_max: &mut Lanes8,
+        prefetch: P,
         leaf: F,
     ) -> bool
     where
+        P: Fn(ChildRef),
         F: FnMut(ChildRef, u32, &mut Lanes8),
     {
         #[cfg(target_arch = "x86_64")]
         if crate::packet::has_avx2() {
             // SAFETY: the CPU has AVX2.
-            unsafe { self.packet_avx2(packet, active & packet.lanes, t_max, leaf) };
+            unsafe { self.packet_avx2(packet, active & packet.lanes, t_max, prefetch, leaf) };
             return true;
         }
-        let _ = (packet, active, t_max, leaf);
+        let _ = (packet, active, t_max, prefetch, leaf);
         false
+    }
+
+    /// Ray `lane` of `p` alone through the subtree under `start`, nearest child first
+    /// (the single-ray traversal of `traverse.rs`, bounded by `t_max[lane]`).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn single_subtree<P, F>(
+        &self,
+        p: &PacketRay,
+        lane: usize,
+        start: ChildRef,
+        t_max: &mut Lanes8,
+        prefetch: &P,
+        leaf: &mut F,
+    ) where
+        P: Fn(ChildRef),
+        F: FnMut(ChildRef, u32, &mut Lanes8),
+    {
+        let nray = NodeRay {
+            origin: std::array::from_fn(|a| p.origin[a].0[lane]),
+            inv_dir: std::array::from_fn(|a| p.inv_dir[a].0[lane]),
+            near: p.near,
+            avx2: true,
+        };
+        let bit = 1u32 << lane;
+        let mut stack: [MaybeUninit<(ChildRef, f32)>; STACK] =
+            [const { MaybeUninit::uninit() }; STACK];
+        let mut sp = 0usize;
+        let mut current = start;
+        loop {
+            if current.is_leaf() {
+                leaf(current, bit, t_max);
+            } else {
+                let node = &self.nodes[current.index as usize];
+                let (mut mask, t_near) = node.intersect_with::<true>(&nray, t_max.0[lane]);
+                if mask != 0 {
+                    let mut hits = [(ChildRef::EMPTY, 0f32); WIDTH];
+                    let mut n = 0;
+                    while mask != 0 {
+                        let i = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        let c = node.child_ref(i);
+                        if c.is_leaf() {
+                            prefetch(c);
+                        } else {
+                            self.prefetch(c);
+                        }
+                        let e = (c, t_near[i]);
+                        let mut j = n;
+                        while j > 0 && hits[j - 1].1 < e.1 {
+                            hits[j] = hits[j - 1];
+                            j -= 1;
+                        }
+                        hits[j] = e;
+                        n += 1;
+                    }
+                    for e in &hits[..n - 1] {
+                        stack[sp] = MaybeUninit::new(*e);
+                        sp += 1;
+                    }
+                    current = hits[n - 1].0;
+                    continue;
+                }
+            }
+            loop {
+                if sp == 0 {
+                    return;
+                }
+                sp -= 1;
+                // SAFETY: every slot below the stack pointer was written by a push.
+                let e = stack[sp].assume_init();
+                if e.1 <= t_max.0[lane] {
+                    current = e.0;
+                    break;
+                }
+            }
+        }
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn packet_avx2<F>(&self, p: &PacketRay, active: u32, t_max: &mut Lanes8, mut leaf: F)
-    where
+    unsafe fn packet_avx2<P, F>(
+        &self,
+        p: &PacketRay,
+        active: u32,
+        t_max: &mut Lanes8,
+        prefetch: P,
+        mut leaf: F,
+    ) where
+        P: Fn(ChildRef),
         F: FnMut(ChildRef, u32, &mut Lanes8),
     {
         use std::arch::x86_64::*;
@@ -158,16 +255,24 @@ impl Bvh {
         loop {
             if current.is_leaf() {
                 leaf(current, lanes, t_max);
+            } else if (lanes.count_ones() as usize) < SINGLE_BELOW {
+                let mut m = lanes;
+                while m != 0 {
+                    let k = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    self.single_subtree(p, k, current, t_max, &prefetch, &mut leaf);
+                }
             } else {
                 let node = &self.nodes[current.index as usize];
                 let tm = ld(t_max);
                 let b = node.bounds.as_ptr() as *const f32;
-                let mut hits = [Entry {
+                let mut ents: [Entry; WIDTH] = [Entry {
                     t_near: Lanes8([0.0; PACKET]),
                     node: ChildRef::EMPTY,
                     lanes: 0,
                 }; WIDTH];
                 let mut keys = [0f32; WIDTH];
+                let mut order = [0u8; WIDTH];
                 let mut n = 0;
                 let lead = lanes.trailing_zeros() as usize;
                 for i in 0..WIDTH {
@@ -195,11 +300,14 @@ impl Bvh {
                     if m == 0 {
                         continue;
                     }
-                    let mut e = Entry {
-                        t_near: Lanes8([0.0; PACKET]),
-                        node: c,
-                        lanes: m,
-                    };
+                    if c.is_leaf() {
+                        prefetch(c);
+                    } else {
+                        self.prefetch(c);
+                    }
+                    let e = &mut ents[n];
+                    e.node = c;
+                    e.lanes = m;
                     _mm256_store_ps(e.t_near.0.as_mut_ptr(), t0);
                     // Sort key: the entry distance of the leading ray, or of the first
                     // ray that enters when the leading one does not.
@@ -209,24 +317,25 @@ impl Bvh {
                         m.trailing_zeros() as usize
                     };
                     let key = e.t_near.0[k];
-                    // Insertion sort, descending by key.
+                    // Insertion sort of the indices, descending by key.
                     let mut j = n;
                     while j > 0 && keys[j - 1] < key {
-                        hits[j] = hits[j - 1];
+                        order[j] = order[j - 1];
                         keys[j] = keys[j - 1];
                         j -= 1;
                     }
-                    hits[j] = e;
+                    order[j] = n as u8;
                     keys[j] = key;
                     n += 1;
                 }
                 if n > 0 {
-                    for e in &hits[..n - 1] {
-                        stack[sp] = MaybeUninit::new(*e);
+                    for &o in &order[..n - 1] {
+                        stack[sp] = MaybeUninit::new(ents[o as usize]);
                         sp += 1;
                     }
-                    current = hits[n - 1].node;
-                    lanes = hits[n - 1].lanes;
+                    let e = &ents[order[n - 1] as usize];
+                    current = e.node;
+                    lanes = e.lanes;
                     continue;
                 }
             }

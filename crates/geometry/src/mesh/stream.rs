@@ -113,40 +113,43 @@ impl TriangleMesh {
         let mut second = [f32::INFINITY; PACKET];
         let mut bound = Lanes8([t_max; PACKET]);
         let loose = 1.0 + LOOSE_ULPS * f32::EPSILON;
-        let done =
-            self.bvh
-                .packet_leaves(packet, packet.lanes(), &mut bound, |leaf, lanes, bound| {
-                    let packets = self.leaf_packets(leaf);
-                    let count = leaf.count as usize;
-                    let mut m = lanes;
-                    while m != 0 {
-                        let k = m.trailing_zeros() as usize;
-                        m &= m - 1;
-                        let ray = &trays[k];
-                        let mut cand =
-                            watertight4::leaf_candidates(packets, count, ray, bound.0[k]);
-                        while cand != 0 {
-                            let i = cand.trailing_zeros() as usize;
-                            cand &= cand - 1;
-                            let [a, b, c] = packets[i / 4].corners(i % 4);
-                            let Some(h) = ray.intersect(a, b, c, bound.0[k]) else {
-                                continue;
-                            };
-                            match best[k] {
-                                Some((_, _, old)) if h.t >= old.t => {
-                                    second[k] = second[k].min(h.t);
+        let done = self.bvh.packet_leaves(
+            packet,
+            packet.lanes(),
+            &mut bound,
+            |l| self.prefetch_leaf(l),
+            |leaf, lanes, bound| {
+                let packets = self.leaf_packets(leaf);
+                let count = leaf.count as usize;
+                let mut m = lanes;
+                while m != 0 {
+                    let k = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    let ray = &trays[k];
+                    let mut cand = watertight4::leaf_candidates(packets, count, ray, bound.0[k]);
+                    while cand != 0 {
+                        let i = cand.trailing_zeros() as usize;
+                        cand &= cand - 1;
+                        let [a, b, c] = packets[i / 4].corners(i % 4);
+                        let Some(h) = ray.intersect(a, b, c, bound.0[k]) else {
+                            continue;
+                        };
+                        match best[k] {
+                            Some((_, _, old)) if h.t >= old.t => {
+                                second[k] = second[k].min(h.t);
+                            }
+                            old => {
+                                if let Some((_, _, old)) = old {
+                                    second[k] = second[k].min(old.t);
                                 }
-                                old => {
-                                    if let Some((_, _, old)) = old {
-                                        second[k] = second[k].min(old.t);
-                                    }
-                                    best[k] = Some((&packets[i / 4], i % 4, h));
-                                    bound.0[k] = (h.t * loose).min(t_max);
-                                }
+                                best[k] = Some((&packets[i / 4], i % 4, h));
+                                bound.0[k] = (h.t * loose).min(t_max);
                             }
                         }
                     }
-                });
+                }
+            },
+        );
         if !done {
             return None;
         }
