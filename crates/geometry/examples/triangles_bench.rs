@@ -5,8 +5,9 @@
 //! exactly the same rays:
 //!   vertices.f32 (N x 3), indices.u32 (M x 3),
 //!   primary_org.f32, primary_dir.f32 (1280 * 720 x 3), incoherent_org.f32, incoherent_dir.f32 (1e6 x 3).
-//! `triangles_bench pair DIR [ROUNDS]`: single-ray against batched tracing, paired
-//! in one process on one thread (CPU seconds; see `pair`).
+//! `triangles_bench pair DIR [ROUNDS [SET]]`: single-ray against batched tracing,
+//! paired in one process on one thread (CPU seconds; see `pair`), of both ray sets
+//! or only SET (primary or incoherent).
 //! `triangles_bench run DIR`: loads them, builds the mesh BVH, traces both sets once
 //! (closest hit, in chunks of 256 rays through `TriangleMesh::intersect_triangles`,
 //! which traces coherent groups of eight as packets; TRIANGLES_SINGLE=1 traces each
@@ -175,7 +176,7 @@ fn trace_once(mesh: &TriangleMesh, org: &[Vec3], dir: &[Vec3], single: bool) -> 
 /// one thread, single-ray and batched alternately (A B A B ...), and prints the CPU
 /// seconds of each path summed over the rounds and their ratio: a paired comparison
 /// of the two traversals in one process, which a loaded machine disturbs least.
-fn pair(dir: &Path, rounds: usize) {
+fn pair(dir: &Path, rounds: usize, only: Option<&str>) {
     let positions = vecs(&read_f32(&dir.join("vertices.f32")));
     let indices: Vec<[u32; 3]> = read_u32(&dir.join("indices.u32"))
         .chunks_exact(3)
@@ -183,6 +184,9 @@ fn pair(dir: &Path, rounds: usize) {
         .collect();
     let mesh = TriangleMesh::new(positions, indices, None, None).expect("valid mesh");
     for set in ["primary", "incoherent"] {
+        if only.is_some_and(|o| o != set) {
+            continue;
+        }
         let o = vecs(&read_f32(&dir.join(format!("{set}_org.f32"))));
         let d = vecs(&read_f32(&dir.join(format!("{set}_dir.f32"))));
         let (mut single_s, mut batch_s) = (0.0, 0.0);
@@ -209,7 +213,7 @@ fn pair(dir: &Path, rounds: usize) {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let usage = "usage: triangles_bench write DIR [GRID] | triangles_bench run DIR | triangles_bench memory DIR [load|build] | triangles_bench pair DIR [ROUNDS]";
+    let usage = "usage: triangles_bench write DIR [GRID] | triangles_bench run DIR | triangles_bench memory DIR [load|build] | triangles_bench pair DIR [ROUNDS [primary|incoherent]]";
     if args.len() < 3 {
         eprintln!("{usage}");
         std::process::exit(2);
@@ -245,7 +249,7 @@ fn main() {
                 .get(3)
                 .map(|s| s.parse().expect("ROUNDS must be an integer"))
                 .unwrap_or(10);
-            pair(dir, rounds);
+            pair(dir, rounds, args.get(4).map(String::as_str));
         }
         "memory" => {
             // Peak memory: `load` reads the mesh arrays only, `build` also builds the
