@@ -5,8 +5,13 @@
 //! exactly the same rays:
 //!   vertices.f32 (N x 3), indices.u32 (M x 3),
 //!   primary_org.f32, primary_dir.f32 (1280 * 720 x 3), incoherent_org.f32, incoherent_dir.f32 (1e6 x 3).
+//! `triangles_bench pair DIR [ROUNDS [SET]]`: single-ray against batched tracing,
+//! paired in one process on one thread (CPU seconds; see `pair`), of both ray sets
+//! or only SET (primary or incoherent).
 //! `triangles_bench run DIR`: loads them, builds the mesh BVH, traces both sets once
-//! (closest hit) on the rayon pool (RAYON_NUM_THREADS threads), writes the hit
+//! (closest hit, in chunks of 256 rays through `TriangleMesh::intersect_triangles`,
+//! which traces coherent groups of eight as packets; TRIANGLES_SINGLE=1 traces each
+//! ray alone) on the rayon pool (RAYON_NUM_THREADS threads), writes the hit
 //! distances (`*_t_irradia.f32`, +inf for a miss) and prints one JSON line of timings.
 
 use glam::Vec3;
@@ -111,13 +116,31 @@ fn cpu_seconds() -> f64 {
 /// --toggle-collect='*trace*'`).
 #[inline(never)]
 fn trace(mesh: &TriangleMesh, org: &[Vec3], dir: &[Vec3]) -> (Vec<f32>, f64) {
+    // TRIANGLES_SINGLE=1 traces every ray alone (`intersect_triangle`), the path
+    // before packets, for paired comparisons with one binary.
+    let single = std::env::var("TRIANGLES_SINGLE").is_ok_and(|v| v == "1");
     let mut t = vec![f32::INFINITY; org.len()];
     let start = Instant::now();
     t.par_chunks_mut(256).enumerate().for_each(|(c, out)| {
         let base = c * 256;
-        for (k, o) in out.iter_mut().enumerate() {
-            let ray = Ray::new(org[base + k], dir[base + k]);
-            if let Some((_, h)) = mesh.intersect_triangle(&ray, f32::INFINITY) {
+        if single {
+            for (k, o) in out.iter_mut().enumerate() {
+                let ray = Ray::new(org[base + k], dir[base + k]);
+                if let Some((_, h)) = mesh.intersect_triangle(&ray, f32::INFINITY) {
+                    *o = h.t;
+                }
+            }
+            return;
+        }
+        // Batches: coherent groups of eight consecutive rays go through the packet
+        // traversal, the others one by one (`TriangleMesh::intersect_triangles`).
+        let rays: Vec<Ray> = (0..out.len())
+            .map(|k| Ray::new(org[base + k], dir[base + k]))
+            .collect();
+        let mut hits = vec![None; out.len()];
+        mesh.intersect_triangles(&rays, f32::INFINITY, &mut hits);
+        for (o, h) in out.iter_mut().zip(&hits) {
+            if let Some((_, h)) = h {
                 *o = h.t;
             }
         }
@@ -125,9 +148,72 @@ fn trace(mesh: &TriangleMesh, org: &[Vec3], dir: &[Vec3]) -> (Vec<f32>, f64) {
     (t, start.elapsed().as_secs_f64())
 }
 
+/// Every ray of `org`/`dir` traced alone (`single`) or in batches
+/// (`intersect_triangles`), on the calling thread; the number of hits.
+fn trace_once(mesh: &TriangleMesh, org: &[Vec3], dir: &[Vec3], single: bool) -> usize {
+    let mut hits = 0;
+    let mut rays = Vec::with_capacity(256);
+    let mut out = vec![None; 256];
+    for (o, d) in org.chunks(256).zip(dir.chunks(256)) {
+        if single {
+            for (o, d) in o.iter().zip(d) {
+                hits += mesh
+                    .intersect_triangle(&Ray::new(*o, *d), f32::INFINITY)
+                    .is_some() as usize;
+            }
+        } else {
+            rays.clear();
+            rays.extend(o.iter().zip(d).map(|(o, d)| Ray::new(*o, *d)));
+            let out = &mut out[..rays.len()];
+            mesh.intersect_triangles(&rays, f32::INFINITY, out);
+            hits += out.iter().filter(|h| h.is_some()).count();
+        }
+    }
+    hits
+}
+
+/// `pair DIR ROUNDS`: builds the mesh once, then traces each ray set ROUNDS times on
+/// one thread, single-ray and batched alternately (A B A B ...), and prints the CPU
+/// seconds of each path summed over the rounds and their ratio: a paired comparison
+/// of the two traversals in one process, which a loaded machine disturbs least.
+fn pair(dir: &Path, rounds: usize, only: Option<&str>) {
+    let positions = vecs(&read_f32(&dir.join("vertices.f32")));
+    let indices: Vec<[u32; 3]> = read_u32(&dir.join("indices.u32"))
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    let mesh = TriangleMesh::new(positions, indices, None, None).expect("valid mesh");
+    for set in ["primary", "incoherent"] {
+        if only.is_some_and(|o| o != set) {
+            continue;
+        }
+        let o = vecs(&read_f32(&dir.join(format!("{set}_org.f32"))));
+        let d = vecs(&read_f32(&dir.join(format!("{set}_dir.f32"))));
+        let (mut single_s, mut batch_s) = (0.0, 0.0);
+        let mut hits = (0, 0);
+        for _ in 0..rounds {
+            let c0 = cpu_seconds();
+            hits.0 = trace_once(&mesh, &o, &d, true);
+            let c1 = cpu_seconds();
+            hits.1 = trace_once(&mesh, &o, &d, false);
+            let c2 = cpu_seconds();
+            single_s += c1 - c0;
+            batch_s += c2 - c1;
+        }
+        assert_eq!(hits.0, hits.1, "{set}: both paths must hit the same rays");
+        println!(
+            "{{\"set\": \"{set}\", \"rounds\": {rounds}, \"rays\": {}, \"single_cpu_s\": {single_s:.3}, \"batch_cpu_s\": {batch_s:.3}, \"batch_over_single\": {:.3}, \"single_mrays_cpu\": {:.3}, \"batch_mrays_cpu\": {:.3}}}",
+            o.len(),
+            batch_s / single_s,
+            (o.len() * rounds) as f64 / single_s / 1e6,
+            (o.len() * rounds) as f64 / batch_s / 1e6,
+        );
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let usage = "usage: triangles_bench write DIR [GRID] | triangles_bench run DIR | triangles_bench memory DIR [load|build]";
+    let usage = "usage: triangles_bench write DIR [GRID] | triangles_bench run DIR | triangles_bench memory DIR [load|build] | triangles_bench pair DIR [ROUNDS [primary|incoherent]]";
     if args.len() < 3 {
         eprintln!("{usage}");
         std::process::exit(2);
@@ -157,6 +243,13 @@ fn main() {
             let (o, d) = incoherent_rays();
             write_f32(&dir.join("incoherent_org.f32"), &flat(&o));
             write_f32(&dir.join("incoherent_dir.f32"), &flat(&d));
+        }
+        "pair" => {
+            let rounds = args
+                .get(3)
+                .map(|s| s.parse().expect("ROUNDS must be an integer"))
+                .unwrap_or(10);
+            pair(dir, rounds, args.get(4).map(String::as_str));
         }
         "memory" => {
             // Peak memory: `load` reads the mesh arrays only, `build` also builds the

@@ -9,10 +9,10 @@
 //! Nothing is staged between numpy and the kernel: C-contiguous float32 rays are read
 //! in place (any other layout is copied once), the five result arrays are allocated
 //! once with their final shapes, and every chunk of rays, with the GIL released, asks
-//! the scene's hierarchy ray by ray for only the four values returned
-//! (`Accel::intersect_cast`; when the scene is one untransformed mesh, that mesh's own
-//! routine, `Accel::sole_mesh`) and writes them straight into its slices of those
-//! arrays.
+//! the scene's hierarchy for only the four values returned (`Accel::intersect_cast`
+//! ray by ray; when the scene is one untransformed mesh, `Accel::sole_mesh`, that
+//! mesh's batch query, which traces coherent groups of eight rays as packets) and
+//! writes them straight into its slices of those arrays.
 
 use crate::convert::values;
 use crate::errors;
@@ -190,23 +190,46 @@ pub fn cast_rays(
 /// packet holds the triangle id and corners), so no mesh index, vertex or vertex
 /// normal is looked up, as in the kernel of bench/triangles. A scene of one
 /// untransformed triangle mesh (`Accel::sole_mesh`) skips the top level and the
-/// dynamic call: every ray goes straight to that mesh's closest-hit routine, the one
-/// the general path ends in (tests/test_cast_rays.py holds the two equal).
+/// dynamic call: each chunk goes straight to that mesh's batch query
+/// (`TriangleMesh::intersect_cast_hits`), which traces groups of eight consecutive
+/// rays that share a direction octant as packets and the rest one by one, with the
+/// answers of the single-ray routine the general path ends in, bit for bit
+/// (tests/test_cast_rays.py holds the two paths equal).
 fn cast(scene: &Scene, rays: Rays<'_>, t_max: f32, out: Out<'_>) -> Option<usize> {
     let accel = &scene.accel;
     match accel.sole_mesh() {
-        Some(mesh) => cast_with(rays, t_max, out, |r, t| {
-            mesh.intersect_cast_hit(r, t).map(|h| (0, h))
+        Some(mesh) => cast_with(rays, t_max, out, |r, t, hits| {
+            sole_mesh_chunk(mesh, r, t, hits)
         }),
-        None => cast_with(rays, t_max, out, |r, t| accel.intersect_cast(r, t)),
+        None => cast_with(rays, t_max, out, |r, t, hits| {
+            for (h, r) in hits.iter_mut().zip(r) {
+                *h = accel.intersect_cast(r, t);
+            }
+        }),
     }
 }
 
-/// [`cast`] with the query `hit(ray, t_max)` (the object and its hit), compiled once
-/// per kind of query so that the loop over a chunk calls it inline.
-fn cast_with<Q>(rays: Rays<'_>, t_max: f32, out: Out<'_>, hit: Q) -> Option<usize>
+/// A chunk of rays against the sole mesh, in one batch query (packets where coherent).
+#[inline]
+fn sole_mesh_chunk(
+    mesh: &irradia_geometry::TriangleMesh,
+    rays: &[Ray],
+    t_max: f32,
+    hits: &mut [Option<(u32, CastHit)>],
+) {
+    let mut mesh_hits = [None; CHUNK];
+    let mesh_hits = &mut mesh_hits[..rays.len()];
+    mesh.intersect_cast_hits(rays, t_max, mesh_hits);
+    for (h, m) in hits.iter_mut().zip(mesh_hits.iter()) {
+        *h = m.map(|m| (0, m));
+    }
+}
+
+/// [`cast`] with the query `hits(rays, t_max, answers)` answering a chunk of rays (the
+/// object and its hit), compiled once per kind of query.
+fn cast_with<Q>(rays: Rays<'_>, t_max: f32, out: Out<'_>, hits: Q) -> Option<usize>
 where
-    Q: Fn(&Ray, f32) -> Option<(u32, CastHit)> + Sync,
+    Q: Fn(&[Ray], f32, &mut [Option<(u32, CastHit)>]) + Sync,
 {
     let bad = AtomicUsize::new(usize::MAX);
     out.t
@@ -218,14 +241,20 @@ where
         .enumerate()
         .for_each(|(c, ((((t, object), prim), uv), normal))| {
             let first = c * CHUNK;
-            for k in 0..t.len() {
-                let r = rays.ray(first + k);
-                if !finite(&r) {
+            let n = t.len();
+            let mut chunk = [Ray::new(Vec3::ZERO, Vec3::ZERO); CHUNK];
+            for (k, slot) in chunk[..n].iter_mut().enumerate() {
+                *slot = rays.ray(first + k);
+                if !finite(slot) {
                     bad.fetch_min(first + k, Ordering::Relaxed);
                     return;
                 }
-                let (tk, ok, pk, uvk, nk) = match hit(&r, t_max) {
-                    Some((i, h)) => (h.t, i, h.prim, h.uv.to_array(), h.normal.to_array()),
+            }
+            let mut answers = [None; CHUNK];
+            hits(&chunk[..n], t_max, &mut answers[..n]);
+            for (k, a) in answers[..n].iter().enumerate() {
+                let (tk, ok, pk, uvk, nk) = match a {
+                    Some((i, h)) => (h.t, *i, h.prim, h.uv.to_array(), h.normal.to_array()),
                     None => (f32::INFINITY, INVALID_ID, INVALID_ID, [0.0; 2], [0.0; 3]),
                 };
                 t[k] = tk;
@@ -246,12 +275,15 @@ where
 /// rays are read and the answers' buffer allocated before the clock starts, then the
 /// same queries (the sole mesh's or the scene's, as [`cast`] picks) run in the same
 /// chunks on the same threads as `cast_rays`, the answers left as the kernel gives
-/// them.
+/// them. `packets: false` asks the sole mesh ray by ray instead
+/// (`TriangleMesh::intersect_cast_hit`, the path before packet traversal), for paired
+/// comparisons of the two in one process.
 pub fn kernel_seconds(
     py: Python<'_>,
     scene: &Scene,
     rays: PyReadonlyArrayDyn<'_, f32>,
     threads: Option<u32>,
+    packets: bool,
 ) -> PyResult<f64> {
     if rays.shape().last() != Some(&6) {
         return Err(errors::input("rays: expected an array of shape (..., 6)"));
@@ -271,10 +303,19 @@ pub fn kernel_seconds(
             let accel = &scene.accel;
             let start = std::time::Instant::now();
             match accel.sole_mesh() {
-                Some(mesh) => answer_all(&rays, &mut hits, |r, t| {
-                    mesh.intersect_cast_hit(r, t).map(|h| (0, h))
+                Some(mesh) if packets => {
+                    answer_all(&rays, &mut hits, |r, t, h| sole_mesh_chunk(mesh, r, t, h))
+                }
+                Some(mesh) => answer_all(&rays, &mut hits, |r, t, h| {
+                    for (h, r) in h.iter_mut().zip(r) {
+                        *h = mesh.intersect_cast_hit(r, t).map(|h| (0, h));
+                    }
                 }),
-                None => answer_all(&rays, &mut hits, |r, t| accel.intersect_cast(r, t)),
+                None => answer_all(&rays, &mut hits, |r, t, h| {
+                    for (h, r) in h.iter_mut().zip(r) {
+                        *h = accel.intersect_cast(r, t);
+                    }
+                }),
             }
             start.elapsed().as_secs_f64()
         })
@@ -282,17 +323,13 @@ pub fn kernel_seconds(
     .map_err(errors::render)
 }
 
-/// `hits[i]` = `hit(rays[i], inf)`, in [`cast`]'s chunks (the kernel of
-/// [`kernel_seconds`]).
-fn answer_all<Q>(rays: &[Ray], hits: &mut [Option<(u32, CastHit)>], hit: Q)
+/// `hits[i]` = the answer to `rays[i]` (unbounded), in [`cast`]'s chunks (the kernel
+/// of [`kernel_seconds`]).
+fn answer_all<Q>(rays: &[Ray], hits: &mut [Option<(u32, CastHit)>], query: Q)
 where
-    Q: Fn(&Ray, f32) -> Option<(u32, CastHit)> + Sync,
+    Q: Fn(&[Ray], f32, &mut [Option<(u32, CastHit)>]) + Sync,
 {
     hits.par_chunks_mut(CHUNK)
         .zip(rays.par_chunks(CHUNK))
-        .for_each(|(h, r)| {
-            for (h, r) in h.iter_mut().zip(r) {
-                *h = hit(r, f32::INFINITY);
-            }
-        });
+        .for_each(|(h, r)| query(r, f32::INFINITY, h));
 }

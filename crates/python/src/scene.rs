@@ -589,14 +589,17 @@ impl PyScene {
 
     /// Seconds the ray kernel alone takes on `rays` (..., 6) (no numpy in or out):
     /// the benchmark's reference for what `cast_rays` adds (bench/python).
-    #[pyo3(signature = (rays, *, threads=None))]
+    /// `packets=False` traces a sole mesh's rays one by one (the path before packet
+    /// traversal), for paired timings.
+    #[pyo3(signature = (rays, *, threads=None, packets=true))]
     fn _cast_rays_kernel_seconds(
         &self,
         py: Python<'_>,
         rays: PyReadonlyArrayDyn<'_, f32>,
         threads: Option<u32>,
+        packets: bool,
     ) -> PyResult<f64> {
-        crate::raycast::kernel_seconds(py, &self.scene, rays, threads)
+        crate::raycast::kernel_seconds(py, &self.scene, rays, threads, packets)
     }
 
     fn __repr__(&self) -> String {

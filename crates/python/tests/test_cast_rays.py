@@ -229,7 +229,9 @@ def test_sole_mesh_fast_path_equals_general_path():
     """A scene of one untransformed mesh is traced straight against that mesh's own
     hierarchy; the same mesh beside a second object (which no ray here reaches) goes
     through the scene's two-level hierarchy. Every answer must be the same, bit for
-    bit, for coherent and incoherent rays, with and without t_max, on 1 and 2 threads."""
+    bit, for coherent and incoherent rays, with and without t_max, on 1 and 2 threads.
+    The sole mesh traces groups of eight coherent rays as packets (the primary rays
+    here), the general path every ray alone, so this also holds packets to single rays."""
     mesh = {"type": "gyroid_mesh", "grid": 40, "material": "m"}
     far = {"type": "sphere", "center": [50, 50, 50], "radius": 1, "material": "m"}
     base = {k: v for k, v in SCENE.items() if k != "objects"}
@@ -251,3 +253,6 @@ def test_sole_mesh_fast_path_equals_general_path():
             assert (b["geometry_ids"][hit] == 0).all()
             for key in a:
                 assert np.array_equal(a[key], b[key]), (key, t_max, threads)
+        # The kernel timing runs both ways (packets and ray by ray, for paired timings).
+        assert alone._cast_rays_kernel_seconds(rays, threads=1, packets=False) > 0
+        assert alone._cast_rays_kernel_seconds(rays, threads=1) > 0

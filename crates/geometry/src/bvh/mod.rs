@@ -28,11 +28,12 @@
 //!
 //! Files: `node.rs` (the 8-wide node and its SIMD box test), `build.rs` (binned SAH,
 //! parallel, collapsed to wide nodes), `traverse.rs` (ordered closest-hit and any-hit
-//! traversal).
+//! traversal), `packet_traverse.rs` (eight coherent rays walking the tree together).
 
 mod build;
 mod memory;
 pub mod node;
+pub mod packet_traverse;
 mod partition;
 mod traverse;
 

@@ -22,7 +22,7 @@ struct Entry {
 impl Bvh {
     /// Starts fetching an inner node's four cache lines (a leaf's data is the caller's).
     #[inline(always)]
-    fn prefetch(&self, c: ChildRef) {
+    pub(super) fn prefetch(&self, c: ChildRef) {
         #[cfg(target_arch = "x86_64")]
         if !c.is_leaf() {
             if let Some(n) = self.nodes.get(c.index as usize) {

@@ -5,6 +5,9 @@
 
 pub mod attributes;
 mod spans;
+mod stream;
+
+pub use stream::TIE_ULPS;
 
 pub use attributes::{
     AttributeDomain, AttributeError, AttributePoint, AttributeValue, MeshAttribute, MeshAttributes,
@@ -295,13 +298,19 @@ impl TriangleMesh {
             return self.intersect(ray, t_max).map(|h| CastHit::from(&h));
         }
         let (packet, lane, h) = self.closest_lane(ray, t_max)?;
+        Some(Self::cast_hit_of(packet, lane, &h))
+    }
+
+    /// What ray casting reports of hit `h` on lane `lane` of `packet`.
+    #[inline]
+    fn cast_hit_of(packet: &Triangle4, lane: usize, h: &TriangleHit) -> CastHit {
         let [p0, p1, p2] = packet.corners(lane);
-        Some(CastHit {
+        CastHit {
             t: h.t,
             prim: packet.ids[lane],
             uv: Vec2::new(h.b1, h.b2),
             normal: (p1 - p0).cross(p2 - p0).normalize(),
-        })
+        }
     }
 
     /// The nearest hit's packet, lane and hit.
@@ -309,30 +318,7 @@ impl TriangleMesh {
     fn closest_lane(&self, ray: &Ray, t_max: f32) -> Option<(&Triangle4, usize, TriangleHit)> {
         let tray = TriangleRay::new(ray);
         let mut best: Option<(&Triangle4, usize, TriangleHit)> = None;
-        let prefetch = |leaf: ChildRef| {
-            #[cfg(target_arch = "x86_64")]
-            if let Some(p) = self.packets.get(leaf.index as usize) {
-                use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-                let p = p as *const Triangle4 as *const i8;
-                // SAFETY: a prefetch is only a hint (never faults); the lines hold the
-                // leaf's one or two 160-byte packets (16-byte aligned, so one packet
-                // spans up to 4 lines, two up to 6: the last byte's line is fetched too).
-                unsafe {
-                    _mm_prefetch(p, _MM_HINT_T0);
-                    _mm_prefetch(p.add(64), _MM_HINT_T0);
-                    _mm_prefetch(p.add(128), _MM_HINT_T0);
-                    if leaf.count > 4 {
-                        _mm_prefetch(p.add(192), _MM_HINT_T0);
-                        _mm_prefetch(p.add(256), _MM_HINT_T0);
-                        _mm_prefetch(p.add(319), _MM_HINT_T0);
-                    } else {
-                        _mm_prefetch(p.add(159), _MM_HINT_T0);
-                    }
-                }
-            }
-            #[cfg(not(target_arch = "x86_64"))]
-            let _ = leaf;
-        };
+        let prefetch = |leaf: ChildRef| self.prefetch_leaf(leaf);
         self.bvh
             .closest_hit_leaves_prefetch(ray, t_max, prefetch, |leaf, t_max| {
                 let packets = self.leaf_packets(leaf);
@@ -342,6 +328,33 @@ impl TriangleMesh {
                 Some(h.t)
             })?;
         best
+    }
+
+    /// Starts loading leaf `leaf`'s packets.
+    #[inline(always)]
+    fn prefetch_leaf(&self, leaf: ChildRef) {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(p) = self.packets.get(leaf.index as usize) {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            let p = p as *const Triangle4 as *const i8;
+            // SAFETY: a prefetch is only a hint (never faults); the lines hold the
+            // leaf's one or two 160-byte packets (16-byte aligned, so one packet
+            // spans up to 4 lines, two up to 6: the last byte's line is fetched too).
+            unsafe {
+                _mm_prefetch(p, _MM_HINT_T0);
+                _mm_prefetch(p.add(64), _MM_HINT_T0);
+                _mm_prefetch(p.add(128), _MM_HINT_T0);
+                if leaf.count > 4 {
+                    _mm_prefetch(p.add(192), _MM_HINT_T0);
+                    _mm_prefetch(p.add(256), _MM_HINT_T0);
+                    _mm_prefetch(p.add(319), _MM_HINT_T0);
+                } else {
+                    _mm_prefetch(p.add(159), _MM_HINT_T0);
+                }
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = leaf;
     }
 
     #[inline(always)]
