@@ -36,6 +36,7 @@ pub mod rasterizer;
 pub mod screen;
 mod simd_span;
 pub mod texture;
+mod tiny;
 pub mod transparency;
 pub mod view;
 
