@@ -7,7 +7,7 @@ use crate::binning::{band_count, push_to_bands};
 use crate::clip::{ClipPlanes, ClipVertex};
 use crate::lighting::{EyeLights, Shading};
 use crate::mesh::{Mesh, Triangle};
-use crate::rasterizer::{covered_bounds_of, CullMode};
+use crate::rasterizer::{candidate_of, CullMode};
 use crate::screen::{varying, Rect, ScreenTriangle, ScreenVertex, VARYINGS};
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
@@ -148,29 +148,37 @@ impl<'a> GeometryStage<'a> {
         out: &mut Batch,
     ) {
         // Cull before building the triangle: most rejected ones are never copied.
-        if let Some((x0, x1, y0, y1)) = covered_bounds_of(a, b, c, self.cull, &self.screen) {
-            if self.fragments && (x1 - x0 + 1) * (y1 - y0 + 1) <= tiny::MAX_CENTRES {
+        let Some(k) = candidate_of(a, b, c, self.cull, &self.screen) else {
+            return;
+        };
+        if k.centres() <= tiny::MAX_CENTRES {
+            if self.fragments {
+                // Shaded here; a triangle that covers no centre leaves no fragment.
                 let t = ScreenTriangle {
                     v: [*a, *b, *c],
                     id,
                     material,
                 };
-                tiny::fragments(&t, (x0, x1, y0, y1), |f| {
+                tiny::fragments(&t, &k, |f| {
                     let i = out.frags.len() as u32 | FRAGMENT_BIT;
                     push_to_bands(&mut out.bins, i, f.y as i64, f.y as i64);
                     out.frags.push(f);
                 });
                 return;
             }
-            if self.bin {
-                push_to_bands(&mut out.bins, out.tris.len() as u32, y0, y1);
+            if !k.covers_a_centre() {
+                return;
             }
-            out.tris.push(ScreenTriangle {
-                v: [*a, *b, *c],
-                id,
-                material,
-            });
         }
+        if self.bin {
+            let (_, _, y0, y1) = k.bounds;
+            push_to_bands(&mut out.bins, out.tris.len() as u32, y0, y1);
+        }
+        out.tris.push(ScreenTriangle {
+            v: [*a, *b, *c],
+            id,
+            material,
+        });
     }
 
     /// Clips, projects and culls one triangle, appending what is left (one triangle, or

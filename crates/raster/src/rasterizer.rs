@@ -93,16 +93,61 @@ pub fn covered_bounds_of(
     cull: CullMode,
     screen: &Rect,
 ) -> Option<(i64, i64, i64, i64)> {
+    let k = candidate_of(a, b, c, cull, screen)?;
+    if k.centres() <= EXACT_CULL_CENTRES && !k.covers_a_centre() {
+        // A bounding box of a few pixel centres (most sub-pixel triangles: about a
+        // third of the gyroid's survivors of clipping cover none) that misses them all.
+        return None;
+    }
+    Some(k.bounds)
+}
+
+/// A triangle that survived culling, snapped, with a non-empty pixel box on screen.
+pub(crate) struct Candidate {
+    /// The snapped vertices.
+    pub p: [(i64, i64); 3],
+    /// Twice the signed area (non-zero).
+    pub area: i64,
+    /// Inclusive pixel bounds `(x0, x1, y0, y1)` clipped to the screen.
+    pub bounds: (i64, i64, i64, i64),
+}
+
+impl Candidate {
+    /// The number of pixel centres in the box.
+    #[inline(always)]
+    pub fn centres(&self) -> i64 {
+        let (x0, x1, y0, y1) = self.bounds;
+        (x1 - x0 + 1) * (y1 - y0 + 1)
+    }
+
+    /// Whether a pixel centre of the box is covered.
+    #[inline(always)]
+    pub fn covers_a_centre(&self) -> bool {
+        let (x0, x1, y0, y1) = self.bounds;
+        covers_a_centre(&self.p, self.area, x0, x1, y0, y1)
+    }
+}
+
+/// The first part of [`covered_bounds_of`]: culling by facing and area, and the pixel
+/// box on `screen`, without testing the centres of small boxes.
+#[inline(always)]
+pub(crate) fn candidate_of(
+    a: &ScreenVertex,
+    b: &ScreenVertex,
+    c: &ScreenVertex,
+    cull: CullMode,
+    screen: &Rect,
+) -> Option<Candidate> {
     let p = [
         (snap(a.x), snap(a.y)),
         (snap(b.x), snap(b.y)),
         (snap(c.x), snap(c.y)),
     ];
-    let a = area2(&p);
+    let area = area2(&p);
     let keep = match cull {
-        CullMode::None => a != 0,
-        CullMode::Back => a < 0,
-        CullMode::Front => a > 0,
+        CullMode::None => area != 0,
+        CullMode::Back => area < 0,
+        CullMode::Front => area > 0,
     };
     if !keep {
         return None;
@@ -113,14 +158,11 @@ pub fn covered_bounds_of(
     if x0 > x1 || y0 > y1 {
         return None;
     }
-    if (x1 - x0 + 1) * (y1 - y0 + 1) <= EXACT_CULL_CENTRES
-        && !covers_a_centre(&p, a, x0, x1, y0, y1)
-    {
-        // A bounding box of a few pixel centres (most sub-pixel triangles: about a
-        // third of the gyroid's survivors of clipping cover none) that misses them all.
-        return None;
-    }
-    Some((x0, x1, y0, y1))
+    Some(Candidate {
+        p,
+        area,
+        bounds: (x0, x1, y0, y1),
+    })
 }
 
 /// Bounding boxes of at most this many pixel centres are tested centre by centre by
@@ -197,12 +239,23 @@ impl<'a> Setup<'a> {
     /// `None` for triangles with zero snapped area.
     #[inline(always)]
     pub fn new(t: &'a ScreenTriangle) -> Option<Self> {
-        let mut p = snapped(t);
-        let mut v = [&t.v[0], &t.v[1], &t.v[2]];
-        let mut area = area2(&p);
+        let p = snapped(t);
+        let area = area2(&p);
         if area == 0 {
             return None;
         }
+        Some(Self::with_snapped(t, p, area))
+    }
+
+    /// [`Setup::new`] from the triangle's snapped vertices `p` and their twice-area
+    /// `area` (non-zero), as [`candidate_of`] found them.
+    #[inline(always)]
+    pub(crate) fn with_snapped(
+        t: &'a ScreenTriangle,
+        mut p: [(i64, i64); 3],
+        mut area: i64,
+    ) -> Self {
+        let mut v = [&t.v[0], &t.v[1], &t.v[2]];
         let swapped = area < 0;
         if swapped {
             p.swap(1, 2);
@@ -242,7 +295,7 @@ impl<'a> Setup<'a> {
             zy += (b[k] * ONE) as f64 * z[k];
             zc += (a[k] * HALF + b[k] * HALF + c[k] + bias[k]) as f64 * z[k];
         }
-        Some(Self {
+        Self {
             v,
             a,
             b,
@@ -257,7 +310,7 @@ impl<'a> Setup<'a> {
             x1,
             y0,
             y1,
-        })
+        }
     }
 
     /// Screen-space barycentric weights of `self.v` from the edge values of a fragment.

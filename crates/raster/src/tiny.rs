@@ -23,11 +23,12 @@
 use crate::fragment::DepthFunc;
 use crate::framebuffer::to_rgba8;
 use crate::interpolate::{perspective_weights, varyings};
-use crate::rasterizer::Setup;
+use crate::rasterizer::{Candidate, Setup, EXACT_CULL_CENTRES};
 use crate::screen::{varying, Rect, ScreenTriangle};
 
-/// Bounding boxes of at most this many pixel centres are turned into fragments.
-pub(crate) const MAX_CENTRES: i64 = 4;
+/// Bounding boxes of at most this many pixel centres are turned into fragments (those
+/// the geometry stage's cull tests centre by centre anyway).
+pub(crate) const MAX_CENTRES: i64 = EXACT_CULL_CENTRES;
 
 /// Set in a bin entry that indexes the batch's fragments instead of its triangles.
 pub(crate) const FRAGMENT_BIT: u32 = 1 << 31;
@@ -42,16 +43,13 @@ pub(crate) struct Fragment {
     pub rgba: [u8; 4],
 }
 
-/// Calls `f` with the fragment of every pixel centre of the inclusive box
-/// `x0..=x1` x `y0..=y1` that `t` covers, in scan order: the pixels, depths and
-/// colours that drawing `t` with interpolated colour into an RGBA8 buffer computes.
+/// Calls `f` with the fragment of every pixel centre of the candidate's box that `t`
+/// (snapped as in `k`) covers, in scan order: the pixels, depths and colours that
+/// drawing `t` with interpolated colour into an RGBA8 buffer computes.
 #[inline(always)]
-pub(crate) fn fragments(
-    t: &ScreenTriangle,
-    (x0, x1, y0, y1): (i64, i64, i64, i64),
-    mut f: impl FnMut(Fragment),
-) {
-    let Some(s) = Setup::new(t) else { return };
+pub(crate) fn fragments(t: &ScreenTriangle, k: &Candidate, mut f: impl FnMut(Fragment)) {
+    let (x0, x1, y0, y1) = k.bounds;
+    let s = Setup::with_snapped(t, k.p, k.area);
     let clip = Rect::new(x0 as u32, y0 as u32, x1 as u32 + 1, y1 as u32 + 1);
     // As `fragment::draw` with `InterpolatedColor` and `ColorTarget for [[u8; 4]]`.
     s.scan(&clip, |x, y, e| {
