@@ -154,12 +154,7 @@ impl<'a> GeometryStage<'a> {
         if k.centres() <= tiny::MAX_CENTRES {
             if self.fragments {
                 // Shaded here; a triangle that covers no centre leaves no fragment.
-                let t = ScreenTriangle {
-                    v: [*a, *b, *c],
-                    id,
-                    material,
-                };
-                tiny::fragments(&t, &k, |f| {
+                tiny::fragments([a, b, c], &k, |f| {
                     let i = out.frags.len() as u32 | FRAGMENT_BIT;
                     push_to_bands(&mut out.bins, i, f.y as i64, f.y as i64);
                     out.frags.push(f);

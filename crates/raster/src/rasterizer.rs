@@ -167,7 +167,7 @@ pub(crate) fn candidate_of(
 
 /// Bounding boxes of at most this many pixel centres are tested centre by centre by
 /// [`covered_bounds_of`]; larger ones are kept without a test.
-pub const EXACT_CULL_CENTRES: i64 = 4;
+pub const EXACT_CULL_CENTRES: i64 = 8;
 
 /// Whether the snapped triangle `p` of twice-area `area` (non-zero) covers (with the
 /// fill rule) the centre of a pixel of the inclusive box `x0..=x1` x `y0..=y1`: the
@@ -244,18 +244,17 @@ impl<'a> Setup<'a> {
         if area == 0 {
             return None;
         }
-        Some(Self::with_snapped(t, p, area))
+        Some(Self::with_snapped([&t.v[0], &t.v[1], &t.v[2]], p, area))
     }
 
-    /// [`Setup::new`] from the triangle's snapped vertices `p` and their twice-area
-    /// `area` (non-zero), as [`candidate_of`] found them.
+    /// [`Setup::new`] from the triangle's vertices `v`, their snapped positions `p` and
+    /// twice-area `area` (non-zero), as [`candidate_of`] found them.
     #[inline(always)]
     pub(crate) fn with_snapped(
-        t: &'a ScreenTriangle,
+        mut v: [&'a ScreenVertex; 3],
         mut p: [(i64, i64); 3],
         mut area: i64,
     ) -> Self {
-        let mut v = [&t.v[0], &t.v[1], &t.v[2]];
         let swapped = area < 0;
         if swapped {
             p.swap(1, 2);

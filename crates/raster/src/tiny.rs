@@ -24,7 +24,7 @@ use crate::fragment::DepthFunc;
 use crate::framebuffer::to_rgba8;
 use crate::interpolate::{perspective_weights, varyings};
 use crate::rasterizer::{Candidate, Setup, EXACT_CULL_CENTRES};
-use crate::screen::{varying, Rect, ScreenTriangle};
+use crate::screen::{varying, Rect, ScreenVertex};
 
 /// Bounding boxes of at most this many pixel centres are turned into fragments (those
 /// the geometry stage's cull tests centre by centre anyway).
@@ -43,13 +43,13 @@ pub(crate) struct Fragment {
     pub rgba: [u8; 4],
 }
 
-/// Calls `f` with the fragment of every pixel centre of the candidate's box that `t`
-/// (snapped as in `k`) covers, in scan order: the pixels, depths and colours that
-/// drawing `t` with interpolated colour into an RGBA8 buffer computes.
+/// Calls `f` with the fragment of every pixel centre of the candidate's box that the
+/// triangle `v` (snapped as in `k`) covers, in scan order: the pixels, depths and
+/// colours that drawing it with interpolated colour into an RGBA8 buffer computes.
 #[inline(always)]
-pub(crate) fn fragments(t: &ScreenTriangle, k: &Candidate, mut f: impl FnMut(Fragment)) {
+pub(crate) fn fragments(v: [&ScreenVertex; 3], k: &Candidate, mut f: impl FnMut(Fragment)) {
     let (x0, x1, y0, y1) = k.bounds;
-    let s = Setup::with_snapped(t, k.p, k.area);
+    let s = Setup::with_snapped(v, k.p, k.area);
     let clip = Rect::new(x0 as u32, y0 as u32, x1 as u32 + 1, y1 as u32 + 1);
     // As `fragment::draw` with `InterpolatedColor` and `ColorTarget for [[u8; 4]]`.
     s.scan(&clip, |x, y, e| {
