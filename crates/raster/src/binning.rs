@@ -15,6 +15,7 @@ use crate::fragment::{
 };
 use crate::framebuffer::{ColorBuffer, Framebuffer};
 use crate::lighting::{EyeLights, Shading};
+use crate::prefetch;
 use crate::rasterizer::row_range;
 use crate::screen::{Rect, ScreenTriangle};
 use crate::texture::Texture;
@@ -256,12 +257,29 @@ impl Job<'_> {
                     return;
                 }
                 let mut band_state = init(y0, d);
+                let pixels = prefetch::BandPixels {
+                    depth: d.as_ptr(),
+                    color: c.as_ptr(),
+                    width: self.width,
+                    y0: y0 as usize,
+                    rows: rows as usize,
+                };
                 for ((piece, frags), bins) in self.pieces.iter().zip(self.frags).zip(self.bins) {
                     let list = &bins[band];
                     for (j, &i) in list.iter().enumerate() {
-                        if let Some(&ahead) = list.get(j + PREFETCH_AHEAD) {
-                            if ahead & FRAGMENT_BIT == 0 {
-                                prefetch(&piece[ahead as usize]);
+                        // Two stages ahead: the record, then its pixels (prefetch.rs).
+                        if let Some(&far) = list.get(j + prefetch::FAR) {
+                            if far & FRAGMENT_BIT == 0 {
+                                prefetch::triangle(&piece[far as usize]);
+                            } else {
+                                prefetch::fragment(&frags[(far & !FRAGMENT_BIT) as usize]);
+                            }
+                        }
+                        if let Some(&near) = list.get(j + prefetch::NEAR) {
+                            if near & FRAGMENT_BIT == 0 {
+                                pixels.triangle_pixels(&piece[near as usize]);
+                            } else {
+                                pixels.fragment_pixels(&frags[(near & !FRAGMENT_BIT) as usize]);
                             }
                         }
                         if i & FRAGMENT_BIT != 0 {
@@ -273,27 +291,4 @@ impl Job<'_> {
                 }
             });
     }
-}
-
-/// How many triangles ahead of the one being drawn a band prefetches: a band reads
-/// every 45th or so triangle of the batch, a stride the hardware prefetcher misses.
-const PREFETCH_AHEAD: usize = 8;
-
-/// Asks for the cache lines of `t` (a hint; no effect on results).
-#[inline(always)]
-fn prefetch(t: &ScreenTriangle) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        let p = t as *const ScreenTriangle as *const i8;
-        // SAFETY: prefetching is only a hint and never faults; the addresses lie
-        // inside `t`, a live reference.
-        unsafe {
-            _mm_prefetch(p, _MM_HINT_T0);
-            _mm_prefetch(p.add(64), _MM_HINT_T0);
-            _mm_prefetch(p.add(128), _MM_HINT_T0);
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = t;
 }

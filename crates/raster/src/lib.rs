@@ -32,6 +32,7 @@ pub mod interpolate;
 pub mod lighting;
 pub mod mesh;
 pub mod pipeline;
+mod prefetch;
 pub mod rasterizer;
 pub mod screen;
 mod simd_span;
