@@ -5,6 +5,9 @@
 //! raster_bench time FILE FRAMES THREADS [PNG] render 1 + FRAMES frames, print the
 //!                                             times of the last FRAMES (clear + render_mesh)
 //! ```
+//! With a PNG path, `time` also prints the pixels per input triangle and, when
+//! `RASTER_BENCH_STATS` is set, a histogram of the screen triangles by the pixel
+//! centres in their bounding box (capped at 9) and the centres they cover.
 //! The file is read by bench/raster/llvmpipe.py as well, so both renderers draw the
 //! same triangles from the same view. Layout (little-endian): b"IRRT", u32 width,
 //! u32 height, f32 eye[3], target[3], up[3], fovy_degrees, near, far,
