@@ -4,7 +4,7 @@
 # (a) 1M random triangles of about 23 pixels, (b) the gyroid mesh (2,254,088 triangles).
 # Runs alternate A B A B; each run times FRAMES frames after one warm-up frame.
 #
-#   bench/raster/run.sh [ROUNDS=5] [FRAMES=3] [THREADS="1 2"]
+#   [BIN=raster_bench] bench/raster/run.sh [ROUNDS=5] [FRAMES=3] [THREADS="1 2"]
 #
 # Prints a markdown summary (medians of the per-run medians, ratio Irradia / llvmpipe,
 # fraction of differing pixels) and keeps the raw JSON lines and images in $OUT.
@@ -26,8 +26,12 @@ if ! python3 -c "import moderngl; moderngl.create_standalone_context(backend='eg
         || { echo "skip: no EGL / llvmpipe context"; exit 0; }
 fi
 
-cargo build --release -p irradia-raster --example raster_bench >&2
-BIN=$CARGO_TARGET_DIR/release/examples/raster_bench
+# BIN=path/to/raster_bench times that binary (e.g. a copy of an older build) instead
+# of building the worktree's.
+if [ -z "${BIN:-}" ]; then
+    cargo build --release -p irradia-raster --example raster_bench >&2
+    BIN=$CARGO_TARGET_DIR/release/examples/raster_bench
+fi
 for w in random gyroid; do
     [ -f "$OUT/$w.bin" ] || "$BIN" write "$w" "$OUT/$w.bin"
 done

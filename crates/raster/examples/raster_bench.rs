@@ -5,6 +5,9 @@
 //! raster_bench time FILE FRAMES THREADS [PNG] render 1 + FRAMES frames, print the
 //!                                             times of the last FRAMES (clear + render_mesh)
 //! ```
+//! With a PNG path, `time` also prints the pixels per input triangle and, when
+//! `RASTER_BENCH_STATS` is set, a histogram of the screen triangles by the pixel
+//! centres in their bounding box (capped at 9) and the centres they cover.
 //! The file is read by bench/raster/llvmpipe.py as well, so both renderers draw the
 //! same triangles from the same view. Layout (little-endian): b"IRRT", u32 width,
 //! u32 height, f32 eye[3], target[3], up[3], fovy_degrees, near, far,
@@ -240,8 +243,19 @@ fn time(path: &str, frames: usize, threads: usize, png: Option<&str>) {
         let tris = p.transform_mesh(&w.mesh).expect("mesh");
         let screen = Rect::full(w.width, w.height);
         let mut fragments = 0u64;
+        let mut hist = std::collections::BTreeMap::<(i64, u64), u64>::new();
         for t in &tris {
-            for_each_fragment(t, &screen, |_, _, _| fragments += 1);
+            let mut n = 0u64;
+            for_each_fragment(t, &screen, |_, _, _| n += 1);
+            fragments += n;
+            if std::env::var_os("RASTER_BENCH_STATS").is_some() {
+                let (x0, x1, y0, y1) = irradia_raster::rasterizer::row_range(t);
+                let bb = ((x1 - x0 + 1).max(0) * (y1 - y0 + 1).max(0)).min(9);
+                *hist.entry((bb, n.min(9))).or_default() += 1;
+            }
+        }
+        for ((bb, n), c) in &hist {
+            eprintln!("bbox {bb} covered {n}: {c}");
         }
         eprintln!(
             "{} triangles, {} after clipping and culling, {:.1} pixels per input triangle",

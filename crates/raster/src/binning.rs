@@ -15,9 +15,11 @@ use crate::fragment::{
 };
 use crate::framebuffer::{ColorBuffer, Framebuffer};
 use crate::lighting::{EyeLights, Shading};
+use crate::prefetch;
 use crate::rasterizer::row_range;
 use crate::screen::{Rect, ScreenTriangle};
 use crate::texture::Texture;
+use crate::tiny::{draw_fragment, Fragment, FRAGMENT_BIT};
 use rayon::prelude::*;
 
 /// Rows per band (tile height).
@@ -57,7 +59,8 @@ pub(crate) fn rasterize_batches(
     let bands = band_count(fb.height());
     let bins: Vec<Vec<Vec<u32>>> = pieces.par_iter().map(|p| bin(p, &region, bands)).collect();
     let bins: Vec<&[Vec<u32>]> = bins.iter().map(|b| b.as_slice()).collect();
-    rasterize_binned(&pieces, &bins, fb, region, state);
+    let frags: Vec<&[Fragment]> = vec![&[]; pieces.len()];
+    rasterize_binned(&pieces, &frags, &bins, fb, region, state);
 }
 
 /// The number of bands of a screen `height` rows high.
@@ -78,9 +81,11 @@ pub(crate) fn push_to_bands(bins: &mut [Vec<u32>], i: u32, y0: i64, y1: i64) {
 }
 
 /// Draws already binned triangles: `bins[p][band]` lists the triangles of `pieces[p]`
-/// that touch `band` inside `region`.
+/// that touch `band` inside `region`, and the fragments of `frags[p]` in it (entries
+/// with [`FRAGMENT_BIT`] set, made only for the interpolated-colour RGBA8 path).
 pub(crate) fn rasterize_binned(
     pieces: &[&[ScreenTriangle]],
+    frags: &[&[Fragment]],
     bins: &[&[Vec<u32>]],
     fb: &mut Framebuffer,
     region: Rect,
@@ -92,6 +97,7 @@ pub(crate) fn rasterize_binned(
     }
     let job = Job {
         pieces,
+        frags,
         bins,
         region,
         width: fb.width() as usize,
@@ -140,9 +146,19 @@ pub(crate) fn rasterize_binned(
                         )
                     }
                 },
+                |f, y0, d, c| draw_fragment(f, width, y0, d, c, func),
             )
         }
-        (ColorBuffer::Rgba8(c), _) => job.run(c, depth, &InterpolatedColor),
+        (ColorBuffer::Rgba8(c), _) => {
+            let (func, width) = (state.depth_func, job.width);
+            job.run_with(
+                c,
+                depth,
+                |_, _| (),
+                |_, t, clip, y0, d, c| draw(t, clip, width, y0, d, c, &InterpolatedColor, func),
+                |f, y0, d, c| draw_fragment(f, width, y0, d, c, func),
+            )
+        }
         (ColorBuffer::Rgba32F(c), _) => job.run(c, depth, &InterpolatedColor),
     }
 }
@@ -167,6 +183,7 @@ fn bin(tris: &[ScreenTriangle], region: &Rect, bands: usize) -> Vec<Vec<u32>> {
 
 struct Job<'a> {
     pieces: &'a [&'a [ScreenTriangle]],
+    frags: &'a [&'a [Fragment]],
     bins: &'a [&'a [Vec<u32>]],
     region: Rect,
     width: usize,
@@ -185,6 +202,7 @@ impl Job<'_> {
             depth,
             |_, _| (),
             |_, t, clip, y0, d, c| draw(t, clip, width, y0, d, c, shader, depth_func),
+            |_, _, _, _| unreachable!("fragments are made for the RGBA8 colour path only"),
         )
     }
 
@@ -207,18 +225,22 @@ impl Job<'_> {
             |_, t, clip, y0, d, c| {
                 draw_blended(t, clip, width, y0, d, c, shader, depth_func, background)
             },
+            |_, _, _, _| unreachable!("transparent triangles are not made into fragments"),
         )
     }
 
     /// Draws every band's triangles in order with `draw_one(band_state, triangle, clip,
     /// band_y0, band_depth, band_colour)`, bands in parallel; `init(band_y0,
-    /// band_depth)` makes each band's state before its first triangle.
+    /// band_depth)` makes each band's state before its first triangle;
+    /// `draw_fragment(fragment, band_y0, band_depth, band_colour)` draws the fragments
+    /// of tiny triangles ([`crate::tiny`]) in their place in the order.
     fn run_with<T: Send, B>(
         &self,
         color: &mut [T],
         depth: &mut [f32],
         init: impl Fn(u32, &[f32]) -> B + Sync,
         draw_one: impl Fn(&mut B, &ScreenTriangle, &Rect, u32, &mut [f32], &mut [T]) + Sync,
+        draw_fragment: impl Fn(&Fragment, u32, &mut [f32], &mut [T]) + Sync,
     ) {
         let band_len = self.width * BAND_ROWS as usize;
         color
@@ -235,38 +257,38 @@ impl Job<'_> {
                     return;
                 }
                 let mut band_state = init(y0, d);
-                for (piece, bins) in self.pieces.iter().zip(self.bins) {
+                let pixels = prefetch::BandPixels {
+                    depth: d.as_ptr(),
+                    color: c.as_ptr(),
+                    width: self.width,
+                    y0: y0 as usize,
+                    rows: rows as usize,
+                };
+                for ((piece, frags), bins) in self.pieces.iter().zip(self.frags).zip(self.bins) {
                     let list = &bins[band];
                     for (j, &i) in list.iter().enumerate() {
-                        if let Some(&ahead) = list.get(j + PREFETCH_AHEAD) {
-                            prefetch(&piece[ahead as usize]);
+                        // Two stages ahead: the record, then its pixels (prefetch.rs).
+                        if let Some(&far) = list.get(j + prefetch::FAR) {
+                            if far & FRAGMENT_BIT == 0 {
+                                prefetch::triangle(&piece[far as usize]);
+                            } else {
+                                prefetch::fragment(&frags[(far & !FRAGMENT_BIT) as usize]);
+                            }
                         }
-                        draw_one(&mut band_state, &piece[i as usize], &clip, y0, d, c);
+                        if let Some(&near) = list.get(j + prefetch::NEAR) {
+                            if near & FRAGMENT_BIT == 0 {
+                                pixels.triangle_pixels(&piece[near as usize]);
+                            } else {
+                                pixels.fragment_pixels(&frags[(near & !FRAGMENT_BIT) as usize]);
+                            }
+                        }
+                        if i & FRAGMENT_BIT != 0 {
+                            draw_fragment(&frags[(i & !FRAGMENT_BIT) as usize], y0, d, c);
+                        } else {
+                            draw_one(&mut band_state, &piece[i as usize], &clip, y0, d, c);
+                        }
                     }
                 }
             });
     }
-}
-
-/// How many triangles ahead of the one being drawn a band prefetches: a band reads
-/// every 45th or so triangle of the batch, a stride the hardware prefetcher misses.
-const PREFETCH_AHEAD: usize = 8;
-
-/// Asks for the cache lines of `t` (a hint; no effect on results).
-#[inline(always)]
-fn prefetch(t: &ScreenTriangle) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        let p = t as *const ScreenTriangle as *const i8;
-        // SAFETY: prefetching is only a hint and never faults; the addresses lie
-        // inside `t`, a live reference.
-        unsafe {
-            _mm_prefetch(p, _MM_HINT_T0);
-            _mm_prefetch(p.add(64), _MM_HINT_T0);
-            _mm_prefetch(p.add(128), _MM_HINT_T0);
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = t;
 }

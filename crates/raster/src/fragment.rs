@@ -24,7 +24,7 @@ pub enum DepthFunc {
 
 impl DepthFunc {
     #[inline(always)]
-    fn pass(self, new: f32, stored: f32) -> bool {
+    pub(crate) fn pass(self, new: f32, stored: f32) -> bool {
         match self {
             DepthFunc::Less => new < stored,
             DepthFunc::LessEqual => new <= stored,

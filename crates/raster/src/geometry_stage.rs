@@ -7,12 +7,13 @@ use crate::binning::{band_count, push_to_bands};
 use crate::clip::{ClipPlanes, ClipVertex};
 use crate::lighting::{EyeLights, Shading};
 use crate::mesh::{Mesh, Triangle};
-use crate::rasterizer::{covered_bounds_of, CullMode};
+use crate::rasterizer::{candidate_of, CullMode};
 use crate::screen::{varying, Rect, ScreenTriangle, ScreenVertex, VARYINGS};
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::binning::BATCH;
+use crate::tiny::{self, Fragment, FRAGMENT_BIT};
 
 /// A configured geometry unit for one frame.
 pub(crate) struct GeometryStage<'a> {
@@ -29,6 +30,9 @@ pub(crate) struct GeometryStage<'a> {
     /// Bin triangles into bands while emitting them (for the fused render path).
     bin: bool,
     bands: usize,
+    /// Shade triangles of a few pixel centres here and bin their fragments
+    /// ([`crate::tiny`]); only when binning, for the interpolated-colour RGBA8 path.
+    fragments: bool,
     /// Buffers of earlier frames to reuse.
     pool: Option<&'a BatchPool>,
 }
@@ -58,8 +62,16 @@ impl<'a> GeometryStage<'a> {
             screen: Rect::full(width, height),
             bin,
             bands: band_count(height),
+            fragments: false,
             pool: None,
         }
+    }
+
+    /// Turns the binned triangles of at most [`tiny::MAX_CENTRES`] pixel centres into
+    /// fragments when `on` (the caller draws into RGBA8 with interpolated colour).
+    pub fn with_fragments(mut self, on: bool) -> Self {
+        self.fragments = on && self.bin;
+        self
     }
 
     /// Takes output buffers from `pool` instead of allocating them.
@@ -136,16 +148,32 @@ impl<'a> GeometryStage<'a> {
         out: &mut Batch,
     ) {
         // Cull before building the triangle: most rejected ones are never copied.
-        if let Some((_, _, y0, y1)) = covered_bounds_of(a, b, c, self.cull, &self.screen) {
-            if self.bin {
-                push_to_bands(&mut out.bins, out.tris.len() as u32, y0, y1);
+        let Some(k) = candidate_of(a, b, c, self.cull, &self.screen) else {
+            return;
+        };
+        if k.centres() <= tiny::MAX_CENTRES {
+            if self.fragments {
+                // Shaded here; a triangle that covers no centre leaves no fragment.
+                tiny::fragments([a, b, c], &k, |f| {
+                    let i = out.frags.len() as u32 | FRAGMENT_BIT;
+                    push_to_bands(&mut out.bins, i, f.y as i64, f.y as i64);
+                    out.frags.push(f);
+                });
+                return;
             }
-            out.tris.push(ScreenTriangle {
-                v: [*a, *b, *c],
-                id,
-                material,
-            });
+            if !k.covers_a_centre() {
+                return;
+            }
         }
+        if self.bin {
+            let (_, _, y0, y1) = k.bounds;
+            push_to_bands(&mut out.bins, out.tris.len() as u32, y0, y1);
+        }
+        out.tris.push(ScreenTriangle {
+            v: [*a, *b, *c],
+            id,
+            material,
+        });
     }
 
     /// Clips, projects and culls one triangle, appending what is left (one triangle, or
@@ -182,10 +210,15 @@ impl<'a> GeometryStage<'a> {
             .and_then(|p| p.0.lock().ok().and_then(|mut v| v.pop()))
             .unwrap_or(Batch {
                 tris: Vec::new(),
+                frags: Vec::new(),
                 bins: Vec::new(),
             });
         b.tris.clear();
         b.tris.reserve(capacity);
+        b.frags.clear();
+        if self.fragments {
+            b.frags.reserve(capacity);
+        }
         let bands = if self.bin { self.bands } else { 0 };
         b.bins.resize_with(bands, Vec::new);
         b.bins.truncate(bands);
@@ -341,10 +374,13 @@ struct Prepared {
     code: u8,
 }
 
-/// Screen triangles of one batch, in input order, and (when binning) for each band of
+/// Screen triangles (and fragments of tiny ones) of one batch, in input order, and (when binning) for each band of
 /// the screen the indices of the triangles touching it.
 pub(crate) struct Batch {
     pub tris: Vec<ScreenTriangle>,
+    /// The fragments of tiny triangles ([`crate::tiny`]), indexed by bin entries with
+    /// [`FRAGMENT_BIT`] set.
+    pub frags: Vec<Fragment>,
     pub bins: Vec<Vec<u32>>,
 }
 

@@ -32,10 +32,12 @@ pub mod interpolate;
 pub mod lighting;
 pub mod mesh;
 pub mod pipeline;
+mod prefetch;
 pub mod rasterizer;
 pub mod screen;
 mod simd_span;
 pub mod texture;
+mod tiny;
 pub mod transparency;
 pub mod view;
 

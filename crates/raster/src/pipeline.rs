@@ -189,6 +189,7 @@ impl Pipeline {
         }
         let lights = self.eye_lights();
         self.stage(&lights, true)
+            .with_fragments(self.fragments_for(&lights, fb))
             .with_pool(&self.scratch)
             .mesh_grouped(mesh, group_batches(), |batches| {
                 self.draw_batches(&lights, &batches, fb);
@@ -210,6 +211,7 @@ impl Pipeline {
         }
         let lights = self.eye_lights();
         self.stage(&lights, true)
+            .with_fragments(self.fragments_for(&lights, fb))
             .with_pool(&self.scratch)
             .triangles_grouped(tris, group_batches(), |batches| {
                 self.draw_batches(&lights, &batches, fb);
@@ -220,14 +222,26 @@ impl Pipeline {
 
     fn draw_batches(&self, lights: &EyeLights, batches: &[Batch], fb: &mut Framebuffer) {
         let pieces: Vec<&[ScreenTriangle]> = batches.iter().map(|b| b.tris.as_slice()).collect();
+        let frags: Vec<&[_]> = batches.iter().map(|b| b.frags.as_slice()).collect();
         let bins: Vec<&[Vec<u32>]> = batches.iter().map(|b| b.bins.as_slice()).collect();
         rasterize_binned(
             &pieces,
+            &frags,
             &bins,
             fb,
             Rect::full(self.width, self.height),
             &self.fragment_state(lights),
         );
+    }
+
+    /// Whether the fused paths may turn tiny triangles into fragments
+    /// ([`crate::tiny`]): only where the rasterizer draws them with interpolated colour
+    /// into RGBA8 (the same conditions as its dispatch in `binning`).
+    fn fragments_for(&self, lights: &EyeLights, fb: &Framebuffer) -> bool {
+        matches!(fb.color, crate::framebuffer::ColorBuffer::Rgba8(_))
+            && self.shading != Shading::Phong
+            && !lights.needs_material_fragments()
+            && !self.two_pass(fb)
     }
 
     fn check(&self, fb: &Framebuffer) -> Result<(), RasterError> {

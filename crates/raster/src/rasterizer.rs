@@ -93,16 +93,61 @@ pub fn covered_bounds_of(
     cull: CullMode,
     screen: &Rect,
 ) -> Option<(i64, i64, i64, i64)> {
+    let k = candidate_of(a, b, c, cull, screen)?;
+    if k.centres() <= EXACT_CULL_CENTRES && !k.covers_a_centre() {
+        // A bounding box of a few pixel centres (most sub-pixel triangles: about a
+        // third of the gyroid's survivors of clipping cover none) that misses them all.
+        return None;
+    }
+    Some(k.bounds)
+}
+
+/// A triangle that survived culling, snapped, with a non-empty pixel box on screen.
+pub(crate) struct Candidate {
+    /// The snapped vertices.
+    pub p: [(i64, i64); 3],
+    /// Twice the signed area (non-zero).
+    pub area: i64,
+    /// Inclusive pixel bounds `(x0, x1, y0, y1)` clipped to the screen.
+    pub bounds: (i64, i64, i64, i64),
+}
+
+impl Candidate {
+    /// The number of pixel centres in the box.
+    #[inline(always)]
+    pub fn centres(&self) -> i64 {
+        let (x0, x1, y0, y1) = self.bounds;
+        (x1 - x0 + 1) * (y1 - y0 + 1)
+    }
+
+    /// Whether a pixel centre of the box is covered.
+    #[inline(always)]
+    pub fn covers_a_centre(&self) -> bool {
+        let (x0, x1, y0, y1) = self.bounds;
+        covers_a_centre(&self.p, self.area, x0, x1, y0, y1)
+    }
+}
+
+/// The first part of [`covered_bounds_of`]: culling by facing and area, and the pixel
+/// box on `screen`, without testing the centres of small boxes.
+#[inline(always)]
+pub(crate) fn candidate_of(
+    a: &ScreenVertex,
+    b: &ScreenVertex,
+    c: &ScreenVertex,
+    cull: CullMode,
+    screen: &Rect,
+) -> Option<Candidate> {
     let p = [
         (snap(a.x), snap(a.y)),
         (snap(b.x), snap(b.y)),
         (snap(c.x), snap(c.y)),
     ];
-    let a = area2(&p);
+    let area = area2(&p);
     let keep = match cull {
-        CullMode::None => a != 0,
-        CullMode::Back => a < 0,
-        CullMode::Front => a > 0,
+        CullMode::None => area != 0,
+        CullMode::Back => area < 0,
+        CullMode::Front => area > 0,
     };
     if !keep {
         return None;
@@ -113,31 +158,47 @@ pub fn covered_bounds_of(
     if x0 > x1 || y0 > y1 {
         return None;
     }
-    if x0 == x1 && y0 == y1 && !covers_centre(&p, a, x0, y0) {
-        // A bounding box of one pixel centre (most sub-pixel triangles) that misses it.
-        return None;
-    }
-    Some((x0, x1, y0, y1))
+    Some(Candidate {
+        p,
+        area,
+        bounds: (x0, x1, y0, y1),
+    })
 }
 
-/// Whether the centre of pixel (x, y) is covered (with the fill rule) by the snapped
-/// triangle `p` of twice-area `area` (non-zero): the same test as [`Setup::scan`].
+/// Bounding boxes of at most this many pixel centres are tested centre by centre by
+/// [`covered_bounds_of`]; larger ones are kept without a test.
+pub const EXACT_CULL_CENTRES: i64 = 8;
+
+/// Whether the snapped triangle `p` of twice-area `area` (non-zero) covers (with the
+/// fill rule) the centre of a pixel of the inclusive box `x0..=x1` x `y0..=y1`: the
+/// same edge functions and the same test as [`Setup::scan`].
 #[inline]
-fn covers_centre(p: &[(i64, i64); 3], area: i64, x: i64, y: i64) -> bool {
+fn covers_a_centre(p: &[(i64, i64); 3], area: i64, x0: i64, x1: i64, y0: i64, y1: i64) -> bool {
     let q = if area < 0 { [p[0], p[2], p[1]] } else { *p };
-    let (px, py) = (x * ONE + HALF, y * ONE + HALF);
-    (0..3).all(|k| {
+    let mut a = [0; 3];
+    let mut b = [0; 3];
+    let mut c = [0; 3];
+    for k in 0..3 {
         let (ax, ay) = q[(k + 1) % 3];
         let (bx, by) = q[(k + 2) % 3];
         let (dx, dy) = (bx - ax, by - ay);
-        let e = dx * (py - ay) - dy * (px - ax);
         let top_left = dy < 0 || (dy == 0 && dx > 0);
-        if top_left {
-            e >= 0
-        } else {
-            e > 0
+        a[k] = -dy;
+        b[k] = dx;
+        // E >= 0 on top-left edges, E >= 1 on the others (as in `Setup::new`).
+        c[k] = dy * ax - dx * ay - !top_left as i64;
+    }
+    for y in y0..=y1 {
+        let py = y * ONE + HALF;
+        for x in x0..=x1 {
+            let px = x * ONE + HALF;
+            let e = |k: usize| a[k] * px + b[k] * py + c[k];
+            if (e(0) | e(1) | e(2)) >= 0 {
+                return true;
+            }
         }
-    })
+    }
+    false
 }
 
 /// Inclusive pixel rows `(y0, y1)` that the triangle may cover.
@@ -178,12 +239,22 @@ impl<'a> Setup<'a> {
     /// `None` for triangles with zero snapped area.
     #[inline(always)]
     pub fn new(t: &'a ScreenTriangle) -> Option<Self> {
-        let mut p = snapped(t);
-        let mut v = [&t.v[0], &t.v[1], &t.v[2]];
-        let mut area = area2(&p);
+        let p = snapped(t);
+        let area = area2(&p);
         if area == 0 {
             return None;
         }
+        Some(Self::with_snapped([&t.v[0], &t.v[1], &t.v[2]], p, area))
+    }
+
+    /// [`Setup::new`] from the triangle's vertices `v`, their snapped positions `p` and
+    /// twice-area `area` (non-zero), as [`candidate_of`] found them.
+    #[inline(always)]
+    pub(crate) fn with_snapped(
+        mut v: [&'a ScreenVertex; 3],
+        mut p: [(i64, i64); 3],
+        mut area: i64,
+    ) -> Self {
         let swapped = area < 0;
         if swapped {
             p.swap(1, 2);
@@ -223,7 +294,7 @@ impl<'a> Setup<'a> {
             zy += (b[k] * ONE) as f64 * z[k];
             zc += (a[k] * HALF + b[k] * HALF + c[k] + bias[k]) as f64 * z[k];
         }
-        Some(Self {
+        Self {
             v,
             a,
             b,
@@ -238,7 +309,7 @@ impl<'a> Setup<'a> {
             x1,
             y0,
             y1,
-        })
+        }
     }
 
     /// Screen-space barycentric weights of `self.v` from the edge values of a fragment.

@@ -179,6 +179,7 @@ fn the_geometry_stage_cull_keeps_exactly_the_triangles_that_cover_a_pixel() {
     use irradia_raster::CullMode;
     let mut rng = Rng::new(9, 2);
     let screen = Rect::full(16, 16);
+    let (mut exact, mut culled) = (0, 0);
     for _ in 0..20_000 {
         // Sub-pixel and pixel-sized triangles around pixel centres.
         let c = (4.0 + rng.next_f32() * 8.0, 4.0 + rng.next_f32() * 8.0);
@@ -193,9 +194,22 @@ fn the_geometry_stage_cull_keeps_exactly_the_triangles_that_cover_a_pixel() {
         let mut n = 0;
         for_each_fragment(&t, &screen, |_, _, _| n += 1);
         if may_cover(&t, CullMode::None, &screen) {
-            // Larger boxes are kept without an exact test; one-pixel boxes are exact.
+            // Larger boxes are kept without an exact test; boxes of up to
+            // EXACT_CULL_CENTRES pixel centres are exact: kept means covered.
+            let (x0, x1, y0, y1) = irradia_raster::rasterizer::row_range(&t);
+            let centres = (x1.min(15) - x0.max(0) + 1) * (y1.min(15) - y0.max(0) + 1);
+            if centres <= irradia_raster::rasterizer::EXACT_CULL_CENTRES {
+                assert!(n > 0, "{t:?} was kept but covers no pixel");
+                exact += 1;
+            }
             continue;
         }
+        culled += 1;
         assert_eq!(n, 0, "{t:?} was culled but covers {n} pixels");
     }
+    // Both outcomes were exercised.
+    assert!(
+        exact > 1000 && culled > 1000,
+        "{exact} kept exactly, {culled} culled"
+    );
 }
