@@ -1,9 +1,11 @@
 //! `irradia.composite` over an mpi4py communicator (cargo feature `mpi`): the
 //! communicator's Fortran handle (`comm.py2f()`) becomes a C handle (`MPI_Comm_f2c`),
-//! is duplicated so Irradia's messages never meet the caller's, and wrapped as the
-//! parallel crate's `MpiComm`, on which the compositors run exactly as under
-//! `irradia parallel --comm mpi`.
+//! whose private duplicate (made once and cached on it, [`crate::comm_cache`], so that
+//! Irradia's messages never meet the caller's) is wrapped as the parallel crate's
+//! `MpiComm`, on which the compositors run exactly as under `irradia parallel --comm
+//! mpi`.
 
+use crate::comm_cache;
 use crate::composite::{
     check_order, depth_array, image_arrays, layer_arrays, layout, operator, planes, planes_mut,
     strategy, Channels, TileSpec,
@@ -76,14 +78,16 @@ fn run<P: Channels>(
         (layout.is_none() && rank == root).then(|| image_arrays::<P>(py, pl.width, pl.height));
     let mut out_rw = out.as_ref().map(|(c, d)| (c.readwrite(), d.readwrite()));
     let out_planes = out_rw.as_mut().map(|(c, d)| planes_mut::<P>(c, d));
-    // The comm is made, used and freed on this thread with the GIL released (an MPI
-    // communicator handle is not shared with other threads).
+    // The private duplicate of the caller's communicator (made by the first composite
+    // over it, then cached on it: `comm_cache`) is looked up and used on this thread
+    // with the GIL released.
     let tile = py.allow_threads(move || -> PyResult<Option<Layer<P>>> {
-        // SAFETY: as above; every rank calls `composite` together, as the duplicate
-        // requires.
+        // SAFETY: as above; every rank calls `composite` together, as a first
+        // composite's duplicate requires, and the cached duplicate outlives this call
+        // (it is freed only with the caller's communicator or at MPI_Finalize).
         let comm = unsafe {
-            let raw = mpi::ffi::RSMPI_Comm_f2c(fint);
-            MpiComm::from_raw_dup(raw, Duration::from_secs_f64(timeout))
+            let (raw, _) = comm_cache::private_comm(mpi::ffi::RSMPI_Comm_f2c(fint));
+            MpiComm::from_raw_borrowed(raw, Duration::from_secs_f64(timeout))
         };
         let failed = |e: irradia_parallel::comm::CommError| {
             pyo3::exceptions::PyRuntimeError::new_err(e.to_string())
@@ -177,4 +181,11 @@ pub fn _composite_mpi(
             "color: expected a uint8 or float32 numpy array (premultiplied RGBA)",
         ))
     }
+}
+
+/// How many private duplicates of callers' communicators this process has made (see
+/// `comm_cache`): one per communicator composited over, not one per call.
+#[pyfunction]
+pub fn _comm_duplicates() -> usize {
+    comm_cache::duplicates()
 }
