@@ -92,8 +92,10 @@ fn run<P: Channels>(
         let failed = |e: irradia_parallel::comm::CommError| {
             pyo3::exceptions::PyRuntimeError::new_err(e.to_string())
         };
-        // The working layer: the last call's (memory already mapped), filled from the
-        // array; the compositor reads and blends in it and hands it back.
+        // The working layer: the last call's (memory already mapped). With a depth plane
+        // (and no tiles) the compositor reads the arrays in place and copies into it
+        // only what it keeps (`composite_from`); otherwise it is filled from the arrays
+        // first.
         let mut layer = P::kept()
             .with(|k| k.borrow_mut().take())
             .unwrap_or_else(|| Layer {
@@ -102,18 +104,35 @@ fn run<P: Channels>(
                 color: Vec::new(),
                 depth: Vec::new(),
             });
-        pl.copy_into(0, &mut layer)?;
-        let (w, h) = (layer.width, layer.height);
+        let (w, h) = (pl.width, pl.height);
+        let in_place = layout.is_none() && pl.depth.is_some();
+        if in_place {
+            pl.check_depth()?;
+        } else {
+            pl.copy_into(0, &mut layer)?;
+        }
         match &layout {
             None => {
-                let (layer, _) = composite::composite_into(
-                    &comm,
-                    strategy,
-                    layer,
-                    ActiveRect::full(w, h),
-                    &opts,
-                    out_planes,
-                )
+                let (layer, _) = if in_place {
+                    composite::composite_from(
+                        &comm,
+                        strategy,
+                        pl.layer(0, &[]),
+                        layer,
+                        ActiveRect::full(w, h),
+                        &opts,
+                        out_planes,
+                    )
+                } else {
+                    composite::composite_into(
+                        &comm,
+                        strategy,
+                        layer,
+                        ActiveRect::full(w, h),
+                        &opts,
+                        out_planes,
+                    )
+                }
                 .map_err(failed)?;
                 P::kept().with(|k| *k.borrow_mut() = Some(layer));
                 Ok(None)
