@@ -248,7 +248,7 @@ pub fn run_end<'a, P: Pixel>(
 ) -> usize {
     let layer = layer.into();
     match op {
-        Operator::Depth => depth_run_end(&layer.depth, from, end, active),
+        Operator::Depth => depth_run_end(layer.depth, from, end, active),
         Operator::Over => {
             let c = &layer.color;
             let mut i = from;
@@ -280,7 +280,7 @@ pub fn trim<'a, P: Pixel>(
 /// One past the last active pixel of `a..end`, given that pixel `a` is active.
 fn trim_back<P: Pixel>(layer: LayerRef<'_, P>, op: Operator, a: usize, end: usize) -> usize {
     match op {
-        Operator::Depth => depth_trim_back(&layer.depth, a, end),
+        Operator::Depth => depth_trim_back(layer.depth, a, end),
         Operator::Over => {
             let c = &layer.color;
             let mut b = end;
