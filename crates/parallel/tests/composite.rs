@@ -267,6 +267,67 @@ fn binary_swap_mixes_dense_pieces_and_run_lengths_and_equals_serial() {
     }
 }
 
+#[test]
+fn composite_from_reads_the_layer_in_place_and_equals_serial() {
+    use irradia_parallel::comm::Comm;
+    use irradia_parallel::composite::ActiveRect;
+    // The working layer starts as junk of another size (depth 0 wins every z-test, so a
+    // pixel read from it instead of the source shows), and is reused for a second frame.
+    let junk = || Layer {
+        width: 3,
+        height: 5,
+        color: vec![[7u8; 4]; 15],
+        depth: vec![0.0; 15],
+    };
+    for ranks in 1..=8 {
+        let layers: Vec<_> = (0..ranks).map(mixed_layer).collect();
+        let serial = composite::serial(&layers, Operator::Depth, None);
+        for s in STRATEGIES {
+            for rle in [true, false] {
+                let opts = CompositeOptions {
+                    rle,
+                    ..Default::default()
+                };
+                let out = run_local(ranks, LocalOptions::default(), |c| {
+                    let src = mixed_layer(c.rank());
+                    let rect = ActiveRect::full(src.width, src.height);
+                    let mut work = junk();
+                    let mut images = Vec::new();
+                    for _ in 0..2 {
+                        let mut oc = vec![[9u8; 4]; src.len()];
+                        let mut od = vec![-1.0f32; src.len()];
+                        let root = c.rank() == 0;
+                        let (w, wrote) = composite::composite_from(
+                            c,
+                            s,
+                            src.view(),
+                            work,
+                            rect,
+                            &opts,
+                            root.then_some((&mut oc[..], &mut od[..])),
+                        )
+                        .unwrap();
+                        assert_eq!(wrote, root);
+                        work = w;
+                        work.color.iter_mut().for_each(|p| *p = [7; 4]);
+                        work.depth.iter_mut().for_each(|d| *d = 0.0);
+                        images.push((oc, od));
+                    }
+                    images
+                });
+                let images = out.into_iter().next().unwrap().unwrap();
+                for (oc, od) in images {
+                    assert!(
+                        oc == serial.color && od == serial.depth,
+                        "{} with {ranks} ranks, rle {rle}: differs from the serial composite",
+                        s.name()
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// Even ranks dense (hashed, quantised depths: ties happen), odd ranks sparse (every
 /// fifth pixel): in a direct-send or radix-k round a rank receives dense spans from some
 /// sources and run lengths from others, which must still be composited in order.

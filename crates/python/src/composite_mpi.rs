@@ -1,9 +1,11 @@
 //! `irradia.composite` over an mpi4py communicator (cargo feature `mpi`): the
 //! communicator's Fortran handle (`comm.py2f()`) becomes a C handle (`MPI_Comm_f2c`),
-//! is duplicated so Irradia's messages never meet the caller's, and wrapped as the
-//! parallel crate's `MpiComm`, on which the compositors run exactly as under
-//! `irradia parallel --comm mpi`.
+//! whose private duplicate (made once and cached on it, [`crate::comm_cache`], so that
+//! Irradia's messages never meet the caller's) is wrapped as the parallel crate's
+//! `MpiComm`, on which the compositors run exactly as under `irradia parallel --comm
+//! mpi`.
 
+use crate::comm_cache;
 use crate::composite::{
     check_order, depth_array, image_arrays, layer_arrays, layout, operator, planes, planes_mut,
     strategy, Channels, TileSpec,
@@ -76,20 +78,24 @@ fn run<P: Channels>(
         (layout.is_none() && rank == root).then(|| image_arrays::<P>(py, pl.width, pl.height));
     let mut out_rw = out.as_ref().map(|(c, d)| (c.readwrite(), d.readwrite()));
     let out_planes = out_rw.as_mut().map(|(c, d)| planes_mut::<P>(c, d));
-    // The comm is made, used and freed on this thread with the GIL released (an MPI
-    // communicator handle is not shared with other threads).
+    // The private duplicate of the caller's communicator (made by the first composite
+    // over it, then cached on it: `comm_cache`) is looked up and used on this thread
+    // with the GIL released.
     let tile = py.allow_threads(move || -> PyResult<Option<Layer<P>>> {
-        // SAFETY: as above; every rank calls `composite` together, as the duplicate
-        // requires.
+        // SAFETY: as above; every rank calls `composite` together, as a first
+        // composite's duplicate requires, and the cached duplicate outlives this call
+        // (it is freed only with the caller's communicator or at MPI_Finalize).
         let comm = unsafe {
-            let raw = mpi::ffi::RSMPI_Comm_f2c(fint);
-            MpiComm::from_raw_dup(raw, Duration::from_secs_f64(timeout))
+            let (raw, _) = comm_cache::private_comm(mpi::ffi::RSMPI_Comm_f2c(fint));
+            MpiComm::from_raw_borrowed(raw, Duration::from_secs_f64(timeout))
         };
         let failed = |e: irradia_parallel::comm::CommError| {
             pyo3::exceptions::PyRuntimeError::new_err(e.to_string())
         };
-        // The working layer: the last call's (memory already mapped), filled from the
-        // array; the compositor reads and blends in it and hands it back.
+        // The working layer: the last call's (memory already mapped). With a depth plane
+        // (and no tiles) the compositor reads the arrays in place and copies into it
+        // only what it keeps (`composite_from`); otherwise it is filled from the arrays
+        // first.
         let mut layer = P::kept()
             .with(|k| k.borrow_mut().take())
             .unwrap_or_else(|| Layer {
@@ -98,18 +104,35 @@ fn run<P: Channels>(
                 color: Vec::new(),
                 depth: Vec::new(),
             });
-        pl.copy_into(0, &mut layer)?;
-        let (w, h) = (layer.width, layer.height);
+        let (w, h) = (pl.width, pl.height);
+        let in_place = layout.is_none() && pl.depth.is_some();
+        if in_place {
+            pl.check_depth()?;
+        } else {
+            pl.copy_into(0, &mut layer)?;
+        }
         match &layout {
             None => {
-                let (layer, _) = composite::composite_into(
-                    &comm,
-                    strategy,
-                    layer,
-                    ActiveRect::full(w, h),
-                    &opts,
-                    out_planes,
-                )
+                let (layer, _) = if in_place {
+                    composite::composite_from(
+                        &comm,
+                        strategy,
+                        pl.layer(0, &[]),
+                        layer,
+                        ActiveRect::full(w, h),
+                        &opts,
+                        out_planes,
+                    )
+                } else {
+                    composite::composite_into(
+                        &comm,
+                        strategy,
+                        layer,
+                        ActiveRect::full(w, h),
+                        &opts,
+                        out_planes,
+                    )
+                }
                 .map_err(failed)?;
                 P::kept().with(|k| *k.borrow_mut() = Some(layer));
                 Ok(None)
@@ -177,4 +200,11 @@ pub fn _composite_mpi(
             "color: expected a uint8 or float32 numpy array (premultiplied RGBA)",
         ))
     }
+}
+
+/// How many private duplicates of callers' communicators this process has made (see
+/// `comm_cache`): one per communicator composited over, not one per call.
+#[pyfunction]
+pub fn _comm_duplicates() -> usize {
+    comm_cache::duplicates()
 }

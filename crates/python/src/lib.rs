@@ -14,6 +14,8 @@
 //! The Python half (`python/irradia/__init__.py`) adds `load_dict`, `composite` (the
 //! mpi4py glue) and the tqdm bar; `python/irradia/__init__.pyi` has the type stubs.
 
+#[cfg(feature = "mpi")]
+pub mod comm_cache;
 pub mod composite;
 #[cfg(feature = "mpi")]
 pub mod composite_mpi;
@@ -48,5 +50,7 @@ fn _irradia(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(composite::display_grid, m)?)?;
     #[cfg(feature = "mpi")]
     m.add_function(wrap_pyfunction!(composite_mpi::_composite_mpi, m)?)?;
+    #[cfg(feature = "mpi")]
+    m.add_function(wrap_pyfunction!(composite_mpi::_comm_duplicates, m)?)?;
     Ok(())
 }

@@ -123,6 +123,43 @@ def test_caller_messages_untouched():
     req.wait()
 
 
+def test_one_duplicate_per_communicator():
+    # The private duplicate Irradia composites over is made by the first composite over
+    # a communicator and reused by the later ones (MPI_Comm_dup is collective: one per
+    # frame cost round trips). A communicator the caller frees takes its duplicate
+    # along; the next one (which may get the freed one's handle) gets its own: with
+    # ranks in reverse order a stale duplicate would deliver to the wrong root and
+    # break the depth ties (integer depths) the other way.
+    c, d = layer(RANK)
+    irradia.composite(c, d, comm=COMM)
+    made = irradia._irradia._comm_duplicates()
+    for _ in range(3):
+        irradia.composite(c, d, comm=COMM)
+    assert irradia._irradia._comm_duplicates() == made
+    sc, sd = stack(SIZE)
+    for k in range(4):
+        backwards = k % 2 == 1
+        sub = COMM.Split(0, key=SIZE - 1 - RANK if backwards else RANK)
+        out = irradia.composite(c, d, strategy="binary-swap", comm=sub)
+        out2 = irradia.composite(c, d, strategy="binary-swap", comm=sub)
+        ref_c, ref_d = irradia.composite(sc[::-1].copy(), sd[::-1].copy()) if backwards else irradia.composite(sc, sd)
+        if sub.Get_rank() == 0:
+            for o in (out, out2):
+                assert np.array_equal(o[0], ref_c) and np.array_equal(o[1], ref_d)
+        else:
+            assert out is None and out2 is None
+        sub.Free()
+        assert irradia._irradia._comm_duplicates() == made + k + 1
+    # A duplicate of the communicator does not inherit the cached one.
+    dup = COMM.Dup()
+    out = irradia.composite(c, d, comm=dup)
+    assert irradia._irradia._comm_duplicates() == made + 5
+    dup.Free()
+    ref_c, ref_d = irradia.composite(sc, sd)
+    if RANK == 0:
+        assert np.array_equal(out[0], ref_c) and np.array_equal(out[1], ref_d)
+
+
 def test_errors_on_every_rank():
     c, d = layer(RANK)
     with pytest.raises(irradia.IrradiaError, match="root"):

@@ -32,13 +32,17 @@ fn piece_window() -> usize {
 }
 
 /// One rank of an MPI job: `MPI_COMM_WORLD` of a program that initialised MPI here
-/// ([`MpiComm::init`], exactly one per process), or a duplicate of a communicator MPI
-/// was initialised for by someone else ([`MpiComm::from_raw_dup`], the Python
-/// binding's mpi4py communicator).
+/// ([`MpiComm::init`], exactly one per process), or a communicator of an MPI that
+/// someone else initialised: a duplicate made here ([`MpiComm::from_raw_dup`]) or one
+/// the caller keeps ([`MpiComm::from_raw_borrowed`], the Python binding's cached
+/// duplicate of an mpi4py communicator).
 pub struct MpiComm {
     /// Finalises MPI when dropped (`None` when the caller owns MPI's lifetime).
     _universe: Option<mpi::environment::Universe>,
-    world: SimpleCommunicator,
+    /// Freed in `drop` when `owned` (before `_universe` finalises MPI).
+    world: std::mem::ManuallyDrop<SimpleCommunicator>,
+    /// Whether dropping this comm frees `world` (false for a borrowed handle).
+    owned: bool,
     timeout: Duration,
     log: MessageLog,
     /// Sends of [`Comm::post`] still in flight, with their buffers (leaked when posted,
@@ -71,6 +75,10 @@ impl Drop for MpiComm {
             }
             std::thread::yield_now();
         }
+        if self.owned {
+            // SAFETY: dropped once, here, and never used again.
+            unsafe { std::mem::ManuallyDrop::drop(&mut self.world) };
+        }
     }
 }
 
@@ -81,7 +89,8 @@ impl MpiComm {
         let world = universe.world();
         Some(Self {
             _universe: Some(universe),
-            world,
+            world: std::mem::ManuallyDrop::new(world),
+            owned: true,
             timeout,
             log: MessageLog::default(),
             posted: Default::default(),
@@ -104,7 +113,30 @@ impl MpiComm {
         let world = SimpleCommunicator::from_raw(dup.assume_init());
         Self {
             _universe: None,
-            world,
+            world: std::mem::ManuallyDrop::new(world),
+            owned: true,
+            timeout,
+            log: MessageLog::default(),
+            posted: Default::default(),
+        }
+    }
+
+    /// A comm over `comm` itself, which the caller keeps and frees: dropping this comm
+    /// leaves the handle alone. Unlike [`MpiComm::from_raw_dup`] it costs nothing and
+    /// is not collective (`MPI_Comm_dup` is: OpenMPI agrees on a context id with
+    /// nonblocking allreduces), for a caller that duplicates a communicator once and
+    /// composites over the duplicate frame after frame.
+    ///
+    /// # Safety
+    /// `comm` must be a valid intra-communicator handle (not `MPI_COMM_NULL`) of an
+    /// initialised MPI, used by nothing else while this comm lives, and freed (if ever)
+    /// only after this comm is dropped.
+    pub unsafe fn from_raw_borrowed(comm: mpi::ffi::MPI_Comm, timeout: Duration) -> Self {
+        use mpi::raw::FromRaw;
+        Self {
+            _universe: None,
+            world: std::mem::ManuallyDrop::new(SimpleCommunicator::from_raw(comm)),
+            owned: false,
             timeout,
             log: MessageLog::default(),
             posted: Default::default(),

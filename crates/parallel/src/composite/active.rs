@@ -14,7 +14,7 @@
 //!   columns outside the rectangle are skipped without reading a single depth, so the
 //!   cost of finding runs scales with the rectangle, not the screen.
 
-use super::{Layer, Operator, Pixel, FAR};
+use super::{Layer, LayerRef, Operator, Pixel, FAR};
 use std::ops::Range;
 
 /// Colours tested together ("over").
@@ -239,15 +239,16 @@ fn colors_uniform<P: Pixel>(c: &[P], i: usize, active: bool) -> bool {
 
 /// The first index in `from..end` whose activity is not `active` (or `end`): the end of
 /// the run of `active` pixels starting at `from`.
-pub fn run_end<P: Pixel>(
-    layer: &Layer<P>,
+pub fn run_end<'a, P: Pixel>(
+    layer: impl Into<LayerRef<'a, P>>,
     op: Operator,
     from: usize,
     end: usize,
     active: bool,
 ) -> usize {
+    let layer = layer.into();
     match op {
-        Operator::Depth => depth_run_end(&layer.depth, from, end, active),
+        Operator::Depth => depth_run_end(layer.depth, from, end, active),
         Operator::Over => {
             let c = &layer.color;
             let mut i = from;
@@ -263,7 +264,12 @@ pub fn run_end<P: Pixel>(
 }
 
 /// The smallest range holding every active pixel of `span` (empty when none is).
-pub fn trim<P: Pixel>(layer: &Layer<P>, op: Operator, span: &Range<usize>) -> Range<usize> {
+pub fn trim<'a, P: Pixel>(
+    layer: impl Into<LayerRef<'a, P>>,
+    op: Operator,
+    span: &Range<usize>,
+) -> Range<usize> {
+    let layer = layer.into();
     let a = run_end(layer, op, span.start, span.end, false);
     if a == span.end {
         return a..a;
@@ -272,9 +278,9 @@ pub fn trim<P: Pixel>(layer: &Layer<P>, op: Operator, span: &Range<usize>) -> Ra
 }
 
 /// One past the last active pixel of `a..end`, given that pixel `a` is active.
-fn trim_back<P: Pixel>(layer: &Layer<P>, op: Operator, a: usize, end: usize) -> usize {
+fn trim_back<P: Pixel>(layer: LayerRef<'_, P>, op: Operator, a: usize, end: usize) -> usize {
     match op {
-        Operator::Depth => depth_trim_back(&layer.depth, a, end),
+        Operator::Depth => depth_trim_back(layer.depth, a, end),
         Operator::Over => {
             let c = &layer.color;
             let mut b = end;
@@ -292,12 +298,13 @@ fn trim_back<P: Pixel>(layer: &Layer<P>, op: Operator, a: usize, end: usize) -> 
 /// [`trim`] knowing that every active pixel lies in `rect`: rows and columns outside it
 /// are not read (the front is found with [`first_active`]; the back scans back from the
 /// rectangle's last pixel). Constant time for a dense layer.
-pub fn trim_in<P: Pixel>(
-    layer: &Layer<P>,
+pub fn trim_in<'a, P: Pixel>(
+    layer: impl Into<LayerRef<'a, P>>,
     op: Operator,
     span: &Range<usize>,
     rect: &ActiveRect,
 ) -> Range<usize> {
+    let layer = layer.into();
     let clip = rect.clip(layer.width, span);
     let a = first_active(layer, op, clip.start, clip.end, rect);
     if a == clip.end {
@@ -310,13 +317,14 @@ pub fn trim_in<P: Pixel>(
 /// pixels inside `rect` (outside it everything is background); `end..end` when there is
 /// none. A run never crosses the rectangle's right edge unless the rectangle spans whole
 /// rows.
-pub fn next_run<P: Pixel>(
-    layer: &Layer<P>,
+pub fn next_run<'a, P: Pixel>(
+    layer: impl Into<LayerRef<'a, P>>,
     op: Operator,
     from: usize,
     end: usize,
     rect: &ActiveRect,
 ) -> Range<usize> {
+    let layer = layer.into();
     let a = first_active(layer, op, from, end, rect);
     if a == end {
         return end..end;
@@ -331,13 +339,14 @@ pub fn next_run<P: Pixel>(
 }
 
 /// The first active pixel in `from..end` (or `end`), reading only pixels inside `rect`.
-pub fn first_active<P: Pixel>(
-    layer: &Layer<P>,
+pub fn first_active<'a, P: Pixel>(
+    layer: impl Into<LayerRef<'a, P>>,
     op: Operator,
     from: usize,
     end: usize,
     rect: &ActiveRect,
 ) -> usize {
+    let layer = layer.into();
     if rect.is_empty() {
         return end;
     }

@@ -9,13 +9,30 @@
 //! buffer, sparse ones as run lengths.
 
 use super::pairwise::{self, Step};
-use super::{split_span, ActiveRect, CompositeOptions, Layer, Order, Pixel, TAG_COMPOSITE};
+use super::{
+    split_span, ActiveRect, CompositeOptions, Layer, LayerRef, Order, Pixel, TAG_COMPOSITE,
+};
 use crate::comm::{Comm, CommError};
 use std::ops::Range;
 
 pub fn reduce<P: Pixel, C: Comm>(
     comm: &C,
+    layer: Layer<P>,
+    rect: &mut ActiveRect,
+    opts: &CompositeOptions,
+) -> Result<(Layer<P>, Range<usize>), CommError> {
+    reduce_from(comm, layer, None, rect, opts)
+}
+
+/// [`reduce`] of a layer whose pixels are in `src` (the caller's memory, read in
+/// place) when given, `layer` being working memory of the same size whose contents do
+/// not matter: the first step (the fold, or the first swap) sends straight from `src`
+/// and copies into `layer` only the span it keeps ([`pairwise::transfer_from`]); the
+/// returned span of `layer` holds this rank's part of the composite.
+pub fn reduce_from<P: Pixel, C: Comm>(
+    comm: &C,
     mut layer: Layer<P>,
+    mut src: Option<LayerRef<'_, P>>,
     rect: &mut ActiveRect,
     opts: &CompositeOptions,
 ) -> Result<(Layer<P>, Range<usize>), CommError> {
@@ -42,11 +59,11 @@ pub fn reduce<P: Pixel, C: Comm>(
         };
         if me % 2 == 1 {
             let to = [(order.rank(me - 1), all)];
-            pairwise::transfer(comm, &mut layer, rect, &fold(&to, &[], 0..0))?;
+            pairwise::transfer_from(comm, &mut layer, src, rect, &fold(&to, &[], 0..0))?;
             return Ok((layer, 0..0));
         }
         let from = [(order.rank(me + 1), false)];
-        pairwise::transfer(comm, &mut layer, rect, &fold(&[], &from, all))?;
+        pairwise::transfer_from(comm, &mut layer, src.take(), rect, &fold(&[], &from, all))?;
         me / 2
     } else {
         me - extra
@@ -64,10 +81,11 @@ pub fn reduce<P: Pixel, C: Comm>(
         } else {
             (halves[1].clone(), halves[0].clone())
         };
-        pairwise::swap(
+        pairwise::swap_from(
             comm,
             partner,
             &mut layer,
+            src.take(),
             rect,
             give,
             keep.clone(),
@@ -79,6 +97,11 @@ pub fn reduce<P: Pixel, C: Comm>(
         span = keep;
         bit <<= 1;
         round += 1;
+    }
+    if let Some(s) = src {
+        // One rank: no step read the source.
+        layer.color[span.clone()].copy_from_slice(&s.color[span.clone()]);
+        layer.depth[span.clone()].copy_from_slice(&s.depth[span.clone()]);
     }
     Ok((layer, span))
 }

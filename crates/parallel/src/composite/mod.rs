@@ -106,6 +106,17 @@ pub struct LayerRef<'a, P> {
     pub depth: &'a [f32],
 }
 
+impl<'a, P> From<&'a Layer<P>> for LayerRef<'a, P> {
+    fn from(l: &'a Layer<P>) -> Self {
+        LayerRef {
+            width: l.width,
+            height: l.height,
+            color: &l.color,
+            depth: &l.depth,
+        }
+    }
+}
+
 pub type Rgba8Layer = Layer<[u8; 4]>;
 pub type Rgba32Layer = Layer<[f32; 4]>;
 
@@ -158,7 +169,8 @@ pub enum Operator {
 impl Operator {
     /// Whether pixel `i` carries anything (inactive pixels are not sent).
     #[inline]
-    pub fn active<P: Pixel>(self, l: &Layer<P>, i: usize) -> bool {
+    pub fn active<'a, P: Pixel>(self, l: impl Into<LayerRef<'a, P>>, i: usize) -> bool {
+        let l = l.into();
         match self {
             Operator::Depth => l.depth[i] != FAR,
             Operator::Over => !l.color[i].is_clear(),
@@ -341,6 +353,56 @@ pub fn composite_into<P: Pixel, C: Comm>(
     comm.log().begin_stage("composite");
     let mut rect = rect;
     let (layer, span) = reduce_tracked(comm, strategy, layer, &mut rect, opts)?;
+    comm.log().begin_stage("gather");
+    let wrote = gather::gather_into(comm, &layer, span, &rect, opts, out)?;
+    comm.barrier()?;
+    comm.log().end_stage();
+    Ok((layer, wrote))
+}
+
+/// [`composite_into`] of a layer still in the caller's memory, `src` (read in place:
+/// the Python binding's numpy arrays), with `work` as working memory (resized to the
+/// layer; what it holds does not matter, and it is handed back for the next frame).
+/// Binary swap sends straight from `src` and copies into `work` only the half each rank
+/// keeps in its first round ([`binary_swap::reduce_from`]); the other strategies start
+/// from a copy of `src` in `work`.
+pub fn composite_from<P: Pixel, C: Comm>(
+    comm: &C,
+    strategy: Strategy,
+    src: LayerRef<'_, P>,
+    mut work: Layer<P>,
+    rect: ActiveRect,
+    opts: &CompositeOptions,
+    out: Option<(&mut [P], &mut [f32])>,
+) -> Result<(Layer<P>, bool), CommError> {
+    let n = src.width as usize * src.height as usize;
+    assert!(
+        src.color.len() == n && src.depth.len() == n,
+        "composite: planes of {} and {} pixels for a {}x{} layer",
+        src.color.len(),
+        src.depth.len(),
+        src.width,
+        src.height
+    );
+    assert!(
+        rect.fits(src.width, src.height),
+        "active rectangle {rect:?} off the {}x{} layer",
+        src.width,
+        src.height
+    );
+    (work.width, work.height) = (src.width, src.height);
+    work.color.resize(n, P::CLEAR);
+    work.depth.resize(n, FAR);
+    comm.log().begin_stage("composite");
+    let mut rect = rect;
+    let (layer, span) = match strategy {
+        Strategy::BinarySwap => binary_swap::reduce_from(comm, work, Some(src), &mut rect, opts)?,
+        _ => {
+            work.color.copy_from_slice(src.color);
+            work.depth.copy_from_slice(src.depth);
+            reduce_tracked(comm, strategy, work, &mut rect, opts)?
+        }
+    };
     comm.log().begin_stage("gather");
     let wrote = gather::gather_into(comm, &layer, span, &rect, opts, out)?;
     comm.barrier()?;

@@ -29,7 +29,7 @@
 //!   boxes, Moreland et al. 2011).
 
 use super::active::{self, ActiveRect};
-use super::{depth, over, profile, rle, split_span, Layer, Operator, Pixel};
+use super::{depth, over, profile, rle, split_span, Layer, LayerRef, Operator, Pixel};
 use crate::comm::{Comm, CommError, PiecesIn, PiecesOut};
 use std::cell::RefCell;
 use std::ops::Range;
@@ -227,13 +227,14 @@ impl Plan {
 /// Chooses how to send `give`: dense when `rle` is off; else trimmed to the active
 /// pixels (looking only inside `rect`), and run lengths when the sampled active fraction
 /// is below [`RLE_BELOW`].
-pub(crate) fn choose<P: Pixel>(
-    layer: &Layer<P>,
+pub(crate) fn choose<'a, P: Pixel>(
+    layer: impl Into<LayerRef<'a, P>>,
     give: &Range<usize>,
     op: Operator,
     rle: bool,
     rect: &ActiveRect,
 ) -> Plan {
+    let layer = layer.into();
     let plan = |mode, span: Range<usize>| Plan {
         mode,
         pieces: piece_count(span.len()),
@@ -300,6 +301,36 @@ pub fn swap<P: Pixel, C: Comm>(
     incoming_front: bool,
     rle: bool,
 ) -> Result<(), CommError> {
+    swap_from(
+        comm,
+        partner,
+        layer,
+        None,
+        rect,
+        give,
+        keep,
+        tag,
+        op,
+        incoming_front,
+        rle,
+    )
+}
+
+/// [`swap`] reading the layer from `src` when given (see [`transfer_from`]).
+#[allow(clippy::too_many_arguments)]
+pub fn swap_from<P: Pixel, C: Comm>(
+    comm: &C,
+    partner: usize,
+    layer: &mut Layer<P>,
+    src: Option<LayerRef<'_, P>>,
+    rect: &mut ActiveRect,
+    give: Range<usize>,
+    keep: Range<usize>,
+    tag: u32,
+    op: Operator,
+    incoming_front: bool,
+    rle: bool,
+) -> Result<(), CommError> {
     let step = Step {
         sends: &[(partner, give)],
         recvs: &[(partner, incoming_front)],
@@ -308,7 +339,7 @@ pub fn swap<P: Pixel, C: Comm>(
         op,
         rle,
     };
-    transfer(comm, layer, rect, &step)
+    transfer_from(comm, layer, src, rect, &step)
 }
 
 /// One step of a compositing strategy as seen by one rank: the spans it sends and to
@@ -342,6 +373,30 @@ pub fn transfer<P: Pixel, C: Comm>(
     rect: &mut ActiveRect,
     step: &Step<'_>,
 ) -> Result<(), CommError> {
+    transfer_from(comm, layer, None, rect, step)
+}
+
+/// [`transfer`] of a layer whose pixels are still in the caller's memory, `src` (the
+/// Python binding's numpy arrays), when given: the spans sent are read from `src` in
+/// place, and only `step.keep` is copied from `src` into `layer` (whose other pixels
+/// are neither read nor written) before what arrives is composited into it. A first
+/// round of binary swap thus copies half the layer instead of all of it. Without `src`
+/// it is [`transfer`].
+pub fn transfer_from<P: Pixel, C: Comm>(
+    comm: &C,
+    layer: &mut Layer<P>,
+    src: Option<LayerRef<'_, P>>,
+    rect: &mut ActiveRect,
+    step: &Step<'_>,
+) -> Result<(), CommError> {
+    if let Some(s) = &src {
+        assert!(
+            s.color.len() == layer.len() && s.depth.len() == layer.len(),
+            "transfer: source of {} pixels for a layer of {}",
+            s.color.len(),
+            layer.len()
+        );
+    }
     let Step {
         sends: give_to,
         recvs: take_from,
@@ -355,7 +410,7 @@ pub fn transfer<P: Pixel, C: Comm>(
     let mut t = Instant::now();
     let mut mine: Vec<Plan> = give_to
         .iter()
-        .map(|(_, give)| choose(layer, give, op, rle, rect))
+        .map(|(_, give)| choose(src.unwrap_or(layer.view()), give, op, rle, rect))
         .collect();
     let decide_s = profile::lap(&mut t);
     SCRATCH.with(|scratch| {
@@ -378,7 +433,7 @@ pub fn transfer<P: Pixel, C: Comm>(
             send.resize(slot + plan.header_len(), 0);
             for part in split_span(&plan.span, plan.pieces) {
                 let at = send.len();
-                rle::encode_runs_into(send, layer, part, op, rect);
+                rle::encode_runs_into(send, src.unwrap_or(layer.view()), part, op, rect);
                 plan.lens.push(send.len() - at);
             }
             if send.len() - slot - plan.header_len() <= INLINE_MAX_HERE.with(|m| m.get()) {
@@ -442,6 +497,10 @@ pub fn transfer<P: Pixel, C: Comm>(
 
         let (lo_c, keep_c, hi_c) = split_around(&mut layer.color, &keep);
         let (lo_d, keep_d, hi_d) = split_around(&mut layer.depth, &keep);
+        if let Some(s) = &src {
+            keep_c.copy_from_slice(&s.color[keep.clone()]);
+            keep_d.copy_from_slice(&s.depth[keep.clone()]);
+        }
         let sends: Vec<PiecesOut<'_>> = give_to
             .iter()
             .zip(mine.iter().zip(&bodies))
@@ -449,11 +508,15 @@ pub fn transfer<P: Pixel, C: Comm>(
                 let pieces = match plan.mode {
                     DENSE => split_span(&plan.span, plan.pieces)
                         .iter()
-                        .flat_map(|c| {
-                            [
+                        .flat_map(|c| match &src {
+                            Some(s) => [
+                                bytemuck::cast_slice::<P, u8>(&s.color[c.clone()]),
+                                bytemuck::cast_slice::<f32, u8>(&s.depth[c.clone()]),
+                            ],
+                            None => [
                                 bytemuck::cast_slice::<P, u8>(outside(lo_c, hi_c, &keep, c)),
                                 bytemuck::cast_slice::<f32, u8>(outside(lo_d, hi_d, &keep, c)),
-                            ]
+                            ],
                         })
                         .collect(),
                     RLE => {

@@ -8,7 +8,7 @@
 //! span is covered. The receiver blends straight from the buffer, skipping inactive runs.
 
 use super::active::{self, ActiveRect};
-use super::{Layer, Operator, Pixel};
+use super::{Layer, LayerRef, Operator, Pixel};
 use std::borrow::Cow;
 use std::ops::Range;
 
@@ -64,13 +64,14 @@ pub fn encode_bounded_into<P: Pixel>(
 /// Only pixels inside `rect` are read ([`ActiveRect`]: everything outside it is
 /// background); pass [`ActiveRect::full`] when nothing is known. A span with no active
 /// pixel is one run of background.
-pub fn encode_runs_into<P: Pixel>(
+pub fn encode_runs_into<'a, P: Pixel>(
     out: &mut Vec<u8>,
-    layer: &Layer<P>,
+    layer: impl Into<LayerRef<'a, P>>,
     span: Range<usize>,
     op: Operator,
     rect: &ActiveRect,
 ) {
+    let layer = layer.into();
     push_words(out, &[span.start as u32, span.end as u32, RLE]);
     let mut i = span.start;
     while i < span.end {
