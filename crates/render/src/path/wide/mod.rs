@@ -60,6 +60,7 @@
 //! so the Stanford bunny in the Cornell box qualifies. Other scenes render with the
 //! scalar `radiance_in`.
 
+pub mod bsdf;
 pub mod kernel;
 
 use super::flat_scene::FlatScene;
