@@ -163,58 +163,12 @@ impl Bvh {
             avx2: true,
         };
         let bit = 1u32 << lane;
-        let mut stack: [MaybeUninit<(ChildRef, f32)>; STACK] =
-            [const { MaybeUninit::uninit() }; STACK];
-        let mut sp = 0usize;
-        let mut current = start;
-        loop {
-            if current.is_leaf() {
-                leaf(current, bit, t_max);
-            } else {
-                let node = &self.nodes[current.index as usize];
-                let (mut mask, t_near) = node.intersect_with::<true>(&nray, t_max.0[lane]);
-                if mask != 0 {
-                    let mut hits = [(ChildRef::EMPTY, 0f32); WIDTH];
-                    let mut n = 0;
-                    while mask != 0 {
-                        let i = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        let c = node.child_ref(i);
-                        if c.is_leaf() {
-                            prefetch(c);
-                        } else {
-                            self.prefetch(c);
-                        }
-                        let e = (c, t_near[i]);
-                        let mut j = n;
-                        while j > 0 && hits[j - 1].1 < e.1 {
-                            hits[j] = hits[j - 1];
-                            j -= 1;
-                        }
-                        hits[j] = e;
-                        n += 1;
-                    }
-                    for e in &hits[..n - 1] {
-                        stack[sp] = MaybeUninit::new(*e);
-                        sp += 1;
-                    }
-                    current = hits[n - 1].0;
-                    continue;
-                }
-            }
-            loop {
-                if sp == 0 {
-                    return;
-                }
-                sp -= 1;
-                // SAFETY: every slot below the stack pointer was written by a push.
-                let e = stack[sp].assume_init();
-                if e.1 <= t_max.0[lane] {
-                    current = e.0;
-                    break;
-                }
-            }
-        }
+        // The leaf callback lowers `t_max[lane]` itself; handing it back keeps the
+        // walk's bound the same.
+        self.closest_from::<true, _, _>(&nray, start, t_max.0[lane], prefetch, |c, _| {
+            leaf(c, bit, t_max);
+            Some(t_max.0[lane])
+        });
     }
 
     #[cfg(target_arch = "x86_64")]

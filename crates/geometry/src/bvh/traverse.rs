@@ -113,20 +113,39 @@ impl Bvh {
         ray: &Ray,
         t_max: f32,
         prefetch: P,
-        mut hit: F,
+        hit: F,
     ) -> Option<f32>
     where
         P: Fn(ChildRef),
         F: FnMut(ChildRef, f32) -> Option<f32>,
     {
         let nray = NodeRay::new(ray.origin, ray.dir);
+        self.closest_from::<AVX, P, F>(&nray, ChildRef { index: 0, count: 0 }, t_max, prefetch, hit)
+    }
+
+    /// [`Bvh::closest`] for the ray `nray` through the subtree under `start` (the root
+    /// for a whole query; a packet's subtree when one of its rays goes on alone, see
+    /// `packet_traverse.rs`): nearest child first, each leaf `hit(leaf, t_max)`.
+    #[inline(always)]
+    pub(super) fn closest_from<const AVX: bool, P, F>(
+        &self,
+        nray: &NodeRay,
+        start: ChildRef,
+        t_max: f32,
+        prefetch: P,
+        mut hit: F,
+    ) -> Option<f32>
+    where
+        P: Fn(ChildRef),
+        F: FnMut(ChildRef, f32) -> Option<f32>,
+    {
         let mut t_max = t_max;
         let mut found = false;
         // Left uninitialised: zeroing 3 KiB per query cost more than many whole
         // traversals of small scenes. Only slots below `sp` are ever read.
         let mut stack: [MaybeUninit<Entry>; STACK] = [const { MaybeUninit::uninit() }; STACK];
         let mut sp = 0usize;
-        let mut current = ChildRef { index: 0, count: 0 };
+        let mut current = start;
         loop {
             if current.is_leaf() {
                 if let Some(t) = hit(current, t_max) {
@@ -137,7 +156,7 @@ impl Bvh {
                 }
             } else {
                 let node = &self.nodes[current.index as usize];
-                let (mut mask, t_near) = node.intersect_with::<AVX>(&nray, t_max);
+                let (mut mask, t_near) = node.intersect_with::<AVX>(nray, t_max);
                 if mask != 0 {
                     // Collect the entered children, sort them near to far, push all
                     // but the nearest (farthest pushed first) and descend into it.
