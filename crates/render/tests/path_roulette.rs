@@ -22,8 +22,8 @@ use irradia_render::path::integrator::{radiance_recorded, PathScene};
 use irradia_render::path::lights::LightSampler;
 use irradia_render::path::{PathCounters, PathParams};
 use irradia_render::raytree::{Blocker, RayKind, Recorder};
-use irradia_scene::{Material, Object, Scene};
-use path_common::{camera, diffuse, settings};
+use irradia_scene::Scene;
+use path_common::{camera, clear_glass, object, settings};
 use std::sync::Arc;
 
 /// Counts, for the segment after the first bounce, how often a refracted one began
@@ -52,23 +52,12 @@ impl Recorder for RouletteCount {
 }
 
 fn glass_ball() -> Scene {
-    let clear = Material {
-        diffuse: 0.0,
-        transmission: 1.0,
-        ior: 1.5,
-        fresnel: true,
-        ..diffuse(0.0, 0.0)
-    };
     Scene::new(
         camera(Vec3::new(0.0, 0.0, 6.0), Vec3::ZERO, 10.0),
         settings(8, 8, 8, Rgb::BLACK),
-        vec![clear],
+        vec![clear_glass(1.5)],
         vec![],
-        vec![Object {
-            name: "glass".into(),
-            material: 0,
-            leaf_materials: vec![],
-        }],
+        vec![object("glass", 0)],
         vec![Instance::untransformed(Arc::new(Sphere::new(
             Vec3::ZERO,
             1.0,

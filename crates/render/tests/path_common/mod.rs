@@ -45,7 +45,18 @@ pub fn camera(eye: Vec3, look_at: Vec3, fov: f32) -> Camera {
     }
 }
 
-fn object(name: &str, material: u32) -> Object {
+/// Clear glass of index `ior` (the lecture's transmission with Fresnel weights).
+pub fn clear_glass(ior: f32) -> Material {
+    Material {
+        diffuse: 0.0,
+        transmission: 1.0,
+        ior,
+        fresnel: true,
+        ..diffuse(0.0, 0.0)
+    }
+}
+
+pub fn object(name: &str, material: u32) -> Object {
     Object {
         name: name.into(),
         material,
@@ -97,13 +108,7 @@ pub fn small_room() -> Scene {
         shininess: 30.0,
         ..diffuse(0.5, 0.0)
     };
-    let clear = Material {
-        diffuse: 0.0,
-        transmission: 1.0,
-        ior: 1.5,
-        fresnel: true,
-        ..diffuse(0.0, 0.0)
-    };
+    let clear = clear_glass(1.5);
     Scene::new(
         camera(Vec3::new(0.0, 0.0, 4.5), Vec3::new(0.0, -0.3, 0.0), 60.0),
         settings(16, 12, 8, Rgb::BLACK),
