@@ -10,21 +10,10 @@ use irradia_render::filter::FilterSampler;
 use irradia_render::path::flat_scene::FlatScene;
 use irradia_render::path::integrator::{radiance_in, PathScene};
 use irradia_render::path::lights::LightSampler;
-use irradia_render::path::wide::WideScene;
+use irradia_render::path::wide::{samples_agreeing, WideScene};
 use irradia_render::path::{PathCounters, PathParams};
 use irradia_render::sampler::{camera_sample, Sampler};
 use std::path::Path;
-
-/// Fraction of samples whose three channels agree to `1e-4` relative.
-fn fraction_equal(a: &[Rgb], b: &[Rgb]) -> f64 {
-    let close = |x: f32, y: f32| (x - y).abs() <= 1e-4 * x.abs().max(y.abs()) + 1e-7;
-    let same = a
-        .iter()
-        .zip(b)
-        .filter(|(p, q)| close(p.r, q.r) && close(p.g, q.g) && close(p.b, q.b))
-        .count();
-    same as f64 / a.len() as f64
-}
 
 #[test]
 fn imported_glass_mirror_scene_runs_in_the_wide_kernel_sample_for_sample() {
@@ -75,10 +64,10 @@ fn imported_glass_mirror_scene_runs_in_the_wide_kernel_sample_for_sample() {
     let mut c = PathCounters::default();
     wide.radiance_batch(&params, |k| sample(k, 0), &mut out, &mut c);
     assert!(out.iter().all(|c| c.is_finite()), "unwritten sample");
-    let same = fraction_equal(&scalar(0), &out);
+    let same = samples_agreeing(&scalar(0), &out);
     println!("glass_mirror: {:.2}% of samples agree", same * 100.0);
     assert!(same > 0.99, "only {:.1}% of samples agree", same * 100.0);
     // The comparison can fail: another stream's samples do not agree.
-    let chance = fraction_equal(&scalar(7), &out);
+    let chance = samples_agreeing(&scalar(7), &out);
     assert!(chance < 0.5, "{:.1}% agree by chance", chance * 100.0);
 }

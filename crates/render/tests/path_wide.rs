@@ -14,7 +14,7 @@ use irradia_render::filter::FilterSampler;
 use irradia_render::path::flat_scene::FlatScene;
 use irradia_render::path::integrator::{radiance_in, PathScene};
 use irradia_render::path::lights::LightSampler;
-use irradia_render::path::wide::WideScene;
+use irradia_render::path::wide::{samples_agreeing, WideScene};
 use irradia_render::path::Kernel;
 use irradia_render::path::{self, PathCounters, PathParams};
 use irradia_render::sampler::{camera_sample, Sampler};
@@ -302,17 +302,6 @@ fn both_estimates(
     (scalar, wide_out)
 }
 
-/// Fraction of samples whose three channels agree to `1e-4` relative.
-fn fraction_equal(a: &[Rgb], b: &[Rgb]) -> f64 {
-    let close = |x: f32, y: f32| (x - y).abs() <= 1e-4 * x.abs().max(y.abs()) + 1e-7;
-    let same = a
-        .iter()
-        .zip(b)
-        .filter(|(p, q)| close(p.r, q.r) && close(p.g, q.g) && close(p.b, q.b))
-        .count();
-    same as f64 / a.len() as f64
-}
-
 /// Mean luminance and its standard error.
 fn mean_and_error(v: &[Rgb]) -> (f64, f64) {
     let y: Vec<f64> = v
@@ -449,7 +438,7 @@ fn wide_samples_equal_scalar_samples_up_to_rounding() {
             wide.iter().all(|c| c.is_finite()),
             "{name}: unwritten sample"
         );
-        let same = fraction_equal(&scalar, &wide);
+        let same = samples_agreeing(&scalar, &wide);
         println!("{name}: {:.2}% of samples agree to 1e-4", same * 100.0);
         // The disk warp's sine and cosine are a polynomial in the kernel: a path
         // can take another Russian-roulette or shadow decision when a direction
@@ -482,7 +471,7 @@ fn wide_samples_equal_scalar_samples_up_to_rounding() {
             continue;
         }
         let (other, _) = both_estimates(&scene, 2, &params, 7, variant);
-        let chance = fraction_equal(&other, &wide);
+        let chance = samples_agreeing(&other, &wide);
         assert!(
             chance < 0.5,
             "{name}: {:.1}% agree by chance",
@@ -512,7 +501,7 @@ fn smooth_normals_change_enough_samples_to_be_seen() {
             0,
             Variant::Default,
         );
-        let same = fraction_equal(&smooth, &flat);
+        let same = samples_agreeing(&smooth, &flat);
         println!(
             "{rings} x {segments} ball: {:.2}% of samples agree",
             same * 100.0
@@ -547,8 +536,8 @@ fn a_wrong_fresnel_reflectance_is_caught() {
     ] {
         let (_, right) = both_estimates(&scene, 2, &params, 0, Variant::Default);
         let (scalar, wrong) = both_estimates(&scene, 2, &params, 0, Variant::WrongFresnel(scale));
-        let same = fraction_equal(&scalar, &right);
-        let wrong_same = fraction_equal(&scalar, &wrong);
+        let same = samples_agreeing(&scalar, &right);
+        let wrong_same = samples_agreeing(&scalar, &wrong);
         println!(
             "{name}: {:.2}% agree, {:.2}% with the Fresnel reflectance scaled by {scale}",
             same * 100.0,

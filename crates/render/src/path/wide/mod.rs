@@ -70,6 +70,21 @@ use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::packet::RayLaneTriangles;
 use irradia_scatter::{bsdfs::LectureLobe, Bsdf};
 
+/// The agreement the kernel is held to: the fraction of samples (same index in `a` and
+/// `b`, e.g. the scalar estimator's and the kernel's) whose three channels agree to
+/// `1e-4` relative (plus `1e-7` absolute near zero). Samples differ by rounding only, so
+/// this is 1 up to a few tie-breaks; tests/path_wide.rs and the importer's
+/// wide_glass_mirror test use it.
+pub fn samples_agreeing(a: &[Rgb], b: &[Rgb]) -> f64 {
+    let close = |x: f32, y: f32| (x - y).abs() <= 1e-4 * x.abs().max(y.abs()) + 1e-7;
+    let same = a
+        .iter()
+        .zip(b)
+        .filter(|(p, q)| close(p.r, q.r) && close(p.g, q.g) && close(p.b, q.b))
+        .count();
+    same as f64 / a.len().max(1) as f64
+}
+
 /// A material as the per-lane stage reads it.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct WideMaterial {
