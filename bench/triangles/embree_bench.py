@@ -8,8 +8,8 @@ What is measured:
 - primary / incoherent: one `scene.run(origins, directions, output=1)` call on all
   rays of the set (embreex loops over them in C, one rtcIntersect1 per ray) -- the
   numpy arrays are prepared before the clock starts.
-`embree_bench.py DIR load|build` prints the peak memory (KiB) after reading the arrays
-or after building the scene instead.
+`embree_bench.py DIR memory` prints how far the peak resident size rose while building
+the scene, above the loaded arrays (as `triangles_bench memory DIR`).
 Embree's thread count is not exposed by embreex (rtcNewDevice gets no config), so the
 caller pins the process to N cores with `taskset` to give it N threads.
 """
@@ -31,16 +31,23 @@ po, pd = load("primary_org.f32", "<f4"), load("primary_dir.f32", "<f4")
 io, idr = load("incoherent_org.f32", "<f4"), load("incoherent_dir.f32", "<f4")
 one_o, one_d = po[:1].copy(), pd[:1].copy()
 
-if len(sys.argv) > 2:
-    # Peak memory: `load` only reads the arrays, `build` also builds the scene; the
-    # difference of the two processes' peaks is what Embree's structure costs.
-    import resource
-    if sys.argv[2] == "build":
-        scene = rtcs.EmbreeScene()
-        mesh = TriangleMesh(scene, vertices, indices)
-        scene.run(one_o, one_d, output=1)
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    print(json.dumps({"renderer": "embree", "triangles": len(indices), "peak_kib": peak}))
+if len(sys.argv) > 2 and sys.argv[2] == "memory":
+    # Peak memory of the build above the loaded arrays, in one process (as
+    # `triangles_bench memory`): reset the peak resident size (Linux: `5` to
+    # /proc/self/clear_refs), note the resident size, build, report how far the peak rose.
+    def status_kib(field):
+        with open("/proc/self/status") as f:
+            return next(int(l.split()[1]) for l in f if l.startswith(field))
+    with open("/proc/self/clear_refs", "w") as f:
+        f.write("5")
+    base = status_kib("VmRSS:")
+    scene = rtcs.EmbreeScene()
+    mesh = TriangleMesh(scene, vertices, indices)
+    scene.run(one_o, one_d, output=1)
+    peak = status_kib("VmHWM:")
+    print(json.dumps({"renderer": "embree", "triangles": len(indices), "base_kib": base, "peak_kib": peak,
+                      "build_kib": peak - base,
+                      "bytes_per_triangle": round((peak - base) * 1024 / len(indices), 1)}))
     sys.exit(0)
 
 c0 = time.process_time()

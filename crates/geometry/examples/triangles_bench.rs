@@ -213,7 +213,7 @@ fn pair(dir: &Path, rounds: usize, only: Option<&str>) {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let usage = "usage: triangles_bench write DIR [GRID] | triangles_bench run DIR | triangles_bench memory DIR [load|build] | triangles_bench pair DIR [ROUNDS [primary|incoherent]]";
+    let usage = "usage: triangles_bench write DIR [GRID] | triangles_bench run DIR | triangles_bench memory DIR | triangles_bench pair DIR [ROUNDS [primary|incoherent]]";
     if args.len() < 3 {
         eprintln!("{usage}");
         std::process::exit(2);
@@ -252,29 +252,35 @@ fn main() {
             pair(dir, rounds, args.get(4).map(String::as_str));
         }
         "memory" => {
-            // Peak memory: `load` reads the mesh arrays only, `build` also builds the
-            // mesh (its BVH, triangle packets and normals); the difference of the two
-            // processes' peaks is what the acceleration structure costs.
+            // Peak memory of the build above the loaded arrays, in one process: read the
+            // arrays (their parse buffers freed), reset the peak resident size (Linux:
+            // `5` to /proc/self/clear_refs), note the resident size, build the mesh (its
+            // BVH, triangle packets and normals), and report how far the peak rose.
             let positions = vecs(&read_f32(&dir.join("vertices.f32")));
             let indices: Vec<[u32; 3]> = read_u32(&dir.join("indices.u32"))
                 .chunks_exact(3)
                 .map(|c| [c[0], c[1], c[2]])
                 .collect();
             let n = indices.len();
-            if args.get(3).map(String::as_str) != Some("load") {
-                let mesh = TriangleMesh::new(positions, indices, None, None).expect("valid mesh");
-                std::hint::black_box(&mesh);
-            } else {
-                std::hint::black_box((&positions, &indices));
-            }
-            let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-            let hwm = status
-                .lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .and_then(|l| l.split_whitespace().nth(1))
-                .and_then(|k| k.parse::<u64>().ok())
-                .unwrap_or(0);
-            println!("{{\"renderer\": \"irradia\", \"triangles\": {n}, \"peak_kib\": {hwm}}}");
+            let status_kib = |field: &str| {
+                std::fs::read_to_string("/proc/self/status")
+                    .unwrap_or_default()
+                    .lines()
+                    .find(|l| l.starts_with(field))
+                    .and_then(|l| l.split_whitespace().nth(1))
+                    .and_then(|k| k.parse::<u64>().ok())
+                    .unwrap_or(0)
+            };
+            std::fs::write("/proc/self/clear_refs", "5").expect("reset the peak resident size");
+            let base = status_kib("VmRSS:");
+            let mesh = TriangleMesh::new(positions, indices, None, None).expect("valid mesh");
+            std::hint::black_box(&mesh);
+            let peak = status_kib("VmHWM:");
+            println!(
+                "{{\"renderer\": \"irradia\", \"triangles\": {n}, \"base_kib\": {base}, \"peak_kib\": {peak}, \"build_kib\": {}, \"bytes_per_triangle\": {:.1}}}",
+                peak - base,
+                (peak - base) as f64 * 1024.0 / n as f64
+            );
         }
         "run" => {
             let positions = vecs(&read_f32(&dir.join("vertices.f32")));
