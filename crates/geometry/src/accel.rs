@@ -53,6 +53,11 @@ impl Accel {
         &self.instances
     }
 
+    /// How many instances have no finite bounds (every ray tests them).
+    pub fn unbounded_count(&self) -> usize {
+        self.unbounded.len()
+    }
+
     /// The hierarchy over the bounded instances.
     pub fn bvh(&self) -> &Bvh {
         &self.bvh

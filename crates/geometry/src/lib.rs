@@ -6,6 +6,7 @@
 //! it and which CSG leaf, and the scene maps those to materials.
 
 pub mod accel;
+mod accel_stream;
 pub mod bvh;
 pub mod csg;
 pub mod expr;

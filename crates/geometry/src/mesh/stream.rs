@@ -107,15 +107,31 @@ impl TriangleMesh {
         packet: &PacketRay,
         t_max: f32,
     ) -> Option<([LaneHit<'a>; PACKET], u32)> {
+        self.closest_lanes_packet_masked(rays, packet, packet.lanes(), &Lanes8([t_max; PACKET]))
+    }
+
+    /// [`Self::closest_lanes_packet`] for the rays in lanes `active` only, each
+    /// bounded by its own `t_max[k]`: lane `k`'s answer is
+    /// [`TriangleMesh::closest_lane`]`(&rays[k], t_max[k])` bit for bit (other lanes
+    /// are `None`).
+    #[inline]
+    fn closest_lanes_packet_masked<'a>(
+        &'a self,
+        rays: &[Ray],
+        packet: &PacketRay,
+        active: u32,
+        t_max: &Lanes8,
+    ) -> Option<([LaneHit<'a>; PACKET], u32)> {
+        let active = active & packet.lanes();
         let trays: [TriangleRay; PACKET] =
             std::array::from_fn(|k| TriangleRay::new(&rays[k.min(rays.len() - 1)]));
         let mut best: [LaneHit<'a>; PACKET] = [None; PACKET];
         let mut second = [f32::INFINITY; PACKET];
-        let mut bound = Lanes8([t_max; PACKET]);
+        let mut bound = *t_max;
         let loose = 1.0 + LOOSE_ULPS * f32::EPSILON;
         let done = self.bvh.packet_leaves(
             packet,
-            packet.lanes(),
+            active,
             &mut bound,
             |l| self.prefetch_leaf(l),
             |leaf, lanes, bound| {
@@ -143,7 +159,7 @@ impl TriangleMesh {
                                     second[k] = second[k].min(old.t);
                                 }
                                 best[k] = Some((&packets[i / 4], i % 4, h));
-                                bound.0[k] = (h.t * loose).min(t_max);
+                                bound.0[k] = (h.t * loose).min(t_max.0[k]);
                             }
                         }
                     }
@@ -155,15 +171,53 @@ impl TriangleMesh {
         }
         let tie = 1.0 + TIE_ULPS * f32::EPSILON;
         let mut retraced = 0;
-        for k in 0..rays.len() {
+        let mut m = active;
+        while m != 0 {
+            let k = m.trailing_zeros() as usize;
+            m &= m - 1;
             if let Some((_, _, h)) = best[k] {
                 if second[k] <= h.t * tie {
-                    best[k] = self.closest_lane(&rays[k], t_max);
+                    best[k] = self.closest_lane(&rays[k], t_max.0[k]);
                     retraced |= 1 << k;
                 }
             }
         }
         Some((best, retraced))
+    }
+
+    /// Whether [`Self::intersect_cast_lanes`] traces packets for this mesh: its cast
+    /// hits come from the leaf alone (no given normals or uvs).
+    #[inline]
+    pub(crate) fn casts_from_leaves(&self) -> bool {
+        !(self.normals_given || self.uvs.is_some())
+    }
+
+    /// For each lane `k` of `active`: `out[k]` = [`TriangleMesh::intersect_cast_hit`]
+    /// `(&rays[k], t_max[k])`, bit for bit, the lanes traced together as `packet`
+    /// (which must hold `rays`). Returns `false`, having written nothing, where the
+    /// packet traversal is not available (no AVX2, or a mesh whose cast hits need more
+    /// than the leaf: see [`Self::casts_from_leaves`]).
+    pub fn intersect_cast_lanes(
+        &self,
+        rays: &[Ray],
+        packet: &PacketRay,
+        active: u32,
+        t_max: &Lanes8,
+        out: &mut [Option<CastHit>; PACKET],
+    ) -> bool {
+        if !self.casts_from_leaves() || rays.is_empty() {
+            return false;
+        }
+        let Some((hits, _)) = self.closest_lanes_packet_masked(rays, packet, active, t_max) else {
+            return false;
+        };
+        let mut m = active & packet.lanes();
+        while m != 0 {
+            let k = m.trailing_zeros() as usize;
+            m &= m - 1;
+            out[k] = hits[k].map(|(p, lane, h)| Self::cast_hit_of(p, lane, &h));
+        }
+        true
     }
 }
 
