@@ -144,7 +144,8 @@ impl Accel {
                 for slot in leaf.index..leaf.index + leaf.count {
                     let i = order[slot as usize];
                     let mut hits = [None; PACKET];
-                    instances[i as usize].intersect_cast_lanes(rays, packet, lanes, bound, &mut hits);
+                    instances[i as usize]
+                        .intersect_cast_lanes(rays, packet, lanes, bound, &mut hits);
                     let mut m = lanes;
                     while m != 0 {
                         let k = m.trailing_zeros() as usize;

@@ -20,7 +20,9 @@ fn gyroid_parts(n: u32, parts: usize) -> Vec<Arc<dyn Shape>> {
     let (lo, hi) = m
         .positions
         .iter()
-        .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), p| (a.min(p.x), b.max(p.x)));
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.x), b.max(p.x))
+        });
     let mut split = vec![Vec::new(); parts];
     for t in &m.indices {
         let x = m.positions[t[0] as usize].x;
@@ -31,14 +33,19 @@ fn gyroid_parts(n: u32, parts: usize) -> Vec<Arc<dyn Shape>> {
         .into_iter()
         .filter(|ix| !ix.is_empty())
         .map(|ix| {
-            Arc::new(TriangleMesh::new(m.positions.clone(), ix, None, None).unwrap()) as Arc<dyn Shape>
+            Arc::new(TriangleMesh::new(m.positions.clone(), ix, None, None).unwrap())
+                as Arc<dyn Shape>
         })
         .collect()
 }
 
 fn gyroid_with_normals(n: u32) -> Arc<dyn Shape> {
     let m = gyroid_mesh(n);
-    let normals: Vec<Vec3> = m.positions.iter().map(|p| p.normalize_or(Vec3::Z)).collect();
+    let normals: Vec<Vec3> = m
+        .positions
+        .iter()
+        .map(|p| p.normalize_or(Vec3::Z))
+        .collect();
     Arc::new(TriangleMesh::new(m.positions, m.indices, Some(normals), None).unwrap())
 }
 
@@ -63,7 +70,12 @@ fn incoherent(n: usize, seed: u64) -> Vec<Ray> {
     let mut rng = Rng::new(seed, 7);
     let mut u = || 2.0 * rng.next_f32() - 1.0;
     (0..n)
-        .map(|_| Ray::new(Vec3::new(2.0 * u(), 2.0 * u(), 2.0 * u()), Vec3::new(u(), u(), u())))
+        .map(|_| {
+            Ray::new(
+                Vec3::new(2.0 * u(), 2.0 * u(), 2.0 * u()),
+                Vec3::new(u(), u(), u()),
+            )
+        })
         .collect()
 }
 
@@ -111,7 +123,12 @@ fn all_rays() -> Vec<(Vec<Ray>, f32)> {
 
 #[test]
 fn parts_of_one_mesh_answer_as_single_rays() {
-    let accel = Accel::build(gyroid_parts(24, 5).into_iter().map(Instance::untransformed).collect());
+    let accel = Accel::build(
+        gyroid_parts(24, 5)
+            .into_iter()
+            .map(Instance::untransformed)
+            .collect(),
+    );
     assert!(accel.sole_mesh().is_none());
     for (rays, t_max) in all_rays() {
         let (hits, objects) = check(&accel, &rays, t_max);
@@ -141,7 +158,10 @@ fn transformed_and_mixed_objects_answer_as_single_rays() {
         Instance::new(parts[1].clone(), spin),
         Instance::new(parts[0].clone(), mirrored),
         Instance::untransformed(sphere),
-        Instance::new(gyroid_with_normals(12), Affine3A::from_translation(Vec3::new(0.0, 0.0, -1.5))),
+        Instance::new(
+            gyroid_with_normals(12),
+            Affine3A::from_translation(Vec3::new(0.0, 0.0, -1.5)),
+        ),
     ]);
     for (rays, t_max) in all_rays() {
         let (hits, objects) = check(&accel, &rays, t_max);
@@ -165,5 +185,64 @@ fn ties_between_instances_are_settled_as_single_rays() {
     for (rays, t_max) in all_rays() {
         let (hits, _) = check(&accel, &rays, t_max);
         assert!(hits > rays.len() / 10, "{hits} hits");
+    }
+}
+
+/// Eight instances that share one square grid in z = 0, each with one more triangle
+/// somewhere else, so that their boxes differ: every ray through the grid hits all
+/// eight at exactly the same `t`, and which one the single-ray traversal keeps depends
+/// on the order it enters their boxes, which rays of one packet (a common octant,
+/// scattered origins) do not share. The batch must trace those rays alone.
+#[test]
+fn ties_between_instances_entered_in_different_orders() {
+    let n = 8u32;
+    let mut positions = Vec::new();
+    for y in 0..=n {
+        for x in 0..=n {
+            positions.push(Vec3::new(x as f32 / n as f32, y as f32 / n as f32, 0.0));
+        }
+    }
+    let v = |x: u32, y: u32| y * (n + 1) + x;
+    let mut indices = Vec::new();
+    for y in 0..n {
+        for x in 0..n {
+            indices.push([v(x, y), v(x + 1, y), v(x + 1, y + 1)]);
+            indices.push([v(x, y), v(x + 1, y + 1), v(x, y + 1)]);
+        }
+    }
+    let mut rng = Rng::new(3, 9);
+    let mut u = move || rng.next_f32();
+    let instances = (0..8)
+        .map(|_| {
+            let c = Vec3::new(6.0 * u() - 2.5, 6.0 * u() - 2.5, 4.0 * u() - 2.0);
+            let mut p = positions.clone();
+            let base = p.len() as u32;
+            p.extend([
+                c,
+                c + Vec3::new(0.05, 0.0, 0.0),
+                c + Vec3::new(0.0, 0.05, 0.0),
+            ]);
+            let mut ix = indices.clone();
+            ix.push([base, base + 1, base + 2]);
+            Instance::untransformed(Arc::new(TriangleMesh::new(p, ix, None, None).unwrap()))
+        })
+        .collect();
+    let accel = Accel::build(instances);
+    let mut rng = Rng::new(4, 1);
+    let mut u = move || rng.next_f32();
+    let rays: Vec<Ray> = (0..20_000)
+        .map(|_| {
+            let o = Vec3::new(3.0 * u() - 1.0, 3.0 * u() - 1.0, 1.0 + 3.0 * u());
+            let d = -Vec3::new(0.05 + u(), 0.05 + u(), 0.3 + u());
+            Ray::new(o, d)
+        })
+        .collect();
+    for t_max in [f32::INFINITY, 3.0] {
+        let (hits, objects) = check(&accel, &rays, t_max);
+        assert!(hits > 300, "{hits} hits");
+        assert!(
+            objects.len() > 1,
+            "ties settled by more than one instance: {objects:?}"
+        );
     }
 }
