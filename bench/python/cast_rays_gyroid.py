@@ -123,6 +123,7 @@ def main():
         scene = irradia.load(plys[0])
     else:
         scene = irradia.load_dict({
+            "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0]},
             "materials": {"m": {"color": [0.5, 0.5, 0.5]}},
             "objects": [{"type": "mesh", "path": p, "material": "m"} for p in plys],
         })

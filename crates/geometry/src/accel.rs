@@ -23,6 +23,9 @@ pub struct Accel {
     bvh: Bvh,
     /// Instances whose bounds are not finite.
     unbounded: Vec<u32>,
+    /// The instances flattened into one mesh for batches of cast rays, where they can
+    /// be (built on first use: `flat_meshes.rs`).
+    pub(crate) flat: std::sync::OnceLock<Option<crate::flat_meshes::FlatMeshes>>,
 }
 
 impl Default for Accel {
@@ -46,6 +49,7 @@ impl Accel {
             instances,
             bvh,
             unbounded,
+            flat: std::sync::OnceLock::new(),
         }
     }
 

@@ -84,7 +84,8 @@ impl Accel {
     /// `out[i]` = [`Accel::intersect_cast`]`(&rays[i], t_max)` for every ray, bit for
     /// bit, coherent groups of eight consecutive rays traced together (see the module).
     /// A scene of one untransformed mesh ([`Accel::sole_mesh`]) goes straight to that
-    /// mesh's batch query. `out` must be as long as `rays`.
+    /// mesh's batch query, a scene of several untransformed meshes through one mesh of
+    /// all their triangles ([`crate::flat_meshes`]). `out` must be as long as `rays`.
     pub fn intersect_cast_hits(
         &self,
         rays: &[Ray],
@@ -102,6 +103,11 @@ impl Accel {
                 }
             }
             return;
+        }
+        if let Some(flat) = self.flat_meshes() {
+            if self.intersect_cast_flat(flat, rays, t_max, out) {
+                return;
+            }
         }
         let packets = self.unbounded_count() == 0 && t_max > 0.0 && crate::packet::has_avx2();
         for (group, out) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)) {

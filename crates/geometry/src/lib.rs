@@ -10,6 +10,7 @@ mod accel_stream;
 pub mod bvh;
 pub mod csg;
 pub mod expr;
+pub mod flat_meshes;
 pub mod generators;
 pub mod group;
 pub mod instance;

@@ -228,6 +228,19 @@ fn ties_between_instances_entered_in_different_orders() {
         })
         .collect();
     let accel = Accel::build(instances);
+    assert!(accel.casts_flat());
+    let two_levels = Accel::build(
+        accel
+            .instances()
+            .iter()
+            .cloned()
+            .chain([Instance::untransformed(Arc::new(Sphere::new(
+                Vec3::splat(9.0),
+                0.1,
+            )))])
+            .collect(),
+    );
+    assert!(!two_levels.casts_flat());
     let mut rng = Rng::new(4, 1);
     let mut u = move || rng.next_f32();
     let rays: Vec<Ray> = (0..20_000)

@@ -198,7 +198,10 @@ pub fn cast_rays(
 /// top level and then, as one packet, through each mesh instance they reach (carried
 /// into object space where the instance is transformed); a scene of one untransformed
 /// triangle mesh (`Accel::sole_mesh`) skips the top level and goes straight to that
-/// mesh's batch query. The rest go ray by ray (tests/test_cast_rays.py holds the
+/// mesh's batch query, and a scene of several untransformed meshes goes through one
+/// mesh of all their triangles, built on the first call (`Accel::prepare_cast_batches`,
+/// irradia_geometry::flat_meshes; near ties between triangles are traced again
+/// through the two levels). The rest go ray by ray (tests/test_cast_rays.py holds the
 /// batched and single-ray answers equal).
 fn cast(scene: &Scene, rays: Rays<'_>, t_max: f32, out: Out<'_>, packets: bool) -> Option<usize> {
     let accel = &scene.accel;
@@ -209,6 +212,7 @@ fn cast(scene: &Scene, rays: Rays<'_>, t_max: f32, out: Out<'_>, packets: bool) 
             }
         });
     }
+    accel.prepare_cast_batches();
     cast_with(rays, t_max, out, |r, t, hits| {
         accel.intersect_cast_hits(r, t, hits)
     })
@@ -290,6 +294,9 @@ pub fn kernel_seconds(
     py.allow_threads(|| {
         irradia_render::pool::with_threads(threads.map(|t| t.max(1) as usize), || {
             let accel = &scene.accel;
+            if packets {
+                accel.prepare_cast_batches();
+            }
             let start = std::time::Instant::now();
             match accel.sole_mesh() {
                 _ if packets => answer_all(&rays, &mut hits, |r, t, h| {

@@ -122,9 +122,36 @@ impl TriangleMesh {
         active: u32,
         t_max: &Lanes8,
     ) -> Option<([LaneHit<'a>; PACKET], u32)> {
+        let (mut best, ties) = self.nearest_lanes(rays, packet, active, t_max)?;
+        let mut m = ties;
+        while m != 0 {
+            let k = m.trailing_zeros() as usize;
+            m &= m - 1;
+            best[k] = self.closest_lane(&rays[k], t_max.0[k]);
+        }
+        Some((best, ties))
+    }
+
+    /// The packet traversal's nearest hit of each ray in lanes `active` (bounded by
+    /// `t_max[k]`), and the lanes whose nearest hit has another within [`TIE_ULPS`]
+    /// (where the single-ray traversal's visit order decides, so the caller traces
+    /// them again alone); elsewhere the hit is the single-ray one, bit for bit.
+    /// `None` where the packet traversal is not available.
+    #[inline]
+    fn nearest_lanes<'a>(
+        &'a self,
+        rays: &[Ray],
+        packet: &PacketRay,
+        active: u32,
+        t_max: &Lanes8,
+    ) -> Option<([LaneHit<'a>; PACKET], u32)> {
         let active = active & packet.lanes();
-        let trays: [TriangleRay; PACKET] =
-            std::array::from_fn(|k| TriangleRay::new(&rays[k.min(rays.len() - 1)]));
+        // Lanes beyond the rays repeat the first (they are never active).
+        let first = TriangleRay::new(&rays[0]);
+        let mut trays = [first; PACKET];
+        for (t, r) in trays.iter_mut().zip(rays).skip(1) {
+            *t = TriangleRay::new(r);
+        }
         let mut best: [LaneHit<'a>; PACKET] = [None; PACKET];
         let mut second = [f32::INFINITY; PACKET];
         let mut bound = *t_max;
@@ -170,19 +197,40 @@ impl TriangleMesh {
             return None;
         }
         let tie = 1.0 + TIE_ULPS * f32::EPSILON;
-        let mut retraced = 0;
+        let mut ties = 0;
         let mut m = active;
         while m != 0 {
             let k = m.trailing_zeros() as usize;
             m &= m - 1;
             if let Some((_, _, h)) = best[k] {
                 if second[k] <= h.t * tie {
-                    best[k] = self.closest_lane(&rays[k], t_max.0[k]);
-                    retraced |= 1 << k;
+                    ties |= 1 << k;
                 }
             }
         }
-        Some((best, retraced))
+        Some((best, ties))
+    }
+
+    /// [`Self::nearest_lanes`] as cast hits (triangle ids as the mesh numbers them):
+    /// for each lane `k` of `active`, the nearest hit bounded by `t_max[k]`, and the
+    /// lanes with a near tie (their answers are to be traced again by the caller).
+    /// `None` where the packet traversal is not available or the mesh's cast hits need
+    /// more than the leaf.
+    pub(crate) fn nearest_cast_lanes(
+        &self,
+        rays: &[Ray],
+        packet: &PacketRay,
+        active: u32,
+        t_max: &Lanes8,
+    ) -> Option<([Option<CastHit>; PACKET], u32)> {
+        if !self.casts_from_leaves() || rays.is_empty() {
+            return None;
+        }
+        let (hits, ties) = self.nearest_lanes(rays, packet, active, t_max)?;
+        Some((
+            hits.map(|h| h.map(|(p, lane, h)| Self::cast_hit_of(p, lane, &h))),
+            ties,
+        ))
     }
 
     /// Whether [`Self::intersect_cast_lanes`] traces packets for this mesh: its cast
