@@ -23,6 +23,9 @@ pub struct Accel {
     bvh: Bvh,
     /// Instances whose bounds are not finite.
     unbounded: Vec<u32>,
+    /// The instances flattened into one mesh for batches of cast rays, where they can
+    /// be (built on first use: `flat_meshes.rs`).
+    pub(crate) flat: std::sync::OnceLock<Option<crate::flat_meshes::FlatMeshes>>,
 }
 
 impl Default for Accel {
@@ -46,11 +49,17 @@ impl Accel {
             instances,
             bvh,
             unbounded,
+            flat: std::sync::OnceLock::new(),
         }
     }
 
     pub fn instances(&self) -> &[Instance] {
         &self.instances
+    }
+
+    /// How many instances have no finite bounds (every ray tests them).
+    pub fn unbounded_count(&self) -> usize {
+        self.unbounded.len()
     }
 
     /// The hierarchy over the bounded instances.

@@ -70,7 +70,7 @@ impl Instance {
     }
 
     #[inline]
-    fn object_ray(&self, ray: &Ray) -> Ray {
+    pub(crate) fn object_ray(&self, ray: &Ray) -> Ray {
         Ray::new(
             self.to_object.transform_point3(ray.origin),
             self.to_object.transform_vector3(ray.dir),
@@ -136,12 +136,14 @@ impl Instance {
             return self.shape.intersect_cast(ray, t_max);
         }
         let mut h = self.shape.intersect_cast(&self.object_ray(ray), t_max)?;
-        h.normal = self
-            .normal_to_world
-            .mul_vec3a(h.normal.into())
-            .normalize()
-            .into();
+        h.normal = self.cast_normal_to_world(h.normal);
         Some(h)
+    }
+
+    /// An object-space normal of a cast hit carried to world space (unit length).
+    #[inline]
+    pub(crate) fn cast_normal_to_world(&self, n: Vec3) -> Vec3 {
+        self.normal_to_world.mul_vec3a(n.into()).normalize().into()
     }
 
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

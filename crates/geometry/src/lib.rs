@@ -6,9 +6,11 @@
 //! it and which CSG leaf, and the scene maps those to materials.
 
 pub mod accel;
+mod accel_stream;
 pub mod bvh;
 pub mod csg;
 pub mod expr;
+pub mod flat_meshes;
 pub mod generators;
 pub mod group;
 pub mod instance;

@@ -9,10 +9,10 @@
 //! Nothing is staged between numpy and the kernel: C-contiguous float32 rays are read
 //! in place (any other layout is copied once), the five result arrays are allocated
 //! once with their final shapes, and every chunk of rays, with the GIL released, asks
-//! the scene's hierarchy for only the four values returned (`Accel::intersect_cast`
-//! ray by ray; when the scene is one untransformed mesh, `Accel::sole_mesh`, that
-//! mesh's batch query, which traces coherent groups of eight rays as packets) and
-//! writes them straight into its slices of those arrays.
+//! the scene's batch query (`Accel::intersect_cast_hits`: coherent groups of eight rays
+//! traced as packets through the top level and each mesh, the rest ray by ray; a scene
+//! of one untransformed mesh straight through that mesh) for only the four values
+//! returned, and writes them straight into its slices of those arrays.
 
 use crate::convert::values;
 use crate::errors;
@@ -83,6 +83,9 @@ struct Out<'a> {
 }
 
 /// Casts `rays` (see the module); `t_max` ends every ray (default: unbounded).
+/// `packets: false` traces every ray alone (`Accel::intersect_cast`), the reference
+/// for the batched path.
+#[allow(clippy::too_many_arguments)]
 pub fn cast_rays(
     py: Python<'_>,
     scene: &Scene,
@@ -90,6 +93,7 @@ pub fn cast_rays(
     directions: Option<PyReadonlyArrayDyn<'_, f32>>,
     t_max: Option<f32>,
     threads: Option<u32>,
+    packets: bool,
 ) -> PyResult<PyObject> {
     let shape = rays.shape().to_vec();
     let last = shape.last().copied().unwrap_or(0);
@@ -164,7 +168,7 @@ pub fn cast_rays(
         let bad = py
             .allow_threads(|| {
                 irradia_render::pool::with_threads(threads.map(|t| t.max(1) as usize), || {
-                    cast(scene, input, t_max, out)
+                    cast(scene, input, t_max, out, packets)
                 })
             })
             .map_err(errors::render)?;
@@ -184,45 +188,34 @@ pub fn cast_rays(
 /// The closest hit of every ray into `out`, in parallel chunks of rays; the first ray
 /// that is not finite, if any (then `out` is partly written).
 ///
-/// Each ray goes through the scene's two-level hierarchy (`Accel::intersect_cast`:
-/// the same hits as the renderer's `RayQuery::closest_hit` over all objects), asking
-/// only for what is returned: a triangle mesh answers from the leaf it hit (its
-/// packet holds the triangle id and corners), so no mesh index, vertex or vertex
-/// normal is looked up, as in the kernel of bench/triangles. A scene of one
-/// untransformed triangle mesh (`Accel::sole_mesh`) skips the top level and the
-/// dynamic call: each chunk goes straight to that mesh's batch query
-/// (`TriangleMesh::intersect_cast_hits`), which traces groups of eight consecutive
-/// rays that share a direction octant as packets and the rest one by one, with the
-/// answers of the single-ray routine the general path ends in, bit for bit
-/// (tests/test_cast_rays.py holds the two paths equal).
-fn cast(scene: &Scene, rays: Rays<'_>, t_max: f32, out: Out<'_>) -> Option<usize> {
+/// Each chunk goes to the scene's batch query (`Accel::intersect_cast_hits`), which
+/// answers every ray as the two-level hierarchy's single-ray `Accel::intersect_cast`
+/// does, bit for bit (the same hits as the renderer's `RayQuery::closest_hit` over all
+/// objects), asking only for what is returned: a triangle mesh answers from the leaf
+/// it hit (its packet holds the triangle id and corners), so no mesh index, vertex or
+/// vertex normal is looked up, as in the kernel of bench/triangles. Groups of eight
+/// consecutive rays that share a direction octant are traced together: through the
+/// top level and then, as one packet, through each mesh instance they reach (carried
+/// into object space where the instance is transformed); a scene of one untransformed
+/// triangle mesh (`Accel::sole_mesh`) skips the top level and goes straight to that
+/// mesh's batch query, and a scene of several untransformed meshes goes through one
+/// mesh of all their triangles, built on the first call (`Accel::prepare_cast_batches`,
+/// irradia_geometry::flat_meshes; near ties between triangles are traced again
+/// through the two levels). The rest go ray by ray (tests/test_cast_rays.py holds the
+/// batched and single-ray answers equal).
+fn cast(scene: &Scene, rays: Rays<'_>, t_max: f32, out: Out<'_>, packets: bool) -> Option<usize> {
     let accel = &scene.accel;
-    match accel.sole_mesh() {
-        Some(mesh) => cast_with(rays, t_max, out, |r, t, hits| {
-            sole_mesh_chunk(mesh, r, t, hits)
-        }),
-        None => cast_with(rays, t_max, out, |r, t, hits| {
+    if !packets {
+        return cast_with(rays, t_max, out, |r, t, hits| {
             for (h, r) in hits.iter_mut().zip(r) {
                 *h = accel.intersect_cast(r, t);
             }
-        }),
+        });
     }
-}
-
-/// A chunk of rays against the sole mesh, in one batch query (packets where coherent).
-#[inline]
-fn sole_mesh_chunk(
-    mesh: &irradia_geometry::TriangleMesh,
-    rays: &[Ray],
-    t_max: f32,
-    hits: &mut [Option<(u32, CastHit)>],
-) {
-    let mut mesh_hits = [None; CHUNK];
-    let mesh_hits = &mut mesh_hits[..rays.len()];
-    mesh.intersect_cast_hits(rays, t_max, mesh_hits);
-    for (h, m) in hits.iter_mut().zip(mesh_hits.iter()) {
-        *h = m.map(|m| (0, m));
-    }
+    accel.prepare_cast_batches();
+    cast_with(rays, t_max, out, |r, t, hits| {
+        accel.intersect_cast_hits(r, t, hits)
+    })
 }
 
 /// [`cast`] with the query `hits(rays, t_max, answers)` answering a chunk of rays (the
@@ -275,9 +268,9 @@ where
 /// rays are read and the answers' buffer allocated before the clock starts, then the
 /// same queries (the sole mesh's or the scene's, as [`cast`] picks) run in the same
 /// chunks on the same threads as `cast_rays`, the answers left as the kernel gives
-/// them. `packets: false` asks the sole mesh ray by ray instead
-/// (`TriangleMesh::intersect_cast_hit`, the path before packet traversal), for paired
-/// comparisons of the two in one process.
+/// them. `packets: false` asks ray by ray instead (the sole mesh's
+/// `TriangleMesh::intersect_cast_hit`, or the scene's `Accel::intersect_cast`: the paths
+/// before packet traversal), for paired comparisons of the two in one process.
 pub fn kernel_seconds(
     py: Python<'_>,
     scene: &Scene,
@@ -301,11 +294,14 @@ pub fn kernel_seconds(
     py.allow_threads(|| {
         irradia_render::pool::with_threads(threads.map(|t| t.max(1) as usize), || {
             let accel = &scene.accel;
+            if packets {
+                accel.prepare_cast_batches();
+            }
             let start = std::time::Instant::now();
             match accel.sole_mesh() {
-                Some(mesh) if packets => {
-                    answer_all(&rays, &mut hits, |r, t, h| sole_mesh_chunk(mesh, r, t, h))
-                }
+                _ if packets => answer_all(&rays, &mut hits, |r, t, h| {
+                    accel.intersect_cast_hits(r, t, h)
+                }),
                 Some(mesh) => answer_all(&rays, &mut hits, |r, t, h| {
                     for (h, r) in h.iter_mut().zip(r) {
                         *h = mesh.intersect_cast_hit(r, t).map(|h| (0, h));

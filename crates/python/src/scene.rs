@@ -584,13 +584,27 @@ impl PyScene {
         t_max: Option<f32>,
         threads: Option<u32>,
     ) -> PyResult<PyObject> {
-        crate::raycast::cast_rays(py, &self.scene, rays, directions, t_max, threads)
+        crate::raycast::cast_rays(py, &self.scene, rays, directions, t_max, threads, true)
+    }
+
+    /// `cast_rays` with every ray traced alone through the scene's hierarchy
+    /// (`Accel::intersect_cast`, no packets): the reference the batched path must
+    /// equal bit for bit (tests/test_cast_rays.py).
+    #[pyo3(signature = (rays, *, t_max=None, threads=None))]
+    fn _cast_rays_single(
+        &self,
+        py: Python<'_>,
+        rays: PyReadonlyArrayDyn<'_, f32>,
+        t_max: Option<f32>,
+        threads: Option<u32>,
+    ) -> PyResult<PyObject> {
+        crate::raycast::cast_rays(py, &self.scene, rays, None, t_max, threads, false)
     }
 
     /// Seconds the ray kernel alone takes on `rays` (..., 6) (no numpy in or out):
     /// the benchmark's reference for what `cast_rays` adds (bench/python).
-    /// `packets=False` traces a sole mesh's rays one by one (the path before packet
-    /// traversal), for paired timings.
+    /// `packets=False` traces every ray alone (the path before packet traversal), for
+    /// paired timings.
     #[pyo3(signature = (rays, *, threads=None, packets=true))]
     fn _cast_rays_kernel_seconds(
         &self,

@@ -107,15 +107,58 @@ impl TriangleMesh {
         packet: &PacketRay,
         t_max: f32,
     ) -> Option<([LaneHit<'a>; PACKET], u32)> {
-        let trays: [TriangleRay; PACKET] =
-            std::array::from_fn(|k| TriangleRay::new(&rays[k.min(rays.len() - 1)]));
+        self.closest_lanes_packet_masked(rays, packet, packet.lanes(), &Lanes8([t_max; PACKET]))
+    }
+
+    /// [`Self::closest_lanes_packet`] for the rays in lanes `active` only, each
+    /// bounded by its own `t_max[k]`: lane `k`'s answer is
+    /// [`TriangleMesh::closest_lane`]`(&rays[k], t_max[k])` bit for bit (other lanes
+    /// are `None`).
+    #[inline]
+    fn closest_lanes_packet_masked<'a>(
+        &'a self,
+        rays: &[Ray],
+        packet: &PacketRay,
+        active: u32,
+        t_max: &Lanes8,
+    ) -> Option<([LaneHit<'a>; PACKET], u32)> {
+        let (mut best, ties) = self.nearest_lanes(rays, packet, active, t_max)?;
+        let mut m = ties;
+        while m != 0 {
+            let k = m.trailing_zeros() as usize;
+            m &= m - 1;
+            best[k] = self.closest_lane(&rays[k], t_max.0[k]);
+        }
+        Some((best, ties))
+    }
+
+    /// The packet traversal's nearest hit of each ray in lanes `active` (bounded by
+    /// `t_max[k]`), and the lanes whose nearest hit has another within [`TIE_ULPS`]
+    /// (where the single-ray traversal's visit order decides, so the caller traces
+    /// them again alone); elsewhere the hit is the single-ray one, bit for bit.
+    /// `None` where the packet traversal is not available.
+    #[inline]
+    fn nearest_lanes<'a>(
+        &'a self,
+        rays: &[Ray],
+        packet: &PacketRay,
+        active: u32,
+        t_max: &Lanes8,
+    ) -> Option<([LaneHit<'a>; PACKET], u32)> {
+        let active = active & packet.lanes();
+        // Lanes beyond the rays repeat the first (they are never active).
+        let first = TriangleRay::new(&rays[0]);
+        let mut trays = [first; PACKET];
+        for (t, r) in trays.iter_mut().zip(rays).skip(1) {
+            *t = TriangleRay::new(r);
+        }
         let mut best: [LaneHit<'a>; PACKET] = [None; PACKET];
         let mut second = [f32::INFINITY; PACKET];
-        let mut bound = Lanes8([t_max; PACKET]);
+        let mut bound = *t_max;
         let loose = 1.0 + LOOSE_ULPS * f32::EPSILON;
         let done = self.bvh.packet_leaves(
             packet,
-            packet.lanes(),
+            active,
             &mut bound,
             |l| self.prefetch_leaf(l),
             |leaf, lanes, bound| {
@@ -143,7 +186,7 @@ impl TriangleMesh {
                                     second[k] = second[k].min(old.t);
                                 }
                                 best[k] = Some((&packets[i / 4], i % 4, h));
-                                bound.0[k] = (h.t * loose).min(t_max);
+                                bound.0[k] = (h.t * loose).min(t_max.0[k]);
                             }
                         }
                     }
@@ -154,16 +197,75 @@ impl TriangleMesh {
             return None;
         }
         let tie = 1.0 + TIE_ULPS * f32::EPSILON;
-        let mut retraced = 0;
-        for k in 0..rays.len() {
+        let mut ties = 0;
+        let mut m = active;
+        while m != 0 {
+            let k = m.trailing_zeros() as usize;
+            m &= m - 1;
             if let Some((_, _, h)) = best[k] {
                 if second[k] <= h.t * tie {
-                    best[k] = self.closest_lane(&rays[k], t_max);
-                    retraced |= 1 << k;
+                    ties |= 1 << k;
                 }
             }
         }
-        Some((best, retraced))
+        Some((best, ties))
+    }
+
+    /// [`Self::nearest_lanes`] as cast hits (triangle ids as the mesh numbers them):
+    /// for each lane `k` of `active`, the nearest hit bounded by `t_max[k]`, and the
+    /// lanes with a near tie (their answers are to be traced again by the caller).
+    /// `None` where the packet traversal is not available or the mesh's cast hits need
+    /// more than the leaf.
+    pub(crate) fn nearest_cast_lanes(
+        &self,
+        rays: &[Ray],
+        packet: &PacketRay,
+        active: u32,
+        t_max: &Lanes8,
+    ) -> Option<([Option<CastHit>; PACKET], u32)> {
+        if !self.casts_from_leaves() || rays.is_empty() {
+            return None;
+        }
+        let (hits, ties) = self.nearest_lanes(rays, packet, active, t_max)?;
+        Some((
+            hits.map(|h| h.map(|(p, lane, h)| Self::cast_hit_of(p, lane, &h))),
+            ties,
+        ))
+    }
+
+    /// Whether [`Self::intersect_cast_lanes`] traces packets for this mesh: its cast
+    /// hits come from the leaf alone (no given normals or uvs).
+    #[inline]
+    pub(crate) fn casts_from_leaves(&self) -> bool {
+        !(self.normals_given || self.uvs.is_some())
+    }
+
+    /// For each lane `k` of `active`: `out[k]` = [`TriangleMesh::intersect_cast_hit`]
+    /// `(&rays[k], t_max[k])`, bit for bit, the lanes traced together as `packet`
+    /// (which must hold `rays`). Returns `false`, having written nothing, where the
+    /// packet traversal is not available (no AVX2, or a mesh whose cast hits need more
+    /// than the leaf: see [`Self::casts_from_leaves`]).
+    pub fn intersect_cast_lanes(
+        &self,
+        rays: &[Ray],
+        packet: &PacketRay,
+        active: u32,
+        t_max: &Lanes8,
+        out: &mut [Option<CastHit>; PACKET],
+    ) -> bool {
+        if !self.casts_from_leaves() || rays.is_empty() {
+            return false;
+        }
+        let Some((hits, _)) = self.closest_lanes_packet_masked(rays, packet, active, t_max) else {
+            return false;
+        };
+        let mut m = active & packet.lanes();
+        while m != 0 {
+            let k = m.trailing_zeros() as usize;
+            m &= m - 1;
+            out[k] = hits[k].map(|(p, lane, h)| Self::cast_hit_of(p, lane, &h));
+        }
+        true
     }
 }
 
