@@ -13,6 +13,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::binning::BATCH;
+use crate::prefetch;
 use crate::tiny::{self, Fragment, FRAGMENT_BIT};
 
 /// A configured geometry unit for one frame.
@@ -348,6 +349,13 @@ impl<'a> GeometryStage<'a> {
                     let c = g * group + c;
                     let mut out = self.new_batch(chunk.len());
                     for (k, idx) in chunk.iter().enumerate() {
+                        if let Some(ahead) = chunk.get(k + prefetch::VERTEX_AHEAD) {
+                            for &i in ahead {
+                                if let Some(r) = verts.get(i as usize) {
+                                    prefetch::record(r);
+                                }
+                            }
+                        }
                         let v = idx.map(|i| &verts[i as usize]);
                         let t = c * BATCH + k;
                         self.assemble(v, (mesh.id(t), mesh.material(t)), &mut out);
