@@ -130,7 +130,12 @@ impl<'a> GeometryStage<'a> {
         let screen = if code == 0 {
             self.project(&clip)
         } else {
-            ScreenVertex::default()
+            // Not projected (it needs clipping), but the attributes are kept: the
+            // clipper interpolates them onto the polygon's new vertices.
+            ScreenVertex {
+                var: clip.var,
+                ..ScreenVertex::default()
+            }
         };
         Prepared {
             pos: clip.pos,
