@@ -208,10 +208,12 @@ fn time(path: &str, frames: usize, threads: usize, png: Option<&str>) {
         .expect("thread pool");
     let mut fb = Framebuffer::new(w.width, w.height, ColorFormat::Rgba8).expect("framebuffer");
     let mut times = Vec::new();
+    let mut cpu = Vec::new();
     pool.install(|| {
         // One untimed warm-up frame (first-touch page faults), then `frames` timed.
         for frame in 0..=frames {
             let t0 = Instant::now();
+            let c0 = process_cpu_s();
             fb.clear([0.0, 0.0, 0.0, 1.0]);
             if std::env::var_os("RASTER_BENCH_SPLIT").is_some() {
                 let tris = p.transform_mesh(&w.mesh).expect("mesh");
@@ -227,6 +229,7 @@ fn time(path: &str, frames: usize, threads: usize, png: Option<&str>) {
             }
             if frame > 0 {
                 times.push(t0.elapsed().as_secs_f64());
+                cpu.push(process_cpu_s() - c0);
             }
         }
     });
@@ -266,12 +269,35 @@ fn time(path: &str, frames: usize, threads: usize, png: Option<&str>) {
     }
     let mut sorted = times.clone();
     sorted.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    cpu.sort_by(|a, b| a.partial_cmp(b).unwrap());
     println!(
-        "{{\"renderer\":\"irradia\",\"threads\":{threads},\"frames\":{frames},\"median_s\":{:.5},\"min_s\":{:.5},\"times\":{:?}}}",
+        "{{\"renderer\":\"irradia\",\"threads\":{threads},\"frames\":{frames},\"median_s\":{:.5},\"min_s\":{:.5},\"cpu_median_s\":{:.5},\"times\":{:?}}}",
         sorted[sorted.len() / 2],
         sorted[0],
+        cpu[cpu.len() / 2],
         times
     );
+}
+
+/// The CPU time of the whole process so far (all threads), in seconds: per-frame CPU
+/// time is steadier than wall time on a machine shared with other work (it includes
+/// the pool's threads spinning while they wait for work).
+fn process_cpu_s() -> f64 {
+    #[repr(C)]
+    struct Timespec {
+        sec: i64,
+        nsec: i64,
+    }
+    extern "C" {
+        fn clock_gettime(clock: i32, t: *mut Timespec) -> i32;
+    }
+    const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
+    let mut t = Timespec { sec: 0, nsec: 0 };
+    // SAFETY: `t` is a valid timespec for the C library to fill.
+    if unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut t) } != 0 {
+        return f64::NAN;
+    }
+    t.sec as f64 + t.nsec as f64 * 1e-9
 }
 
 fn main() {

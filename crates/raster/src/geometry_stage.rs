@@ -13,6 +13,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::binning::BATCH;
+use crate::prefetch;
 use crate::tiny::{self, Fragment, FRAGMENT_BIT};
 
 /// A configured geometry unit for one frame.
@@ -83,7 +84,7 @@ impl<'a> GeometryStage<'a> {
     /// Transforms and lights one vertex (Gouraud: with material `material`).
     #[inline(always)]
     fn vertex(&self, p: Vec3, n: Vec3, color: [f32; 4], uv: Vec2, material: u32) -> ClipVertex {
-        let pos = self.view_proj * p.extend(1.0);
+        let pos = self.clip_position(p);
         let mut var = [0.0; VARYINGS];
         match self.shading {
             Shading::Unlit => var[..4].copy_from_slice(&color),
@@ -109,6 +110,13 @@ impl<'a> GeometryStage<'a> {
         ClipVertex { pos, var }
     }
 
+    /// The clip-space position of object-space point `p` (the one function that makes
+    /// it, so that clipping recomputes exactly what [`Self::vertex`] computed).
+    #[inline(always)]
+    fn clip_position(&self, p: Vec3) -> Vec4 {
+        self.view_proj * p.extend(1.0)
+    }
+
     /// Perspective divide and viewport: NDC x, y in [-1, 1] to pixels, y down.
     #[inline(always)]
     fn project(&self, c: &ClipVertex) -> ScreenVertex {
@@ -129,13 +137,18 @@ impl<'a> GeometryStage<'a> {
         let screen = if code == 0 {
             self.project(&clip)
         } else {
-            ScreenVertex::default()
+            // Not projected (it needs clipping): the clip position in place of the
+            // screen one, and the attributes, which the clipper interpolates onto the
+            // polygon's new vertices.
+            ScreenVertex {
+                x: clip.pos.x,
+                y: clip.pos.y,
+                z: clip.pos.z,
+                inv_w: clip.pos.w,
+                var: clip.var,
+            }
         };
-        Prepared {
-            pos: clip.pos,
-            screen,
-            code,
-        }
+        Prepared { screen, code }
     }
 
     #[inline(always)]
@@ -177,9 +190,18 @@ impl<'a> GeometryStage<'a> {
     }
 
     /// Clips, projects and culls one triangle, appending what is left (one triangle, or
-    /// a fan when clipping cut it into a polygon).
+    /// a fan when clipping cut it into a polygon). `position(j)` is the object-space
+    /// position of vertex `j`, asked for only when the triangle needs clipping (the
+    /// clip position of a vertex inside every plane is not kept: recomputing it for the
+    /// rare clipped triangle is cheaper than storing it for every vertex).
     #[inline(always)]
-    fn assemble(&self, t: [&Prepared; 3], id: (u32, u32), out: &mut Batch) {
+    fn assemble(
+        &self,
+        t: [&Prepared; 3],
+        position: impl Fn(usize) -> Vec3,
+        id: (u32, u32),
+        out: &mut Batch,
+    ) {
         let codes = [t[0].code, t[1].code, t[2].code];
         if codes[0] & codes[1] & codes[2] != 0 {
             return; // all outside one plane
@@ -189,9 +211,16 @@ impl<'a> GeometryStage<'a> {
             self.emit(&t[0].screen, &t[1].screen, &t[2].screen, id, out);
             return;
         }
-        let c = t.map(|p| ClipVertex {
-            pos: p.pos,
-            var: p.screen.var,
+        let c: [ClipVertex; 3] = std::array::from_fn(|j| {
+            let s = &t[j].screen;
+            ClipVertex {
+                pos: if t[j].code == 0 {
+                    self.clip_position(position(j))
+                } else {
+                    Vec4::new(s.x, s.y, s.z, s.inv_w)
+                },
+                var: s.var,
+            }
         });
         let poly = self.planes.clip([&c[0], &c[1], &c[2]], any);
         for i in 1..poly.len.saturating_sub(1) {
@@ -239,7 +268,13 @@ impl<'a> GeometryStage<'a> {
                     let v = t.v.map(|v| {
                         self.prepare(self.vertex(v.position, v.normal, v.color, v.uv, t.material))
                     });
-                    self.assemble([&v[0], &v[1], &v[2]], (t.id, t.material), &mut out);
+                    let position = |j: usize| t.v[j].position;
+                    self.assemble(
+                        [&v[0], &v[1], &v[2]],
+                        position,
+                        (t.id, t.material),
+                        &mut out,
+                    );
                 }
                 out
             })
@@ -317,7 +352,7 @@ impl<'a> GeometryStage<'a> {
                                 self.prepare(self.vertex(p[j], n, color(i), uv(i), material))
                             });
                             let id = (mesh.id(t), material);
-                            self.assemble([&v[0], &v[1], &v[2]], id, &mut out);
+                            self.assemble([&v[0], &v[1], &v[2]], |j| p[j], id, &mut out);
                         }
                         out
                     })
@@ -348,9 +383,17 @@ impl<'a> GeometryStage<'a> {
                     let c = g * group + c;
                     let mut out = self.new_batch(chunk.len());
                     for (k, idx) in chunk.iter().enumerate() {
+                        if let Some(ahead) = chunk.get(k + prefetch::VERTEX_AHEAD) {
+                            for &i in ahead {
+                                if let Some(r) = verts.get(i as usize) {
+                                    prefetch::record(r);
+                                }
+                            }
+                        }
                         let v = idx.map(|i| &verts[i as usize]);
                         let t = c * BATCH + k;
-                        self.assemble(v, (mesh.id(t), mesh.material(t)), &mut out);
+                        let position = |j: usize| mesh.positions[idx[j] as usize];
+                        self.assemble(v, position, (mesh.id(t), mesh.material(t)), &mut out);
                     }
                     out
                 })
@@ -365,11 +408,13 @@ impl<'a> GeometryStage<'a> {
     }
 }
 
-/// A transformed vertex: clip position, outcode, and (when inside every plane) its
-/// screen position; `screen.var` always holds the attributes.
+/// A transformed vertex: its outcode and, when inside every plane, its screen vertex;
+/// otherwise `screen` holds the clip position (x, y, z, w in `x`, `y`, `z`, `inv_w`).
+/// `screen.var` always holds the attributes. 52 bytes instead of the 80 with a separate
+/// clip position: the per-vertex pass of a large mesh writes these records and the
+/// triangle pass reads them back through memory.
 #[derive(Clone, Copy, Debug)]
 struct Prepared {
-    pos: Vec4,
     screen: ScreenVertex,
     code: u8,
 }

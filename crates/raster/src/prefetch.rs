@@ -10,8 +10,9 @@
 //! Mowry, Lam and Gupta, "Design and Evaluation of a Compiler Algorithm for
 //! Prefetching", ASPLOS 1992): [`FAR`] entries ahead it asks for the triangle's record,
 //! [`NEAR`] entries ahead — the record has arrived by then — for the depth and colour
-//! lines of the pixels its bounding box covers. Prefetches are hints: they change no
-//! result.
+//! lines of the pixels its bounding box covers. The geometry stage asks for the vertex
+//! records of an indexed mesh [`VERTEX_AHEAD`] triangles ahead. Prefetches are hints:
+//! they change no result.
 
 use crate::screen::ScreenTriangle;
 use crate::tiny::Fragment;
@@ -43,6 +44,20 @@ pub(crate) fn triangle(t: &ScreenTriangle) {
     line(p);
     line(p.wrapping_add(64));
     line(p.wrapping_add(128));
+}
+
+/// Triangles ahead in an indexed mesh whose three vertex records are prefetched
+/// ([`record`]): the geometry stage reads the records of the mesh's shared vertices
+/// (tens of megabytes for a large mesh, written by the vertex pass before) in index
+/// order, which wanders too far for the hardware prefetcher.
+pub(crate) const VERTEX_AHEAD: usize = 12;
+
+/// Asks for the cache lines of the record `r` (its first and its last byte).
+#[inline(always)]
+pub(crate) fn record<T>(r: &T) {
+    let p = r as *const T as *const u8;
+    line(p);
+    line(p.wrapping_add(std::mem::size_of::<T>() - 1));
 }
 
 /// Asks for the cache line of `f`.

@@ -220,6 +220,8 @@ pub struct Setup<'a> {
     /// The fill-rule bias subtracted from `c[k]` (0 or 1); added back wherever the edge
     /// values are used as weights, so the depth plane and the barycentrics are exact.
     pub(crate) bias: [i64; 3],
+    /// Twice the area in fixed point (positive: the vertices are in scan order).
+    pub(crate) area: i64,
     pub(crate) inv_area: f32,
     /// Depth plane z = zc + zx x + zy y at pixel centres (pixel units, f64 so the plane
     /// is exact enough for thin slivers).
@@ -250,7 +252,16 @@ impl<'a> Setup<'a> {
     /// [`Setup::new`] from the triangle's vertices `v`, their snapped positions `p` and
     /// twice-area `area` (non-zero), as [`candidate_of`] found them.
     #[inline(always)]
-    pub(crate) fn with_snapped(
+    pub(crate) fn with_snapped(v: [&'a ScreenVertex; 3], p: [(i64, i64); 3], area: i64) -> Self {
+        Self::edges(v, p, area).with_plane()
+    }
+
+    /// The integer part of [`Setup::with_snapped`]: vertex order, edge functions, bias
+    /// and bounds, enough for [`Setup::scan`]; the depth plane and `inv_area` are zero
+    /// until [`Setup::with_plane`] computes them (the tiny-triangle path skips them
+    /// for the triangles that cover no pixel centre).
+    #[inline(always)]
+    pub(crate) fn edges(
         mut v: [&'a ScreenVertex; 3],
         mut p: [(i64, i64); 3],
         mut area: i64,
@@ -284,7 +295,30 @@ impl<'a> Setup<'a> {
             }
         }
         let (x0, x1, y0, y1) = pixel_bounds(&p);
-        let inv = 1.0 / area as f64;
+        Self {
+            v,
+            a,
+            b,
+            c,
+            bias,
+            swapped,
+            area,
+            inv_area: 0.0,
+            zc: 0.0,
+            zx: 0.0,
+            zy: 0.0,
+            x0,
+            x1,
+            y0,
+            y1,
+        }
+    }
+
+    /// Completes a set-up made by [`Setup::edges`]: `inv_area` and the depth plane.
+    #[inline(always)]
+    pub(crate) fn with_plane(mut self) -> Self {
+        let (a, b, c, bias, v) = (self.a, self.b, self.c, self.bias, self.v);
+        let inv = 1.0 / self.area as f64;
         let z = [v[0].z as f64, v[1].z as f64, v[2].z as f64];
         let mut zc = 0.0;
         let mut zx = 0.0;
@@ -294,22 +328,11 @@ impl<'a> Setup<'a> {
             zy += (b[k] * ONE) as f64 * z[k];
             zc += (a[k] * HALF + b[k] * HALF + c[k] + bias[k]) as f64 * z[k];
         }
-        Self {
-            v,
-            a,
-            b,
-            c,
-            bias,
-            swapped,
-            inv_area: inv as f32,
-            zc: zc * inv,
-            zx: zx * inv,
-            zy: zy * inv,
-            x0,
-            x1,
-            y0,
-            y1,
-        }
+        self.inv_area = inv as f32;
+        self.zc = zc * inv;
+        self.zx = zx * inv;
+        self.zy = zy * inv;
+        self
     }
 
     /// Screen-space barycentric weights of `self.v` from the edge values of a fragment.

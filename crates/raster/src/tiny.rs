@@ -49,15 +49,33 @@ pub(crate) struct Fragment {
 #[inline(always)]
 pub(crate) fn fragments(v: [&ScreenVertex; 3], k: &Candidate, mut f: impl FnMut(Fragment)) {
     let (x0, x1, y0, y1) = k.bounds;
-    let s = Setup::with_snapped(v, k.p, k.area);
+    // The edges first: about a third of these triangles cover no centre (the gyroid's
+    // sub-pixel ones), and need neither the f64 depth plane nor its division.
+    let s = Setup::edges(v, k.p, k.area);
     let clip = Rect::new(x0 as u32, y0 as u32, x1 as u32 + 1, y1 as u32 + 1);
-    // As `fragment::draw` with `InterpolatedColor` and `ColorTarget for [[u8; 4]]`.
+    debug_assert!(k.centres() <= MAX_CENTRES);
+    let mut hits = [(0u32, 0u32, [0i64; 3]); MAX_CENTRES as usize];
+    let mut n = 0;
     s.scan(&clip, |x, y, e| {
-        let z = s.depth_in_row(s.depth_row(y), x);
+        hits[n] = (x, y, *e);
+        n += 1;
+    });
+    if n == 0 {
+        return;
+    }
+    let s = s.with_plane();
+    // As `fragment::draw` with `InterpolatedColor` and `ColorTarget for [[u8; 4]]`.
+    for (x, y, e) in &hits[..n] {
+        let z = s.depth_in_row(s.depth_row(*y), *x);
         let w = perspective_weights(&s.v, s.lambda(e));
         let rgba = to_rgba8(varyings::<4>(&s.v, w, varying::COLOR));
-        f(Fragment { x, y, z, rgba });
-    });
+        f(Fragment {
+            x: *x,
+            y: *y,
+            z,
+            rgba,
+        });
+    }
 }
 
 /// Depth-tests and writes one fragment into a band of whole rows of `width` pixels

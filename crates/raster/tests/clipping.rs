@@ -133,3 +133,82 @@ fn triangles_far_beyond_the_screen_edges_match_the_ray_cast() {
         "{bad} of {covered} pixels disagree with the ray cast"
     );
 }
+
+/// A triangle cut by the near plane keeps its vertex colours: the clipped polygon's
+/// new vertices interpolate the attributes of the vertex outside too (not zeros), so a
+/// triangle of one colour stays that colour everywhere, through `render_mesh` (shared
+/// vertices and triangle by triangle) and `render_triangles`.
+#[test]
+fn clipped_triangles_keep_their_vertex_colours() {
+    use irradia_raster::framebuffer::to_rgba8;
+    use irradia_raster::Triangle;
+    let (w, h) = (64, 48);
+    let mut p = Pipeline::new(w, h);
+    p.view = ViewParams::look_at_perspective(
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.0, -1.0),
+        Vec3::Y,
+        60.0,
+        64.0 / 48.0,
+        0.5,
+        50.0,
+    );
+    p.shading = Shading::Unlit;
+    let colour = [0.9, 0.5, 0.25, 1.0];
+    // One vertex behind the eye, two in front: clipped by the near plane.
+    let positions = vec![
+        Vec3::new(-2.0, -1.0, -3.0),
+        Vec3::new(2.0, -1.0, -3.0),
+        Vec3::new(0.0, 0.5, 2.0),
+    ];
+    let expected = to_rgba8(colour);
+    let check = |fb: &Framebuffer, what: &str| {
+        let mut covered = 0;
+        let c = fb.to_rgba8_bytes();
+        for y in 0..h {
+            for x in 0..w {
+                if fb.depth_at(x, y) < 1.0 {
+                    covered += 1;
+                    let i = 4 * (y * w + x) as usize;
+                    // One level for the rounding of the perspective-correct
+                    // weights (they sum to one only up to rounding).
+                    let off = (0..4).map(|k| c[i + k].abs_diff(expected[k])).max();
+                    assert!(
+                        off <= Some(1),
+                        "{what}: pixel ({x}, {y}) is {:?}, expected {expected:?}",
+                        &c[i..i + 4]
+                    );
+                }
+            }
+        }
+        assert!(covered > 100, "{what}: only {covered} pixels covered");
+    };
+    // Shared vertices (the per-vertex pass), and unshared (triangle by triangle).
+    for soup in [false, true] {
+        let mut mesh = Mesh::new(positions.clone(), vec![[0, 1, 2]]);
+        mesh.colors = vec![colour; 3];
+        if !soup {
+            // A second, hidden triangle sharing the vertices keeps the mesh indexed.
+            mesh.indices.push([0, 2, 1]);
+        }
+        mesh.compute_vertex_normals();
+        let mut fb = Framebuffer::new(w, h, ColorFormat::Rgba8).unwrap();
+        p.render_mesh(&mesh, &mut fb).unwrap();
+        check(
+            &fb,
+            if soup {
+                "render_mesh, soup"
+            } else {
+                "render_mesh"
+            },
+        );
+    }
+    let tris = vec![Triangle::flat(
+        [positions[0], positions[1], positions[2]],
+        colour,
+        0,
+    )];
+    let mut fb = Framebuffer::new(w, h, ColorFormat::Rgba8).unwrap();
+    p.render_triangles(&tris, &mut fb).unwrap();
+    check(&fb, "render_triangles");
+}
