@@ -134,6 +134,8 @@ enum Variant {
     Portable,
     /// The environment's radiance (escaped rays and light samples) times this factor.
     WrongBackground(f32),
+    /// Every lane runs the exact sphere test (no 8-wide cull).
+    NoSphereCull,
 }
 
 fn pixel_sample(
@@ -163,6 +165,7 @@ fn both_estimates(
     match variant {
         Variant::LaneByLane => wide = wide.lane_by_lane(),
         Variant::WrongBackground(s) => wide = wide.with_background_scale(s),
+        Variant::NoSphereCull => wide = wide.without_sphere_cull(),
         _ => {}
     }
     let (w, h) = (scene.settings.width, scene.settings.height);
@@ -238,6 +241,18 @@ fn wide_samples_under_emitters_at_infinity_equal_scalar_samples() {
         let same = samples_agreeing(&scalar, &wide);
         println!("lone ball, {variant:?}: {:.3}% agree", same * 100.0);
         assert!(same >= AGREE, "lone ball: only {:.3}% agree", same * 100.0);
+    }
+}
+
+/// The spheres' 8-wide cull changes no sample (bit for bit): it only spares the exact
+/// test the lanes that cannot hit a sphere.
+#[test]
+fn the_sphere_cull_changes_no_sample() {
+    for sky in [Sky::Background, Sky::Envmap] {
+        let scene = ball_on_floor(32, 24, sky, false);
+        let (_, culled) = both_estimates(&scene, 2, 0, Variant::Default);
+        let (_, exact) = both_estimates(&scene, 2, 0, Variant::NoSphereCull);
+        assert_eq!(culled, exact, "{sky:?}");
     }
 }
 

@@ -517,6 +517,15 @@ fn run<const FMA: bool>(
                 h
             }
         };
+        // Lanes whose ray may meet a sphere before its triangle (the 8-wide cull):
+        // only they run the exact sphere test below.
+        let near_sphere = match &ws.cull {
+            Some(c) => {
+                let t_max = hits.hit.select(hits.t, F8::splat(f32::INFINITY));
+                c.may_hit(paths.origin, paths.dir, t_max, live)
+            }
+            None => live,
+        };
         for lane in 0..W {
             if !live.get(lane) {
                 continue;
@@ -524,7 +533,7 @@ fn run<const FMA: bool>(
             counters.rays += 1;
             // Then the objects with their own tests (spheres), up to the triangle's
             // `t`, as the flat scene's `closest_hit` asks them.
-            let other = if ws.has_rest {
+            let other = if ws.has_rest && near_sphere.get(lane) {
                 let t_max = if hits.hit.get(lane) {
                     hits.t.0[lane]
                 } else {
@@ -666,9 +675,13 @@ fn run<const FMA: bool>(
         // And the objects with their own tests (spheres), for shadow rays the
         // triangles leave through.
         let blocked = if ws.has_rest {
+            let near_sphere = match &ws.cull {
+                Some(c) => c.may_hit(s.shadow_origin, s.shadow_dir, s.shadow_t_max, s.nee),
+                None => s.nee,
+            };
             blocked
                 | M8::from_fn(|lane| {
-                    s.nee.get(lane)
+                    near_sphere.get(lane)
                         && !blocked.get(lane)
                         && ps.tracer.occluded_rest(
                             s.shadow_origin.lane(lane),

@@ -67,6 +67,7 @@
 pub(crate) mod background;
 pub mod bsdf;
 pub mod kernel;
+pub(crate) mod sphere8;
 
 use super::flat_scene::FlatScene;
 use super::integrator::{PathCounters, PathParams, PathScene};
@@ -183,6 +184,9 @@ pub struct WideScene<'s, 'a> {
     /// Whether some objects (spheres) are not baked: each lane then also asks the
     /// flat scene's own test of those after the triangles.
     pub(crate) has_rest: bool,
+    /// The spheres' 8-wide cull ([`sphere8`]): only lanes whose ray may meet one run
+    /// the exact lane-by-lane test; `None` without spheres or when disabled (tests).
+    pub(crate) cull: Option<sphere8::SphereCull>,
     /// A factor on the smooth conductor's and dielectric's Fresnel reflectance: 1
     /// (exact: the product is the reflectance itself) except in the test that shows
     /// a wrong reflectance is caught.
@@ -395,6 +399,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             pick,
             rays,
             has_rest,
+            cull: has_rest.then(|| sphere8::SphereCull::new(scene, ps.tracer.rest_objects())),
             fresnel_scale: 1.0,
             background: ps.lights.has_environment(),
             background_scale: 1.0,
@@ -417,6 +422,14 @@ impl<'s, 'a> WideScene<'s, 'a> {
     #[doc(hidden)]
     pub fn with_fresnel_scale(mut self, scale: f32) -> Self {
         self.fresnel_scale = scale;
+        self
+    }
+
+    /// The same kernel without the spheres' 8-wide cull (every lane runs the exact
+    /// sphere test); for tests and measurements.
+    #[doc(hidden)]
+    pub fn without_sphere_cull(mut self) -> Self {
+        self.cull = None;
         self
     }
 
