@@ -53,7 +53,8 @@
 //! boxes, polyhedra, and triangle meshes of any size, whose materials are untextured)
 //! or be a sphere (possibly placed by a transform, as the Mitsuba importer builds them;
 //! no quadrics, CSG or implicit surfaces; a scene of spheres only qualifies). Spheres are
-//! traced lane by lane after the lanes' triangles, with the flat scene's own test of
+//! culled eight rays at once ([`sphere8`]: a conservative ray-ball test that only
+//! drops lanes that cannot hit one) and traced lane by lane after the lanes' triangles, with the flat scene's own test of
 //! its unbaked objects up to the triangle's distance (the scalar `closest_hit`'s order
 //! and arithmetic, so the hits, normals and error bounds are the scalar ones), and so
 //! are the shadow rays the triangles leave through. So the speed suite's
