@@ -125,7 +125,7 @@ mod tests {
             radiance: Rgb::new(0.1, 0.2, 0.3),
         });
         let scene = Scene::new(
-            scene.camera.clone(),
+            scene.camera,
             scene.settings.clone(),
             scene.materials.clone(),
             scene.lights.clone(),
