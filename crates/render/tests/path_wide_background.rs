@@ -288,7 +288,7 @@ fn environments_qualify_other_lights_do_not() {
         intensity: Rgb::splat(5.0),
     });
     let with_point = Scene::new(
-        with_point.camera.clone(),
+        with_point.camera,
         with_point.settings.clone(),
         with_point.materials.clone(),
         with_point.lights.clone(),
