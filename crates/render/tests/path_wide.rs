@@ -675,6 +675,6 @@ fn only_lambertian_scenes_with_facet_emitters_qualify() {
     assert!(!check(&path_common::small_room()));
     // Mirrors, glass, point lights.
     assert!(!check(&irradia_scene::builtin::load("default").unwrap()));
-    // An environment.
-    assert!(!check(&path_common::white_sphere_in_environment(0.7)));
+    // An environment qualifies (tests/path_wide_background.rs).
+    assert!(check(&path_common::white_sphere_in_environment(0.7)));
 }

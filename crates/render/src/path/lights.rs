@@ -553,36 +553,6 @@ impl LightSampler {
         }
     }
 
-    /// The emitters as world-space triangles, when every emitter is an emissive object
-    /// sampled by its facets and there is no environment (what the 8-wide kernel of
-    /// [`super::wide`] supports); `None` otherwise. Indexed like the emitters.
-    pub(crate) fn facet_emitters(&self) -> Option<Vec<FacetEmitter<'_>>> {
-        if self.environment.is_some() || !self.envmaps.is_empty() {
-            return None;
-        }
-        self.emitters
-            .iter()
-            .zip(&self.probability)
-            .map(|(e, &probability)| match e {
-                Emitter::Object {
-                    radiance,
-                    two_sided,
-                    world: Some(w),
-                    ..
-                } => Some(FacetEmitter {
-                    radiance: *radiance,
-                    two_sided: *two_sided,
-                    triangles: &w.triangles,
-                    normals: &w.normals,
-                    pdf_area: &w.pdf_area,
-                    cdf: &w.cdf,
-                    probability,
-                }),
-                _ => None,
-            })
-            .collect()
-    }
-
     /// The cumulative emitter probabilities `sample` searches with `u_pick`.
     pub(crate) fn emitter_cdf(&self) -> &[f32] {
         &self.cdf
@@ -687,6 +657,9 @@ impl LightSampler {
     }
 }
 
+mod background;
 mod surface;
 #[cfg(test)]
 mod tests;
+
+pub(crate) use background::{WideEmitter, WideLight};

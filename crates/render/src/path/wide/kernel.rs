@@ -13,10 +13,12 @@
 // Lane loops index several arrays by the lane on purpose.
 #![allow(clippy::needless_range_loop)]
 
+use super::background::Background;
 use super::bsdf::{conductor_fresnel, cosine_hemisphere, dielectric};
 use super::{facet, mat, smooth, tri, LightPick, WideScene};
 use crate::path::flat_scene::prefetch_bytes;
 use crate::path::integrator::{PathCounters, PathParams};
+use crate::path::lights::WideLight;
 use crate::path::tracer::Tracer;
 use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
@@ -83,6 +85,8 @@ struct Bounce {
     u_light: [F8; 2],
     /// The number that chooses the emitter (when the vector stage chooses).
     u_pick: F8,
+    /// Escaped rays and light samples of emitters at infinity.
+    bg: Background,
 }
 
 /// `table[idx[i]]` in every lane (indices checked).
@@ -170,6 +174,9 @@ struct Scattered {
     shadow_origin: V3,
     shadow_dir: V3,
     nee_value: V3,
+    /// The shadow ray's `t_max`: 1 towards a point, infinite towards an emitter at
+    /// infinity.
+    shadow_t_max: F8,
     /// Lanes that continue (a valid BSDF sample, throughput not black).
     go_on: M8,
     /// Russian roulette: survival probability and the throughput divided by it.
@@ -305,6 +312,16 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
         .select(mis(paths.prev_pdf, b.light_pdf), F8::splat(1.0));
     let emitted = paths.beta.mul(emission).scale(w);
     paths.radiance = V3::select(lit, paths.radiance.add(emitted), paths.radiance);
+    // Rays that left the scene: the environment, weighted likewise.
+    if ws.background {
+        paths.radiance = b.bg.add_escaped(
+            paths.radiance,
+            paths.beta,
+            paths.has_prev,
+            paths.prev_pdf,
+            mis,
+        );
+    }
 
     let sc = b.scatter;
     // Shading frame about the shading normal (on the geometric normal's side, as
@@ -330,6 +347,19 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let l_side = V3::select(l_facing.gt(0.0), ln, ln.neg());
     let target = offset_ray_origin(q, l_side, F8::ZERO);
     let l_pdf = pick * pdf_area * dist2 / cos_l;
+    // Lanes whose light is at infinity: the direction, radiance and density they
+    // sampled (lane by lane, as the scalar `sample`), and an unbounded shadow ray.
+    let far = b.bg.light;
+    let (wi, l_pdf, lradiance, light_ok) = if ws.background {
+        (
+            V3::select(far, b.bg.wi, wi),
+            far.select(b.bg.light_pdf, l_pdf),
+            V3::select(far, b.bg.li, lradiance),
+            light_ok | (sc & lambert & far),
+        )
+    } else {
+        (wi, l_pdf, lradiance, light_ok)
+    };
     let wi_local = to_local(wi, fs, ft, ns);
     let same_side = (wo.z * wi_local.z).gt(0.0);
     let f_nonzero = same_side & !f.is_zero();
@@ -392,8 +422,9 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     Scattered {
         nee,
         shadow_origin,
-        shadow_dir: target.sub(shadow_origin),
+        shadow_dir: V3::select(far, wi, target.sub(shadow_origin)),
         nee_value,
+        shadow_t_max: far.select(F8::splat(f32::INFINITY), F8::splat(1.0)),
         go_on,
         q,
         beta_rr: paths.beta.scale(1.0 / q),
@@ -453,6 +484,7 @@ fn run<const FMA: bool>(
         if !live.any() {
             break;
         }
+        b.bg.clear();
         // The nearest hits: eight rays at once, or lane by lane.
         let hits = match &ws.rays {
             Some(rays) => rays.nearest::<FMA>(paths.origin, paths.dir, live),
@@ -485,6 +517,15 @@ fn run<const FMA: bool>(
                 h
             }
         };
+        // Lanes whose ray may meet a sphere before its triangle (the 8-wide cull):
+        // only they run the exact sphere test below.
+        let near_sphere = match &ws.cull {
+            Some(c) => {
+                let t_max = hits.hit.select(hits.t, F8::splat(f32::INFINITY));
+                c.may_hit(paths.origin, paths.dir, t_max, live)
+            }
+            None => live,
+        };
         for lane in 0..W {
             if !live.get(lane) {
                 continue;
@@ -492,7 +533,7 @@ fn run<const FMA: bool>(
             counters.rays += 1;
             // Then the objects with their own tests (spheres), up to the triangle's
             // `t`, as the flat scene's `closest_hit` asks them.
-            let other = if ws.has_rest {
+            let other = if ws.has_rest && near_sphere.get(lane) {
                 let t_max = if hits.hit.get(lane) {
                     hits.t.0[lane]
                 } else {
@@ -505,7 +546,13 @@ fn run<const FMA: bool>(
             };
             b.other.set(lane, other.is_some());
             if !hits.hit.get(lane) && other.is_none() {
-                // Black background: the path ends with what it has.
+                // The path ends with what it has and, under emitters at infinity, what
+                // it sees of them.
+                if ws.background {
+                    let dir = paths.dir.lane(lane);
+                    let has_prev = paths.has_prev.get(lane);
+                    b.bg.escape(ps.lights, lane, dir, has_prev, ws.background_scale);
+                }
                 b.hit.set(lane, false);
                 b.scatter.set(lane, false);
                 continue;
@@ -586,8 +633,18 @@ fn run<const FMA: bool>(
                 b.u_light[1].0[lane] = u_light.y;
                 continue;
             }
-            match ps.lights.pick_facet(u_pick, u_light) {
-                Some((emitter, pick, facet, u)) => {
+            let choice = if ws.background {
+                ps.lights.pick_wide(u_pick, u_light)
+            } else {
+                let facet = ps.lights.pick_facet(u_pick, u_light);
+                facet.map(|(e, p, f, u)| WideLight::Facet(e, p, f, u))
+            };
+            match choice {
+                Some(WideLight::AtInfinity(ls)) => {
+                    b.light.set(lane, false);
+                    b.bg.light(lane, &ls, ws.background_scale);
+                }
+                Some(WideLight::Facet(emitter, pick, facet, u)) => {
                     b.light.set(lane, true);
                     b.facet[lane] = ws.facet_start[emitter] + facet as u32;
                     b.pick.0[lane] = pick;
@@ -604,28 +661,32 @@ fn run<const FMA: bool>(
         // Stage 3, per lane: shadow rays, Russian roulette, finished paths.
         let blocked = match &ws.rays {
             Some(rays) => {
-                rays.occluded::<FMA>(s.shadow_origin, s.shadow_dir, F8::splat(1.0), s.nee)
+                rays.occluded::<FMA>(s.shadow_origin, s.shadow_dir, s.shadow_t_max, s.nee)
             }
             None => M8::from_fn(|lane| {
                 s.nee.get(lane)
                     && ps.tracer.occluded_baked(
                         s.shadow_origin.lane(lane),
                         s.shadow_dir.lane(lane),
-                        1.0,
+                        s.shadow_t_max.0[lane],
                     )
             }),
         };
         // And the objects with their own tests (spheres), for shadow rays the
         // triangles leave through.
         let blocked = if ws.has_rest {
+            let near_sphere = match &ws.cull {
+                Some(c) => c.may_hit(s.shadow_origin, s.shadow_dir, s.shadow_t_max, s.nee),
+                None => s.nee,
+            };
             blocked
                 | M8::from_fn(|lane| {
-                    s.nee.get(lane)
+                    near_sphere.get(lane)
                         && !blocked.get(lane)
                         && ps.tracer.occluded_rest(
                             s.shadow_origin.lane(lane),
                             s.shadow_dir.lane(lane),
-                            1.0,
+                            s.shadow_t_max.0[lane],
                         )
                 })
         } else {

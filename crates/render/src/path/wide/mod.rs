@@ -43,13 +43,18 @@
 //! Russian roulette judges `max(beta) eta²` with `eta` the product of the relative
 //! indices crossed. Every emitter is an emissive object
 //! sampled by its world-space facets (polygons, rectangles, boxes, polyhedra, emissive
-//! meshes); no point, spot, directional or sphere lights and a black background (no
-//! environment). The
-//! Cornell box qualifies. Every object must be baked into the [`FlatScene`]'s
-//! triangles (polygons, rectangles, boxes, polyhedra, and triangle meshes of any size,
-//! whose materials are untextured) or be a sphere (possibly placed by a transform, as
-//! the Mitsuba importer builds them; no quadrics, CSG or implicit surfaces). Spheres are
-//! traced lane by lane after the lanes' triangles, with the flat scene's own test of
+//! meshes) or an emitter at infinity: the constant environment (a background colour
+//! and Mitsuba's `constant` emitters) and Mitsuba's `envmap` ([`background`]: escaped
+//! rays gather them with MIS, light samples choose them with their probability and
+//! sample a direction lane by lane with the scalar code, then shade with an unbounded
+//! shadow ray in the vector stage); no point, spot, directional or sphere lights. The
+//! Cornell box qualifies, and so do diffuse scenes under an environment map. Every
+//! object must be baked into the [`FlatScene`]'s triangles (polygons, rectangles,
+//! boxes, polyhedra, and triangle meshes of any size, whose materials are untextured)
+//! or be a sphere (possibly placed by a transform, as the Mitsuba importer builds them;
+//! no quadrics, CSG or implicit surfaces; a scene of spheres only qualifies). Spheres are
+//! culled eight rays at once ([`sphere8`]: a conservative ray-ball test that only
+//! drops lanes that cannot hit one) and traced lane by lane after the lanes' triangles, with the flat scene's own test of
 //! its unbaked objects up to the triangle's distance (the scalar `closest_hit`'s order
 //! and arithmetic, so the hits, normals and error bounds are the scalar ones), and so
 //! are the shadow rays the triangles leave through. So the speed suite's
@@ -60,12 +65,14 @@
 //! so the Stanford bunny in the Cornell box qualifies. Other scenes render with the
 //! scalar `radiance_in`.
 
+pub(crate) mod background;
 pub mod bsdf;
 pub mod kernel;
+pub(crate) mod sphere8;
 
 use super::flat_scene::FlatScene;
 use super::integrator::{PathCounters, PathParams, PathScene};
-use super::lights::FacetEmitter;
+use super::lights::{FacetEmitter, WideEmitter};
 use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::packet::RayLaneTriangles;
 use irradia_scatter::{bsdfs::LectureLobe, Bsdf};
@@ -178,10 +185,19 @@ pub struct WideScene<'s, 'a> {
     /// Whether some objects (spheres) are not baked: each lane then also asks the
     /// flat scene's own test of those after the triangles.
     pub(crate) has_rest: bool,
+    /// The spheres' 8-wide cull ([`sphere8`]): only lanes whose ray may meet one run
+    /// the exact lane-by-lane test; `None` without spheres or when disabled (tests).
+    pub(crate) cull: Option<sphere8::SphereCull>,
     /// A factor on the smooth conductor's and dielectric's Fresnel reflectance: 1
     /// (exact: the product is the reflectance itself) except in the test that shows
     /// a wrong reflectance is caught.
     pub(crate) fresnel_scale: f32,
+    /// Whether rays that leave the scene see emitters at infinity (a background, a
+    /// `constant`, an `envmap`; see [`background`]).
+    pub(crate) background: bool,
+    /// A factor on the radiance of the emitters at infinity: 1 except in the test
+    /// that shows a wrong environment is caught.
+    pub(crate) background_scale: f32,
 }
 
 /// What choosing a light facet reads (`LightSampler::pick_facet`, lane by lane): the
@@ -211,7 +227,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
     /// module documentation).
     pub fn new(ps: &'s PathScene<'a, FlatScene>) -> Option<Self> {
         let scene = ps.scene;
-        if !scene.settings.background.is_black() || scene.materials.is_empty() {
+        if scene.materials.is_empty() {
             return None;
         }
         // Emission read from a texture at the hit's uv: the scalar kernel's work.
@@ -285,7 +301,8 @@ impl<'s, 'a> WideScene<'s, 'a> {
         let has_rest = !ps.tracer.rest_objects().is_empty();
         let mut triangles = Vec::new();
         let mut triangle_owner = Vec::new();
-        let baked = ps.tracer.baked_triangles()?;
+        // Nothing baked (spheres only): no triangles to trace, one zero record.
+        let baked = ps.tracer.baked_triangles().unwrap_or_default();
         let corners: Vec<_> = baked.iter().map(|t| t.0).collect();
         let rays = RayLaneTriangles::new(&corners, &ps.tracer.packet_order());
         let any_smooth = baked.iter().any(|t| t.4.is_some());
@@ -309,12 +326,27 @@ impl<'s, 'a> WideScene<'s, 'a> {
                 smooth_table.push(r);
             }
         }
+        if triangles.is_empty() {
+            triangles.push([0.0; tri::LEN]);
+        }
         let smooth = any_smooth.then_some(smooth_table);
-        let emitters: Vec<FacetEmitter<'_>> = ps.lights.facet_emitters()?;
+        // Facet emitters and emitters at infinity (`background`); no others.
+        let kinds = ps.lights.wide_emitters()?;
+        let at_infinity = kinds.iter().any(|k| matches!(k, WideEmitter::AtInfinity));
+        fn facets_of<'x>(k: &WideEmitter<'x>) -> Option<FacetEmitter<'x>> {
+            match k {
+                WideEmitter::Facets(e) => Some(*e),
+                WideEmitter::AtInfinity => None,
+            }
+        }
+        let emitters: Vec<FacetEmitter<'_>> = kinds.iter().filter_map(facets_of).collect();
         let mut facets = Vec::new();
         let mut facet_start = Vec::new();
-        for e in &emitters {
+        for k in &kinds {
             facet_start.push(facets.len() as u32);
+            let Some(e) = facets_of(k) else {
+                continue;
+            };
             for (k, t) in e.triangles.iter().enumerate() {
                 let mut r = [0.0; facet::LEN];
                 for (j, v) in [t[0], t[1], t[2], e.normals[k]].iter().enumerate() {
@@ -331,7 +363,10 @@ impl<'s, 'a> WideScene<'s, 'a> {
             }
         }
         let emitter_cdf = ps.lights.emitter_cdf();
-        let small = emitters.len() <= VECTOR_PICK_MAX
+        // The vector light choice knows facets only: with emitters at infinity each
+        // lane chooses with `LightSampler::pick_wide`.
+        let small = !at_infinity
+            && emitters.len() <= VECTOR_PICK_MAX
             && emitters
                 .iter()
                 .all(|e| !e.cdf.is_empty() && e.cdf.len() <= VECTOR_PICK_MAX);
@@ -365,7 +400,10 @@ impl<'s, 'a> WideScene<'s, 'a> {
             pick,
             rays,
             has_rest,
+            cull: has_rest.then(|| sphere8::SphereCull::new(scene, ps.tracer.rest_objects())),
             fresnel_scale: 1.0,
+            background: ps.lights.has_environment(),
+            background_scale: 1.0,
         })
     }
 
@@ -385,6 +423,23 @@ impl<'s, 'a> WideScene<'s, 'a> {
     #[doc(hidden)]
     pub fn with_fresnel_scale(mut self, scale: f32) -> Self {
         self.fresnel_scale = scale;
+        self
+    }
+
+    /// The same kernel without the spheres' 8-wide cull (every lane runs the exact
+    /// sphere test); for tests and measurements.
+    #[doc(hidden)]
+    pub fn without_sphere_cull(mut self) -> Self {
+        self.cull = None;
+        self
+    }
+
+    /// The same kernel with the emitters at infinity `scale` times too bright (escaped
+    /// rays and light samples); for the test that shows the comparison with the
+    /// scalar estimator catches it.
+    #[doc(hidden)]
+    pub fn with_background_scale(mut self, scale: f32) -> Self {
+        self.background_scale = scale;
         self
     }
 
