@@ -92,7 +92,8 @@ enum Emitter {
     },
 }
 
-/// An emissive object's world-space facets, as the 8-wide kernel reads them.
+/// An emissive object's world-space facets, as the 8-wide kernel reads them
+/// ([`LightSampler::kernel_emitters`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct FacetEmitter<'a> {
     pub radiance: Rgb,
@@ -553,54 +554,9 @@ impl LightSampler {
         }
     }
 
-    /// The emitters as world-space triangles, when every emitter is an emissive object
-    /// sampled by its facets and there is no environment (what the 8-wide kernel of
-    /// [`super::wide`] supports); `None` otherwise. Indexed like the emitters.
-    pub(crate) fn facet_emitters(&self) -> Option<Vec<FacetEmitter<'_>>> {
-        if self.environment.is_some() || !self.envmaps.is_empty() {
-            return None;
-        }
-        self.emitters
-            .iter()
-            .zip(&self.probability)
-            .map(|(e, &probability)| match e {
-                Emitter::Object {
-                    radiance,
-                    two_sided,
-                    world: Some(w),
-                    ..
-                } => Some(FacetEmitter {
-                    radiance: *radiance,
-                    two_sided: *two_sided,
-                    triangles: &w.triangles,
-                    normals: &w.normals,
-                    pdf_area: &w.pdf_area,
-                    cdf: &w.cdf,
-                    probability,
-                }),
-                _ => None,
-            })
-            .collect()
-    }
-
     /// The cumulative emitter probabilities `sample` searches with `u_pick`.
     pub(crate) fn emitter_cdf(&self) -> &[f32] {
         &self.cdf
-    }
-
-    /// The choice `sample` makes for `(u_pick, u)` in a scene of facet emitters only:
-    /// (emitter, probability of choosing it, triangle of the emitter, the point of the
-    /// unit square to warp with [`sampling::uniform_triangle`]).
-    #[inline]
-    pub(crate) fn pick_facet(&self, u_pick: f32, u: Vec2) -> Option<(usize, f32, usize, Vec2)> {
-        let (idx, pick) = self.pick(u_pick)?;
-        match &self.emitters[idx] {
-            Emitter::Object { world: Some(w), .. } => {
-                let (i, u) = w.pick(u)?;
-                Some((idx, pick, i, u))
-            }
-            _ => None,
-        }
     }
 
     /// The solid-angle density with which `sample` from `p` would have produced the
@@ -687,6 +643,9 @@ impl LightSampler {
     }
 }
 
+mod kernel_emitters;
 mod surface;
 #[cfg(test)]
 mod tests;
+
+pub(crate) use kernel_emitters::{KernelEmitter, SphereEmitter};

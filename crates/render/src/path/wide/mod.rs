@@ -61,14 +61,19 @@
 //! scalar `radiance_in`.
 
 pub mod bsdf;
+pub mod ggx;
 pub mod kernel;
+pub mod sphere_light;
 
 use super::flat_scene::FlatScene;
 use super::integrator::{PathCounters, PathParams, PathScene};
-use super::lights::FacetEmitter;
+use super::lights::{FacetEmitter, KernelEmitter};
+use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::packet::RayLaneTriangles;
+use irradia_scatter::microfacet::MicrofacetType;
 use irradia_scatter::{bsdfs::LectureLobe, Bsdf};
+use sphere_light::sph;
 
 /// The agreement the kernel is held to: the fraction of samples (same index in `a` and
 /// `b`, e.g. the scalar estimator's and the kernel's) whose three channels agree to
@@ -136,7 +141,12 @@ pub(crate) mod mat {
     /// (dielectric).
     pub const SPEC_R: usize = 11;
     pub const SPEC_T: usize = 14;
-    pub const LEN: usize = 17;
+    /// 1 for Mitsuba's `roughconductor` with isotropic GGX normals sampled by their
+    /// visible ones ([`super::ggx`]; the albedo is 0).
+    pub const ROUGH: usize = 17;
+    /// Its roughness α.
+    pub const ALPHA: usize = 18;
+    pub const LEN: usize = 19;
 }
 /// Fields of a [`WideScene::facets`] record.
 pub(crate) mod facet {
@@ -182,6 +192,15 @@ pub struct WideScene<'s, 'a> {
     /// (exact: the product is the reflectance itself) except in the test that shows
     /// a wrong reflectance is caught.
     pub(crate) fresnel_scale: f32,
+    /// Whether some material is a rough conductor (the vector stage skips its lobe
+    /// otherwise).
+    pub(crate) has_rough: bool,
+    /// A factor on the rough conductor's α: 1 except in the test that shows a wrong
+    /// roughness is caught.
+    pub(crate) alpha_scale: f32,
+    /// Per emitter: its sphere record ([`sph`]) when some emitter is an emissive
+    /// sphere sampled by its own sampler; `None` when every emitter is facets.
+    pub(crate) sphere_lights: Option<Vec<[f32; sph::LEN]>>,
 }
 
 /// What choosing a light facet reads (`LightSampler::pick_facet`, lane by lane): the
@@ -239,6 +258,19 @@ impl<'s, 'a> WideScene<'s, 'a> {
                 Some(Some(Bsdf::Diffuse(d))) => (d.reflectance, true, true),
                 Some(Some(Bsdf::Conductor(c))) => {
                     row[mat::MIRROR] = 1.0;
+                    let r = c.specular_reflectance;
+                    row[mat::SPEC_R..mat::SPEC_R + 3].copy_from_slice(&[r.r, r.g, r.b]);
+                    conductor = Some((c.eta, c.k));
+                    (Rgb::BLACK, true, true)
+                }
+                // GGX, isotropic, visible normals (the speed suite's plates).
+                Some(Some(Bsdf::RoughConductor(c)))
+                    if c.distribution.kind == MicrofacetType::Ggx
+                        && !c.distribution.is_anisotropic()
+                        && c.distribution.sample_visible =>
+                {
+                    row[mat::ROUGH] = 1.0;
+                    row[mat::ALPHA] = c.distribution.alpha_u;
                     let r = c.specular_reflectance;
                     row[mat::SPEC_R..mat::SPEC_R + 3].copy_from_slice(&[r.r, r.g, r.b]);
                     conductor = Some((c.eta, c.k));
@@ -310,7 +342,37 @@ impl<'s, 'a> WideScene<'s, 'a> {
             }
         }
         let smooth = any_smooth.then_some(smooth_table);
-        let emitters: Vec<FacetEmitter<'_>> = ps.lights.facet_emitters()?;
+        let kernel_emitters = ps.lights.kernel_emitters(scene)?;
+        // A sphere emitter has one placeholder facet (a zero record, the whole of its
+        // emitter's area table), so the light choice's tables stay aligned; the vector
+        // stage samples the sphere itself ([`sphere_light`]).
+        const WHOLE: &[f32] = &[1.0];
+        const NO_TRIANGLE: &[[Vec3; 3]] = &[[Vec3::ZERO; 3]];
+        const NO_NORMAL: &[Vec3] = &[Vec3::ZERO];
+        const NO_DENSITY: &[f32] = &[0.0];
+        let mut sphere_table = vec![[0.0; sph::LEN]; kernel_emitters.len().max(1)];
+        let mut emitters = Vec::new();
+        for (i, e) in kernel_emitters.iter().enumerate() {
+            emitters.push(match e {
+                KernelEmitter::Facets(f) => *f,
+                KernelEmitter::Sphere(s) => {
+                    sphere_table[i] = sphere_light::record(s);
+                    FacetEmitter {
+                        radiance: Rgb::BLACK,
+                        two_sided: false,
+                        triangles: NO_TRIANGLE,
+                        normals: NO_NORMAL,
+                        pdf_area: NO_DENSITY,
+                        cdf: WHOLE,
+                        probability: s.probability,
+                    }
+                }
+            });
+        }
+        let any_sphere = kernel_emitters
+            .iter()
+            .any(|e| matches!(e, KernelEmitter::Sphere(_)));
+        let sphere_lights = any_sphere.then_some(sphere_table);
         let mut facets = Vec::new();
         let mut facet_start = Vec::new();
         for e in &emitters {
@@ -353,6 +415,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
         if facets.is_empty() {
             facets.push([0.0; facet::LEN]);
         }
+        let has_rough = shading.iter().any(|r| r[mat::ROUGH] != 0.0);
         Some(Self {
             ps,
             triangles,
@@ -366,6 +429,9 @@ impl<'s, 'a> WideScene<'s, 'a> {
             rays,
             has_rest,
             fresnel_scale: 1.0,
+            has_rough,
+            alpha_scale: 1.0,
+            sphere_lights,
         })
     }
 
@@ -385,6 +451,15 @@ impl<'s, 'a> WideScene<'s, 'a> {
     #[doc(hidden)]
     pub fn with_fresnel_scale(mut self, scale: f32) -> Self {
         self.fresnel_scale = scale;
+        self
+    }
+
+    /// The same kernel with a wrong roughness (the rough conductor's α times
+    /// `scale`); for the test that shows the comparison with the scalar estimator
+    /// catches it.
+    #[doc(hidden)]
+    pub fn with_alpha_scale(mut self, scale: f32) -> Self {
+        self.alpha_scale = scale;
         self
     }
 
