@@ -26,7 +26,9 @@ use std::f32::consts::{PI, TAU};
 /// where [`sin_cos_quarter_pi`] applies, and the quadrant's symmetries give the rest.
 #[inline(always)]
 pub(super) fn sin_cos_two_pi(u: F8) -> (F8, F8) {
-    let q = F8(u.0.map(|x| (x * 4.0).floor().clamp(0.0, 3.0)));
+    // The quadrant `⌊4u⌋` by comparisons (no call of `floorf`).
+    let one = F8::splat(1.0);
+    let q = u.ge(0.25).keep(one) + u.ge(0.5).keep(one) + u.ge(0.75).keep(one);
     let r = u - q * 0.25;
     let upper = r.gt(0.125);
     let a = TAU * upper.select(0.25 - r, r);
@@ -102,6 +104,16 @@ fn sample_visible(wo: V3, u: [F8; 2], alpha: F8) -> V3 {
     V3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize()
 }
 
+/// Field `at` of the materials' shading records.
+#[inline(always)]
+fn shading(ws: &WideScene<'_, '_>, material: &[u32; W], at: usize) -> F8 {
+    assert!(at < mat::LEN);
+    let top = material.iter().fold(0, |a, &i| a.max(i));
+    assert!((top as usize) < ws.shading.len());
+    // SAFETY: every index was just checked against the table, and `at < LEN`.
+    unsafe { gather(&ws.shading, material, at) }
+}
+
 /// What the rough conductor gives the vector stage: its value and density for the light
 /// sample's direction, and its own sample.
 pub(super) struct RoughSample {
@@ -130,13 +142,11 @@ pub(super) fn rough_conductor(
     light: M8,
     active: M8,
 ) -> RoughSample {
-    // SAFETY: the kernel checked `material` against the shading table.
-    let field = |at: usize| unsafe { gather(&ws.shading, material, at) };
-    let alpha = field(mat::ALPHA) * ws.alpha_scale;
+    let alpha = shading(ws, material, mat::ALPHA) * ws.alpha_scale;
     let spec_r = V3::new(
-        field(mat::SPEC_R),
-        field(mat::SPEC_R + 1),
-        field(mat::SPEC_R + 2),
+        shading(ws, material, mat::SPEC_R),
+        shading(ws, material, mat::SPEC_R + 1),
+        shading(ws, material, mat::SPEC_R + 2),
     );
     let front = wo.z.gt(0.0);
 

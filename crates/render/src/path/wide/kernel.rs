@@ -357,10 +357,21 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let l_pdf = pick * pdf_area * dist2 / cos_l;
     let wi_local = to_local(wi, fs, ft, ns);
     // The rough conductor's value and density for the light direction, and its sample.
-    let r = ws.has_rough.then(|| {
+    // (No closure: it would not inherit the loop's target features.)
+    let r = if ws.has_rough {
         let (nee, active) = (light_ok & rough, sc & rough);
-        rough_conductor(ws, &b.material, wo, wi_local, b.u_bsdf, nee, active)
-    });
+        Some(rough_conductor(
+            ws,
+            &b.material,
+            wo,
+            wi_local,
+            b.u_bsdf,
+            nee,
+            active,
+        ))
+    } else {
+        None
+    };
     let f = match &r {
         Some(r) => V3::select(rough, r.f_light, f),
         None => f,

@@ -68,11 +68,14 @@ pub(super) struct LightPoint {
 /// `M v` with the columns of a 3×3 matrix at `at` (glam's column order of sums).
 #[inline(always)]
 fn mat_vec(table: &[[f32; sph::LEN]], idx: &[u32; W], at: usize, v: V3) -> V3 {
-    let col = |k: usize| field3(table, idx, at + 3 * k);
-    col(0)
-        .scale(v.x)
-        .add(col(1).scale(v.y))
-        .add(col(2).scale(v.z))
+    // (No closures in the vector stage: one that is not inlined loses the loop's
+    // target features.)
+    let (c0, c1, c2) = (
+        field3(table, idx, at),
+        field3(table, idx, at + 3),
+        field3(table, idx, at + 6),
+    );
+    c0.scale(v.x).add(c1.scale(v.y)).add(c2.scale(v.z))
 }
 
 #[inline(always)]
