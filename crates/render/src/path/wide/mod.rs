@@ -37,14 +37,24 @@
 //!   lobe number against the exact dielectric Fresnel reflectance), with constant
 //!   parameters;
 //!
-//! each optionally emissive; no lecture mirror, gloss or glass and no rough BSDFs.
+//! - Mitsuba's `roughconductor` with isotropic GGX normals sampled by their visible
+//!   ones (Mitsuba's default; the speed suite's veach_mis plates), constant parameters
+//!   ([`ggx`]: value, density and sample in lanes, in `f32`, the Fresnel reflectance per
+//!   lane in `f64`); a glossy lobe as the scalar estimator treats it: a light sample
+//!   weighted by the power heuristic against the BSDF's density, and emission hit
+//!   after it weighted against the light sample's density;
+//!
+//! each optionally emissive; no lecture mirror, gloss or glass, no Beckmann or
+//! anisotropic roughness and no rough dielectric or plastic.
 //! Delta lobes follow the scalar estimator exactly: no light sample (its random
 //! numbers are drawn and unused), emission hit after them counts in full (no MIS), and
 //! Russian roulette judges `max(beta) eta²` with `eta` the product of the relative
 //! indices crossed. Every emitter is an emissive object
 //! sampled by its world-space facets (polygons, rectangles, boxes, polyhedra, emissive
-//! meshes); no point, spot, directional or sphere lights and a black background (no
-//! environment). The
+//! meshes) or an emissive sphere (unflipped, possibly under a transform) sampled
+//! uniformly by area with its own sampler ([`sphere_light`]: the lanes whose light
+//! choice falls on a sphere warp their numbers onto it); no point, spot, directional,
+//! rectangle or sphere *lights* and a black background (no environment). The
 //! Cornell box qualifies. Every object must be baked into the [`FlatScene`]'s
 //! triangles (polygons, rectangles, boxes, polyhedra, and triangle meshes of any size,
 //! whose materials are untextured) or be a sphere (possibly placed by a transform, as
