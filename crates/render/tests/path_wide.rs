@@ -671,7 +671,8 @@ fn only_lambertian_scenes_with_facet_emitters_qualify() {
         8,
         &[Ball::Mirror, Ball::PerfectMirror]
     )));
-    // A sphere emitter (sampled by its own sampler), glossy and glass balls.
+    // The lecture's glossy and glass balls (its sphere emitter alone would qualify:
+    // see tests/path_wide_rough.rs).
     assert!(!check(&path_common::small_room()));
     // Mirrors, glass, point lights.
     assert!(!check(&irradia_scene::builtin::load("default").unwrap()));

@@ -92,7 +92,8 @@ enum Emitter {
     },
 }
 
-/// An emissive object's world-space facets, as the 8-wide kernel reads them.
+/// An emissive object's world-space facets, as the 8-wide kernel reads them
+/// ([`LightSampler::kernel_emitters`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct FacetEmitter<'a> {
     pub radiance: Rgb,
@@ -558,21 +559,6 @@ impl LightSampler {
         &self.cdf
     }
 
-    /// The choice `sample` makes for `(u_pick, u)` in a scene of facet emitters only:
-    /// (emitter, probability of choosing it, triangle of the emitter, the point of the
-    /// unit square to warp with [`sampling::uniform_triangle`]).
-    #[inline]
-    pub(crate) fn pick_facet(&self, u_pick: f32, u: Vec2) -> Option<(usize, f32, usize, Vec2)> {
-        let (idx, pick) = self.pick(u_pick)?;
-        match &self.emitters[idx] {
-            Emitter::Object { world: Some(w), .. } => {
-                let (i, u) = w.pick(u)?;
-                Some((idx, pick, i, u))
-            }
-            _ => None,
-        }
-    }
-
     /// The solid-angle density with which `sample` from `p` would have produced the
     /// point `q` (normal `n`, world space) on emissive instance `instance`; 0 when that
     /// instance is not sampled as a light.
@@ -657,9 +643,9 @@ impl LightSampler {
     }
 }
 
-mod background;
+mod kernel_emitters;
 mod surface;
 #[cfg(test)]
 mod tests;
 
-pub(crate) use background::{WideEmitter, WideLight};
+pub(crate) use kernel_emitters::{KernelEmitter, KernelLight, SphereEmitter};

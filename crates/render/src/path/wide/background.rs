@@ -11,7 +11,7 @@
 //!   and the sum are vector arithmetic in [`Background::add_escaped`]);
 //! - next-event estimation chooses an emitter at infinity with its probability and
 //!   samples a direction from it ([`Background::light`] per lane, with
-//!   `LightSampler::pick_wide`, the scalar `sample`'s arithmetic); the vector stage
+//!   `LightSampler::pick_kernel`, the scalar `sample`'s arithmetic); the vector stage
 //!   then evaluates the BSDF, the MIS weight and the unbounded shadow ray for those
 //!   lanes as for facet lights, with the sampled direction in place of the direction
 //!   to the facet's point.

@@ -15,10 +15,12 @@
 
 use super::background::Background;
 use super::bsdf::{conductor_fresnel, cosine_hemisphere, dielectric};
+use super::ggx::rough_conductor;
+use super::sphere_light::{self, LightPoint};
 use super::{facet, mat, smooth, tri, LightPick, WideScene};
 use crate::path::flat_scene::prefetch_bytes;
 use crate::path::integrator::{PathCounters, PathParams};
-use crate::path::lights::WideLight;
+use crate::path::lights::KernelLight;
 use crate::path::tracer::Tracer;
 use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
@@ -81,6 +83,8 @@ struct Bounce {
     /// choosing its emitter and the point of the square to warp into the triangle.
     light: M8,
     facet: [u32; W],
+    /// The chosen emitter (a sphere warps `u_light` itself: [`sphere_light`]).
+    emitter: [u32; W],
     pick: F8,
     u_light: [F8; 2],
     /// The number that chooses the emitter (when the vector stage chooses).
@@ -95,11 +99,16 @@ fn lookup(table: &[u32], idx: &[u32; W]) -> [u32; W] {
     std::array::from_fn(|i| table[idx[i] as usize])
 }
 
-/// `LightSampler::pick_facet` in every lane of `active`: the lanes that got a facet,
-/// the facet (index into `WideScene::facets`), the probability of its emitter and the
-/// point of the square to warp into the triangle.
+/// `LightSampler::pick_kernel` in every lane of `active`: the lanes that got a facet,
+/// the facet (index into `WideScene::facets`), the probability of its emitter, the
+/// point of the square to warp into the triangle, and the emitter.
 #[inline(always)]
-fn pick_lights(lp: &LightPick, u_pick: F8, u: [F8; 2], active: M8) -> (M8, [u32; W], F8, [F8; 2]) {
+fn pick_lights(
+    lp: &LightPick,
+    u_pick: F8,
+    u: [F8; 2],
+    active: M8,
+) -> (M8, [u32; W], F8, [F8; 2], [u32; W]) {
     let count_le = |count: &mut [u32; W], m: M8| {
         for i in 0..W {
             count[i] = count[i].wrapping_sub(m.0[i] as u32);
@@ -139,7 +148,7 @@ fn pick_lights(lp: &LightPick, u_pick: F8, u: [F8; 2], active: M8) -> (M8, [u32;
     let r = r
         .gt(1.0 - f32::EPSILON)
         .select(F8::splat(1.0 - f32::EPSILON), r);
-    (active & pick.gt(0.0), at_hi, pick, [r, u[1]])
+    (active & pick.gt(0.0), at_hi, pick, [r, u[1]], emitter)
 }
 
 /// One record field of `table` in every lane, rows `idx` (checked by [`checked`]).
@@ -246,9 +255,9 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     // The hit: `TriangleHit::point_and_error` on the gathered corners.
     checked(&ws.triangles, &b.triangle);
     checked(&ws.shading, &b.material);
-    let (light, facet_index, pick, u_light) = match &ws.pick {
+    let (light, facet_index, pick, u_light, emitter) = match &ws.pick {
         Some(lp) => pick_lights(lp, b.u_pick, b.u_light, b.scatter),
-        None => (b.light, b.facet, b.pick, b.u_light),
+        None => (b.light, b.facet, b.pick, b.u_light, b.emitter),
     };
     checked(&ws.facets, &facet_index);
     let t = &ws.triangles;
@@ -287,7 +296,8 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let albedo = field3(&ws.shading, &b.material, mat::ALBEDO);
     let mirror = field(&ws.shading, &b.material, mat::MIRROR).ne(0.0);
     let glass = field(&ws.shading, &b.material, mat::GLASS).ne(0.0);
-    let lambert = !(mirror | glass);
+    let rough = field(&ws.shading, &b.material, mat::ROUGH).ne(0.0);
+    let lambert = !(mirror | glass | rough);
     let emission = field3(&ws.shading, &b.material, mat::EMISSION);
     let emission_two_sided = field(&ws.shading, &b.material, mat::TWO_SIDED).ne(0.0);
     let front_only = field(&ws.shading, &b.material, mat::FRONT_ONLY).ne(0.0);
@@ -337,13 +347,28 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let s = u_light[0].sqrt();
     let (b1, b2) = (1.0 - s, u_light[1] * s);
     let q = la.scale(1.0 - b1 - b2).add(lb.scale(b1)).add(lc.scale(b2));
+    // Or a point of the chosen sphere, from the numbers before the facet choice.
+    let (q, ln, lradiance, pdf_area, ltwo_sided) = match &ws.sphere_lights {
+        Some(table) => {
+            let facet = LightPoint {
+                q,
+                n: ln,
+                radiance: lradiance,
+                pdf_area,
+                two_sided: ltwo_sided,
+            };
+            let s = sphere_light::sample(table, &emitter, b.u_light, facet);
+            (s.q, s.n, s.radiance, s.pdf_area, s.two_sided)
+        }
+        None => (q, ln, lradiance, pdf_area, ltwo_sided),
+    };
     let d = q.sub(p);
     let dist2 = d.dot(d);
     let wi = d.div(dist2.sqrt());
     let l_facing = -wi.dot(ln);
     let cos_l = ltwo_sided.select(l_facing.abs(), l_facing);
     // No light sample on delta lobes (the scalar code draws its numbers, unused).
-    let light_ok = sc & lambert & light & cos_l.gt(0.0) & pdf_area.gt(0.0);
+    let light_ok = sc & !(mirror | glass) & light & cos_l.gt(0.0) & pdf_area.gt(0.0);
     let l_side = V3::select(l_facing.gt(0.0), ln, ln.neg());
     let target = offset_ray_origin(q, l_side, F8::ZERO);
     let l_pdf = pick * pdf_area * dist2 / cos_l;
@@ -355,12 +380,32 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
             V3::select(far, b.bg.wi, wi),
             far.select(b.bg.light_pdf, l_pdf),
             V3::select(far, b.bg.li, lradiance),
-            light_ok | (sc & lambert & far),
+            light_ok | (sc & !(mirror | glass) & far),
         )
     } else {
         (wi, l_pdf, lradiance, light_ok)
     };
     let wi_local = to_local(wi, fs, ft, ns);
+    // The rough conductor's value and density for the light direction, and its sample.
+    // (No closure: it would not inherit the loop's target features.)
+    let r = if ws.has_rough {
+        let (nee, active) = (light_ok & rough, sc & rough);
+        Some(rough_conductor(
+            ws,
+            &b.material,
+            wo,
+            wi_local,
+            b.u_bsdf,
+            nee,
+            active,
+        ))
+    } else {
+        None
+    };
+    let f = match &r {
+        Some(r) => V3::select(rough, r.f_light, f),
+        None => f,
+    };
     let same_side = (wo.z * wi_local.z).gt(0.0);
     let f_nonzero = same_side & !f.is_zero();
     let cos_n = wi.dot(n);
@@ -368,6 +413,10 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let side = V3::select(cos_n.gt(0.0), n, n.neg());
     let shadow_origin = offset_ray_origin(p, side, error);
     let bsdf_pdf = wi_local.z.abs().max(0.0) * FRAC_1_PI;
+    let bsdf_pdf = match &r {
+        Some(r) => rough.select(r.pdf_light, bsdf_pdf),
+        None => bsdf_pdf,
+    };
     let w_light = mis(l_pdf, bsdf_pdf);
     let nee_value = paths
         .beta
@@ -404,6 +453,15 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     );
     let eta_s = refracts.select(g.eta_it, F8::splat(1.0));
     let sampled = lambert_ok | (mirror & wo.z.gt(0.0)) | glass;
+    let (wi_s, weight, sampled, pdf_b) = match &r {
+        Some(r) => (
+            V3::select(rough, r.wi, wi_s),
+            V3::select(rough, r.weight, weight),
+            sampled | (rough & r.ok),
+            rough.select(r.pdf, pdf_b),
+        ),
+        None => (wi_s, weight, sampled, pdf_b),
+    };
     let wi_world = fs.scale(wi_s.x).add(ft.scale(wi_s.y)).add(ns.scale(wi_s.z));
     let cos_w = wi_world.dot(n);
     let beta = paths.beta.mul(weight);
@@ -416,8 +474,9 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     paths.dir = V3::select(go_on, wi_world, paths.dir);
     paths.prev_p = V3::select(go_on, p, paths.prev_p);
     paths.prev_pdf = go_on.select(pdf_b, paths.prev_pdf);
-    // After a delta bounce an emitter hit counts in full (no MIS).
-    paths.has_prev = (go_on & lambert) | (!go_on & paths.has_prev);
+    // After a delta bounce an emitter hit counts in full (no MIS); after a glossy one
+    // it is weighted against the light sample.
+    paths.has_prev = (go_on & (lambert | rough)) | (!go_on & paths.has_prev);
     let q = (paths.beta.max_component() * (paths.eta * paths.eta)).min(0.95);
     Scattered {
         nee,
@@ -633,20 +692,17 @@ fn run<const FMA: bool>(
                 b.u_light[1].0[lane] = u_light.y;
                 continue;
             }
-            let choice = if ws.background {
-                ps.lights.pick_wide(u_pick, u_light)
-            } else {
-                let facet = ps.lights.pick_facet(u_pick, u_light);
-                facet.map(|(e, p, f, u)| WideLight::Facet(e, p, f, u))
-            };
-            match choice {
-                Some(WideLight::AtInfinity(ls)) => {
+            match ps.lights.pick_kernel(u_pick, u_light) {
+                Some(KernelLight::AtInfinity(ls)) => {
                     b.light.set(lane, false);
                     b.bg.light(lane, &ls, ws.background_scale);
                 }
-                Some(WideLight::Facet(emitter, pick, facet, u)) => {
+                Some(KernelLight::Surface(emitter, pick, facet)) => {
+                    // A sphere (no facet) warps the numbers as drawn.
+                    let (facet, u) = facet.unwrap_or((0, u_light));
                     b.light.set(lane, true);
                     b.facet[lane] = ws.facet_start[emitter] + facet as u32;
+                    b.emitter[lane] = emitter as u32;
                     b.pick.0[lane] = pick;
                     b.u_light[0].0[lane] = u.x;
                     b.u_light[1].0[lane] = u.y;
@@ -778,16 +834,18 @@ mod tests {
                 };
                 u[1].0[l] = rng.next_f32();
             }
-            let (m, facet, pick, uu) = pick_lights(lp, up, u, M8::TRUE);
+            let (m, facet, pick, uu, emitter) = pick_lights(lp, up, u, M8::TRUE);
             for l in 0..W {
                 let v = glam::Vec2::new(u[0].0[l], u[1].0[l]);
-                match lights.pick_facet(up.0[l], v) {
-                    Some((e, p, t, w)) => {
+                match lights.pick_kernel(up.0[l], v) {
+                    Some((e, p, Some((t, w)))) => {
+                        assert_eq!(emitter[l], e as u32);
                         assert!(m.get(l));
                         assert_eq!(facet[l], ws.facet_start[e] + t as u32);
                         assert_eq!(pick.0[l], p);
                         assert_eq!((uu[0].0[l], uu[1].0[l]), (w.x, w.y));
                     }
+                    Some((_, _, None)) => panic!("the Cornell box has no sphere light"),
                     None => assert!(!m.get(l)),
                 }
             }

@@ -37,24 +37,35 @@
 //!   lobe number against the exact dielectric Fresnel reflectance), with constant
 //!   parameters;
 //!
-//! each optionally emissive; no lecture mirror, gloss or glass and no rough BSDFs.
+//! - Mitsuba's `roughconductor` with isotropic GGX normals sampled by their visible
+//!   ones (Mitsuba's default; the speed suite's veach_mis plates), constant parameters
+//!   ([`ggx`]: value, density and sample in lanes, in `f32`, the Fresnel reflectance per
+//!   lane in `f64`); a glossy lobe as the scalar estimator treats it: a light sample
+//!   weighted by the power heuristic against the BSDF's density, and emission hit
+//!   after it weighted against the light sample's density;
+//!
+//! each optionally emissive; no lecture mirror, gloss or glass, no Beckmann or
+//! anisotropic roughness and no rough dielectric or plastic.
 //! Delta lobes follow the scalar estimator exactly: no light sample (its random
 //! numbers are drawn and unused), emission hit after them counts in full (no MIS), and
 //! Russian roulette judges `max(beta) eta²` with `eta` the product of the relative
 //! indices crossed. Every emitter is an emissive object
 //! sampled by its world-space facets (polygons, rectangles, boxes, polyhedra, emissive
-//! meshes) or an emitter at infinity: the constant environment (a background colour
-//! and Mitsuba's `constant` emitters) and Mitsuba's `envmap` ([`background`]: escaped
-//! rays gather them with MIS, light samples choose them with their probability and
-//! sample a direction lane by lane with the scalar code, then shade with an unbounded
-//! shadow ray in the vector stage); no point, spot, directional or sphere lights. The
-//! Cornell box qualifies, and so do diffuse scenes under an environment map. Every
-//! object must be baked into the [`FlatScene`]'s triangles (polygons, rectangles,
-//! boxes, polyhedra, and triangle meshes of any size, whose materials are untextured)
-//! or be a sphere (possibly placed by a transform, as the Mitsuba importer builds them;
-//! no quadrics, CSG or implicit surfaces; a scene of spheres only qualifies). Spheres are
-//! culled eight rays at once ([`sphere8`]: a conservative ray-ball test that only
-//! drops lanes that cannot hit one) and traced lane by lane after the lanes' triangles, with the flat scene's own test of
+//! meshes), an emissive sphere (unflipped, possibly under a transform) sampled
+//! uniformly by area with its own sampler ([`sphere_light`]: the lanes whose light
+//! choice falls on a sphere warp their numbers onto it), or an emitter at infinity: the
+//! constant environment (a background colour and Mitsuba's `constant` emitters) and
+//! Mitsuba's `envmap` ([`background`]: escaped rays gather them with MIS, light samples
+//! choose them with their probability and sample a direction lane by lane with the
+//! scalar code, then shade with an unbounded shadow ray in the vector stage); no point,
+//! spot, directional or rectangle *lights*. The Cornell box qualifies, and so do diffuse
+//! scenes under an environment map. Every object must be baked into the [`FlatScene`]'s
+//! triangles (polygons, rectangles, boxes, polyhedra, and triangle meshes of any size,
+//! whose materials are untextured) or be a sphere (possibly placed by a transform, as
+//! the Mitsuba importer builds them; no quadrics, CSG or implicit surfaces; a scene of
+//! spheres only qualifies). Spheres are culled eight rays at once ([`sphere8`]: a
+//! conservative ray-ball test that only drops lanes that cannot hit one) and traced
+//! lane by lane after the lanes' triangles, with the flat scene's own test of
 //! its unbaked objects up to the triangle's distance (the scalar `closest_hit`'s order
 //! and arithmetic, so the hits, normals and error bounds are the scalar ones), and so
 //! are the shadow rays the triangles leave through. So the speed suite's
@@ -67,15 +78,20 @@
 
 pub(crate) mod background;
 pub mod bsdf;
+pub mod ggx;
 pub mod kernel;
 pub(crate) mod sphere8;
+pub mod sphere_light;
 
 use super::flat_scene::FlatScene;
 use super::integrator::{PathCounters, PathParams, PathScene};
-use super::lights::{FacetEmitter, WideEmitter};
+use super::lights::{FacetEmitter, KernelEmitter};
+use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::packet::RayLaneTriangles;
+use irradia_scatter::microfacet::MicrofacetType;
 use irradia_scatter::{bsdfs::LectureLobe, Bsdf};
+use sphere_light::sph;
 
 /// The agreement the kernel is held to: the fraction of samples (same index in `a` and
 /// `b`, e.g. the scalar estimator's and the kernel's) whose three channels agree to
@@ -143,7 +159,12 @@ pub(crate) mod mat {
     /// (dielectric).
     pub const SPEC_R: usize = 11;
     pub const SPEC_T: usize = 14;
-    pub const LEN: usize = 17;
+    /// 1 for Mitsuba's `roughconductor` with isotropic GGX normals sampled by their
+    /// visible ones ([`super::ggx`]; the albedo is 0).
+    pub const ROUGH: usize = 17;
+    /// Its roughness α.
+    pub const ALPHA: usize = 18;
+    pub const LEN: usize = 19;
 }
 /// Fields of a [`WideScene::facets`] record.
 pub(crate) mod facet {
@@ -177,7 +198,7 @@ pub struct WideScene<'s, 'a> {
     /// Index of each emitter's first facet in `facets`.
     pub(crate) facet_start: Vec<u32>,
     /// The light choice's tables, when it is small enough to make in the vector
-    /// stage; otherwise each lane makes it with `LightSampler::pick_facet`.
+    /// stage; otherwise each lane makes it with `LightSampler::pick_kernel`.
     pub(crate) pick: Option<LightPick>,
     /// The triangles for tracing eight rays at once (small scenes); otherwise each
     /// lane walks the flat scene's hierarchy.
@@ -198,9 +219,18 @@ pub struct WideScene<'s, 'a> {
     /// A factor on the radiance of the emitters at infinity: 1 except in the test
     /// that shows a wrong environment is caught.
     pub(crate) background_scale: f32,
+    /// Whether some material is a rough conductor (the vector stage skips its lobe
+    /// otherwise).
+    pub(crate) has_rough: bool,
+    /// A factor on the rough conductor's α: 1 except in the test that shows a wrong
+    /// roughness is caught.
+    pub(crate) alpha_scale: f32,
+    /// Per emitter: its sphere record ([`sph`]) when some emitter is an emissive
+    /// sphere sampled by its own sampler; `None` when every emitter is facets.
+    pub(crate) sphere_lights: Option<Vec<[f32; sph::LEN]>>,
 }
 
-/// What choosing a light facet reads (`LightSampler::pick_facet`, lane by lane): the
+/// What choosing a light facet reads (`LightSampler::pick_kernel`, lane by lane): the
 /// emitters' cumulative probabilities, then within the chosen emitter its facets'
 /// cumulative areas. Both are searched by counting the entries `<= x`, which equals
 /// the scalar code's binary search on these sorted tables.
@@ -255,6 +285,19 @@ impl<'s, 'a> WideScene<'s, 'a> {
                 Some(Some(Bsdf::Diffuse(d))) => (d.reflectance, true, true),
                 Some(Some(Bsdf::Conductor(c))) => {
                     row[mat::MIRROR] = 1.0;
+                    let r = c.specular_reflectance;
+                    row[mat::SPEC_R..mat::SPEC_R + 3].copy_from_slice(&[r.r, r.g, r.b]);
+                    conductor = Some((c.eta, c.k));
+                    (Rgb::BLACK, true, true)
+                }
+                // GGX, isotropic, visible normals (the speed suite's plates).
+                Some(Some(Bsdf::RoughConductor(c)))
+                    if c.distribution.kind == MicrofacetType::Ggx
+                        && !c.distribution.is_anisotropic()
+                        && c.distribution.sample_visible =>
+                {
+                    row[mat::ROUGH] = 1.0;
+                    row[mat::ALPHA] = c.distribution.alpha_u;
                     let r = c.specular_reflectance;
                     row[mat::SPEC_R..mat::SPEC_R + 3].copy_from_slice(&[r.r, r.g, r.b]);
                     conductor = Some((c.eta, c.k));
@@ -330,23 +373,47 @@ impl<'s, 'a> WideScene<'s, 'a> {
             triangles.push([0.0; tri::LEN]);
         }
         let smooth = any_smooth.then_some(smooth_table);
-        // Facet emitters and emitters at infinity (`background`); no others.
-        let kinds = ps.lights.wide_emitters()?;
-        let at_infinity = kinds.iter().any(|k| matches!(k, WideEmitter::AtInfinity));
-        fn facets_of<'x>(k: &WideEmitter<'x>) -> Option<FacetEmitter<'x>> {
-            match k {
-                WideEmitter::Facets(e) => Some(*e),
-                WideEmitter::AtInfinity => None,
-            }
+        let kernel_emitters = ps.lights.kernel_emitters(scene)?;
+        let at_infinity = kernel_emitters
+            .iter()
+            .any(|e| matches!(e, KernelEmitter::AtInfinity(_)));
+        // A sphere emitter and an emitter at infinity have one placeholder facet (a zero
+        // record, the whole of its emitter's area table), so the light choice's tables
+        // stay aligned; the vector stage samples a sphere itself ([`sphere_light`]), and
+        // the lanes sample emitters at infinity ([`background`]).
+        const WHOLE: &[f32] = &[1.0];
+        const NO_TRIANGLE: &[[Vec3; 3]] = &[[Vec3::ZERO; 3]];
+        const NO_NORMAL: &[Vec3] = &[Vec3::ZERO];
+        const NO_DENSITY: &[f32] = &[0.0];
+        let placeholder = |probability| FacetEmitter {
+            radiance: Rgb::BLACK,
+            two_sided: false,
+            triangles: NO_TRIANGLE,
+            normals: NO_NORMAL,
+            pdf_area: NO_DENSITY,
+            cdf: WHOLE,
+            probability,
+        };
+        let mut sphere_table = vec![[0.0; sph::LEN]; kernel_emitters.len().max(1)];
+        let mut emitters = Vec::new();
+        for (i, e) in kernel_emitters.iter().enumerate() {
+            emitters.push(match e {
+                KernelEmitter::Facets(f) => *f,
+                KernelEmitter::Sphere(s) => {
+                    sphere_table[i] = sphere_light::record(s);
+                    placeholder(s.probability)
+                }
+                KernelEmitter::AtInfinity(probability) => placeholder(*probability),
+            });
         }
-        let emitters: Vec<FacetEmitter<'_>> = kinds.iter().filter_map(facets_of).collect();
+        let any_sphere = kernel_emitters
+            .iter()
+            .any(|e| matches!(e, KernelEmitter::Sphere(_)));
+        let sphere_lights = any_sphere.then_some(sphere_table);
         let mut facets = Vec::new();
         let mut facet_start = Vec::new();
-        for k in &kinds {
+        for e in &emitters {
             facet_start.push(facets.len() as u32);
-            let Some(e) = facets_of(k) else {
-                continue;
-            };
             for (k, t) in e.triangles.iter().enumerate() {
                 let mut r = [0.0; facet::LEN];
                 for (j, v) in [t[0], t[1], t[2], e.normals[k]].iter().enumerate() {
@@ -364,7 +431,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
         }
         let emitter_cdf = ps.lights.emitter_cdf();
         // The vector light choice knows facets only: with emitters at infinity each
-        // lane chooses with `LightSampler::pick_wide`.
+        // lane chooses with `LightSampler::pick_kernel`.
         let small = !at_infinity
             && emitters.len() <= VECTOR_PICK_MAX
             && emitters
@@ -388,6 +455,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
         if facets.is_empty() {
             facets.push([0.0; facet::LEN]);
         }
+        let has_rough = shading.iter().any(|r| r[mat::ROUGH] != 0.0);
         Some(Self {
             ps,
             triangles,
@@ -404,11 +472,14 @@ impl<'s, 'a> WideScene<'s, 'a> {
             fresnel_scale: 1.0,
             background: ps.lights.has_environment(),
             background_scale: 1.0,
+            has_rough,
+            alpha_scale: 1.0,
+            sphere_lights,
         })
     }
 
     /// The same kernel with its per-lane variants only: each lane walks the flat
-    /// scene's hierarchy and chooses its light with `LightSampler::pick_facet` (what
+    /// scene's hierarchy and chooses its light with `LightSampler::pick_kernel` (what
     /// scenes of more than 64 triangles or 16 emitters use); for tests.
     #[doc(hidden)]
     pub fn lane_by_lane(mut self) -> Self {
@@ -440,6 +511,15 @@ impl<'s, 'a> WideScene<'s, 'a> {
     #[doc(hidden)]
     pub fn with_background_scale(mut self, scale: f32) -> Self {
         self.background_scale = scale;
+        self
+    }
+
+    /// The same kernel with a wrong roughness (the rough conductor's α times
+    /// `scale`); for the test that shows the comparison with the scalar estimator
+    /// catches it.
+    #[doc(hidden)]
+    pub fn with_alpha_scale(mut self, scale: f32) -> Self {
+        self.alpha_scale = scale;
         self
     }
 

@@ -1,0 +1,239 @@
+//! The emitters as the 8-wide path kernel ([`crate::path::wide`]) samples them: emissive
+//! objects sampled by their world-space facets ([`FacetEmitter`]) and emissive spheres
+//! sampled uniformly by area with their own sampler ([`SphereEmitter`]: a point of the
+//! object-space sphere carried to world space by the instance's transform, its density
+//! by the area Jacobian `|det M| |M^-T n|`, as [`LightSampler::sample`] does), and the
+//! emitters at infinity (the constant environment: the background plus Mitsuba's
+//! `constant` emitters, and Mitsuba's `envmap`), sampled lane by lane with the scalar
+//! code's arithmetic so that samples agree with [`LightSampler::sample`]'s bit for bit.
+
+use super::{det3, Emitter, FacetEmitter, LightSample, LightSampler, SurfaceSampler};
+use glam::{Affine3A, Mat3, Vec2, Vec3};
+use irradia_core::{sampling, Rgb};
+use irradia_scene::Scene;
+use std::f32::consts::PI;
+
+/// An emissive sphere (not flipped) under its instance's transform.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SphereEmitter {
+    /// Object-space centre and radius.
+    pub center: Vec3,
+    pub radius: f32,
+    /// The instance's object-to-world map, and the map of object normals to world
+    /// normals (the inverse transpose, unnormalised).
+    pub to_world: Affine3A,
+    pub normal_to_world: Mat3,
+    /// `|det M|` of the transform and the object-space area `4πr²`.
+    pub det: f32,
+    pub area: f32,
+    pub radiance: Rgb,
+    pub two_sided: bool,
+    /// The probability of choosing this emitter.
+    pub probability: f32,
+}
+
+/// One emitter of a scene the kernel can sample.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum KernelEmitter<'a> {
+    Facets(FacetEmitter<'a>),
+    Sphere(SphereEmitter),
+    /// The constant environment or an environment map, with the probability of
+    /// choosing it.
+    AtInfinity(f32),
+}
+
+/// The light one lane of the kernel samples.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum KernelLight {
+    /// (emitter, probability of choosing it, and for a facet emitter its triangle and
+    /// the point of the unit square to warp into it; a sphere warps `u` itself).
+    Surface(usize, f32, Option<(usize, Vec2)>),
+    /// The whole sample [`LightSampler::sample`] gives for the same numbers towards an
+    /// emitter at infinity.
+    AtInfinity(LightSample),
+}
+
+impl LightSampler {
+    /// Every emitter as the kernel samples it, when each is an emissive object sampled
+    /// by its facets, an emissive (unflipped) sphere with its own sampler, or an emitter
+    /// at infinity; `None` otherwise. Indexed like the emitters.
+    pub(crate) fn kernel_emitters(&self, scene: &Scene) -> Option<Vec<KernelEmitter<'_>>> {
+        self.emitters
+            .iter()
+            .zip(&self.probability)
+            .map(|(e, &probability)| match e {
+                Emitter::Object {
+                    radiance,
+                    two_sided,
+                    world: Some(w),
+                    texture: None,
+                    ..
+                } => Some(KernelEmitter::Facets(FacetEmitter {
+                    radiance: *radiance,
+                    two_sided: *two_sided,
+                    triangles: &w.triangles,
+                    normals: &w.normals,
+                    pdf_area: &w.pdf_area,
+                    cdf: &w.cdf,
+                    probability,
+                })),
+                Emitter::Object {
+                    instance,
+                    radiance,
+                    texture: None,
+                    area,
+                    two_sided,
+                    surface: SurfaceSampler::Exact,
+                    world: None,
+                } => {
+                    let inst = &scene.accel.instances()[*instance as usize];
+                    let shape = inst.shape.as_ref();
+                    if shape.kind() != "sphere" {
+                        return None;
+                    }
+                    // The sphere's centre and radius from its bounds (`centre ± r`),
+                    // and its sampler must give outward normals (not flipped).
+                    let b = shape.bounds();
+                    let center = (b.min + b.max) * 0.5;
+                    let radius = (b.max.x - b.min.x) * 0.5;
+                    let (p, n) = shape.sample_surface(Vec2::new(0.3, 0.7))?;
+                    if n.dot(p - center) <= 0.0 {
+                        return None;
+                    }
+                    Some(KernelEmitter::Sphere(SphereEmitter {
+                        center,
+                        radius,
+                        to_world: *inst.to_world(),
+                        normal_to_world: Mat3::from(inst.to_object().matrix3.transpose()),
+                        det: det3(inst.to_world()).abs(),
+                        area: *area,
+                        radiance: *radiance,
+                        two_sided: *two_sided,
+                        probability,
+                    }))
+                }
+                Emitter::Environment { .. } | Emitter::Envmap { .. } => {
+                    Some(KernelEmitter::AtInfinity(probability))
+                }
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// The choice [`LightSampler::sample`] makes for `(u_pick, u)` in a scene of
+    /// [`KernelEmitter`]s: a facet or sphere emitter to be sampled by the vector stage,
+    /// or the whole sample of an emitter at infinity (the same arithmetic as `sample`'s:
+    /// a uniform direction on the sphere, density `pick / 4π`, for the constant
+    /// environment; the map's importance sample, density `pick` times the map's, for an
+    /// `envmap`). `None` where `sample` gives none.
+    #[inline]
+    pub(crate) fn pick_kernel(&self, u_pick: f32, u: Vec2) -> Option<KernelLight> {
+        let (idx, pick) = self.pick(u_pick)?;
+        match &self.emitters[idx] {
+            Emitter::Object { world: Some(w), .. } => {
+                let (i, u) = w.pick(u)?;
+                Some(KernelLight::Surface(idx, pick, Some((i, u))))
+            }
+            Emitter::Object { world: None, .. } => Some(KernelLight::Surface(idx, pick, None)),
+            Emitter::Environment { radiance, .. } => Some(KernelLight::AtInfinity(LightSample {
+                wi: sampling::uniform_sphere(u),
+                target: None,
+                li: *radiance,
+                pdf: pick / (4.0 * PI),
+                delta: false,
+            })),
+            Emitter::Envmap { sampler, .. } => {
+                let s = sampler.sample(u)?;
+                Some(KernelLight::AtInfinity(LightSample {
+                    wi: s.wi,
+                    target: None,
+                    li: s.radiance,
+                    pdf: pick * s.pdf,
+                    delta: false,
+                }))
+            }
+            _ => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+    use irradia_core::{Image, Rgb, Rng};
+    use irradia_scene::{EnvMap, Light, Scene};
+    use std::sync::Arc;
+
+    /// `pick_kernel` gives exactly `sample`'s light samples for emitters at infinity,
+    /// and `sample`'s choice of emitter and facet for facets, in a scene with both.
+    #[test]
+    fn wide_choice_equals_the_scalar_sample() {
+        let mut scene = irradia_scene::builtin::load("cornell").unwrap();
+        let mut image = Image::filled(16, 8, Rgb::splat(0.2)).unwrap();
+        image.set(5, 2, Rgb::new(8.0, 4.0, 1.0));
+        image.set(11, 6, Rgb::new(0.5, 3.0, 6.0));
+        let map = EnvMap {
+            image: Arc::new(image),
+            scale: 1.5,
+            to_world: glam::Mat3::from_rotation_x(0.4),
+            path: Default::default(),
+        };
+        scene.lights.push(Light::Envmap(Arc::new(map)));
+        scene.lights.push(Light::Constant {
+            radiance: Rgb::new(0.1, 0.2, 0.3),
+        });
+        let scene = Scene::new(
+            scene.camera,
+            scene.settings.clone(),
+            scene.materials.clone(),
+            scene.lights.clone(),
+            scene.objects.clone(),
+            scene.accel.instances().to_vec(),
+        );
+        let lights = LightSampler::new(&scene);
+        let kinds = lights
+            .kernel_emitters(&scene)
+            .expect("facets and emitters at infinity");
+        let at_infinity = kinds
+            .iter()
+            .filter(|k| matches!(k, KernelEmitter::AtInfinity(_)))
+            .count();
+        assert_eq!(at_infinity, 2);
+        let mut rng = Rng::new(3, 4);
+        let (mut facets, mut far) = (0, 0);
+        let p = Vec3::new(0.1, 0.2, 0.3);
+        for _ in 0..2000 {
+            let (up, u) = (rng.next_f32(), rng.next_2d());
+            match lights.pick_kernel(up, u) {
+                Some(KernelLight::Surface(e, pick, Some((t, w)))) => {
+                    facets += 1;
+                    // The facet `sample` itself chooses for the same numbers.
+                    let (idx, p) = lights.pick(up).unwrap();
+                    assert_eq!((e, pick), (idx, p));
+                    let Emitter::Object {
+                        world: Some(wd), ..
+                    } = &lights.emitters[e]
+                    else {
+                        panic!("a facet emitter");
+                    };
+                    assert_eq!(wd.pick(u), Some((t, w)));
+                }
+                Some(KernelLight::Surface(_, _, None)) => panic!("no sphere emitter here"),
+                Some(KernelLight::AtInfinity(ls)) => {
+                    far += 1;
+                    let want = lights.sample(&scene, p, up, u).unwrap();
+                    assert_eq!(ls.wi, want.wi);
+                    assert_eq!(ls.li, want.li);
+                    assert_eq!(ls.pdf.to_bits(), want.pdf.to_bits());
+                    assert!(ls.target.is_none() && want.target.is_none());
+                }
+                None => assert!(lights.sample(&scene, p, up, u).is_none()),
+            }
+        }
+        assert!(
+            facets > 100 && far > 100,
+            "{facets} facets, {far} at infinity"
+        );
+    }
+}
