@@ -162,11 +162,40 @@ impl Instance {
         self.shape.spans(&self.object_ray(ray), out);
         for s in &mut out[start..] {
             for b in [&mut s.enter, &mut s.exit] {
-                if b.t.is_finite() {
-                    b.normal =
-                        Vec3::from(self.normal_to_world.mul_vec3a(b.normal.into())).normalize();
-                }
+                b.normal = self.carry_boundary_normal(b.t, b.normal);
             }
+        }
+    }
+
+    /// [`Shape::spans_t`] in world space: the spans' parameters only (they are shared
+    /// with object space, so nothing is carried).
+    #[inline]
+    pub fn spans_t(&self, ray: &Ray, out: &mut Vec<Span>) {
+        if self.identity {
+            return self.shape.spans_t(ray, out);
+        }
+        self.shape.spans_t(&self.object_ray(ray), out);
+    }
+
+    /// The world ray carried into object space, as [`Self::spans`] carries it (the
+    /// same ray when the map is the identity).
+    #[inline]
+    pub(crate) fn ray_to_object(&self, ray: &Ray) -> Ray {
+        if self.identity {
+            *ray
+        } else {
+            self.object_ray(ray)
+        }
+    }
+
+    /// An object-space boundary normal at parameter `t` carried to world space, as
+    /// [`Self::spans`] carries it (unchanged at infinite `t` or under the identity).
+    #[inline]
+    pub(crate) fn carry_boundary_normal(&self, t: f32, n: Vec3) -> Vec3 {
+        if self.identity || !t.is_finite() {
+            n
+        } else {
+            Vec3::from(self.normal_to_world.mul_vec3a(n.into())).normalize()
         }
     }
 }

@@ -204,6 +204,15 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     /// Shapes that are not solid append nothing.
     fn spans(&self, ray: &Ray, out: &mut Vec<Span>);
 
+    /// [`Shape::spans`] for a caller that needs only where the boundaries are: the same
+    /// spans, with the same `t`s in the same order, but each boundary's `normal`, `uv`
+    /// and `prim` may be left unset. CSG combines spans by `t` alone and shades only the
+    /// one boundary that wins (or none, for a shadow ray), so shapes whose surface costs
+    /// more than their roots (a normal, an `atan2` for uv) override this to skip it.
+    fn spans_t(&self, ray: &Ray, out: &mut Vec<Span>) {
+        self.spans(ray, out)
+    }
+
     /// The surface as planar polygons. `detail` sets how finely curved surfaces are cut
     /// (about `detail` segments around a full turn); flat shapes ignore it. `None` for
     /// shapes that cannot be faceted (unbounded ones).

@@ -6,12 +6,15 @@
 //! - [`combine`]: merging two span lists; the tie rule for coincident surfaces and the
 //!   flipped normals of subtracted faces are documented there.
 //! - [`node`]: the CSG node, a `Shape` over placed operands, with leaf numbering.
+//! - [`resolve`]: the surface at the one boundary a ray reports, after combining
+//!   spans by their parameters alone.
 //! - [`window`]: the bounds test that skips operands a ray cannot meet.
 //! - [`scratch`]: per-thread span buffers (no allocation per ray).
 
 pub mod combine;
 pub mod node;
 pub mod op;
+mod resolve;
 pub mod scratch;
 pub mod window;
 

@@ -15,7 +15,7 @@ use super::window::SlabRay;
 use crate::instance::Instance;
 use crate::shape::{Boundary, Hit, Shape, Span};
 use crate::shapes::ShapeError;
-use glam::Affine3A;
+use glam::{Affine3A, Vec3};
 use irradia_core::{Aabb, Ray};
 use std::sync::Arc;
 
@@ -52,9 +52,12 @@ impl From<Csg> for CsgOperand {
 }
 
 #[derive(Clone, Debug)]
-struct Child {
-    instance: Instance,
-    leaf_offset: u32,
+pub(super) struct Child {
+    pub(super) instance: Instance,
+    /// The node itself when the operand is a CSG node (`instance.shape` is it too), to
+    /// find the surface at one of its boundaries (`resolve`).
+    pub(super) node: Option<Arc<Csg>>,
+    pub(super) leaf_offset: u32,
     bounds: Aabb,
 }
 
@@ -62,7 +65,7 @@ struct Child {
 #[derive(Clone, Debug)]
 pub struct Csg {
     op: CsgOp,
-    children: Vec<Child>,
+    pub(super) children: Vec<Child>,
     leaf_paths: Vec<Vec<u32>>,
     bounds: Aabb,
 }
@@ -78,7 +81,7 @@ impl Csg {
         let mut leaf_paths = Vec::new();
         for (i, operand) in operands.into_iter().enumerate() {
             let leaf_offset = leaf_paths.len() as u32;
-            let instance = match operand {
+            let (instance, node) = match operand {
                 CsgOperand::Shape(inst) => {
                     if !inst.shape.is_solid() {
                         return Err(ShapeError::NotSolid {
@@ -86,7 +89,7 @@ impl Csg {
                         });
                     }
                     leaf_paths.push(vec![i as u32]);
-                    inst
+                    (inst, None)
                 }
                 CsgOperand::Node(csg, to_parent) => {
                     for p in &csg.leaf_paths {
@@ -94,7 +97,8 @@ impl Csg {
                         path.extend_from_slice(p);
                         leaf_paths.push(path);
                     }
-                    Instance::new(Arc::new(csg), to_parent)
+                    let node = Arc::new(csg);
+                    (Instance::new(node.clone(), to_parent), Some(node))
                 }
             };
             // An untransformed operand keeps its own bounds: Instance widens a
@@ -107,6 +111,7 @@ impl Csg {
             children.push(Child {
                 bounds,
                 instance,
+                node,
                 leaf_offset,
             });
         }
@@ -157,8 +162,15 @@ impl Csg {
     }
 
     /// The operand's spans that overlap `[lo, hi]`, leaves renumbered, into `out`.
+    ///
+    /// With `SURFACES` false only the parameters are computed ([`Shape::spans_t`]), and
+    /// each boundary is named so that its surface can be found afterwards
+    /// (`resolve`): a leaf operand's boundaries get `prim` = their place in the leaf's
+    /// own list (enter of span `i` is `2i`, its exit `2i + 1`), `leaf` 0 (before the
+    /// renumbering) and the normal `+x`, which `combine` negates wherever it would
+    /// negate the real normal, so that its sign says whether to.
     #[inline]
-    fn operand_spans(
+    fn operand_spans<const SURFACES: bool>(
         &self,
         c: &Child,
         ray: &Ray,
@@ -171,7 +183,20 @@ impl Csg {
         if !slab.overlaps(&c.bounds, lo, hi) {
             return;
         }
-        c.instance.spans(ray, out);
+        if SURFACES {
+            c.instance.spans(ray, out);
+        } else {
+            c.instance.spans_t(ray, out);
+            if c.node.is_none() {
+                for (i, s) in out.iter_mut().enumerate() {
+                    for (k, b) in [&mut s.enter, &mut s.exit].into_iter().enumerate() {
+                        b.prim = (2 * i + k) as u32;
+                        b.leaf = 0;
+                        b.normal = Vec3::X;
+                    }
+                }
+            }
+        }
         // Keep the spans that overlap the window, renumbering leaves, in place.
         let mut kept = 0;
         for i in 0..out.len() {
@@ -186,8 +211,9 @@ impl Csg {
         out.truncate(kept);
     }
 
-    /// The node's spans that overlap `[lo, hi]` (exact inside the window), in `b.acc`.
-    fn collect(&self, ray: &Ray, lo: f32, hi: f32, b: &mut Buffers) {
+    /// The node's spans that overlap `[lo, hi]` (exact inside the window), in `b.acc`;
+    /// with `SURFACES` false, only their parameters (see `operand_spans`).
+    fn collect<const SURFACES: bool>(&self, ray: &Ray, lo: f32, hi: f32, b: &mut Buffers) {
         b.acc.clear();
         let slab = SlabRay::new(ray);
         let narrowing = matches!(self.op, CsgOp::Intersection | CsgOp::Difference);
@@ -202,7 +228,7 @@ impl Csg {
         let (mut lo, mut hi) = (lo, hi);
         let mut children = self.children.iter();
         let first = children.next().expect("a CSG node has operands");
-        self.operand_spans(first, ray, &slab, lo, hi, &mut b.acc);
+        self.operand_spans::<SURFACES>(first, ray, &slab, lo, hi, &mut b.acc);
         for c in children {
             if narrowing {
                 // Nothing outside the current result can come back in.
@@ -214,7 +240,7 @@ impl Csg {
                     _ => return,
                 }
             }
-            self.operand_spans(c, ray, &slab, lo, hi, &mut b.operand);
+            self.operand_spans::<SURFACES>(c, ray, &slab, lo, hi, &mut b.operand);
             if b.operand.is_empty() {
                 if self.op == CsgOp::Intersection {
                     b.acc.clear();
@@ -232,14 +258,30 @@ impl Csg {
         }
     }
 
-    /// The first boundary with `0 < t < t_max` of the combined spans.
+    /// The first boundary with `0 < t < t_max` of the combined spans, with its surface
+    /// (normal, uv, primitive, leaf). The spans are combined by their parameters alone
+    /// and the surface is computed for that one boundary only (`resolve`): the same
+    /// boundary, bit for bit, as combining spans with every surface computed.
     fn first_boundary(&self, ray: &Ray, t_max: f32) -> Option<Boundary> {
         with_buffers(|b| {
-            self.collect(ray, 0.0, t_max, b);
-            b.acc
+            self.collect::<false>(ray, 0.0, t_max, b);
+            let e = b
+                .acc
                 .iter()
                 .flat_map(|s| [s.enter, s.exit])
-                .find(|e| e.t > 0.0 && e.t < t_max)
+                .find(|e| e.t > 0.0 && e.t < t_max)?;
+            Some(self.resolve(ray, &e, &mut b.tmp))
+        })
+    }
+
+    /// Whether the combined spans have a boundary with `0 < t < t_max` (no surfaces).
+    fn any_boundary(&self, ray: &Ray, t_max: f32) -> bool {
+        with_buffers(|b| {
+            self.collect::<false>(ray, 0.0, t_max, b);
+            b.acc
+                .iter()
+                .flat_map(|s| [s.enter.t, s.exit.t])
+                .any(|t| t > 0.0 && t < t_max)
         })
     }
 
@@ -311,7 +353,7 @@ impl Shape for Csg {
                 .iter()
                 .any(|c| slab.overlaps(&c.bounds, 0.0, t_max) && c.instance.occluded(ray, t_max));
         }
-        self.first_boundary(ray, t_max).is_some()
+        self.any_boundary(ray, t_max)
     }
 
     fn is_solid(&self) -> bool {
@@ -320,7 +362,16 @@ impl Shape for Csg {
 
     fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
         with_buffers(|b| {
-            self.collect(ray, f32::NEG_INFINITY, f32::INFINITY, b);
+            self.collect::<true>(ray, f32::NEG_INFINITY, f32::INFINITY, b);
+            out.extend_from_slice(&b.acc);
+        })
+    }
+
+    /// The spans' parameters, each boundary named as `operand_spans` says (its `prim`
+    /// and the sign of its normal's `x` are this node's, for `resolve`).
+    fn spans_t(&self, ray: &Ray, out: &mut Vec<Span>) {
+        with_buffers(|b| {
+            self.collect::<false>(ray, f32::NEG_INFINITY, f32::INFINITY, b);
             out.extend_from_slice(&b.acc);
         })
     }

@@ -175,6 +175,16 @@ impl Shape for Cuboid {
         }
     }
 
+    /// [`Self::spans`]' slab parameters without the surfaces at them.
+    fn spans_t(&self, ray: &Ray, out: &mut Vec<Span>) {
+        if let Some((near, far)) = self.slabs(ray) {
+            out.push(Span {
+                enter: Boundary::new(near.t, Vec3::ZERO, Vec2::ZERO),
+                exit: Boundary::new(far.t, Vec3::ZERO, Vec2::ZERO),
+            });
+        }
+    }
+
     fn facets_exact(&self) -> bool {
         true
     }

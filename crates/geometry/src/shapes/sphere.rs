@@ -209,6 +209,19 @@ impl Shape for Sphere {
             });
         }
     }
+
+    /// [`Self::spans`]' roots without the surfaces (normal, uv) at them.
+    fn spans_t(&self, ray: &Ray, out: &mut Vec<Span>) {
+        if self.flipped {
+            return;
+        }
+        if let Some((t0, t1)) = self.roots(ray) {
+            out.push(Span {
+                enter: Boundary::new(t0 as f32, Vec3::ZERO, Vec2::ZERO),
+                exit: Boundary::new(t1 as f32, Vec3::ZERO, Vec2::ZERO),
+            });
+        }
+    }
 }
 
 /// The unit sphere as a UV sphere: `detail` segments around (at least 3) and half as

@@ -384,6 +384,23 @@ impl Shape for Quadric {
         }
     }
 
+    /// [`Self::spans`]' ends without their normals and uv (no gradient, no `atan2`).
+    fn spans_t(&self, ray: &Ray, out: &mut Vec<Span>) {
+        if !self.solid {
+            return;
+        }
+        let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+        let mut spans = [(End { t: 0.0, side: 0 }, End { t: 0.0, side: 0 }); 2];
+        let n = self.solid_spans(o, d, &mut spans);
+        let at = |e: End| Boundary::new(e.t as f32, Vec3::ZERO, Vec2::ZERO);
+        for &(a, b) in &spans[..n] {
+            out.push(Span {
+                enter: at(a),
+                exit: at(b),
+            });
+        }
+    }
+
     fn facets(&self, detail: u32) -> Option<crate::shape::Facets> {
         facets::facets(self, detail)
     }
