@@ -838,14 +838,17 @@ mod tests {
             for l in 0..W {
                 let v = glam::Vec2::new(u[0].0[l], u[1].0[l]);
                 match lights.pick_kernel(up.0[l], v) {
-                    Some((e, p, Some((t, w)))) => {
+                    Some(KernelLight::Surface(e, p, Some((t, w)))) => {
                         assert_eq!(emitter[l], e as u32);
                         assert!(m.get(l));
                         assert_eq!(facet[l], ws.facet_start[e] + t as u32);
                         assert_eq!(pick.0[l], p);
                         assert_eq!((uu[0].0[l], uu[1].0[l]), (w.x, w.y));
                     }
-                    Some((_, _, None)) => panic!("the Cornell box has no sphere light"),
+                    Some(KernelLight::Surface(_, _, None)) => {
+                        panic!("the Cornell box has no sphere light")
+                    }
+                    Some(KernelLight::AtInfinity(_)) => panic!("nor an environment"),
                     None => assert!(!m.get(l)),
                 }
             }
