@@ -97,7 +97,7 @@ use sphere_light::sph;
 /// `b`, e.g. the scalar estimator's and the kernel's) whose three channels agree to
 /// `1e-4` relative (plus `1e-7` absolute near zero). Samples differ by rounding only, so
 /// this is 1 up to a few tie-breaks; tests/path_wide.rs and the importer's
-/// wide_glass_mirror test use it.
+/// wide_kernel test use it.
 pub fn samples_agreeing(a: &[Rgb], b: &[Rgb]) -> f64 {
     let close = |x: f32, y: f32| (x - y).abs() <= 1e-4 * x.abs().max(y.abs()) + 1e-7;
     let same = a
