@@ -5,22 +5,21 @@
 
 mod path_common;
 
+use path_common::wide::{both_estimates, Variant};
+
 use glam::{Affine3A, Quat, Vec3};
-use irradia_core::{Ray, Rgb, Rng};
+use irradia_core::Rgb;
 use irradia_geometry::shapes::{Cuboid, Sphere};
 use irradia_geometry::{Instance, TriangleMesh};
 use irradia_render::driver::ProgressiveOptions;
-use irradia_render::filter::FilterSampler;
 use irradia_render::path::flat_scene::FlatScene;
-use irradia_render::path::integrator::{radiance_in, PathScene};
+use irradia_render::path::integrator::PathScene;
 use irradia_render::path::lights::LightSampler;
 use irradia_render::path::wide::{samples_agreeing, WideScene};
 use irradia_render::path::Kernel;
-use irradia_render::path::{self, PathCounters, PathParams};
-use irradia_render::sampler::{camera_sample, Sampler};
+use irradia_render::path::{self, PathParams};
 use irradia_render::Film;
 use irradia_scene::bsdf::{BsdfDesc, Conductor, Dielectric, Diffuse};
-use irradia_scene::camera::CameraRays;
 use irradia_scene::{Material, Object, Scene, Texture};
 use path_common::{uv_sphere_mesh, SphereNormals};
 use std::sync::Arc;
@@ -222,14 +221,6 @@ fn cornell_with_spheres(width: u32, height: u32, balls: &[Ball]) -> Scene {
     )
 }
 
-/// Sample `i` of pixel (x, y) as the path tracer draws it (box filter, independent
-/// sampler of stream family `seed`).
-fn pixel_sample(cam: &CameraRays, x: u32, y: u32, i: u32, seed: u32) -> (Ray, Rng) {
-    let filter = FilterSampler::new(Default::default());
-    let s = camera_sample(cam, &filter, Sampler::Independent { seed }, x, y, i);
-    (s.ray, s.rng)
-}
-
 /// A smooth-shaded octahedron (8 triangles, and 8 degenerate ones at the poles):
 /// with the Cornell box, at most 64 triangles.
 fn octahedron(normals: SphereNormals) -> TriangleMesh {
@@ -239,67 +230,6 @@ fn octahedron(normals: SphereNormals) -> TriangleMesh {
 /// A smooth-shaded sphere of 168 triangles: with the Cornell box, more than 64.
 fn sphere(normals: SphereNormals) -> TriangleMesh {
     uv_sphere_mesh(8, 12, normals)
-}
-
-/// Which build of the wide kernel runs.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Variant {
-    /// What renders use on this CPU.
-    Default,
-    /// Every lane traced and given its light on its own.
-    LaneByLane,
-    /// The portable build (no AVX2).
-    Portable,
-    /// The default build with the smooth conductor's and dielectric's Fresnel
-    /// reflectance multiplied by this factor (a wrong kernel).
-    WrongFresnel(f32),
-}
-
-/// Sample values of every pixel (`spp` each) by the scalar estimator and by the wide
-/// kernel; the scalar ones from stream family `scalar_seed`, the wide ones from 0.
-fn both_estimates(
-    scene: &Scene,
-    spp: u32,
-    params: &PathParams,
-    scalar_seed: u32,
-    variant: Variant,
-) -> (Vec<Rgb>, Vec<Rgb>) {
-    let lights = LightSampler::new(scene);
-    let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
-    let mut wide = WideScene::new(&ps).expect("the scene qualifies for the wide kernel");
-    if variant == Variant::LaneByLane {
-        wide = wide.lane_by_lane();
-    }
-    if let Variant::WrongFresnel(scale) = variant {
-        wide = wide.with_fresnel_scale(scale);
-    }
-    let (w, h) = (scene.settings.width, scene.settings.height);
-    let cam = scene.camera.rays(w, h);
-    let n = (w * h * spp) as usize;
-    let task = |k: usize| {
-        let (pixel, i) = (k as u32 / spp, k as u32 % spp);
-        (pixel % w, pixel / w, i)
-    };
-    let mut scalar = Vec::with_capacity(n);
-    let mut c_scalar = PathCounters::default();
-    for k in 0..n {
-        let (x, y, i) = task(k);
-        let (ray, mut rng) = pixel_sample(&cam, x, y, i, scalar_seed);
-        scalar.push(radiance_in(&ps, params, ray, &mut rng, &mut c_scalar));
-    }
-    let mut wide_out = vec![Rgb::splat(f32::NAN); n];
-    let mut c_wide = PathCounters::default();
-    let start = |k| {
-        let (x, y, i) = task(k);
-        pixel_sample(&cam, x, y, i, 0)
-    };
-    if variant == Variant::Portable {
-        wide.radiance_batch_portable(params, start, &mut wide_out, &mut c_wide);
-    } else {
-        wide.radiance_batch(params, start, &mut wide_out, &mut c_wide);
-    }
-    assert_eq!(c_wide.paths, c_scalar.paths);
-    (scalar, wide_out)
 }
 
 /// Mean luminance and its standard error.

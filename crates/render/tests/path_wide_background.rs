@@ -6,17 +6,17 @@
 
 mod path_common;
 
+use path_common::wide::{both_estimates_counted, Variant};
+
 use glam::{Mat3, Vec3};
-use irradia_core::{Image, Ray, Rgb, Rng};
+use irradia_core::{Image, Rgb};
 use irradia_geometry::shapes::{Cuboid, Sphere};
 use irradia_geometry::Instance;
-use irradia_render::filter::FilterSampler;
 use irradia_render::path::flat_scene::FlatScene;
-use irradia_render::path::integrator::{radiance_in, PathScene};
+use irradia_render::path::integrator::PathScene;
 use irradia_render::path::lights::LightSampler;
 use irradia_render::path::wide::{samples_agreeing, WideScene};
-use irradia_render::path::{PathCounters, PathParams};
-use irradia_render::sampler::{camera_sample, Sampler};
+use irradia_render::path::PathParams;
 use irradia_scene::bsdf::{BsdfDesc, Diffuse};
 use irradia_scene::{EnvMap, Light, Material, Scene};
 use std::sync::Arc;
@@ -126,32 +126,9 @@ fn ball_on_floor(w: u32, h: u32, sky: Sky, lecture: bool) -> Scene {
     )
 }
 
-/// Which build of the wide kernel runs.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Variant {
-    Default,
-    LaneByLane,
-    Portable,
-    /// The environment's radiance (escaped rays and light samples) times this factor.
-    WrongBackground(f32),
-    /// Every lane runs the exact sphere test (no 8-wide cull).
-    NoSphereCull,
-}
-
-fn pixel_sample(
-    cam: &irradia_scene::camera::CameraRays,
-    x: u32,
-    y: u32,
-    i: u32,
-    seed: u32,
-) -> (Ray, Rng) {
-    let filter = FilterSampler::new(Default::default());
-    let s = camera_sample(cam, &filter, Sampler::Independent { seed }, x, y, i);
-    (s.ray, s.rng)
-}
-
 /// Every pixel's `spp` samples by the scalar estimator (stream family `scalar_seed`)
-/// and by the wide kernel (family 0).
+/// and by the wide kernel (family 0); with the scalar samples' own streams, the same
+/// number of shadow rays.
 fn both_estimates(
     scene: &Scene,
     spp: u32,
@@ -159,42 +136,7 @@ fn both_estimates(
     variant: Variant,
 ) -> (Vec<Rgb>, Vec<Rgb>) {
     let params = PathParams::default();
-    let lights = LightSampler::new(scene);
-    let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
-    let mut wide = WideScene::new(&ps).expect("the scene qualifies for the wide kernel");
-    match variant {
-        Variant::LaneByLane => wide = wide.lane_by_lane(),
-        Variant::WrongBackground(s) => wide = wide.with_background_scale(s),
-        Variant::NoSphereCull => wide = wide.without_sphere_cull(),
-        _ => {}
-    }
-    let (w, h) = (scene.settings.width, scene.settings.height);
-    let cam = scene.camera.rays(w, h);
-    let n = (w * h * spp) as usize;
-    let task = |k: usize| {
-        let (pixel, i) = (k as u32 / spp, k as u32 % spp);
-        (pixel % w, pixel / w, i)
-    };
-    let mut c = PathCounters::default();
-    let scalar: Vec<Rgb> = (0..n)
-        .map(|k| {
-            let (x, y, i) = task(k);
-            let (ray, mut rng) = pixel_sample(&cam, x, y, i, scalar_seed);
-            radiance_in(&ps, &params, ray, &mut rng, &mut c)
-        })
-        .collect();
-    let mut out = vec![Rgb::splat(f32::NAN); n];
-    let mut cw = PathCounters::default();
-    let start = |k| {
-        let (x, y, i) = task(k);
-        pixel_sample(&cam, x, y, i, 0)
-    };
-    if variant == Variant::Portable {
-        wide.radiance_batch_portable(&params, start, &mut out, &mut cw);
-    } else {
-        wide.radiance_batch(&params, start, &mut out, &mut cw);
-    }
-    assert_eq!(cw.paths, c.paths);
+    let (scalar, out, c, cw) = both_estimates_counted(scene, spp, &params, scalar_seed, variant);
     if scalar_seed == 0 {
         assert_eq!(cw.shadow_rays, c.shadow_rays, "shadow rays");
     }

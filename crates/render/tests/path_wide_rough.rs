@@ -6,17 +6,14 @@
 
 mod path_common;
 
+use path_common::wide::{both_estimates, Variant};
+
 use glam::{Affine3A, Quat, Vec3};
-use irradia_core::{Ray, Rgb, Rng};
+use irradia_core::Rgb;
 use irradia_geometry::shapes::Sphere;
 use irradia_geometry::Instance;
-use irradia_render::filter::FilterSampler;
-use irradia_render::path::flat_scene::FlatScene;
-use irradia_render::path::integrator::{radiance_in, PathScene};
-use irradia_render::path::lights::LightSampler;
-use irradia_render::path::wide::{samples_agreeing, WideScene};
-use irradia_render::path::{PathCounters, PathParams};
-use irradia_render::sampler::{camera_sample, Sampler};
+use irradia_render::path::wide::samples_agreeing;
+use irradia_render::path::PathParams;
 use irradia_scene::bsdf::{BsdfDesc, Conductor, Diffuse, Distribution, Microfacet, Roughness};
 use irradia_scene::texture::FloatTexture;
 use irradia_scene::{Material, Object, Scene, Texture};
@@ -145,72 +142,6 @@ fn glossy_box(width: u32, height: u32, alphas: [f32; 4], lights: Lights) -> Scen
     )
 }
 
-/// Sample `i` of pixel (x, y) as the path tracer draws it.
-fn pixel_sample(scene: &Scene, x: u32, y: u32, i: u32, seed: u32) -> (Ray, Rng) {
-    let cam = scene
-        .camera
-        .rays(scene.settings.width, scene.settings.height);
-    let filter = FilterSampler::new(Default::default());
-    let s = camera_sample(&cam, &filter, Sampler::Independent { seed }, x, y, i);
-    (s.ray, s.rng)
-}
-
-/// Which build of the wide kernel runs.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Variant {
-    Default,
-    LaneByLane,
-    Portable,
-    /// The default build with the rough conductor's α multiplied by this factor.
-    WrongAlpha(f32),
-}
-
-/// Every pixel's `spp` samples by the scalar estimator (stream family `scalar_seed`)
-/// and by the wide kernel (family 0).
-fn both_estimates(
-    scene: &Scene,
-    spp: u32,
-    scalar_seed: u32,
-    variant: Variant,
-) -> (Vec<Rgb>, Vec<Rgb>) {
-    let params = PathParams::default();
-    let lights = LightSampler::new(scene);
-    let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
-    let mut wide = WideScene::new(&ps).expect("the scene qualifies for the wide kernel");
-    match variant {
-        Variant::LaneByLane => wide = wide.lane_by_lane(),
-        Variant::WrongAlpha(s) => wide = wide.with_alpha_scale(s),
-        _ => {}
-    }
-    let w = scene.settings.width;
-    let n = (w * scene.settings.height * spp) as usize;
-    let task = |k: usize| {
-        let (pixel, i) = (k as u32 / spp, k as u32 % spp);
-        (pixel % w, pixel / w, i)
-    };
-    let mut c = PathCounters::default();
-    let scalar: Vec<Rgb> = (0..n)
-        .map(|k| {
-            let (x, y, i) = task(k);
-            let (ray, mut rng) = pixel_sample(scene, x, y, i, scalar_seed);
-            radiance_in(&ps, &params, ray, &mut rng, &mut c)
-        })
-        .collect();
-    let mut out = vec![Rgb::splat(f32::NAN); n];
-    let mut cw = PathCounters::default();
-    let start = |k| {
-        let (x, y, i) = task(k);
-        pixel_sample(scene, x, y, i, 0)
-    };
-    if variant == Variant::Portable {
-        wide.radiance_batch_portable(&params, start, &mut out, &mut cw);
-    } else {
-        wide.radiance_batch(&params, start, &mut out, &mut cw);
-    }
-    assert_eq!(c.paths, cw.paths);
-    (scalar, out)
-}
-
 /// Least fraction of agreeing samples (every sample agreed but a few hundredths of a
 /// percent, 2026-12-03: a direction that differs in its last bits meets a light's or a
 /// box's edge).
@@ -260,7 +191,7 @@ fn rough_conductor_samples_equal_scalar_samples_up_to_rounding() {
             Variant::Portable,
         ),
     ] {
-        let (scalar, wide) = both_estimates(&scene, 2, 0, variant);
+        let (scalar, wide) = both_estimates(&scene, 2, &PathParams::default(), 0, variant);
         assert!(
             wide.iter().all(|c| c.is_finite()),
             "{name}: unwritten sample"
@@ -270,7 +201,7 @@ fn rough_conductor_samples_equal_scalar_samples_up_to_rounding() {
         assert!(same > AGREE, "{name}: only {:.3}% agree", same * 100.0);
         if variant == Variant::Default {
             // The comparison can fail: another stream's samples do not agree.
-            let (other, _) = both_estimates(&scene, 2, 7, variant);
+            let (other, _) = both_estimates(&scene, 2, &PathParams::default(), 7, variant);
             let chance = samples_agreeing(&other, &wide);
             assert!(
                 chance < 0.5,
@@ -286,7 +217,13 @@ fn rough_conductor_samples_equal_scalar_samples_up_to_rounding() {
 #[test]
 fn a_wrong_roughness_is_caught() {
     let scene = glossy_box(32, 32, PLATES, Lights::Ceiling);
-    let (scalar, wrong) = both_estimates(&scene, 2, 0, Variant::WrongAlpha(1.01));
+    let (scalar, wrong) = both_estimates(
+        &scene,
+        2,
+        &PathParams::default(),
+        0,
+        Variant::WrongAlpha(1.01),
+    );
     let same = samples_agreeing(&scalar, &wrong);
     println!("α × 1.01: {:.2}% of samples agree", same * 100.0);
     assert!(

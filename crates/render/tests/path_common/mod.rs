@@ -1,6 +1,8 @@
 //! Small scenes built in code for the path tracer's statistical tests.
 #![allow(dead_code)]
 
+pub mod wide;
+
 use glam::{Affine3A, Vec3};
 use irradia_core::Rgb;
 use irradia_geometry::shapes::Sphere;
