@@ -15,9 +15,11 @@
 
 use super::background::Background;
 use super::bsdf::{conductor_fresnel, cosine_hemisphere, dielectric};
+use super::gather::{checked, field, field3};
 use super::ggx::rough_conductor;
+use super::light_pick::pick_lights;
 use super::sphere_light::{self, LightPoint};
-use super::{facet, mat, smooth, tri, LightPick, WideScene};
+use super::{facet, mat, smooth, tri, WideScene};
 use crate::path::flat_scene::prefetch_bytes;
 use crate::path::integrator::{PathCounters, PathParams};
 use crate::path::lights::KernelLight;
@@ -25,7 +27,7 @@ use crate::path::tracer::Tracer;
 use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::bvh::node::gamma;
-use irradia_geometry::packet::lanes::{gather, offset_ray_origin, F8, M8, V3, W};
+use irradia_geometry::packet::lanes::{offset_ray_origin, F8, M8, V3, W};
 use irradia_geometry::packet::ray8::LaneHits;
 use irradia_geometry::triangle::TriangleHit;
 use std::f32::consts::FRAC_1_PI;
@@ -91,88 +93,6 @@ struct Bounce {
     u_pick: F8,
     /// Escaped rays and light samples of emitters at infinity.
     bg: Background,
-}
-
-/// `table[idx[i]]` in every lane (indices checked).
-#[inline(always)]
-fn lookup(table: &[u32], idx: &[u32; W]) -> [u32; W] {
-    std::array::from_fn(|i| table[idx[i] as usize])
-}
-
-/// `LightSampler::pick_kernel` in every lane of `active`: the lanes that got a facet,
-/// the facet (index into `WideScene::facets`), the probability of its emitter, the
-/// point of the square to warp into the triangle, and the emitter.
-#[inline(always)]
-fn pick_lights(
-    lp: &LightPick,
-    u_pick: F8,
-    u: [F8; 2],
-    active: M8,
-) -> (M8, [u32; W], F8, [F8; 2], [u32; W]) {
-    let count_le = |count: &mut [u32; W], m: M8| {
-        for i in 0..W {
-            count[i] = count[i].wrapping_sub(m.0[i] as u32);
-        }
-    };
-    let total = lp.emitter_cdf[lp.emitter_cdf.len() - 1];
-    let x = u_pick * total;
-    let mut emitter = [0u32; W];
-    for &c in &lp.emitter_cdf {
-        count_le(&mut emitter, F8::splat(c).le(x));
-    }
-    let last = lp.emitter_cdf.len() as u32 - 1;
-    let emitter: [u32; W] = std::array::from_fn(|i| emitter[i].min(last));
-    checked(&lp.probability, &emitter);
-    let pick = field(&lp.probability, &emitter, 0);
-    let total_w = field(&lp.total, &emitter, 0);
-    let (start, len) = (lookup(&lp.start, &emitter), lookup(&lp.len, &emitter));
-    let x2 = u[0] * total_w;
-    let mut k = [0u32; W];
-    for j in 0..lp.max_len as u32 {
-        let at: [u32; W] = std::array::from_fn(|i| start[i] + j.min(len[i] - 1));
-        checked(&lp.facet_cdf, &at);
-        let inside = M8::from_fn(|i| j < len[i]);
-        count_le(&mut k, inside & field(&lp.facet_cdf, &at, 0).le(x2));
-    }
-    let k: [u32; W] = std::array::from_fn(|i| k[i].min(len[i] - 1));
-    let at_lo: [u32; W] = std::array::from_fn(|i| start[i] + k[i].max(1) - 1);
-    let at_hi: [u32; W] = std::array::from_fn(|i| start[i] + k[i]);
-    checked(&lp.facet_cdf, &at_lo);
-    checked(&lp.facet_cdf, &at_hi);
-    let first = M8::from_fn(|i| k[i] == 0);
-    let lo = first.select(F8::ZERO, field(&lp.facet_cdf, &at_lo, 0));
-    let hi = field(&lp.facet_cdf, &at_hi, 0);
-    // `f32::clamp(0, 1 - ε)`.
-    let r = (x2 - lo) / (hi - lo);
-    let r = r.lt(0.0).select(F8::ZERO, r);
-    let r = r
-        .gt(1.0 - f32::EPSILON)
-        .select(F8::splat(1.0 - f32::EPSILON), r);
-    (active & pick.gt(0.0), at_hi, pick, [r, u[1]], emitter)
-}
-
-/// One record field of `table` in every lane, rows `idx` (checked by [`checked`]).
-#[inline(always)]
-fn field<const N: usize>(table: &[[f32; N]], idx: &[u32; W], at: usize) -> F8 {
-    assert!(at < N);
-    // SAFETY: `checked` verified every index against this table before.
-    unsafe { gather(table, idx, at) }
-}
-
-#[inline(always)]
-fn field3<const N: usize>(table: &[[f32; N]], idx: &[u32; W], at: usize) -> V3 {
-    V3::new(
-        field(table, idx, at),
-        field(table, idx, at + 1),
-        field(table, idx, at + 2),
-    )
-}
-
-/// Panics unless every index addresses a row of `table` (so gathers stay in bounds).
-#[inline(always)]
-fn checked<const N: usize>(table: &[[f32; N]], idx: &[u32; W]) {
-    let top = idx.iter().fold(0, |a, &i| a.max(i));
-    assert!((top as usize) < table.len());
 }
 
 /// What the vector stage hands back to the per-lane stage.
@@ -810,50 +730,6 @@ pub(super) fn run_portable(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn vector_light_choice_equals_the_scalar_one() {
-        use crate::path::flat_scene::FlatScene;
-        use crate::path::integrator::PathScene;
-        use crate::path::lights::LightSampler;
-        let scene = irradia_scene::builtin::load("cornell").unwrap();
-        let lights = LightSampler::new(&scene);
-        let ps = PathScene::new(&scene, FlatScene::new(&scene), &lights);
-        let ws = WideScene::new(&ps).unwrap();
-        let lp = ws.pick.as_ref().expect("one emitter of two facets");
-        let mut rng = Rng::new(1, 2);
-        let edge = [0.0, 0.5, 1.0 - f32::EPSILON / 2.0];
-        for round in 0..400 {
-            let (mut up, mut u) = (F8::ZERO, [F8::ZERO; 2]);
-            for l in 0..W {
-                up.0[l] = rng.next_f32();
-                u[0].0[l] = if round < 3 {
-                    edge[round]
-                } else {
-                    rng.next_f32()
-                };
-                u[1].0[l] = rng.next_f32();
-            }
-            let (m, facet, pick, uu, emitter) = pick_lights(lp, up, u, M8::TRUE);
-            for l in 0..W {
-                let v = glam::Vec2::new(u[0].0[l], u[1].0[l]);
-                match lights.pick_kernel(up.0[l], v) {
-                    Some(KernelLight::Surface(e, p, Some((t, w)))) => {
-                        assert_eq!(emitter[l], e as u32);
-                        assert!(m.get(l));
-                        assert_eq!(facet[l], ws.facet_start[e] + t as u32);
-                        assert_eq!(pick.0[l], p);
-                        assert_eq!((uu[0].0[l], uu[1].0[l]), (w.x, w.y));
-                    }
-                    Some(KernelLight::Surface(_, _, None)) => {
-                        panic!("the Cornell box has no sphere light")
-                    }
-                    Some(KernelLight::AtInfinity(_)) => panic!("nor an environment"),
-                    None => assert!(!m.get(l)),
-                }
-            }
-        }
-    }
 
     #[test]
     fn frames_match_the_scalar_frame_bit_for_bit() {

@@ -78,8 +78,10 @@
 
 pub(crate) mod background;
 pub mod bsdf;
+mod gather;
 pub mod ggx;
 pub mod kernel;
+mod light_pick;
 pub(crate) mod sphere8;
 pub mod sphere_light;
 
@@ -91,6 +93,7 @@ use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::packet::RayLaneTriangles;
 use irradia_scatter::microfacet::MicrofacetType;
 use irradia_scatter::{bsdfs::LectureLobe, Bsdf};
+use light_pick::LightPick;
 use sphere_light::sph;
 
 /// The agreement the kernel is held to: the fraction of samples (same index in `a` and
@@ -228,25 +231,6 @@ pub struct WideScene<'s, 'a> {
     /// Per emitter: its sphere record ([`sph`]) when some emitter is an emissive
     /// sphere sampled by its own sampler; `None` when every emitter is facets.
     pub(crate) sphere_lights: Option<Vec<[f32; sph::LEN]>>,
-}
-
-/// What choosing a light facet reads (`LightSampler::pick_kernel`, lane by lane): the
-/// emitters' cumulative probabilities, then within the chosen emitter its facets'
-/// cumulative areas. Both are searched by counting the entries `<= x`, which equals
-/// the scalar code's binary search on these sorted tables.
-pub(crate) struct LightPick {
-    pub emitter_cdf: Vec<f32>,
-    /// Per emitter: probability of choosing it and its total facet area.
-    pub probability: Vec<[f32; 1]>,
-    pub total: Vec<[f32; 1]>,
-    /// Per emitter: its first facet (in `WideScene::facets` and `facet_cdf`) and
-    /// how many it has.
-    pub start: Vec<u32>,
-    pub len: Vec<u32>,
-    /// The cumulative areas, aligned with `WideScene::facets`.
-    pub facet_cdf: Vec<[f32; 1]>,
-    /// The most facets of one emitter.
-    pub max_len: usize,
 }
 
 /// At most this many emitters, and facets per emitter, for the vector light choice.

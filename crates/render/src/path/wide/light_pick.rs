@@ -1,0 +1,130 @@
+//! The light choice of the wide kernel's vector stage: `LightSampler::pick_kernel`'s
+//! choice of emitter and facet made for eight lanes at once, by counting the entries of
+//! the sorted cumulative tables that are `<= x` (which equals the scalar code's binary
+//! search), for scenes of at most `VECTOR_PICK_MAX` facet emitters of as many facets.
+
+use super::gather::{checked, field, lookup};
+use irradia_geometry::packet::lanes::{F8, M8, W};
+
+/// What choosing a light facet reads (`LightSampler::pick_kernel`, lane by lane): the
+/// emitters' cumulative probabilities, then within the chosen emitter its facets'
+/// cumulative areas. Both are searched by counting the entries `<= x`, which equals
+/// the scalar code's binary search on these sorted tables.
+pub(crate) struct LightPick {
+    pub emitter_cdf: Vec<f32>,
+    /// Per emitter: probability of choosing it and its total facet area.
+    pub probability: Vec<[f32; 1]>,
+    pub total: Vec<[f32; 1]>,
+    /// Per emitter: its first facet (in `WideScene::facets` and `facet_cdf`) and
+    /// how many it has.
+    pub start: Vec<u32>,
+    pub len: Vec<u32>,
+    /// The cumulative areas, aligned with `WideScene::facets`.
+    pub facet_cdf: Vec<[f32; 1]>,
+    /// The most facets of one emitter.
+    pub max_len: usize,
+}
+
+/// `LightSampler::pick_kernel` in every lane of `active`: the lanes that got a facet,
+/// the facet (index into `WideScene::facets`), the probability of its emitter, the
+/// point of the square to warp into the triangle, and the emitter.
+#[inline(always)]
+pub(super) fn pick_lights(
+    lp: &LightPick,
+    u_pick: F8,
+    u: [F8; 2],
+    active: M8,
+) -> (M8, [u32; W], F8, [F8; 2], [u32; W]) {
+    let count_le = |count: &mut [u32; W], m: M8| {
+        for i in 0..W {
+            count[i] = count[i].wrapping_sub(m.0[i] as u32);
+        }
+    };
+    let total = lp.emitter_cdf[lp.emitter_cdf.len() - 1];
+    let x = u_pick * total;
+    let mut emitter = [0u32; W];
+    for &c in &lp.emitter_cdf {
+        count_le(&mut emitter, F8::splat(c).le(x));
+    }
+    let last = lp.emitter_cdf.len() as u32 - 1;
+    let emitter: [u32; W] = std::array::from_fn(|i| emitter[i].min(last));
+    checked(&lp.probability, &emitter);
+    let pick = field(&lp.probability, &emitter, 0);
+    let total_w = field(&lp.total, &emitter, 0);
+    let (start, len) = (lookup(&lp.start, &emitter), lookup(&lp.len, &emitter));
+    let x2 = u[0] * total_w;
+    let mut k = [0u32; W];
+    for j in 0..lp.max_len as u32 {
+        let at: [u32; W] = std::array::from_fn(|i| start[i] + j.min(len[i] - 1));
+        checked(&lp.facet_cdf, &at);
+        let inside = M8::from_fn(|i| j < len[i]);
+        count_le(&mut k, inside & field(&lp.facet_cdf, &at, 0).le(x2));
+    }
+    let k: [u32; W] = std::array::from_fn(|i| k[i].min(len[i] - 1));
+    let at_lo: [u32; W] = std::array::from_fn(|i| start[i] + k[i].max(1) - 1);
+    let at_hi: [u32; W] = std::array::from_fn(|i| start[i] + k[i]);
+    checked(&lp.facet_cdf, &at_lo);
+    checked(&lp.facet_cdf, &at_hi);
+    let first = M8::from_fn(|i| k[i] == 0);
+    let lo = first.select(F8::ZERO, field(&lp.facet_cdf, &at_lo, 0));
+    let hi = field(&lp.facet_cdf, &at_hi, 0);
+    // `f32::clamp(0, 1 - ε)`.
+    let r = (x2 - lo) / (hi - lo);
+    let r = r.lt(0.0).select(F8::ZERO, r);
+    let r = r
+        .gt(1.0 - f32::EPSILON)
+        .select(F8::splat(1.0 - f32::EPSILON), r);
+    (active & pick.gt(0.0), at_hi, pick, [r, u[1]], emitter)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::path::lights::KernelLight;
+    use crate::path::wide::WideScene;
+    use irradia_core::Rng;
+
+    #[test]
+    fn vector_light_choice_equals_the_scalar_one() {
+        use crate::path::flat_scene::FlatScene;
+        use crate::path::integrator::PathScene;
+        use crate::path::lights::LightSampler;
+        let scene = irradia_scene::builtin::load("cornell").unwrap();
+        let lights = LightSampler::new(&scene);
+        let ps = PathScene::new(&scene, FlatScene::new(&scene), &lights);
+        let ws = WideScene::new(&ps).unwrap();
+        let lp = ws.pick.as_ref().expect("one emitter of two facets");
+        let mut rng = Rng::new(1, 2);
+        let edge = [0.0, 0.5, 1.0 - f32::EPSILON / 2.0];
+        for round in 0..400 {
+            let (mut up, mut u) = (F8::ZERO, [F8::ZERO; 2]);
+            for l in 0..W {
+                up.0[l] = rng.next_f32();
+                u[0].0[l] = if round < 3 {
+                    edge[round]
+                } else {
+                    rng.next_f32()
+                };
+                u[1].0[l] = rng.next_f32();
+            }
+            let (m, facet, pick, uu, emitter) = pick_lights(lp, up, u, M8::TRUE);
+            for l in 0..W {
+                let v = glam::Vec2::new(u[0].0[l], u[1].0[l]);
+                match lights.pick_kernel(up.0[l], v) {
+                    Some(KernelLight::Surface(e, p, Some((t, w)))) => {
+                        assert_eq!(emitter[l], e as u32);
+                        assert!(m.get(l));
+                        assert_eq!(facet[l], ws.facet_start[e] + t as u32);
+                        assert_eq!(pick.0[l], p);
+                        assert_eq!((uu[0].0[l], uu[1].0[l]), (w.x, w.y));
+                    }
+                    Some(KernelLight::Surface(_, _, None)) => {
+                        panic!("the Cornell box has no sphere light")
+                    }
+                    Some(KernelLight::AtInfinity(_)) => panic!("nor an environment"),
+                    None => assert!(!m.get(l)),
+                }
+            }
+        }
+    }
+}
