@@ -36,8 +36,9 @@ pub struct Report {
     pub messages: Vec<MessageRecord>,
 }
 
+/// One rank's log: its message records and its (stage name, seconds) times.
 #[derive(Serialize, Deserialize)]
-struct RankLog {
+pub struct RankLog {
     rank: usize,
     records: Vec<MessageRecord>,
     times: Vec<(String, f64)>,
@@ -64,24 +65,19 @@ impl Report {
             })?;
             logs.push(l);
         }
-        Ok(Some(Self::from_logs(
-            &logs
-                .iter()
-                .map(|l| (l.records.clone(), l.times.clone()))
-                .collect::<Vec<_>>(),
-        )))
+        Ok(Some(Self::from_logs(&logs)))
     }
 
-    /// Builds the report from per-rank (messages, stage times), index = rank.
-    pub fn from_logs(logs: &[(Vec<MessageRecord>, Vec<(String, f64)>)]) -> Report {
+    /// Builds the report from every rank's log, index = rank.
+    pub fn from_logs(logs: &[RankLog]) -> Report {
         let mut names: Vec<String> = Vec::new();
-        for (recs, times) in logs {
+        for RankLog { records, times, .. } in logs {
             for (n, _) in times {
                 if !names.contains(n) {
                     names.push(n.clone());
                 }
             }
-            for m in recs {
+            for m in records {
                 if !names.contains(&m.stage) {
                     names.push(m.stage.clone());
                 }
@@ -93,7 +89,7 @@ impl Report {
                 let ranks: Vec<RankStage> = logs
                     .iter()
                     .enumerate()
-                    .map(|(rank, (recs, times))| {
+                    .map(|(rank, RankLog { records, times, .. })| {
                         let mut s = RankStage {
                             rank,
                             ..Default::default()
@@ -103,7 +99,7 @@ impl Report {
                             .filter(|(n, _)| n == name)
                             .map(|(_, t)| t)
                             .sum();
-                        for m in recs.iter().filter(|m| &m.stage == name) {
+                        for m in records.iter().filter(|m| &m.stage == name) {
                             if m.sent {
                                 s.bytes_sent += m.bytes as u64;
                                 s.messages_sent += 1;
@@ -128,7 +124,7 @@ impl Report {
             .collect();
         let messages = logs
             .iter()
-            .flat_map(|(r, _)| r.iter().filter(|m| m.sent).cloned())
+            .flat_map(|l| l.records.iter().filter(|m| m.sent).cloned())
             .collect();
         Report {
             ranks: logs.len(),

@@ -85,7 +85,7 @@ pub fn write_triangle(t: &Triangle, out: &mut Vec<u8>) {
 }
 
 pub fn read_triangles(buf: &[u8]) -> Option<Vec<Triangle>> {
-    if buf.len() % TRIANGLE_BYTES != 0 {
+    if !buf.len().is_multiple_of(TRIANGLE_BYTES) {
         return None;
     }
     Some(

@@ -57,7 +57,7 @@ pub fn active_rect(p: &Pipeline, tris: &[Triangle]) -> ActiveRect {
             if k & 4 == 0 { lo.z } else { hi.z },
         );
         let q = m * c.extend(1.0);
-        if !(q.w > 1e-6) {
+        if q.w.is_nan() || q.w <= 1e-6 {
             return ActiveRect::full(w, h);
         }
         // The geometry stage's viewport: NDC x, y in [-1, 1] to pixels, y down.

@@ -58,7 +58,7 @@ pub fn encode_streams(
         for t in &b.triangles {
             let rows = screen_rows(p, t);
             for (s, reg) in regions.iter().enumerate() {
-                if !rows.map_or(true, |(lo, hi)| rows_meet(lo, hi, reg)) {
+                if !rows.is_none_or(|(lo, hi)| rows_meet(lo, hi, reg)) {
                     continue;
                 }
                 if seen[s] != Some(state) {
@@ -124,6 +124,9 @@ pub fn flatten(batches: &[Batch]) -> Vec<Triangle> {
         .collect()
 }
 
+/// An RGBA8 image layer, as the root receives it.
+type Image8 = Layer<[u8; 4]>;
+
 /// Every rank is a client (submitting its block of `batches`) and a server (owning a
 /// strip of the screen); the image arrives at `root`.
 pub fn render<C: Comm>(
@@ -131,7 +134,7 @@ pub fn render<C: Comm>(
     p: &Pipeline,
     batches: &[Batch],
     root: usize,
-) -> Result<(Option<Layer<[u8; 4]>>, SubmissionStats), CommError> {
+) -> Result<(Option<Image8>, SubmissionStats), CommError> {
     let (rank, n) = (comm.rank(), comm.size());
     comm.log().begin_stage("submit");
     let (streams, stats) = encode_streams(p, &batches[block(batches.len(), rank, n)], n);

@@ -195,8 +195,8 @@ pub fn solve(mesh: &Mesh, opts: &InstantOptions) -> InstantResult {
                 let pw = (v.power[0] + v.power[1] + v.power[2]) / 3.0;
                 lost += (g - gc) * pw;
                 got += g * pw;
-                for c in 0..3 {
-                    irr[c] += v.power[c] * gc / PI;
+                for (e, p) in irr.iter_mut().zip(v.power) {
+                    *e += p * gc / PI;
                 }
             }
             let em = mesh.emission(i);

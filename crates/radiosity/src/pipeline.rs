@@ -121,7 +121,7 @@ pub fn run_hierarchical(
     // The hierarchy cuts the patches itself: no elements below them (at 1,000,000
     // elements they took 0.4 s and 150 MB for nothing).
     if let Some(a) = cfg.mesh.max_element_area {
-        if !(a > 0.0) {
+        if a.is_nan() || a <= 0.0 {
             return Err(RadiosityError::Input(format!(
                 "--max-element-area must be positive (got {a})"
             )));

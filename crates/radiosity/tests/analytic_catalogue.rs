@@ -27,6 +27,8 @@ use irradia_radiosity::formfactor::analytic::{self, CASES};
 use irradia_radiosity::formfactor::contour;
 use std::f64::consts::PI;
 
+// The published 15-point Gauss-Kronrod nodes and weights, digit for digit.
+#[allow(clippy::excessive_precision)]
 const XK: [f64; 8] = [
     0.991455371120812639206854697526329,
     0.949107912342758524526189684047851,
@@ -37,6 +39,7 @@ const XK: [f64; 8] = [
     0.207784955007898467600689403773245,
     0.000000000000000000000000000000000,
 ];
+#[allow(clippy::excessive_precision)]
 const WK: [f64; 8] = [
     0.022935322010529224963732008058970,
     0.063092092629978553290700663189204,
@@ -47,6 +50,7 @@ const WK: [f64; 8] = [
     0.204432940075298892414161999234649,
     0.209482141084727828012999174891714,
 ];
+#[allow(clippy::excessive_precision)]
 const WG: [f64; 4] = [
     0.129484966168869693270611432679082,
     0.279705391489276667901467771423780,

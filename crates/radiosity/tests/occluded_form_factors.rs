@@ -95,7 +95,7 @@ fn mesh_blocker_first(s: &Scene) -> Mesh {
 
 fn build(specs: &[PatchSpec]) -> Mesh {
     Mesh::build(
-        &specs,
+        specs,
         MeshOptions {
             max_element_area: Some(ELEMENT_AREA),
             ..Default::default()

@@ -280,7 +280,8 @@ fn thin_as_given(b: &irradia_scatter::Bsdf) -> bool {
 fn every_description_becomes_its_own_bsdf() {
     use irradia_render::path::material_map::{material_bsdf, Tangents};
     use irradia_scatter::Bsdf;
-    let cases: &[(&str, fn(&Bsdf) -> bool)] = &[
+    type Case = (&'static str, fn(&Bsdf) -> bool);
+    let cases: &[Case] = &[
         ("type = \"diffuse\"", |b| matches!(b, Bsdf::Diffuse(_))),
         ("type = \"conductor\"\nmaterial = \"Au\"", |b| {
             matches!(b, Bsdf::Conductor(_))

@@ -303,7 +303,9 @@ fn corrupt_and_missing_files_are_errors() {
 /// `image` crate reads).
 #[test]
 fn file_formats_decode_as_mitsuba_decides() {
-    let cases: [(&str, bool, [(f32, f32); 2], [[f32; 3]; 2], f32); 6] = [
+    // (file, raw, lookup uvs, expected colours, tolerance)
+    type Case = (&'static str, bool, [(f32, f32); 2], [[f32; 3]; 2], f32);
+    let cases: [Case; 6] = [
         (
             "float2x1.exr",
             false,

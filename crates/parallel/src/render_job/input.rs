@@ -10,7 +10,9 @@ use irradia_core::Rgb;
 use irradia_raster::{Pipeline, Triangle};
 use irradia_scene::Scene;
 
-/// What the ranks render.
+/// What the ranks render (built once per job, so the size of the largest variant
+/// does not matter).
+#[allow(clippy::large_enum_variant)]
 pub enum JobInput {
     /// Triangles for the rasterizer.
     Triangles {

@@ -201,7 +201,7 @@ pub fn layer_image(l: &Layer<[u8; 4]>, background: Option<Rgb>) -> Image {
     if let Some(bg) = background {
         for ((px, &d), c) in im.pixels_mut().iter_mut().zip(&l.depth).zip(&l.color) {
             if d == FAR {
-                *px = *px + bg * (1.0 - c[3] as f32 / 255.0);
+                *px += bg * (1.0 - c[3] as f32 / 255.0);
             }
         }
     }

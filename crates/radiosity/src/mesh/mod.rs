@@ -79,7 +79,7 @@ impl Mesh {
 
     pub fn from_patches(patches: Vec<Patch>, opts: MeshOptions) -> Result<Mesh> {
         let max_area = opts.max_element_area.unwrap_or(f64::INFINITY);
-        if !(max_area > 0.0) {
+        if max_area.is_nan() || max_area <= 0.0 {
             return Err(RadiosityError::Input(format!(
                 "--max-element-area must be positive (got {max_area})"
             )));

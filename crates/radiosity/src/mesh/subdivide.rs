@@ -10,7 +10,7 @@ use glam::DVec3;
 /// Cells along each side so that every element's area stays at or below `max_area`.
 pub fn grid_size(p: &Poly, max_area: f64) -> (usize, usize) {
     let area = p.area();
-    if !(max_area > 0.0) || area <= max_area {
+    if max_area.is_nan() || max_area <= 0.0 || area <= max_area {
         return (1, 1);
     }
     if p.n == 3 {

@@ -91,8 +91,8 @@ pub fn weld(elements: &[Element], b: &[[f64; 3]], scale: f64) -> DisplayMesh {
                 weight.push(0.0);
                 (m.positions.len() - 1) as u32
             });
-            for ch in 0..3 {
-                m.radiosity[id as usize][ch] += e.area * b[ei][ch];
+            for (r, bc) in m.radiosity[id as usize].iter_mut().zip(b[ei]) {
+                *r += e.area * bc;
             }
             weight[id as usize] += e.area;
             c[k] = id;
@@ -110,8 +110,8 @@ pub fn weld(elements: &[Element], b: &[[f64; 3]], scale: f64) -> DisplayMesh {
     for (e, c) in elements.iter().zip(&corners) {
         let n = e.poly.n as usize;
         outline.clear();
-        for k in 0..n {
-            outline.push(c[k]);
+        for (k, &ck) in c.iter().enumerate().take(n) {
+            outline.push(ck);
             insert_midpoints(
                 &w,
                 e.patch,

@@ -39,8 +39,8 @@ impl Solver for Direct {
                     )
                 },
             )?;
-            for i in 0..n {
-                b[i][c] = x[i];
+            for (bi, xi) in b.iter_mut().zip(x) {
+                bi[c] = xi;
             }
         }
         let residual = sys.residual(&b);

@@ -29,8 +29,8 @@ impl Solver for Southwell {
         let mut residual = 1.0;
         for _ in 0..max_shots {
             let (mut best, mut bi) = (-1.0, 0);
-            for i in 0..n {
-                let p = (unshot[i][0] + unshot[i][1] + unshot[i][2]) * sys.area[i];
+            for (i, (u, area)) in unshot.iter().zip(&sys.area).enumerate() {
+                let p = (u[0] + u[1] + u[2]) * area;
                 if p > best {
                     best = p;
                     bi = i;
@@ -63,10 +63,10 @@ impl Solver for Southwell {
         let total_area: f64 = sys.area.iter().sum();
         let mut rho_avg = [0.0; 3];
         let mut unshot_avg = [0.0; 3];
-        for i in 0..n {
+        for ((rho, u), area) in sys.rho.iter().zip(&unshot).zip(&sys.area) {
             for c in 0..3 {
-                rho_avg[c] += sys.rho[i][c] * sys.area[i] / total_area;
-                unshot_avg[c] += unshot[i][c] * sys.area[i] / total_area;
+                rho_avg[c] += rho[c] * area / total_area;
+                unshot_avg[c] += u[c] * area / total_area;
             }
         }
         let ambient: [f64; 3] = std::array::from_fn(|c| unshot_avg[c] / (1.0 - rho_avg[c]));

@@ -19,7 +19,7 @@ impl PatchLayout {
     /// (patches of fewer than 16 leaves are a plain quadtree).
     pub(super) fn new(poly: &Poly, max_area: f64) -> Self {
         let area = poly.area();
-        if !(max_area > 0.0) || area <= max_area {
+        if max_area.is_nan() || max_area <= 0.0 || area <= max_area {
             return Self {
                 grid: (1, 1),
                 depth: 0,
