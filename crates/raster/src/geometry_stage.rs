@@ -7,7 +7,7 @@ use crate::binning::{band_count, push_to_bands};
 use crate::clip::{ClipPlanes, ClipVertex};
 use crate::lighting::{EyeLights, Shading};
 use crate::mesh::{Mesh, Triangle};
-use crate::rasterizer::{candidate_of, CullMode};
+use crate::rasterizer::{candidate_of_snapped, snap, unsnap, CullMode};
 use crate::screen::{varying, Rect, ScreenTriangle, ScreenVertex, VARYINGS};
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
@@ -130,12 +130,17 @@ impl<'a> GeometryStage<'a> {
         }
     }
 
-    /// A vertex with its clip outcode, projected when it needs no clipping.
+    /// A vertex with its clip outcode, projected and snapped to the rasterizer's
+    /// fixed-point grid when it needs no clipping (see [`Prepared`]).
     #[inline(always)]
     fn prepare(&self, clip: ClipVertex) -> Prepared {
         let code = self.planes.outcode(clip.pos);
         let screen = if code == 0 {
-            self.project(&clip)
+            let mut s = self.project(&clip);
+            // Inside the guard band: the fixed-point position fits an i32.
+            s.x = f32::from_bits(snap(s.x) as i32 as u32);
+            s.y = f32::from_bits(snap(s.y) as i32 as u32);
+            s
         } else {
             // Not projected (it needs clipping): the clip position in place of the
             // screen one, and the attributes, which the clipper interpolates onto the
@@ -151,23 +156,25 @@ impl<'a> GeometryStage<'a> {
         Prepared { screen, code }
     }
 
+    /// Culls, and bins or shades, the triangle of vertices `v` at the snapped positions
+    /// `p` (the vertices' own `x` and `y` are not read: [`Prepared`] keeps the fixed-point
+    /// position there).
     #[inline(always)]
     fn emit(
         &self,
-        a: &ScreenVertex,
-        b: &ScreenVertex,
-        c: &ScreenVertex,
+        v: [&ScreenVertex; 3],
+        p: [(i64, i64); 3],
         (id, material): (u32, u32),
         out: &mut Batch,
     ) {
         // Cull before building the triangle: most rejected ones are never copied.
-        let Some(k) = candidate_of(a, b, c, self.cull, &self.screen) else {
+        let Some(k) = candidate_of_snapped(p, self.cull, &self.screen) else {
             return;
         };
         if k.centres() <= tiny::MAX_CENTRES {
             if self.fragments {
                 // Shaded here; a triangle that covers no centre leaves no fragment.
-                tiny::fragments([a, b, c], &k, |f| {
+                tiny::fragments(v, &k, |f| {
                     let i = out.frags.len() as u32 | FRAGMENT_BIT;
                     push_to_bands(&mut out.bins, i, f.y as i64, f.y as i64);
                     out.frags.push(f);
@@ -182,8 +189,14 @@ impl<'a> GeometryStage<'a> {
             let (_, _, y0, y1) = k.bounds;
             push_to_bands(&mut out.bins, out.tris.len() as u32, y0, y1);
         }
+        // The screen position on the grid: the rasterizer snaps it back to `p`.
+        let on_grid = |j: usize| ScreenVertex {
+            x: unsnap(p[j].0),
+            y: unsnap(p[j].1),
+            ..*v[j]
+        };
         out.tris.push(ScreenTriangle {
-            v: [*a, *b, *c],
+            v: [on_grid(0), on_grid(1), on_grid(2)],
             id,
             material,
         });
@@ -208,7 +221,8 @@ impl<'a> GeometryStage<'a> {
         }
         let any = codes[0] | codes[1] | codes[2];
         if any == 0 {
-            self.emit(&t[0].screen, &t[1].screen, &t[2].screen, id, out);
+            let p = [t[0].snapped(), t[1].snapped(), t[2].snapped()];
+            self.emit([&t[0].screen, &t[1].screen, &t[2].screen], p, id, out);
             return;
         }
         let c: [ClipVertex; 3] = std::array::from_fn(|j| {
@@ -229,7 +243,8 @@ impl<'a> GeometryStage<'a> {
                 self.project(&poly.v[i]),
                 self.project(&poly.v[i + 1]),
             ];
-            self.emit(&v[0], &v[1], &v[2], id, out);
+            let p = v.each_ref().map(|s| (snap(s.x), snap(s.y)));
+            self.emit([&v[0], &v[1], &v[2]], p, id, out);
         }
     }
 
@@ -408,15 +423,33 @@ impl<'a> GeometryStage<'a> {
     }
 }
 
-/// A transformed vertex: its outcode and, when inside every plane, its screen vertex;
-/// otherwise `screen` holds the clip position (x, y, z, w in `x`, `y`, `z`, `inv_w`).
-/// `screen.var` always holds the attributes. 52 bytes instead of the 80 with a separate
-/// clip position: the per-vertex pass of a large mesh writes these records and the
-/// triangle pass reads them back through memory.
+/// A transformed vertex: its outcode and, when inside every plane, its screen vertex
+/// with the position already snapped to the rasterizer's fixed-point grid: `screen.x`
+/// and `screen.y` then hold the bits of the i32 fixed-point coordinates
+/// ([`Prepared::snapped`]), not pixels. A shared vertex of an indexed mesh is snapped
+/// once here instead of once per triangle around it (about six on a closed mesh);
+/// triangles leave the stage with `x` and `y` put back on the grid ([`unsnap`]), which
+/// the rasterizer snaps to the same integers, so coverage is unchanged.
+/// Otherwise (`code != 0`) `screen` holds the clip position (x, y, z, w in `x`, `y`,
+/// `z`, `inv_w`). `screen.var` always holds the attributes. 52 bytes instead of the 80
+/// with a separate clip position: the per-vertex pass of a large mesh writes these
+/// records and the triangle pass reads them back through memory.
 #[derive(Clone, Copy, Debug)]
 struct Prepared {
     screen: ScreenVertex,
     code: u8,
+}
+
+impl Prepared {
+    /// The fixed-point screen position of a vertex inside every plane (`code == 0`).
+    #[inline(always)]
+    fn snapped(&self) -> (i64, i64) {
+        debug_assert_eq!(self.code, 0);
+        (
+            self.screen.x.to_bits() as i32 as i64,
+            self.screen.y.to_bits() as i32 as i64,
+        )
+    }
 }
 
 /// Screen triangles (and fragments of tiny ones) of one batch, in input order, and (when binning) for each band of

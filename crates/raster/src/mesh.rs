@@ -125,6 +125,12 @@ impl Mesh {
                 triangles: self.indices.len(),
             });
         }
+        // The largest index in one branch-free pass (vectorised: this runs every frame
+        // before the parallel stages); the offending triangle is looked for only then.
+        let max = self.indices.as_flattened().iter().copied().max();
+        if max.is_none_or(|m| (m as usize) < n) {
+            return Ok(());
+        }
         for (t, tri) in self.indices.iter().enumerate() {
             for &i in tri {
                 if i as usize >= n {
@@ -247,5 +253,48 @@ impl Mesh {
                 }
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The vectorised maximum only decides whether to look: an index out of range is
+    /// reported with its triangle (the first such), and valid meshes pass.
+    #[test]
+    fn validate_finds_the_first_index_out_of_range() {
+        let positions = vec![Vec3::ZERO; 4];
+        let mut indices: Vec<[u32; 3]> = (0..1000).map(|t| [t % 4, (t + 1) % 4, 3]).collect();
+        assert!(Mesh::new(positions.clone(), indices.clone())
+            .validate()
+            .is_ok());
+        assert!(Mesh::new(positions.clone(), Vec::new()).validate().is_ok());
+        indices[700][1] = 4;
+        indices[900][2] = 77;
+        let err = Mesh::new(positions, indices.clone()).validate();
+        assert!(
+            matches!(
+                err,
+                Err(MeshError::IndexOutOfRange {
+                    triangle: 700,
+                    index: 4,
+                    vertices: 4
+                })
+            ),
+            "{err:?}"
+        );
+        let err = Mesh::new(Vec::new(), indices).validate();
+        assert!(
+            matches!(
+                err,
+                Err(MeshError::IndexOutOfRange {
+                    triangle: 0,
+                    index: 0,
+                    vertices: 0
+                })
+            ),
+            "{err:?}"
+        );
     }
 }

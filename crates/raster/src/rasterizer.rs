@@ -39,6 +39,16 @@ pub fn snap(v: f32) -> i64 {
     (t + if t >= 0.0 { 0.5 } else { -0.5 }) as i64
 }
 
+/// The screen coordinate whose [`snap`] is `p`, for `p` made by [`snap`] from a
+/// coordinate below 2^16 pixels in magnitude (the guard band's range): `p` is below
+/// 2^24 so `p as f32` is exact, and the division by a power of two too; between 2^23
+/// and 2^24 [`snap`] only makes even values, which its rounding (half to even at that
+/// magnitude) returns unchanged.
+#[inline(always)]
+pub(crate) fn unsnap(p: i64) -> f32 {
+    p as f32 * (1.0 / ONE as f32)
+}
+
 /// Twice the signed area in fixed point (y down, so counter-clockwise as seen on
 /// screen — front-facing — is negative).
 #[inline(always)]
@@ -143,6 +153,17 @@ pub(crate) fn candidate_of(
         (snap(b.x), snap(b.y)),
         (snap(c.x), snap(c.y)),
     ];
+    candidate_of_snapped(p, cull, screen)
+}
+
+/// [`candidate_of`] from vertex positions already on the fixed-point grid (the
+/// geometry stage snaps each shared vertex once, not once per triangle around it).
+#[inline(always)]
+pub(crate) fn candidate_of_snapped(
+    p: [(i64, i64); 3],
+    cull: CullMode,
+    screen: &Rect,
+) -> Option<Candidate> {
     let area = area2(&p);
     let keep = match cull {
         CullMode::None => area != 0,
@@ -437,5 +458,34 @@ pub fn for_each_fragment(t: &ScreenTriangle, clip: &Rect, mut f: impl FnMut(u32,
             let l = s.lambda(e);
             f(x, y, if s.swapped { [l[0], l[2], l[1]] } else { l })
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `unsnap` puts a snapped coordinate back where `snap` finds it again, over the
+    /// guard band's range and around 2^23 in fixed point, where `snap`'s rounding
+    /// changes (half to even).
+    #[test]
+    fn unsnap_round_trips_snapped_coordinates() {
+        let mut xs: Vec<f32> = (-40_000..40_000).map(|i| i as f32 * 0.37 + 0.001).collect();
+        for k in -3000..3000 {
+            let t = (1 << 23) as f32 + k as f32 * 0.5;
+            xs.extend([t / ONE as f32, -t / ONE as f32]);
+        }
+        xs.extend([
+            0.0,
+            -0.0,
+            0.5 / ONE as f32,
+            -0.5 / ONE as f32,
+            65_535.99,
+            -65_535.99,
+        ]);
+        for x in xs {
+            let p = snap(x);
+            assert_eq!(snap(unsnap(p)), p, "x = {x}, p = {p}");
+        }
     }
 }
