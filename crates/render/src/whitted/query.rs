@@ -140,7 +140,8 @@ mod tests {
         let list = vec![
             Instance::untransformed(Arc::new(Plane::new(Vec3::Y, -1.0).unwrap())),
             Instance::untransformed(Arc::new(Sphere::new(Vec3::new(0.5, 0.0, 0.0), 1.0))),
-            // Two coincident spheres: a tie, which the first must keep winning.
+            // Two coincident spheres: a tie, settled as the whole-hit scan settles it
+            // (the second wins where `t` rounds up to the f32 `t_max` it is held to).
             Instance::untransformed(Arc::new(Sphere::new(Vec3::new(-0.8, 0.2, 0.3), 0.7))),
             Instance::untransformed(Arc::new(Sphere::new(Vec3::new(-0.8, 0.2, 0.3), 0.7))),
             Instance::new(Arc::new(Sphere::new(Vec3::ZERO, 0.6)), turn),
@@ -174,9 +175,9 @@ mod tests {
             }
         }
         assert!(hits > 20_000, "{hits} hits");
-        // Every object but the second of the coincident pair wins somewhere.
+        // Every object wins somewhere, both of the coincident pair included.
         for (i, &w) in winners.iter().enumerate() {
-            assert_eq!(w == 0, i == 3, "object {i} won {w} times");
+            assert!(w > 0, "object {i} never won");
         }
     }
 }
