@@ -108,7 +108,39 @@ impl Instance {
         if self.identity {
             return self.shape.intersect(ray, t_max);
         }
-        let mut h = self.shape.intersect(&self.object_ray(ray), t_max)?;
+        let h = self.shape.intersect(&self.object_ray(ray), t_max)?;
+        Some(self.hit_to_world(ray, h))
+    }
+
+    /// Whether the shape splits its nearest hit ([`Shape::splits_surface`]).
+    #[inline]
+    pub fn splits_surface(&self) -> bool {
+        self.shape.splits_surface()
+    }
+
+    /// The parameter of [`Self::intersect`]'s hit ([`Shape::nearest_t`]; `t` is
+    /// shared by world and object space), finished by [`Self::surface_at`].
+    #[inline]
+    pub fn nearest_t(&self, ray: &Ray, t_max: f32) -> Option<f64> {
+        if self.identity {
+            return self.shape.nearest_t(ray, t_max);
+        }
+        self.shape.nearest_t(&self.object_ray(ray), t_max)
+    }
+
+    /// The world hit at the parameter [`Self::nearest_t`] gave for `ray`: the hit of
+    /// [`Self::intersect`], bit for bit.
+    pub fn surface_at(&self, ray: &Ray, t: f64) -> Hit {
+        if self.identity {
+            return self.shape.surface_at(ray, t);
+        }
+        let h = self.shape.surface_at(&self.object_ray(ray), t);
+        self.hit_to_world(ray, h)
+    }
+
+    /// An object-space hit `h` of world ray `ray` carried to world space.
+    #[inline]
+    fn hit_to_world(&self, ray: &Ray, mut h: Hit) -> Hit {
         h.point = ray.at(h.t);
         h.normal = self
             .normal_to_world
@@ -126,7 +158,7 @@ impl Instance {
             + (ray.origin.abs().max_element() + (ray.dir * h.t).abs().max_element())
                 * 4.0
                 * f32::EPSILON;
-        Some(h)
+        h
     }
 
     /// [`Self::intersect`] as ray casting reports it ([`Shape::intersect_cast`]): the

@@ -140,6 +140,34 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     /// The nearest hit with `0 < t < t_max`.
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit>;
 
+    /// Whether the shape's nearest hit comes in two steps that save work: its
+    /// parameter ([`Self::nearest_t`]) and then, for the one hit a closest-hit scan
+    /// over several objects keeps, its surface ([`Self::surface_at`]). The scan then
+    /// computes one surface, the winner's, instead of one for every object that was
+    /// the nearest so far (a ray seen past a sphere onto a floor: the floor's point,
+    /// normal and uv thrown away); Wald et al. 2001, "Interactive Rendering with
+    /// Coherent Ray Tracing", §3: intersection first, shading data for the final hit
+    /// only. The sphere and the plane say yes; other shapes are asked for whole hits.
+    fn splits_surface(&self) -> bool {
+        false
+    }
+
+    /// The exact (f64) parameter of the hit [`Self::intersect`] gives, whose `Hit::t`
+    /// is its f32 rounding: `Some` exactly when `intersect` finds a hit.
+    fn nearest_t(&self, ray: &Ray, t_max: f32) -> Option<f64> {
+        self.intersect(ray, t_max).map(|h| h.t as f64)
+    }
+
+    /// The hit at the parameter `t` that [`Self::nearest_t`] gave for `ray`: bit for
+    /// bit the hit [`Self::intersect`] gives. The default finds it again by
+    /// `intersect`: the nearest hit in `(0, t_max)`, where there is one, is the nearest
+    /// of all.
+    fn surface_at(&self, ray: &Ray, t: f64) -> Hit {
+        let _ = t;
+        self.intersect(ray, f32::INFINITY)
+            .expect("surface_at: asked for a ray that hits nothing")
+    }
+
     /// The nearest hit as ray casting reports it (`t`, primitive, uv, geometric
     /// normal): the same values as [`Self::intersect`]'s, which this default takes
     /// them from. A shape overrides it where those four come cheaper than a whole

@@ -59,6 +59,8 @@ pub(super) struct Child {
     pub(super) node: Option<Arc<Csg>>,
     pub(super) leaf_offset: u32,
     bounds: Aabb,
+    /// `instance.splits_surface()`, asked once.
+    splits: bool,
 }
 
 /// A CSG node (union, intersection, difference or merge of solids): itself a solid.
@@ -110,6 +112,7 @@ impl Csg {
             };
             children.push(Child {
                 bounds,
+                splits: instance.splits_surface(),
                 instance,
                 node,
                 leaf_offset,
@@ -285,22 +288,38 @@ impl Csg {
         })
     }
 
-    /// POV-Ray's union: the nearest hit of any operand.
+    /// POV-Ray's union: the nearest hit of any operand. Operands that split their
+    /// hits ([`Shape::splits_surface`]) give their parameter first and only the
+    /// winner's surface is computed: the same hit as the nearest of whole hits.
     fn nearest_operand_hit(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
+        let mut param = None;
         let mut t_max = t_max;
         let slab = SlabRay::new(ray);
         for c in &self.children {
             if !slab.overlaps(&c.bounds, 0.0, t_max) {
                 continue;
             }
-            if let Some(mut h) = c.instance.intersect(ray, t_max) {
+            if c.splits {
+                if let Some(t) = c.instance.nearest_t(ray, t_max) {
+                    t_max = t as f32;
+                    param = Some((c, t));
+                }
+            } else if let Some(mut h) = c.instance.intersect(ray, t_max) {
                 h.leaf += c.leaf_offset;
                 t_max = h.t;
                 best = Some(h);
+                param = None;
             }
         }
-        best
+        match param {
+            Some((c, t)) => {
+                let mut h = c.instance.surface_at(ray, t);
+                h.leaf += c.leaf_offset;
+                Some(h)
+            }
+            None => best,
+        }
     }
 }
 

@@ -47,6 +47,30 @@ impl Plane {
         self.offset as f32
     }
 
+    /// The crossing's parameter in `(0, t_max)` (f64), or `None`. Crossings outside
+    /// are refused before the point is projected: a ray leaving the plane behind it
+    /// (half of all rays on average) costs one division.
+    #[inline]
+    fn crossing_t(&self, ray: &Ray, t_max: f32) -> Option<f64> {
+        let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+        let den = self.normal.dot(d);
+        let t = (self.offset - self.normal.dot(o)) / den;
+        (t > 0.0 && t < t_max as f64).then_some(t)
+    }
+
+    /// The hit at crossing `t` ([`Self::crossing_t`]): the point projected onto the
+    /// plane, as `plane_crossing` does, its uv and error bound.
+    #[inline]
+    fn hit_at(&self, ray: &Ray, t: f64) -> Hit {
+        let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+        let p = o + d * t;
+        let p = p - self.normal * (self.normal.dot(p) - self.offset);
+        let point = p.as_vec3();
+        let mut h = Hit::new(t as f32, point, self.normal.as_vec3(), self.uv(point));
+        h.error = plane_point_error(p, self.normal, self.offset);
+        h
+    }
+
     fn uv(&self, p: Vec3) -> Vec2 {
         Vec2::new(p.dot(self.frame.s), p.dot(self.frame.t))
     }
@@ -98,21 +122,20 @@ impl Shape for Plane {
     }
 
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
-        // Refuse crossings outside (0, t_max) before projecting the point: a ray
-        // leaving the plane behind it (half of all rays on average) costs one division.
-        let den = self.normal.dot(d);
-        let t = (self.offset - self.normal.dot(o)) / den;
-        if !(t > 0.0 && t < t_max as f64) {
-            return None;
-        }
-        // The point projected onto the plane, as `plane_crossing` does.
-        let p = o + d * t;
-        let p = p - self.normal * (self.normal.dot(p) - self.offset);
-        let point = p.as_vec3();
-        let mut h = Hit::new(t as f32, point, self.normal.as_vec3(), self.uv(point));
-        h.error = plane_point_error(p, self.normal, self.offset);
-        Some(h)
+        self.crossing_t(ray, t_max).map(|t| self.hit_at(ray, t))
+    }
+
+    fn splits_surface(&self) -> bool {
+        true
+    }
+
+    #[inline]
+    fn nearest_t(&self, ray: &Ray, t_max: f32) -> Option<f64> {
+        self.crossing_t(ray, t_max)
+    }
+
+    fn surface_at(&self, ray: &Ray, t: f64) -> Hit {
+        self.hit_at(ray, t)
     }
 
     /// `t = num / den` in `(0, t_max)` decided without the division: `num` and `den`

@@ -60,6 +60,23 @@ impl Sphere {
         Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
     }
 
+    /// The nearest root in `(0, t_max)` (f64), or `None`.
+    #[inline]
+    fn root_t(&self, ray: &Ray, t_max: f32) -> Option<f64> {
+        let (t0, t1) = self.roots(ray)?;
+        let t = if t0 > 0.0 { t0 } else { t1 };
+        (t > 0.0 && t < t_max as f64).then_some(t)
+    }
+
+    /// The hit at root `t` ([`Self::root_t`]): [`Self::surface`] and the error bound.
+    #[inline]
+    fn hit_at(&self, ray: &Ray, t: f64) -> Hit {
+        let (p, n, uv) = self.surface(ray, t);
+        let mut h = Hit::new(t as f32, p, n, uv);
+        h.error = (self.center.abs().max_element() + self.radius) * 4.0 * f32::EPSILON;
+        h
+    }
+
     /// The quadratic `a t² + 2 b t + c = 0` of the ray as `(a, c, q)` with
     /// `q = -b - sign(b) √disc`,
     /// whose roots are `q / a` and `c / q` (the numerically stable pair; Press et al.,
@@ -126,15 +143,20 @@ impl Shape for Sphere {
     }
 
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let (t0, t1) = self.roots(ray)?;
-        let t = if t0 > 0.0 { t0 } else { t1 };
-        if !(t > 0.0 && t < t_max as f64) {
-            return None;
-        }
-        let (p, n, uv) = self.surface(ray, t);
-        let mut h = Hit::new(t as f32, p, n, uv);
-        h.error = (self.center.abs().max_element() + self.radius) * 4.0 * f32::EPSILON;
-        Some(h)
+        self.root_t(ray, t_max).map(|t| self.hit_at(ray, t))
+    }
+
+    fn splits_surface(&self) -> bool {
+        true
+    }
+
+    #[inline]
+    fn nearest_t(&self, ray: &Ray, t_max: f32) -> Option<f64> {
+        self.root_t(ray, t_max)
+    }
+
+    fn surface_at(&self, ray: &Ray, t: f64) -> Hit {
+        self.hit_at(ray, t)
     }
 
     /// `(dp/du, dp/dv)` at the point with unit direction `n` from the centre, for

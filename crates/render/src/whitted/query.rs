@@ -14,9 +14,10 @@ pub(crate) const LINEAR_MAX: usize = 8;
 
 pub(crate) enum Query {
     Tree(Accel),
-    /// Instances with their world boxes (`None` for unbounded ones, tested always) and
-    /// the object index each stands for.
-    Linear(Vec<(Instance, Option<Aabb>, u32)>),
+    /// Instances with their world boxes (`None` for unbounded ones, tested always),
+    /// the object index each stands for, and whether it splits its hits
+    /// ([`Instance::splits_surface`]).
+    Linear(Vec<(Instance, Option<Aabb>, u32, bool)>),
 }
 
 impl Query {
@@ -32,7 +33,8 @@ impl Query {
                 .map(|(inst, id)| {
                     let b = inst.bounds();
                     let bounds = (b.is_finite() && !b.is_empty()).then_some(b);
-                    (inst, bounds, id)
+                    let splits = inst.splits_surface();
+                    (inst, bounds, id, splits)
                 })
                 .collect(),
         )
@@ -50,19 +52,36 @@ impl Query {
                 h
             }),
             Query::Linear(list) => {
+                // Objects that split their hits (`Instance::splits_surface`) give their
+                // nearest parameter, and the surface is computed for the winner alone,
+                // not for every object that was the nearest so far. The same objects
+                // win as with whole hits: the same `t`s, compared in the same order.
                 let inv = ray.dir.recip();
                 let mut t_max = t_max;
                 let mut best = None;
-                for (inst, bounds, id) in list {
+                let mut param = None;
+                for (inst, bounds, id, splits) in list {
                     if bounds.is_some_and(|b| b.hit_inv(ray.origin, inv, t_max).is_none()) {
                         continue;
                     }
-                    if let Some(hit) = inst.intersect(ray, t_max) {
+                    if *splits {
+                        if let Some(t) = inst.nearest_t(ray, t_max) {
+                            t_max = t as f32;
+                            param = Some((inst, *id, t));
+                        }
+                    } else if let Some(hit) = inst.intersect(ray, t_max) {
                         t_max = hit.t;
                         best = Some(SceneHit { instance: *id, hit });
+                        param = None;
                     }
                 }
-                best
+                match param {
+                    Some((inst, id, t)) => Some(SceneHit {
+                        instance: id,
+                        hit: inst.surface_at(ray, t),
+                    }),
+                    None => best,
+                }
             }
         }
     }
@@ -74,11 +93,91 @@ impl Query {
             Query::Tree(accel) => accel.occluded(ray, t_max),
             Query::Linear(list) => {
                 let inv = ray.dir.recip();
-                list.iter().any(|(inst, bounds, _)| {
+                list.iter().any(|(inst, bounds, _, _)| {
                     bounds.map_or(true, |b| b.hit_inv(ray.origin, inv, t_max).is_some())
                         && inst.occluded(ray, t_max)
                 })
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Affine3A, Quat, Vec2, Vec3};
+    use irradia_core::sampling::uniform_sphere;
+    use irradia_core::Rng;
+    use irradia_geometry::shapes::{Cuboid, Plane, Sphere};
+    use std::sync::Arc;
+
+    /// The nearest hit of the list by whole hits, every object's surface computed: what
+    /// the linear scan gave before it deferred surfaces.
+    fn whole_hits(list: &[Instance], ray: &Ray, t_max: f32) -> Option<SceneHit> {
+        let inv = ray.dir.recip();
+        let mut t_max = t_max;
+        let mut best = None;
+        for (id, inst) in list.iter().enumerate() {
+            let b = inst.bounds();
+            let bounded = b.is_finite() && !b.is_empty();
+            if bounded && b.hit_inv(ray.origin, inv, t_max).is_none() {
+                continue;
+            }
+            if let Some(hit) = inst.intersect(ray, t_max) {
+                t_max = hit.t;
+                best = Some(SceneHit {
+                    instance: id as u32,
+                    hit,
+                });
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn deferred_surfaces_pick_the_same_hit_bit_for_bit() {
+        let turn = Affine3A::from_rotation_translation(Quat::from_rotation_y(0.5), Vec3::X);
+        let list = vec![
+            Instance::untransformed(Arc::new(Plane::new(Vec3::Y, -1.0).unwrap())),
+            Instance::untransformed(Arc::new(Sphere::new(Vec3::new(0.5, 0.0, 0.0), 1.0))),
+            // Two coincident spheres: a tie, settled as the whole-hit scan settles it
+            // (the second wins where `t` rounds up to the f32 `t_max` it is held to).
+            Instance::untransformed(Arc::new(Sphere::new(Vec3::new(-0.8, 0.2, 0.3), 0.7))),
+            Instance::untransformed(Arc::new(Sphere::new(Vec3::new(-0.8, 0.2, 0.3), 0.7))),
+            Instance::new(Arc::new(Sphere::new(Vec3::ZERO, 0.6)), turn),
+            Instance::new(
+                Arc::new(Cuboid::new(Vec3::splat(-0.4), Vec3::splat(0.4)).unwrap()),
+                turn * Affine3A::from_translation(Vec3::new(0.0, 0.5, -1.0)),
+            ),
+            Instance::untransformed(Arc::new(Plane::new(Vec3::Z, 2.0).unwrap())),
+        ];
+        let n = list.len() as u32;
+        let query = Query::new(list.clone(), (0..n).collect());
+        let mut rng = Rng::new(3, 7);
+        let (mut hits, mut winners) = (0, vec![0u32; list.len()]);
+        for i in 0..40_000 {
+            let target =
+                Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 4.0 - Vec3::splat(2.0);
+            let u = Vec2::new(rng.next_f32(), rng.next_f32());
+            let o = target + uniform_sphere(u) * 5.0;
+            let ray = Ray::new(o, (target - o) * 0.3);
+            let t_max = if i % 3 == 0 {
+                2.0 + 2.0 * rng.next_f32()
+            } else {
+                f32::INFINITY
+            };
+            let want = whole_hits(&list, &ray, t_max);
+            let got = query.intersect(&ray, t_max, None);
+            assert_eq!(format!("{want:?}"), format!("{got:?}"), "ray {i}");
+            if let Some(h) = want {
+                hits += 1;
+                winners[h.instance as usize] += 1;
+            }
+        }
+        assert!(hits > 20_000, "{hits} hits");
+        // Every object wins somewhere, both of the coincident pair included.
+        for (i, &w) in winners.iter().enumerate() {
+            assert!(w > 0, "object {i} never won");
         }
     }
 }
