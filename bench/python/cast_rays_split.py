@@ -9,12 +9,16 @@ timed in one process, interleaved round by round on the same rays.
 Per round and set, in turn: Open3D on the whole mesh, on the whole mesh with its
 triangles reordered by slab (the same triangles and vertices as the whole mesh, only
 the order of `add_triangles`' index rows changed), on K geometries; then Irradia on
-the whole mesh and on the K parts (`irradia.load_dict`, K `mesh` objects, traced
-through one flat mesh of all their triangles). Prints each variant's median seconds
+the whole mesh, on the slab-ordered mesh (a PLY written once beside the parts) and on
+the K parts (`irradia.load_dict`, K `mesh` objects, traced through one flat mesh of all
+their triangles, whose order is the slab order too). Prints each variant's median seconds
 and the median per-round ratio to the whole mesh of the same library. If the
 reordered mesh is as fast as the K geometries, the order of the triangles (the
-builder's input order, and so the memory layout of leaves) explains the gain; if only
-the K geometries are faster, the builder's treatment of several geometries does.
+builder's input order, and so the memory layout of leaves) explains the difference; if
+only the K geometries differ, the treatment of several geometries does (for Irradia:
+the flat mesh's traversal, whose rays outside a coherent group go one by one through
+the 8-lane packet traversal to learn of near ties, where a sole mesh's go through the
+single-ray traversal).
 Needs the PLYs cast_rays_gyroid.py writes (run it once with `--parts K`).
 """
 
@@ -43,7 +47,7 @@ def main():
     import sys
 
     sys.path.insert(0, HERE)
-    from cast_rays_gyroid import split_parts
+    from cast_rays_gyroid import split_parts, write_ply
 
     load = lambda name, dt: np.fromfile(os.path.join(a.data, name), dtype=dt).reshape(-1, 3)
     v, f = load("vertices.f32", "<f4"), load("indices.u32", "<u4")
@@ -68,8 +72,12 @@ def main():
         f"o3d_{a.parts}_parts": o3d_scene(parts),
     }
     plys = [os.path.join(a.data, f"gyroid_{a.parts}_{k}.ply") for k in range(a.parts)]
+    sorted_ply = os.path.join(a.data, f"gyroid_sorted_{a.parts}.ply")
+    if not os.path.exists(sorted_ply):
+        write_ply(sorted_ply, v, f_sorted)
     irr = {
         "irr_whole": irradia.load(os.path.join(a.data, "gyroid.ply")),
+        "irr_sorted": irradia.load(sorted_ply),
         f"irr_{a.parts}_parts": irradia.load_dict({
             "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0]},
             "materials": {"m": {"color": [0.5, 0.5, 0.5]}},
