@@ -139,6 +139,13 @@ def main():
         lo = {k: 1e3 * float(np.min(v)) for k, v in times.items()}
         print(f"MIN np={p} irradia_ms={lo['irradia']:.3f} numpy_gather_ms={lo['numpy_gather']:.3f} "
               f"floor_ms={lo['floor']:.3f} ratio_same_work={lo['irradia'] / lo['numpy_gather']:.3f}")
+        # The spread: quartiles, and the share of calls over 1.5 times their case's best
+        # (on 2 ranks and 2 cores, calls that waited for a descheduled partner).
+        for k in ("irradia", "numpy_gather"):
+            v = np.array(times[k])
+            q1, q3 = (1e3 * float(np.quantile(v, q)) for q in (0.25, 0.75))
+            print(f"SPREAD np={p} case={k} q1_ms={q1:.3f} q3_ms={q3:.3f} "
+                  f"slow_share={float(np.mean(v > 1.5 * v.min())):.2f}")
 
 
 if __name__ == "__main__":

@@ -2,6 +2,13 @@
 """Scene.render against `irradia render` on the same image, interleaved A B A B.
 
     python bench/python/render_vs_cli.py --cli target/release/irradia [--rounds 7]
+        [--case cornell:64x64:4 --case whitted:160x90 ...]
+
+Cases are NAME:WIDTHxHEIGHT[:SPP] of `irradia.builtin` scenes (default: the three
+below); small images expose the fixed cost of a call (scene conversion, thread start,
+the array). Within each round the two sides run in alternating order (CLI first in
+odd rounds, Python first in even ones), so neither always runs second on a warmed
+cache.
 
 For each case: the render time each reports (the driver's own clock: `Rendered ...
 in X s` / `Scene.last_render["seconds"]`) and the wall time of the call (the CLI as a
@@ -32,35 +39,57 @@ CASES = [
 ]
 
 
+def parse_case(text):
+    """NAME:WIDTHxHEIGHT[:SPP] as a CASES entry."""
+    parts = text.split(":")
+    w, h = (int(x) for x in parts[1].split("x"))
+    kw = dict(width=w, height=h)
+    if len(parts) > 2:
+        kw["spp"] = int(parts[2])
+    return parts[0], kw, []
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--cli", required=True)
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--case", action="append", default=[], help="NAME:WxH[:SPP], repeatable")
     a = ap.parse_args()
     tmp = tempfile.mkdtemp()
-    for name, kw, _ in CASES:
+    cases = [parse_case(c) for c in a.case] or CASES
+    for name, kw, _ in cases:
         flags = [x for k, v in kw.items() for x in ("--" + k, str(v))]
         cmd = [a.cli, "render", "--builtin", name, *flags, "--threads", str(a.threads), "-o", tmp + "/x.pfm"]
         rows = []
         for r in range(a.rounds + 1):  # round 0 warms up
-            ru0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-            t0 = time.perf_counter()
-            p = subprocess.run(cmd, capture_output=True, text=True, check=True)
-            cli_wall = time.perf_counter() - t0
-            ru1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-            cli_cpu = (ru1.ru_utime - ru0.ru_utime) + (ru1.ru_stime - ru0.ru_stime)
-            m = re.search(r"in ([0-9.]+) s", p.stderr)
-            cli_render = float(m.group(1))
-            c0 = time.process_time()
-            t0 = time.perf_counter()
-            s = irradia.builtin(name)
-            t1 = time.perf_counter()
-            img = s.render(threads=a.threads, **kw)
-            py_call = time.perf_counter() - t1
-            py_wall = time.perf_counter() - t0
-            py_cpu = time.process_time() - c0
-            py_render = s.last_render["seconds"]
+            def cli():
+                ru0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+                t0 = time.perf_counter()
+                p = subprocess.run(cmd, capture_output=True, text=True, check=True)
+                wall = time.perf_counter() - t0
+                ru1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+                cpu = (ru1.ru_utime - ru0.ru_utime) + (ru1.ru_stime - ru0.ru_stime)
+                m = re.search(r"in ([0-9.]+) s", p.stderr)
+                return float(m.group(1)), wall, cpu
+
+            def py():
+                c0 = time.process_time()
+                t0 = time.perf_counter()
+                s = irradia.builtin(name)
+                t1 = time.perf_counter()
+                img = s.render(threads=a.threads, **kw)
+                call = time.perf_counter() - t1
+                wall = time.perf_counter() - t0
+                cpu = time.process_time() - c0
+                return img, s.last_render["seconds"], wall, cpu, call
+
+            if r % 2:
+                cli_render, cli_wall, cli_cpu = cli()
+                img, py_render, py_wall, py_cpu, py_call = py()
+            else:
+                img, py_render, py_wall, py_cpu, py_call = py()
+                cli_render, cli_wall, cli_cpu = cli()
             if r == 0:
                 assert np.array_equal(img, irradia.read_image(tmp + "/x.pfm")), "images differ"
                 continue

@@ -259,3 +259,30 @@ fn ties_between_instances_entered_in_different_orders() {
         );
     }
 }
+
+/// Two untransformed copies of one mesh: a scene the batch traces through one flat mesh
+/// of both, where every hit is an exact tie between the copies' triangles, which the
+/// flat hierarchy visits in another order than the two levels. Rays outside a coherent
+/// group go through the flat mesh's single-ray traversal, which must flag each tie
+/// (and leave it to the two levels) as the packet traversal does; incoherent rays are
+/// nearly all such rays.
+#[test]
+fn exact_copies_in_the_flat_mesh_answer_as_single_rays() {
+    let parts = gyroid_parts(16, 2);
+    let accel = Accel::build(vec![
+        Instance::untransformed(parts[0].clone()),
+        Instance::untransformed(parts[1].clone()),
+        Instance::untransformed(parts[0].clone()),
+    ]);
+    assert!(
+        accel.casts_flat(),
+        "three untransformed meshes go through one flat mesh"
+    );
+    for (rays, t_max) in all_rays() {
+        let (hits, objects) = check(&accel, &rays, t_max);
+        assert!(hits > rays.len() / 10, "{hits} hits");
+        if t_max.is_infinite() {
+            assert!(objects.contains(&1), "objects hit: {objects:?}");
+        }
+    }
+}

@@ -211,6 +211,65 @@ impl TriangleMesh {
         Some((best, ties))
     }
 
+    /// One ray's nearest cast hit (bounded by `t_max`) through the single-ray
+    /// traversal, and whether another hit lies within [`TIE_ULPS`] of it: what
+    /// [`Self::nearest_cast_lanes`] answers for one lane, without carrying seven empty
+    /// lanes through the 8-wide packet traversal (for rays outside a coherent group,
+    /// which are most rays of an incoherent batch). The same rule as
+    /// [`Self::nearest_lanes`]: the leaves' tests run against a bound [`LOOSE_ULPS`]
+    /// beyond the nearest hit so far, every other hit met is kept as the second, and
+    /// a second within [`TIE_ULPS`] of the nearest flags the ray. `None` where the
+    /// mesh's cast hits need more than the leaf.
+    pub(crate) fn nearest_cast_one(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+    ) -> Option<(Option<CastHit>, bool)> {
+        if !self.casts_from_leaves() {
+            return None;
+        }
+        let tray = TriangleRay::new(ray);
+        let mut best: LaneHit<'_> = None;
+        let mut second = f32::INFINITY;
+        let loose = 1.0 + LOOSE_ULPS * f32::EPSILON;
+        self.bvh.closest_hit_leaves_prefetch(
+            ray,
+            t_max,
+            |l| self.prefetch_leaf(l),
+            |leaf, bound| {
+                let packets = self.leaf_packets(leaf);
+                let mut cand =
+                    watertight4::leaf_candidates(packets, leaf.count as usize, &tray, bound);
+                let mut tightened = None;
+                while cand != 0 {
+                    let i = cand.trailing_zeros() as usize;
+                    cand &= cand - 1;
+                    let [a, b, c] = packets[i / 4].corners(i % 4);
+                    let Some(h) = tray.intersect(a, b, c, bound) else {
+                        continue;
+                    };
+                    match best {
+                        Some((_, _, old)) if h.t >= old.t => second = second.min(h.t),
+                        old => {
+                            if let Some((_, _, old)) = old {
+                                second = second.min(old.t);
+                            }
+                            best = Some((&packets[i / 4], i % 4, h));
+                            tightened = Some((h.t * loose).min(t_max));
+                        }
+                    }
+                }
+                tightened
+            },
+        );
+        let tie = 1.0 + TIE_ULPS * f32::EPSILON;
+        let tied = matches!(best, Some((_, _, h)) if second <= h.t * tie);
+        Some((
+            best.map(|(p, lane, h)| Self::cast_hit_of(p, lane, &h)),
+            tied,
+        ))
+    }
+
     /// [`Self::nearest_lanes`] as cast hits (triangle ids as the mesh numbers them):
     /// for each lane `k` of `active`, the nearest hit bounded by `t_max[k]`, and the
     /// lanes with a near tie (their answers are to be traced again by the caller).
