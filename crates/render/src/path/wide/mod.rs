@@ -43,9 +43,17 @@
 //!   lane in `f64`); a glossy lobe as the scalar estimator treats it: a light sample
 //!   weighted by the power heuristic against the BSDF's density, and emission hit
 //!   after it weighted against the light sample's density;
+//! - Mitsuba's `roughdielectric` with the same distribution ([`rough_dielectric`]:
+//!   reflection or refraction about a visible normal, chosen by the lobe number against
+//!   the dielectric Fresnel reflectance of the normal, as the scalar BSDF; two-sided,
+//!   light samples on either side; Russian roulette judges `max(beta) η²` as after the
+//!   smooth dielectric) and `roughplastic` ([`rough_plastic`]: the GGX coating over the
+//!   diffuse base, with the scalar BSDF's precomputed transmittance table, internal
+//!   reflectance (`nonlinear` or not) and specular sampling weight); glossy lobes as
+//!   the rough conductor's ([`glossy`] runs each lane's one);
 //!
-//! each optionally emissive; no lecture mirror, gloss or glass, no Beckmann or
-//! anisotropic roughness and no rough dielectric or plastic.
+//! each optionally emissive; no lecture mirror, gloss or glass, and no Beckmann or
+//! anisotropic roughness.
 //! Delta lobes follow the scalar estimator exactly: no light sample (its random
 //! numbers are drawn and unused), emission hit after them counts in full (no MIS), and
 //! Russian roulette judges `max(beta) eta²` with `eta` the product of the relative
