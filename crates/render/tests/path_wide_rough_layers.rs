@@ -242,3 +242,46 @@ fn a_wrong_roughness_of_glass_or_plastic_is_caught() {
         same * 100.0
     );
 }
+
+/// GGX glass and plastic with visible-normal sampling qualify; Beckmann ones, or ones
+/// sampling all normals, render with the scalar estimator.
+#[test]
+fn only_ggx_visible_normal_glass_and_plastic_qualify() {
+    use irradia_render::path::flat_scene::FlatScene;
+    use irradia_render::path::integrator::PathScene;
+    use irradia_render::path::lights::LightSampler;
+    use irradia_render::path::wide::WideScene;
+    let check = |scene: &Scene| {
+        let lights = LightSampler::new(scene);
+        let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
+        WideScene::new(&ps).is_some()
+    };
+    assert!(check(&layered_box(8, 8, BALLS)));
+    let with = |f: &dyn Fn(&mut BsdfDesc)| {
+        let scene = layered_box(8, 8, BALLS);
+        let mut materials = scene.materials.clone();
+        for m in &mut materials {
+            if let Some(b) = m.bsdf.as_mut() {
+                f(Arc::make_mut(b));
+            }
+        }
+        Scene::new(
+            scene.camera.clone(),
+            scene.settings.clone(),
+            materials,
+            scene.lights.clone(),
+            scene.objects.clone(),
+            scene.accel.instances().to_vec(),
+        )
+    };
+    assert!(!check(&with(&|b| {
+        if let BsdfDesc::RoughPlastic(_, r) = b {
+            r.distribution = Distribution::Beckmann;
+        }
+    })));
+    assert!(!check(&with(&|b| {
+        if let BsdfDesc::RoughDielectric(_, m) = b {
+            m.sample_visible = false;
+        }
+    })));
+}
