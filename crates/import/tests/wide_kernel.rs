@@ -4,7 +4,9 @@
 //! check for hand-built scenes. `suite/glass_mirror.xml`: the Cornell box with a smooth
 //! `dielectric` and a smooth `conductor` sphere; `suite/veach_mis.xml`: four GGX
 //! `roughconductor` plates of α 0.005 to 0.1, four emissive spheres and a dim
-//! `constant` sky; `veach_mis_black.xml`: the same without its sky.
+//! `constant` sky; `veach_mis_black.xml`: the same without its sky;
+//! `suite/rough_balls.xml`: a GGX `roughconductor`, `roughdielectric` and `roughplastic`
+//! ball under Mitsuba's museum.exr `envmap`.
 
 use irradia_core::{Rgb, Rng};
 use irradia_import::{load, Options};
@@ -25,6 +27,11 @@ fn imported_glass_mirror_scene_runs_in_the_wide_kernel_sample_for_sample() {
 #[test]
 fn imported_veach_mis_scene_runs_in_the_wide_kernel_sample_for_sample() {
     agrees_with_the_scalar_estimator("suite/veach_mis.xml", 4);
+}
+
+#[test]
+fn imported_rough_balls_scene_runs_in_the_wide_kernel_sample_for_sample() {
+    agrees_with_the_scalar_estimator("suite/rough_balls.xml", 3);
 }
 
 #[test]

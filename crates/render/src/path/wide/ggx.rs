@@ -48,7 +48,7 @@ pub(super) fn sin_cos_two_pi(u: F8) -> (F8, F8) {
 /// as Mitsuba does, `1 / (π α² (slope² + cos²θ)²)`), zero below the horizon and where
 /// `D cos θ ≤ 1e-20` (as the scalar code).
 #[inline(always)]
-fn d(m: V3, alpha: F8) -> F8 {
+pub(super) fn d(m: V3, alpha: F8) -> F8 {
     let a2 = alpha * alpha;
     let cos2 = m.z * m.z;
     let slope2 = (m.x * m.x + m.y * m.y) / a2;
@@ -59,7 +59,7 @@ fn d(m: V3, alpha: F8) -> F8 {
 
 /// Smith's `G1(v, m) = χ⁺(v·m / v·n) / (1 + Λ(v))` with GGX's closed-form `Λ`.
 #[inline(always)]
-fn g1(v: V3, m: V3, alpha: F8) -> F8 {
+pub(super) fn g1(v: V3, m: V3, alpha: F8) -> F8 {
     let t2 = alpha * alpha * (v.x * v.x + v.y * v.y) / (v.z * v.z);
     let lambda = 0.5 * t2 / ((1.0 + t2).sqrt() + 1.0);
     let g = 1.0 / (1.0 + lambda);
@@ -70,7 +70,7 @@ fn g1(v: V3, m: V3, alpha: F8) -> F8 {
 
 /// The density of visible normals, `D(m) G1(wo, m) |wo·m| / cos θo` (`wo.z > 0`).
 #[inline(always)]
-fn pdf_visible(wo: V3, m: V3, alpha: F8) -> F8 {
+pub(super) fn pdf_visible(wo: V3, m: V3, alpha: F8) -> F8 {
     let p = d(m, alpha) * g1(wo, m, alpha) * wo.dot(m).abs() / wo.z;
     wo.z.gt(0.0).keep(p)
 }
@@ -78,7 +78,7 @@ fn pdf_visible(wo: V3, m: V3, alpha: F8) -> F8 {
 /// Heitz 2018's visible-normal sample for `wo.z > 0`: stretch, sample the projected
 /// hemisphere, unstretch (`Microfacet::sample_visible_ggx`).
 #[inline(always)]
-fn sample_visible(wo: V3, u: [F8; 2], alpha: F8) -> V3 {
+pub(super) fn sample_visible(wo: V3, u: [F8; 2], alpha: F8) -> V3 {
     let vh = V3::new(alpha * wo.x, alpha * wo.y, wo.z).normalize();
     let len2 = vh.x * vh.x + vh.y * vh.y;
     let inv = 1.0 / len2.sqrt();
@@ -106,7 +106,7 @@ fn sample_visible(wo: V3, u: [F8; 2], alpha: F8) -> V3 {
 
 /// Field `at` of the materials' shading records.
 #[inline(always)]
-fn shading(ws: &WideScene<'_, '_>, material: &[u32; W], at: usize) -> F8 {
+pub(super) fn shading(ws: &WideScene<'_, '_>, material: &[u32; W], at: usize) -> F8 {
     assert!(at < mat::LEN);
     let top = material.iter().fold(0, |a, &i| a.max(i));
     assert!((top as usize) < ws.shading.len());

@@ -16,7 +16,7 @@
 use super::background::Background;
 use super::bsdf::{conductor_fresnel, cosine_hemisphere, dielectric};
 use super::gather::{checked, field, field3};
-use super::ggx::rough_conductor;
+use super::glossy::glossy;
 use super::light_pick::pick_lights;
 use super::sphere_light::{self, LightPoint};
 use super::{facet, mat, smooth, tri, WideScene};
@@ -306,15 +306,16 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
         (wi, l_pdf, lradiance, light_ok)
     };
     let wi_local = to_local(wi, fs, ft, ns);
-    // The rough conductor's value and density for the light direction, and its sample.
+    // The glossy BSDFs' value and density for the light direction, and their sample.
     // (No closure: it would not inherit the loop's target features.)
     let r = if ws.has_rough {
         let (nee, active) = (light_ok & rough, sc & rough);
-        Some(rough_conductor(
+        Some(glossy(
             ws,
             &b.material,
             wo,
             wi_local,
+            b.u_lobe,
             b.u_bsdf,
             nee,
             active,
@@ -327,6 +328,11 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
         None => f,
     };
     let same_side = (wo.z * wi_local.z).gt(0.0);
+    // (A rough dielectric's value is zero where it should be, on either side.)
+    let same_side = match &r {
+        Some(r) => same_side | (rough & r.transmits),
+        None => same_side,
+    };
     let f_nonzero = same_side & !f.is_zero();
     let cos_n = wi.dot(n);
     let nee = light_ok & f_nonzero & (cos_n * wi_local.z).gt(0.0);
@@ -373,14 +379,15 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     );
     let eta_s = refracts.select(g.eta_it, F8::splat(1.0));
     let sampled = lambert_ok | (mirror & wo.z.gt(0.0)) | glass;
-    let (wi_s, weight, sampled, pdf_b) = match &r {
+    let (wi_s, weight, sampled, pdf_b, eta_s) = match &r {
         Some(r) => (
             V3::select(rough, r.wi, wi_s),
             V3::select(rough, r.weight, weight),
             sampled | (rough & r.ok),
             rough.select(r.pdf, pdf_b),
+            rough.select(r.eta, eta_s),
         ),
-        None => (wi_s, weight, sampled, pdf_b),
+        None => (wi_s, weight, sampled, pdf_b, eta_s),
     };
     let wi_world = fs.scale(wi_s.x).add(ft.scale(wi_s.y)).add(ns.scale(wi_s.z));
     let cos_w = wi_world.dot(n);

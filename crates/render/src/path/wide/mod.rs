@@ -43,9 +43,17 @@
 //!   lane in `f64`); a glossy lobe as the scalar estimator treats it: a light sample
 //!   weighted by the power heuristic against the BSDF's density, and emission hit
 //!   after it weighted against the light sample's density;
+//! - Mitsuba's `roughdielectric` with the same distribution ([`rough_dielectric`]:
+//!   reflection or refraction about a visible normal, chosen by the lobe number against
+//!   the dielectric Fresnel reflectance of the normal, as the scalar BSDF; two-sided,
+//!   light samples on either side; Russian roulette judges `max(beta) η²` as after the
+//!   smooth dielectric) and `roughplastic` ([`rough_plastic`]: the GGX coating over the
+//!   diffuse base, with the scalar BSDF's precomputed transmittance table, internal
+//!   reflectance (`nonlinear` or not) and specular sampling weight); glossy lobes as
+//!   the rough conductor's ([`glossy`] runs each lane's one);
 //!
-//! each optionally emissive; no lecture mirror, gloss or glass, no Beckmann or
-//! anisotropic roughness and no rough dielectric or plastic.
+//! each optionally emissive; no lecture mirror, gloss or glass, and no Beckmann or
+//! anisotropic roughness.
 //! Delta lobes follow the scalar estimator exactly: no light sample (its random
 //! numbers are drawn and unused), emission hit after them counts in full (no MIS), and
 //! Russian roulette judges `max(beta) eta²` with `eta` the product of the relative
@@ -80,8 +88,11 @@ pub(crate) mod background;
 pub mod bsdf;
 mod gather;
 pub mod ggx;
+mod glossy;
 pub mod kernel;
 mod light_pick;
+mod rough_dielectric;
+mod rough_plastic;
 pub(crate) mod sphere8;
 pub mod sphere_light;
 
@@ -167,7 +178,19 @@ pub(crate) mod mat {
     pub const ROUGH: usize = 17;
     /// Its roughness α.
     pub const ALPHA: usize = 18;
-    pub const LEN: usize = 19;
+    /// Which glossy BSDF a `ROUGH` material is ([`super::glossy`]): the rough conductor,
+    /// Mitsuba's `roughdielectric` ([`super::rough_dielectric`]: `ETA`, `SPEC_R`,
+    /// `SPEC_T`) or `roughplastic` ([`super::rough_plastic`]: `ETA`, `SPEC_R`, `COAT`,
+    /// `SPEC_WEIGHT`), all GGX, isotropic, visible normals, with roughness `ALPHA`.
+    pub const KIND: usize = 19;
+    pub const KIND_CONDUCTOR: f32 = 0.0;
+    pub const KIND_DIELECTRIC: f32 = 1.0;
+    pub const KIND_PLASTIC: f32 = 2.0;
+    /// The rough plastic's base seen through its coating, `ρ / (1 − R_int) / η²`.
+    pub const COAT: usize = 20;
+    /// The rough plastic's specular sampling weight.
+    pub const SPEC_WEIGHT: usize = 23;
+    pub const LEN: usize = 24;
 }
 /// Fields of a [`WideScene::facets`] record.
 pub(crate) mod facet {
@@ -222,12 +245,16 @@ pub struct WideScene<'s, 'a> {
     /// A factor on the radiance of the emitters at infinity: 1 except in the test
     /// that shows a wrong environment is caught.
     pub(crate) background_scale: f32,
-    /// Whether some material is a rough conductor (the vector stage skips its lobe
-    /// otherwise).
+    /// Whether some material is glossy (a rough conductor, dielectric or plastic: the
+    /// vector stage skips their lobes otherwise).
     pub(crate) has_rough: bool,
-    /// A factor on the rough conductor's α: 1 except in the test that shows a wrong
+    /// A factor on the glossy BSDFs' α: 1 except in the test that shows a wrong
     /// roughness is caught.
     pub(crate) alpha_scale: f32,
+    /// The rough plastics' transmittance tables `T(μ)` ([`rough_plastic`]):
+    /// [`rough_plastic::ROWS`] rows per material (zeros but for plastics); empty
+    /// without a rough plastic.
+    pub(crate) transmittance: Vec<[f32; 1]>,
     /// Per emitter: its sphere record ([`sph`]) when some emitter is an emissive
     /// sphere sampled by its own sampler; `None` when every emitter is facets.
     pub(crate) sphere_lights: Option<Vec<[f32; sph::LEN]>>,
@@ -250,6 +277,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
         }
         let mut materials = Vec::new();
         let mut shading = Vec::new();
+        let mut plastic_tables = Vec::new();
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         for (i, m) in scene.materials.iter().enumerate() {
             let mut row = [0.0; mat::LEN];
@@ -285,6 +313,30 @@ impl<'s, 'a> WideScene<'s, 'a> {
                     let r = c.specular_reflectance;
                     row[mat::SPEC_R..mat::SPEC_R + 3].copy_from_slice(&[r.r, r.g, r.b]);
                     conductor = Some((c.eta, c.k));
+                    (Rgb::BLACK, true, true)
+                }
+                // Mitsuba's `roughdielectric` and `roughplastic`, GGX, isotropic, visible
+                // normals (the speed suite's rough_balls).
+                Some(Some(Bsdf::RoughDielectric(d)))
+                    if d.distribution.kind == MicrofacetType::Ggx
+                        && !d.distribution.is_anisotropic()
+                        && d.distribution.sample_visible =>
+                {
+                    row[mat::ROUGH] = 1.0;
+                    row[mat::KIND] = mat::KIND_DIELECTRIC;
+                    row[mat::ALPHA] = d.distribution.alpha_u;
+                    row[mat::ETA] = d.eta;
+                    let (r, t) = (d.specular_reflectance, d.specular_transmittance);
+                    row[mat::SPEC_R..mat::SPEC_R + 3].copy_from_slice(&[r.r, r.g, r.b]);
+                    row[mat::SPEC_T..mat::SPEC_T + 3].copy_from_slice(&[t.r, t.g, t.b]);
+                    (Rgb::BLACK, false, true)
+                }
+                Some(Some(Bsdf::RoughPlastic(p)))
+                    if p.distribution.kind == MicrofacetType::Ggx
+                        && !p.distribution.is_anisotropic()
+                        && p.distribution.sample_visible =>
+                {
+                    plastic_tables.push((i, rough_plastic::record(p, &mut row)));
                     (Rgb::BLACK, true, true)
                 }
                 Some(Some(Bsdf::Dielectric(d))) => {
@@ -440,6 +492,16 @@ impl<'s, 'a> WideScene<'s, 'a> {
             facets.push([0.0; facet::LEN]);
         }
         let has_rough = shading.iter().any(|r| r[mat::ROUGH] != 0.0);
+        let mut transmittance = Vec::new();
+        if !plastic_tables.is_empty() {
+            transmittance = vec![[0.0]; shading.len() * rough_plastic::ROWS];
+            for (i, t) in plastic_tables {
+                let rows = &mut transmittance[i * rough_plastic::ROWS..][..rough_plastic::ROWS];
+                for (r, v) in rows.iter_mut().zip(t) {
+                    *r = [v];
+                }
+            }
+        }
         Some(Self {
             ps,
             triangles,
@@ -458,6 +520,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             background_scale: 1.0,
             has_rough,
             alpha_scale: 1.0,
+            transmittance,
             sphere_lights,
         })
     }

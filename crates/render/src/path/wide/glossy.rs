@@ -1,0 +1,98 @@
+//! The glossy lobes of the 8-wide kernel's vector stage in one call (see [`super`]):
+//! each lane's `roughconductor` ([`super::ggx`]), `roughdielectric`
+//! ([`super::rough_dielectric`]) or `roughplastic` ([`super::rough_plastic`]), chosen by
+//! its material's [`mat::KIND`], each BSDF run only when some lane needs it. The
+//! kernel treats them alike, as the scalar estimator treats a non-delta BSDF: a light
+//! sample weighted by the power heuristic against the BSDF's density, and the BSDF's
+//! own sample.
+
+use super::ggx::{rough_conductor, shading};
+use super::rough_dielectric::{rough_dielectric, DielectricParams};
+use super::rough_plastic::{rough_plastic, PlasticParams};
+use super::{mat, WideScene};
+use irradia_geometry::packet::lanes::{F8, M8, V3, W};
+
+/// The glossy lobes' value and density for the light sample's direction, and their own
+/// sample.
+pub(super) struct Glossy {
+    /// `f(wo, wi)` and its density for the light direction `wi` (zero where not asked).
+    pub f_light: V3,
+    pub pdf_light: F8,
+    /// Lanes whose BSDF also transmits (the rough dielectric): their light sample may
+    /// lie on the other side of the surface.
+    pub transmits: M8,
+    /// A valid sample: its direction, weight `f |cos θi| / pdf`, density and the
+    /// relative index of refraction crossed (1 but for a rough dielectric's
+    /// refraction).
+    pub ok: M8,
+    pub wi: V3,
+    pub weight: V3,
+    pub pdf: F8,
+    pub eta: F8,
+}
+
+/// The glossy BSDFs of `material` for the light direction `wi` in the lanes of `light`
+/// and sampled with `u_lobe`, `u` in the lanes of `active` (both masks already limited
+/// to glossy materials).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(super) fn glossy(
+    ws: &WideScene<'_, '_>,
+    material: &[u32; W],
+    wo: V3,
+    wi: V3,
+    u_lobe: F8,
+    u: [F8; 2],
+    light: M8,
+    active: M8,
+) -> Glossy {
+    let kind = shading(ws, material, mat::KIND);
+    let conductor = kind.eq(mat::KIND_CONDUCTOR);
+    let dielectric = kind.eq(mat::KIND_DIELECTRIC);
+    let plastic = kind.eq(mat::KIND_PLASTIC);
+    let wanted = light | active;
+    let mut g = Glossy {
+        f_light: V3::ZERO,
+        pdf_light: F8::ZERO,
+        transmits: dielectric,
+        ok: M8::FALSE,
+        wi: V3::ZERO,
+        weight: V3::ZERO,
+        pdf: F8::ZERO,
+        eta: F8::splat(1.0),
+    };
+    if (wanted & conductor).any() {
+        let (l, a) = (light & conductor, active & conductor);
+        let r = rough_conductor(ws, material, wo, wi, u, l, a);
+        g.f_light = V3::select(conductor, r.f_light, g.f_light);
+        g.pdf_light = conductor.select(r.pdf_light, g.pdf_light);
+        g.ok = g.ok | r.ok;
+        g.wi = V3::select(conductor, r.wi, g.wi);
+        g.weight = V3::select(conductor, r.weight, g.weight);
+        g.pdf = conductor.select(r.pdf, g.pdf);
+    }
+    if (wanted & dielectric).any() {
+        let p = DielectricParams::gather(ws, material);
+        let (l, a) = (light & dielectric, active & dielectric);
+        let r = rough_dielectric(&p, wo, wi, u_lobe, u, l, a);
+        g.f_light = V3::select(dielectric, r.f_light, g.f_light);
+        g.pdf_light = dielectric.select(r.pdf_light, g.pdf_light);
+        g.ok = g.ok | r.ok;
+        g.wi = V3::select(dielectric, r.wi, g.wi);
+        g.weight = V3::select(dielectric, r.weight, g.weight);
+        g.pdf = dielectric.select(r.pdf, g.pdf);
+        g.eta = dielectric.select(r.eta, g.eta);
+    }
+    if (wanted & plastic).any() {
+        let p = PlasticParams::gather(ws, material);
+        let (l, a) = (light & plastic, active & plastic);
+        let r = rough_plastic(&p, wo, wi, u_lobe, u, l, a);
+        g.f_light = V3::select(plastic, r.f_light, g.f_light);
+        g.pdf_light = plastic.select(r.pdf_light, g.pdf_light);
+        g.ok = g.ok | r.ok;
+        g.wi = V3::select(plastic, r.wi, g.wi);
+        g.weight = V3::select(plastic, r.weight, g.weight);
+        g.pdf = plastic.select(r.pdf, g.pdf);
+    }
+    g
+}
