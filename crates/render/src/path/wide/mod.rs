@@ -78,11 +78,14 @@
 
 pub(crate) mod background;
 pub mod bsdf;
+mod d8;
+mod fresnel8;
 mod gather;
 pub mod ggx;
 pub mod kernel;
 mod light_pick;
 pub(crate) mod sphere8;
+mod sphere_hit8;
 pub mod sphere_light;
 
 use super::flat_scene::FlatScene;
@@ -212,6 +215,8 @@ pub struct WideScene<'s, 'a> {
     /// The spheres' 8-wide cull ([`sphere8`]): only lanes whose ray may meet one run
     /// the exact lane-by-lane test; `None` without spheres or when disabled (tests).
     pub(crate) cull: Option<sphere8::SphereCull>,
+    /// The spheres' exact 8-wide test ([`sphere_hit8`]), when there are spheres.
+    pub(crate) spheres: Option<sphere_hit8::Spheres8>,
     /// A factor on the smooth conductor's and dielectric's Fresnel reflectance: 1
     /// (exact: the product is the reflectance itself) except in the test that shows
     /// a wrong reflectance is caught.
@@ -326,6 +331,10 @@ impl<'s, 'a> WideScene<'s, 'a> {
             }
         }
         let has_rest = !ps.tracer.rest_objects().is_empty();
+        let spheres = match has_rest {
+            true => Some(sphere_hit8::Spheres8::new(scene, ps.tracer.rest_objects())?),
+            false => None,
+        };
         let mut triangles = Vec::new();
         let mut triangle_owner = Vec::new();
         // Nothing baked (spheres only): no triangles to trace, one zero record.
@@ -453,6 +462,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             rays,
             has_rest,
             cull: has_rest.then(|| sphere8::SphereCull::new(scene, ps.tracer.rest_objects())),
+            spheres,
             fresnel_scale: 1.0,
             background: ps.lights.has_environment(),
             background_scale: 1.0,
