@@ -7,7 +7,6 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::WideScene;
-use glam::Vec3;
 use irradia_geometry::packet::lanes::{sin_cos_quarter_pi, F8, M8, V3, W};
 use std::f32::consts::FRAC_PI_4;
 
@@ -84,6 +83,7 @@ pub(super) fn dielectric(wo: V3, eta: F8, u_lobe: F8, scale: f32) -> DielectricS
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
     use irradia_core::Rng;
 
     #[test]

@@ -148,7 +148,6 @@ impl D8 {
         D8(r)
     }
     compare!(gt, >);
-    compare!(ge, >=);
     compare!(lt, <);
     compare!(le, <=);
     compare!(eq, ==);
@@ -223,7 +222,7 @@ mod tests {
             assert!(same(a.max(b).0[i], x.max(y)));
             assert!(same(a.signum().0[i], x.signum()));
             assert_eq!(a.lt(b).get(i), x < y);
-            assert_eq!(a.ge(b).get(i), x >= y);
+            assert_eq!(a.le(b).get(i), x <= y);
             assert!(same(select(a.gt(b), a, b).0[i], if x > y { x } else { y }));
         }
     }

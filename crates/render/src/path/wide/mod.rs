@@ -32,15 +32,15 @@
 //!   color`, possibly black, i.e. no lobe) or Mitsuba's one-sided `diffuse` with a
 //!   constant `reflectance`;
 //! - Mitsuba's smooth `conductor` (one-sided; a delta reflection weighted by the exact
-//!   conductor Fresnel reflectance, evaluated lane by lane in `f64` as the scalar BSDF
-//!   does) or smooth `dielectric` (delta reflection or refraction chosen by the
+//!   conductor Fresnel reflectance, in `f64` as the scalar BSDF computes it, eight
+//!   lanes at once as two 4-wide vectors: [`fresnel8`]) or smooth `dielectric` (delta reflection or refraction chosen by the
 //!   lobe number against the exact dielectric Fresnel reflectance), with constant
 //!   parameters;
 //!
 //! - Mitsuba's `roughconductor` with isotropic GGX normals sampled by their visible
 //!   ones (Mitsuba's default; the speed suite's veach_mis plates), constant parameters
-//!   ([`ggx`]: value, density and sample in lanes, in `f32`, the Fresnel reflectance per
-//!   lane in `f64`); a glossy lobe as the scalar estimator treats it: a light sample
+//!   ([`ggx`]: value, density and sample in lanes, in `f32`, the Fresnel reflectance in
+//!   `f64` lanes, [`fresnel8`]); a glossy lobe as the scalar estimator treats it: a light sample
 //!   weighted by the power heuristic against the BSDF's density, and emission hit
 //!   after it weighted against the light sample's density;
 //!
@@ -64,11 +64,12 @@
 //! whose materials are untextured) or be a sphere (possibly placed by a transform, as
 //! the Mitsuba importer builds them; no quadrics, CSG or implicit surfaces; a scene of
 //! spheres only qualifies). Spheres are culled eight rays at once ([`sphere8`]: a
-//! conservative ray-ball test that only drops lanes that cannot hit one) and traced
-//! lane by lane after the lanes' triangles, with the flat scene's own test of
-//! its unbaked objects up to the triangle's distance (the scalar `closest_hit`'s order
-//! and arithmetic, so the hits, normals and error bounds are the scalar ones), and so
-//! are the shadow rays the triangles leave through. So the speed suite's
+//! conservative ray-ball test that only drops lanes that cannot hit one) and the lanes
+//! left are traced eight at once after the lanes' triangles, up to the triangle's
+//! distance ([`sphere_hit8`]: the scalar sphere test's `f64` quadratic, transform,
+//! surface point, normal and error bound in lanes, the spheres in the loop, so the
+//! hits, normals and error bounds are the scalar ones bit for bit), and so are the
+//! shadow rays the triangles leave through. So the speed suite's
 //! `glass_mirror.xml` (a glass and an aluminium sphere in the Cornell box) qualifies.
 //! Mesh triangles shade with their interpolated vertex normals as the scalar code
 //! does (`SmoothNormals`: the normals gathered by triangle index from a side table,
@@ -79,13 +80,13 @@
 pub(crate) mod background;
 pub mod bsdf;
 mod d8;
-mod fresnel8;
+pub(crate) mod fresnel8;
 mod gather;
 pub mod ggx;
 pub mod kernel;
 mod light_pick;
 pub(crate) mod sphere8;
-mod sphere_hit8;
+pub(crate) mod sphere_hit8;
 pub mod sphere_light;
 
 use super::flat_scene::FlatScene;
