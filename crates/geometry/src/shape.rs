@@ -185,6 +185,13 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         None
     }
 
+    /// The shape as a sphere, when it is one (`None` for every other shape): lets the
+    /// path tracer's 8-wide kernel intersect eight rays with it at once, with the
+    /// sphere's own centre, radius and arithmetic.
+    fn as_sphere(&self) -> Option<&crate::shapes::Sphere> {
+        None
+    }
+
     /// The partial derivatives `(dp/du, dp/dv)` of the surface point with respect to its
     /// texture coordinates at the hit with object-space point `p`, `uv` and primitive
     /// `prim` (Mitsuba's `dp_du`, `dp_dv`): the tangent frame of anisotropic BSDFs and of

@@ -192,6 +192,10 @@ impl Shape for Sphere {
         !self.flipped
     }
 
+    fn as_sphere(&self) -> Option<&Sphere> {
+        Some(self)
+    }
+
     fn facets(&self, detail: u32) -> Option<Facets> {
         let mut f = uv_sphere(detail);
         for v in &mut f.vertices {

@@ -567,22 +567,6 @@ impl FlatScene {
         self.rest.as_ref().map_or(&[], |r| &r.scene_index)
     }
 
-    /// The nearest hit with `0 < t < t_max` among the objects left to their own
-    /// shapes, with the scene's instance index: the second half of
-    /// [`RayQuery::closest_hit`] (which asks it with `t_max` the baked hit's `t`).
-    #[inline]
-    pub(crate) fn nearest_rest(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<SceneHit> {
-        self.rest.as_ref()?.intersect(&Ray::new(o, d), t_max)
-    }
-
-    /// Whether an object left to its own shape is hit with `0 < t < t_max`.
-    #[inline]
-    pub(crate) fn occluded_rest(&self, o: Vec3, d: Vec3, t_max: f32) -> bool {
-        self.rest
-            .as_ref()
-            .is_some_and(|r| r.accel.occluded(&Ray::new(o, d), t_max))
-    }
-
     /// How many objects are intersected through their own shapes.
     pub fn generic_objects(&self) -> usize {
         self.rest.as_ref().map_or(0, |r| r.scene_index.len())

@@ -7,9 +7,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::WideScene;
-use glam::Vec3;
 use irradia_geometry::packet::lanes::{sin_cos_quarter_pi, F8, M8, V3, W};
-use irradia_scatter::optics::fresnel_conductor_rgb;
 use std::f32::consts::FRAC_PI_4;
 
 /// `cosine_hemisphere` (Shirley-Chiu concentric disk, lifted to the hemisphere) in
@@ -30,8 +28,8 @@ pub(super) fn cosine_hemisphere(u: [F8; 2]) -> V3 {
 }
 
 /// The smooth conductor's Fresnel reflectance (`fresnel_conductor_rgb`, in `f64` as
-/// the scalar BSDF computes it) at cosine `cos` in the lanes of `active`, zero
-/// elsewhere.
+/// the scalar BSDF computes it, eight lanes at once: [`super::fresnel8`]) at cosine
+/// `cos` in the lanes of `active`, zero elsewhere.
 #[inline(always)]
 pub(super) fn conductor_fresnel(
     ws: &WideScene<'_, '_>,
@@ -39,20 +37,7 @@ pub(super) fn conductor_fresnel(
     cos: F8,
     active: M8,
 ) -> V3 {
-    let mut f = V3::ZERO;
-    if !active.any() {
-        return f;
-    }
-    for lane in 0..W {
-        if !active.get(lane) {
-            continue;
-        }
-        if let Some((eta, k)) = ws.materials[material[lane] as usize].conductor {
-            let r = fresnel_conductor_rgb(cos.0[lane], eta, k) * ws.fresnel_scale;
-            f.set_lane(lane, Vec3::new(r.r, r.g, r.b));
-        }
-    }
-    f
+    super::fresnel8::conductor_fresnel(ws, material, cos, active)
 }
 
 /// The smooth dielectric's sample in every lane (`Dielectric::sample`, with
@@ -98,6 +83,7 @@ pub(super) fn dielectric(wo: V3, eta: F8, u_lobe: F8, scale: f32) -> DielectricS
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
     use irradia_core::Rng;
 
     #[test]

@@ -18,6 +18,7 @@ use super::bsdf::{conductor_fresnel, cosine_hemisphere, dielectric};
 use super::gather::{checked, field, field3};
 use super::glossy::glossy;
 use super::light_pick::pick_lights;
+use super::sphere_hit8::SphereHits;
 use super::sphere_light::{self, LightPoint};
 use super::{facet, mat, smooth, tri, WideScene};
 use crate::path::flat_scene::prefetch_bytes;
@@ -512,24 +513,21 @@ fn run<const FMA: bool>(
             }
             None => live,
         };
+        // Then the objects with their own tests (spheres), up to the triangle's `t`, as
+        // the flat scene's `closest_hit` asks them: eight rays at once ([`sphere_hit8`]).
+        let spheres = match &ws.spheres {
+            Some(s) if near_sphere.any() => {
+                let t_max = hits.hit.select(hits.t, F8::splat(f32::INFINITY));
+                s.nearest(paths.origin, paths.dir, t_max, near_sphere)
+            }
+            _ => SphereHits::default(),
+        };
         for lane in 0..W {
             if !live.get(lane) {
                 continue;
             }
             counters.rays += 1;
-            // Then the objects with their own tests (spheres), up to the triangle's
-            // `t`, as the flat scene's `closest_hit` asks them.
-            let other = if ws.has_rest && near_sphere.get(lane) {
-                let t_max = if hits.hit.get(lane) {
-                    hits.t.0[lane]
-                } else {
-                    f32::INFINITY
-                };
-                let (o, d) = (paths.origin.lane(lane), paths.dir.lane(lane));
-                ps.tracer.nearest_rest(o, d, t_max)
-            } else {
-                None
-            };
+            let other = spheres.scene_hit(lane);
             b.other.set(lane, other.is_some());
             if !hits.hit.get(lane) && other.is_none() {
                 // The path ends with what it has and, under emitters at infinity, what
@@ -657,23 +655,22 @@ fn run<const FMA: bool>(
         };
         // And the objects with their own tests (spheres), for shadow rays the
         // triangles leave through.
-        let blocked = if ws.has_rest {
-            let near_sphere = match &ws.cull {
-                Some(c) => c.may_hit(s.shadow_origin, s.shadow_dir, s.shadow_t_max, s.nee),
-                None => s.nee,
-            };
-            blocked
-                | M8::from_fn(|lane| {
-                    near_sphere.get(lane)
-                        && !blocked.get(lane)
-                        && ps.tracer.occluded_rest(
-                            s.shadow_origin.lane(lane),
-                            s.shadow_dir.lane(lane),
-                            s.shadow_t_max.0[lane],
-                        )
-                })
-        } else {
-            blocked
+        // (Eight at once: [`sphere_hit8`].)
+        let blocked = match &ws.spheres {
+            Some(spheres) => {
+                let open = s.nee & !blocked;
+                let near_sphere = match &ws.cull {
+                    Some(c) => c.may_hit(s.shadow_origin, s.shadow_dir, s.shadow_t_max, open),
+                    None => open,
+                };
+                if near_sphere.any() {
+                    let (o, d, t) = (s.shadow_origin, s.shadow_dir, s.shadow_t_max);
+                    blocked | spheres.occluded(o, d, t, near_sphere)
+                } else {
+                    blocked
+                }
+            }
+            None => blocked,
         };
         for lane in 0..W {
             if paths.sample[lane] == IDLE {

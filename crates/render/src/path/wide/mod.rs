@@ -32,15 +32,15 @@
 //!   color`, possibly black, i.e. no lobe) or Mitsuba's one-sided `diffuse` with a
 //!   constant `reflectance`;
 //! - Mitsuba's smooth `conductor` (one-sided; a delta reflection weighted by the exact
-//!   conductor Fresnel reflectance, evaluated lane by lane in `f64` as the scalar BSDF
-//!   does) or smooth `dielectric` (delta reflection or refraction chosen by the
+//!   conductor Fresnel reflectance, in `f64` as the scalar BSDF computes it, eight
+//!   lanes at once as two 4-wide vectors: [`fresnel8`]) or smooth `dielectric` (delta reflection or refraction chosen by the
 //!   lobe number against the exact dielectric Fresnel reflectance), with constant
 //!   parameters;
 //!
 //! - Mitsuba's `roughconductor` with isotropic GGX normals sampled by their visible
 //!   ones (Mitsuba's default; the speed suite's veach_mis plates), constant parameters
-//!   ([`ggx`]: value, density and sample in lanes, in `f32`, the Fresnel reflectance per
-//!   lane in `f64`); a glossy lobe as the scalar estimator treats it: a light sample
+//!   ([`ggx`]: value, density and sample in lanes, in `f32`, the Fresnel reflectance in
+//!   `f64` lanes, [`fresnel8`]); a glossy lobe as the scalar estimator treats it: a light sample
 //!   weighted by the power heuristic against the BSDF's density, and emission hit
 //!   after it weighted against the light sample's density;
 //! - Mitsuba's `roughdielectric` with the same distribution ([`rough_dielectric`]:
@@ -72,11 +72,12 @@
 //! whose materials are untextured) or be a sphere (possibly placed by a transform, as
 //! the Mitsuba importer builds them; no quadrics, CSG or implicit surfaces; a scene of
 //! spheres only qualifies). Spheres are culled eight rays at once ([`sphere8`]: a
-//! conservative ray-ball test that only drops lanes that cannot hit one) and traced
-//! lane by lane after the lanes' triangles, with the flat scene's own test of
-//! its unbaked objects up to the triangle's distance (the scalar `closest_hit`'s order
-//! and arithmetic, so the hits, normals and error bounds are the scalar ones), and so
-//! are the shadow rays the triangles leave through. So the speed suite's
+//! conservative ray-ball test that only drops lanes that cannot hit one) and the lanes
+//! left are traced eight at once after the lanes' triangles, up to the triangle's
+//! distance ([`sphere_hit8`]: the scalar sphere test's `f64` quadratic, transform,
+//! surface point, normal and error bound in lanes, the spheres in the loop, so the
+//! hits, normals and error bounds are the scalar ones bit for bit), and so are the
+//! shadow rays the triangles leave through. So the speed suite's
 //! `glass_mirror.xml` (a glass and an aluminium sphere in the Cornell box) qualifies.
 //! Mesh triangles shade with their interpolated vertex normals as the scalar code
 //! does (`SmoothNormals`: the normals gathered by triangle index from a side table,
@@ -86,6 +87,8 @@
 
 pub(crate) mod background;
 pub mod bsdf;
+mod d8;
+pub(crate) mod fresnel8;
 mod gather;
 pub mod ggx;
 mod glossy;
@@ -94,6 +97,7 @@ mod light_pick;
 mod rough_dielectric;
 mod rough_plastic;
 pub(crate) mod sphere8;
+pub(crate) mod sphere_hit8;
 pub mod sphere_light;
 
 use super::flat_scene::FlatScene;
@@ -235,6 +239,8 @@ pub struct WideScene<'s, 'a> {
     /// The spheres' 8-wide cull ([`sphere8`]): only lanes whose ray may meet one run
     /// the exact lane-by-lane test; `None` without spheres or when disabled (tests).
     pub(crate) cull: Option<sphere8::SphereCull>,
+    /// The spheres' exact 8-wide test ([`sphere_hit8`]), when there are spheres.
+    pub(crate) spheres: Option<sphere_hit8::Spheres8>,
     /// A factor on the smooth conductor's and dielectric's Fresnel reflectance: 1
     /// (exact: the product is the reflectance itself) except in the test that shows
     /// a wrong reflectance is caught.
@@ -378,6 +384,10 @@ impl<'s, 'a> WideScene<'s, 'a> {
             }
         }
         let has_rest = !ps.tracer.rest_objects().is_empty();
+        let spheres = match has_rest {
+            true => Some(sphere_hit8::Spheres8::new(scene, ps.tracer.rest_objects())?),
+            false => None,
+        };
         let mut triangles = Vec::new();
         let mut triangle_owner = Vec::new();
         // Nothing baked (spheres only): no triangles to trace, one zero record.
@@ -515,6 +525,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             rays,
             has_rest,
             cull: has_rest.then(|| sphere8::SphereCull::new(scene, ps.tracer.rest_objects())),
+            spheres,
             fresnel_scale: 1.0,
             background: ps.lights.has_environment(),
             background_scale: 1.0,
