@@ -10,9 +10,7 @@ The image is composite_numpy.py's (1280x720 RGBA8 + float32 depth, random per ra
 binary swap). Prints every call (slowest rank's wall time; SLOW when over 1.5 times the
 best call), then the fast and slow calls' medians with their mean context switches and
 faults: a call whose CPU time is a small part of its wall time, with involuntary
-switches, spent the rest descheduled (waiting for a core), not computing. Set
-IRRADIA_MPI_WAIT (spin, busy:MICROSECONDS, sleep; see crates/parallel/src/comm/backoff.rs)
-to compare the ways a rank waits."""
+switches, spent the rest descheduled (waiting for a core), not computing."""
 import resource, sys, time
 import numpy as np
 from mpi4py import MPI

@@ -9,7 +9,6 @@
 //! [`MessageLog`] under the current stage, from which the per-rank [`crate::report`] and
 //! the alpha-beta [`crate::netmodel`] are computed.
 
-pub mod backoff;
 pub mod local;
 #[cfg(feature = "mpi")]
 pub mod mpi;

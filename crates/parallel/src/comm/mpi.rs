@@ -7,7 +7,6 @@
 //! rank that dies outright (signal, exit without finalize) is noticed by `mpirun`
 //! itself, which then kills the remaining ranks and names the dead one.
 
-use super::backoff::{Backoff, Policy, Step};
 use super::{check_piece_len, Comm, CommError, MessageLog, PiecesArrived, PiecesIn, PiecesOut};
 use mpi::datatype::Equivalence;
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
@@ -170,10 +169,9 @@ impl MpiComm {
         self.world.abort(3)
     }
 
-    /// Calls `poll` until it returns something: a few quick polls, then yields, then
-    /// (unless `IRRADIA_MPI_WAIT=spin`) short sleeps that leave the core idle, so that
-    /// with as many ranks as cores the rank waited for can be scheduled on it
-    /// ([`super::backoff`]). Past `deadline` it gives up with a timeout naming
+    /// Calls `poll` until it returns something: a few quick polls, then the processor
+    /// is yielded between polls (so that with more ranks than cores the rank being
+    /// waited for can run). Past `deadline` it gives up with a timeout naming
     /// `culprit`, the rank waited for.
     fn poll_until<T>(
         &self,
@@ -182,15 +180,14 @@ impl MpiComm {
         deadline: Instant,
         mut poll: impl FnMut() -> Option<T>,
     ) -> Result<T, CommError> {
-        let mut backoff = Backoff::new(Policy::from_env());
-        let mut began: Option<Instant> = None;
+        let mut spins = 0u32;
         loop {
             if let Some(x) = poll() {
                 return Ok(x);
             }
-            let waited = if backoff.needs_clock() {
-                let now = Instant::now();
-                if now >= deadline {
+            spins += 1;
+            if spins > 64 {
+                if Instant::now() >= deadline {
                     return Err(CommError::Timeout {
                         rank: culprit,
                         waiting_rank: self.rank(),
@@ -198,14 +195,7 @@ impl MpiComm {
                         seconds: self.timeout.as_secs_f64(),
                     });
                 }
-                now - *began.get_or_insert(now)
-            } else {
-                Duration::ZERO
-            };
-            match backoff.step(waited) {
-                Step::Spin => std::hint::spin_loop(),
-                Step::Yield => std::thread::yield_now(),
-                Step::Sleep(d) => std::thread::sleep(d),
+                std::thread::yield_now();
             }
         }
     }
