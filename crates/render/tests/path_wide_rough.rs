@@ -133,7 +133,7 @@ fn glossy_box(width: u32, height: u32, alphas: [f32; 4], lights: Lights) -> Scen
         );
     }
     Scene::new(
-        scene.camera.clone(),
+        scene.camera,
         scene.settings.clone(),
         materials,
         scene.lights.clone(),

@@ -132,7 +132,7 @@ fn layered_box(width: u32, height: u32, l: Layers) -> Scene {
         0.25,
     ))));
     Scene::new(
-        scene.camera.clone(),
+        scene.camera,
         scene.settings.clone(),
         materials,
         scene.lights.clone(),
@@ -266,7 +266,7 @@ fn only_ggx_visible_normal_glass_and_plastic_qualify() {
             }
         }
         Scene::new(
-            scene.camera.clone(),
+            scene.camera,
             scene.settings.clone(),
             materials,
             scene.lights.clone(),

@@ -94,7 +94,7 @@ impl Query {
             Query::Linear(list) => {
                 let inv = ray.dir.recip();
                 list.iter().any(|(inst, bounds, _, _)| {
-                    bounds.map_or(true, |b| b.hit_inv(ray.origin, inv, t_max).is_some())
+                    bounds.is_none_or(|b| b.hit_inv(ray.origin, inv, t_max).is_some())
                         && inst.occluded(ray, t_max)
                 })
             }

@@ -102,7 +102,7 @@ mod tests {
             f32::NAN,
             f32::MIN_POSITIVE,
         ]);
-        while cosines.len() % W != 0 {
+        while !cosines.len().is_multiple_of(W) {
             cosines.push(0.5);
         }
         let mut metals = 0;

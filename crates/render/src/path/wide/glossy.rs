@@ -6,7 +6,7 @@
 //! sample weighted by the power heuristic against the BSDF's density, and the BSDF's
 //! own sample.
 
-use super::ggx::{rough_conductor, shading};
+use super::ggx::{rough_conductor, shading, RoughSample};
 use super::rough_dielectric::{rough_dielectric, DielectricParams};
 use super::rough_plastic::{rough_plastic, PlasticParams};
 use super::{mat, WideScene};
@@ -29,6 +29,20 @@ pub(super) struct Glossy {
     pub weight: V3,
     pub pdf: F8,
     pub eta: F8,
+}
+
+impl Glossy {
+    /// One BSDF's values and sample in the lanes of `kind` (its `ok` is already limited
+    /// to those lanes).
+    #[inline(always)]
+    fn take(&mut self, kind: M8, r: &RoughSample) {
+        self.f_light = V3::select(kind, r.f_light, self.f_light);
+        self.pdf_light = kind.select(r.pdf_light, self.pdf_light);
+        self.ok = self.ok | r.ok;
+        self.wi = V3::select(kind, r.wi, self.wi);
+        self.weight = V3::select(kind, r.weight, self.weight);
+        self.pdf = kind.select(r.pdf, self.pdf);
+    }
 }
 
 /// The glossy BSDFs of `material` for the light direction `wi` in the lanes of `light`
@@ -63,36 +77,19 @@ pub(super) fn glossy(
     };
     if (wanted & conductor).any() {
         let (l, a) = (light & conductor, active & conductor);
-        let r = rough_conductor(ws, material, wo, wi, u, l, a);
-        g.f_light = V3::select(conductor, r.f_light, g.f_light);
-        g.pdf_light = conductor.select(r.pdf_light, g.pdf_light);
-        g.ok = g.ok | r.ok;
-        g.wi = V3::select(conductor, r.wi, g.wi);
-        g.weight = V3::select(conductor, r.weight, g.weight);
-        g.pdf = conductor.select(r.pdf, g.pdf);
+        g.take(conductor, &rough_conductor(ws, material, wo, wi, u, l, a));
     }
     if (wanted & dielectric).any() {
         let p = DielectricParams::gather(ws, material);
         let (l, a) = (light & dielectric, active & dielectric);
         let r = rough_dielectric(&p, wo, wi, u_lobe, u, l, a);
-        g.f_light = V3::select(dielectric, r.f_light, g.f_light);
-        g.pdf_light = dielectric.select(r.pdf_light, g.pdf_light);
-        g.ok = g.ok | r.ok;
-        g.wi = V3::select(dielectric, r.wi, g.wi);
-        g.weight = V3::select(dielectric, r.weight, g.weight);
-        g.pdf = dielectric.select(r.pdf, g.pdf);
+        g.take(dielectric, &r.lobe);
         g.eta = dielectric.select(r.eta, g.eta);
     }
     if (wanted & plastic).any() {
         let p = PlasticParams::gather(ws, material);
         let (l, a) = (light & plastic, active & plastic);
-        let r = rough_plastic(&p, wo, wi, u_lobe, u, l, a);
-        g.f_light = V3::select(plastic, r.f_light, g.f_light);
-        g.pdf_light = plastic.select(r.pdf_light, g.pdf_light);
-        g.ok = g.ok | r.ok;
-        g.wi = V3::select(plastic, r.wi, g.wi);
-        g.weight = V3::select(plastic, r.weight, g.weight);
-        g.pdf = plastic.select(r.pdf, g.pdf);
+        g.take(plastic, &rough_plastic(&p, wo, wi, u_lobe, u, l, a));
     }
     g
 }

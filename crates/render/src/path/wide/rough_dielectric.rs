@@ -11,11 +11,11 @@
 //! `irradia_scatter::optics::fresnel_dielectric`).
 //!
 //! A glossy lobe on both sides of the surface: the kernel weights its light samples
-//! (either side) against [`RoughDielectricLanes::pdf_light`] and its own samples
+//! (either side) against [`RoughSample::pdf_light`] and its own samples
 //! against the light's density, and Russian roulette judges `max(beta) η²` with the
 //! relative index `eta` of a refraction (as the smooth dielectric).
 
-use super::ggx::{d, g1, pdf_visible, sample_visible, shading};
+use super::ggx::{d, g1, pdf_visible, sample_visible, shading, RoughSample};
 use super::{mat, WideScene};
 use irradia_geometry::packet::lanes::{F8, M8, V3, W};
 
@@ -61,18 +61,11 @@ fn mulsign(w: V3, s: F8) -> V3 {
     V3::select(s.lt(0.0), w.neg(), w)
 }
 
-/// What the rough dielectric gives the vector stage (as [`super::ggx::RoughSample`],
-/// with the relative index of the sample).
+/// What the rough dielectric gives the vector stage: the glossy lobe's values and
+/// sample (its weight `f |cos θi| / pdf`), and the sample's relative index (`η_t/η_i`
+/// of a refraction, 1 for a reflection).
 pub(super) struct RoughDielectricLanes {
-    /// `f(wo, wi)` and its density for the light direction `wi` (zero where not asked).
-    pub f_light: V3,
-    pub pdf_light: F8,
-    /// A valid sample: its direction, weight `f |cos θi| / pdf`, density and relative
-    /// index (`η_t/η_i` of a refraction, 1 for a reflection).
-    pub ok: M8,
-    pub wi: V3,
-    pub weight: V3,
-    pub pdf: F8,
+    pub lobe: RoughSample,
     pub eta: F8,
 }
 
@@ -182,12 +175,14 @@ pub(super) fn rough_dielectric(
         spec_t.scale(ratio * fr.eta_ti * fr.eta_ti),
     );
     RoughDielectricLanes {
-        f_light,
-        pdf_light,
-        ok,
-        wi: wi_s,
-        weight,
-        pdf: ok.keep(pdf),
+        lobe: RoughSample {
+            f_light,
+            pdf_light,
+            ok,
+            wi: wi_s,
+            weight,
+            pdf: ok.keep(pdf),
+        },
         eta: reflects.select(F8::splat(1.0), fr.eta_it),
     }
 }
@@ -329,12 +324,12 @@ mod tests {
             M8::TRUE,
         );
         One {
-            f: s.f_light.lane(3),
-            pdf: s.pdf_light.0[3],
-            ok: s.ok.get(3),
-            wi: s.wi.lane(3),
-            weight: s.weight.lane(3),
-            pdf_s: s.pdf.0[3],
+            f: s.lobe.f_light.lane(3),
+            pdf: s.lobe.pdf_light.0[3],
+            ok: s.lobe.ok.get(3),
+            wi: s.lobe.wi.lane(3),
+            weight: s.lobe.weight.lane(3),
+            pdf_s: s.lobe.pdf.0[3],
             eta: s.eta.0[3],
         }
     }

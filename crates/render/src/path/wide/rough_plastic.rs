@@ -24,7 +24,7 @@
 
 use super::bsdf::cosine_hemisphere;
 use super::gather::{checked, field};
-use super::ggx::{d, g1, pdf_visible, sample_visible, shading};
+use super::ggx::{d, g1, pdf_visible, sample_visible, shading, RoughSample};
 use super::rough_dielectric::fresnel_dielectric;
 use super::{mat, WideScene};
 use irradia_core::Rgb;
@@ -147,17 +147,6 @@ impl<'t> PlasticParams<'t> {
     }
 }
 
-/// What the rough plastic gives the vector stage: its value and density for the light
-/// sample's direction, and its own sample (as [`super::ggx::RoughSample`]).
-pub(super) struct RoughPlasticLanes {
-    pub f_light: V3,
-    pub pdf_light: F8,
-    pub ok: M8,
-    pub wi: V3,
-    pub weight: V3,
-    pub pdf: F8,
-}
-
 /// `RoughPlastic::{eval, pdf}` for the light direction `wi` in the lanes of `light`,
 /// and `RoughPlastic::sample` with the numbers `u_lobe`, `u` in the lanes of `active`.
 #[inline(always)]
@@ -169,7 +158,7 @@ pub(super) fn rough_plastic(
     u: [F8; 2],
     light: M8,
     active: M8,
-) -> RoughPlasticLanes {
+) -> RoughSample {
     let t_o = p.transmittance(wo.z);
     let (f_light, pdf_light) = p.eval_pdf(wo, wi, t_o);
 
@@ -183,7 +172,7 @@ pub(super) fn rough_plastic(
     let wi_s = V3::select(specular, reflected, cosine_hemisphere(u));
     let (f, pdf) = p.eval_pdf(wo, wi_s, t_o);
     let ok = active & wo.z.gt(0.0) & (!specular | pdf_m.gt(0.0)) & wi_s.z.gt(0.0) & pdf.gt(0.0);
-    RoughPlasticLanes {
+    RoughSample {
         f_light: f_light.keep(light),
         pdf_light: light.keep(pdf_light),
         ok,
