@@ -423,7 +423,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
 fn run<const FMA: bool>(
     ws: &WideScene<'_, '_>,
     params: &PathParams,
-    mut start: impl FnMut(usize) -> (Ray, Rng),
+    start: &mut dyn FnMut(usize) -> (Ray, Rng),
     out: &mut [Rgb],
     counters: &mut PathCounters,
 ) {
@@ -713,7 +713,7 @@ fn run<const FMA: bool>(
 pub(super) unsafe fn run_avx2(
     ws: &WideScene<'_, '_>,
     params: &PathParams,
-    start: impl FnMut(usize) -> (Ray, Rng),
+    start: &mut dyn FnMut(usize) -> (Ray, Rng),
     out: &mut [Rgb],
     counters: &mut PathCounters,
 ) {
@@ -724,7 +724,7 @@ pub(super) unsafe fn run_avx2(
 pub(super) fn run_portable(
     ws: &WideScene<'_, '_>,
     params: &PathParams,
-    start: impl FnMut(usize) -> (Ray, Rng),
+    start: &mut dyn FnMut(usize) -> (Ray, Rng),
     out: &mut [Rgb],
     counters: &mut PathCounters,
 ) {

@@ -594,29 +594,32 @@ impl<'s, 'a> WideScene<'s, 'a> {
     pub fn radiance_batch_portable(
         &self,
         params: &PathParams,
-        start: impl FnMut(usize) -> (Ray, Rng),
+        mut start: impl FnMut(usize) -> (Ray, Rng),
         out: &mut [Rgb],
         counters: &mut PathCounters,
     ) {
-        kernel::run_portable(self, params, start, out, counters);
+        kernel::run_portable(self, params, &mut start, out, counters);
     }
 
     /// Radiance samples `0..out.len()`: sample `k` starts from `start(k)` (its camera
     /// ray and its random stream, already advanced past the pixel jitter) and its
     /// estimate is written to `out[k]`. Equivalent to calling `radiance_in` on each.
+    ///
+    /// `start` is called through a `dyn` reference (once per path), so the kernel is
+    /// compiled once, in this crate, not again in every crate that calls it.
     pub fn radiance_batch(
         &self,
         params: &PathParams,
-        start: impl FnMut(usize) -> (Ray, Rng),
+        mut start: impl FnMut(usize) -> (Ray, Rng),
         out: &mut [Rgb],
         counters: &mut PathCounters,
     ) {
         #[cfg(target_arch = "x86_64")]
         if irradia_geometry::packet::has_avx2() {
             // SAFETY: the CPU supports AVX2 and FMA.
-            unsafe { kernel::run_avx2(self, params, start, out, counters) };
+            unsafe { kernel::run_avx2(self, params, &mut start, out, counters) };
             return;
         }
-        kernel::run_portable(self, params, start, out, counters);
+        kernel::run_portable(self, params, &mut start, out, counters);
     }
 }
