@@ -19,8 +19,11 @@ if ! command -v mpirun >/dev/null 2>&1; then
   echo "test-mpi: mpirun not found; skipping the MPI tests (apt-get install openmpi-bin libopenmpi-dev libclang-dev)"
   exit 0
 fi
-# The test profile (opt-level 2, no LTO) shares its dependencies with `cargo test`.
-if ! cargo build --locked --profile test -p irradia-parallel --features mpi --example mpi_check --example mpi_raytrace_check 2>&1; then
+# The test profile (opt-level 2, no LTO) with the workspace's own feature resolution
+# (`--workspace`, the feature named by package) shares every compiled crate with
+# `cargo test --workspace`: only irradia-parallel and what depends on it are compiled
+# again with MPI (crates/core's Cargo.toml gives `syn` the one feature MPI's bindgen adds).
+if ! cargo build --locked --profile test --workspace --features irradia-parallel/mpi --example mpi_check --example mpi_raytrace_check 2>&1; then
   echo "test-mpi: build failed"
   echo "0 passed, 1 failed"
   exit 1
@@ -52,7 +55,7 @@ for np in 2 3; do
   fi
 done
 # The tiled wall over MPI equals the threads' run, per display and sort-last.
-if ! cargo build --locked --profile test -p irradia-parallel --features mpi --example mpi_wall_check 2>&1; then
+if ! cargo build --locked --profile test --workspace --features irradia-parallel/mpi --example mpi_wall_check 2>&1; then
   failed=$((failed + 1))
   echo "test-mpi: wall build FAILED"
 elif out=$(timeout 120 "${MPIRUN[@]}" -np 4 "$dir/mpi_wall_check" 2>&1); then
@@ -66,7 +69,7 @@ fi
 # One image on N ranks (`irradia render --comm mpi`): equal to the one-process render
 # bit for bit (image and AOV) at 1 to 8 ranks, path tracer and Whitted tracer; and a
 # rank killed mid-render ends the job (no hang) with an error naming it, no output file.
-if ! cargo build --locked --profile test -p irradia --features mpi 2>&1; then
+if ! cargo build --locked --profile test --workspace --features irradia/mpi --bin irradia 2>&1; then
   failed=$((failed + 1))
   echo "test-mpi: irradia build FAILED"
 else
