@@ -99,8 +99,8 @@ def main():
     for t, _, _, _, times in rows:
         for k, v in times.items():
             print(f"  raw {k} {t} thread(s): " + " ".join(f"{x:.3f}" for x in v))
-    goal_time = all(r <= 0.25 for _, _, _, r, _ in rows)
-    print(f"goal (ratio <= 0.25 at every thread count): {'met' if goal_time else 'NOT met'}")
+    goal_time = all(r <= 0.2 for _, _, _, r, _ in rows)
+    print(f"goal (ratio <= 0.2 at every thread count, issue 14 goal 3): {'met' if goal_time else 'NOT met'}")
     print(f"goal (PSNR >= 30 dB): {'met' if quality >= 30 else 'NOT met'}")
 
 

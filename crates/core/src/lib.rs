@@ -10,6 +10,7 @@ pub mod color;
 pub mod frame;
 pub mod image;
 pub mod io;
+pub mod pages;
 pub mod ray;
 pub mod sampling;
 pub mod text;

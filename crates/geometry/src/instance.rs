@@ -129,12 +129,12 @@ impl Instance {
     }
 
     /// The world hit at the parameter [`Self::nearest_t`] gave for `ray`: the hit of
-    /// [`Self::intersect`], bit for bit.
-    pub fn surface_at(&self, ray: &Ray, t: f64) -> Hit {
+    /// [`Self::intersect`], bit for bit (its uv only with `uv`: [`Shape::surface_at`]).
+    pub fn surface_at(&self, ray: &Ray, t: f64, uv: bool) -> Hit {
         if self.identity {
-            return self.shape.surface_at(ray, t);
+            return self.shape.surface_at(ray, t, uv);
         }
-        let h = self.shape.surface_at(&self.object_ray(ray), t);
+        let h = self.shape.surface_at(&self.object_ray(ray), t, uv);
         self.hit_to_world(ray, h)
     }
 

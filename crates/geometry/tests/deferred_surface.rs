@@ -1,7 +1,8 @@
 //! `Shape::nearest_t` and `Shape::surface_at` (the nearest hit's parameter first, its
 //! surface only for the winner of a closest-hit scan) give, bit for bit, the hit
 //! `Shape::intersect` gives: for the shapes that split the work (sphere, plane), placed
-//! plainly and through transforms, and for a shape that keeps the defaults.
+//! plainly and through transforms, and for a shape that keeps the defaults; and asked
+//! without uv (`surface_at(.., false)`), the same hit with uv left zero or unchanged.
 
 use glam::{Affine3A, DVec3, Quat, Vec2, Vec3};
 use irradia_core::sampling::uniform_sphere;
@@ -72,8 +73,13 @@ fn two_steps_give_the_whole_hit_bit_for_bit() {
             };
             let want = inst.intersect(&ray, t_max);
             let got = inst.nearest_t(&ray, t_max).map(|t| {
-                let h = inst.surface_at(&ray, t);
+                let h = inst.surface_at(&ray, t, true);
                 assert_eq!(h.t.to_bits(), (t as f32).to_bits(), "{name}: t");
+                // Without uv: the same hit but for uv, which is the same or zero.
+                let mut lean = inst.surface_at(&ray, t, false);
+                assert!(lean.uv == h.uv || lean.uv == Vec2::ZERO, "{name}: uv");
+                lean.uv = h.uv;
+                assert_eq!(bits(&lean), bits(&h), "{name}: hit without uv");
                 h
             });
             assert_eq!(

@@ -69,7 +69,11 @@ fn zeroed_pixels(n: usize) -> Vec<FilmPixel> {
     // SAFETY: `FilmPixel` is `repr(C)` of five f64 (size 40, align 8), exactly the
     // layout of `[f64; 5]`, and all-zero bits are its default (every field 0.0); the
     // allocation is handed over whole (pointer, length and capacity), never freed twice.
-    unsafe { Vec::from_raw_parts(ptr.cast::<FilmPixel>(), len, cap) }
+    let mut v = unsafe { Vec::from_raw_parts(ptr.cast::<FilmPixel>(), len, cap) };
+    // calloc's zeroed pages of a large block are mapped on first write: ask for 2 MiB
+    // ones, before any is written.
+    irradia_core::pages::prefer_huge_pages(&mut v);
+    v
 }
 
 /// Accumulated samples of a window of the image. Progressive renders give every pixel
@@ -155,7 +159,9 @@ impl Film {
 
     /// The filtered mean of the samples (black before the first sample).
     pub fn image(&self) -> Image {
-        let px = self.pixels.iter().map(FilmPixel::value).collect();
+        let mut px = Vec::with_capacity(self.pixels.len());
+        irradia_core::pages::prefer_huge_pages(px.spare_capacity_mut());
+        px.extend(self.pixels.iter().map(FilmPixel::value));
         Image::from_pixels(self.window.width, self.window.height, px)
     }
 

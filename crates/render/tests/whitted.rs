@@ -314,3 +314,48 @@ fn aovs_report_the_first_hit() {
     let shown = irradia_render::Aov::Depth.display(depth);
     assert!(shown.pixels().iter().all(|p| (0.0..=1.0).contains(&p.r)));
 }
+
+/// An image texture on a sphere is looked up at the hit's uv (Mitsuba's sphere
+/// parameterisation: u = atan2(y, x) / 2π), so the two halves of a two-texel image
+/// show on the two sides of the sphere: the uv the tracer leaves out of untextured
+/// objects' hits is still computed for textured ones.
+#[test]
+fn an_image_texture_on_a_sphere_is_read_at_the_hit_uv() {
+    let (objects, instances) = spheres(&[(Vec3::ZERO, 1.0, 0, "ball")]);
+    let mut m = diffuse("ball", Rgb::WHITE, 0.0);
+    m.ambient = 1.0;
+    m.color = Texture::Image {
+        image: std::sync::Arc::new(irradia_core::Image::from_pixels(
+            2,
+            1,
+            vec![Rgb::new(1.0, 0.0, 0.0), Rgb::new(0.0, 1.0, 0.0)],
+        )),
+        scale: glam::Vec2::ONE,
+    };
+    let scene = Scene::new(
+        camera(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 40.0),
+        settings(8, 8),
+        vec![m],
+        Vec::new(),
+        objects,
+        instances,
+    );
+    let w = Whitted::new(&scene);
+    // From +y the ray meets the sphere where n = +y (u = 1/4: the first texel); from
+    // -y where n = -y (u = 3/4: the second).
+    for (eye, want) in [
+        (Vec3::Y * 4.0, Rgb::new(1.0, 0.0, 0.0)),
+        (Vec3::Y * -4.0, Rgb::new(0.0, 1.0, 0.0)),
+    ] {
+        let got = w.sample(
+            &Ray::new(eye, -eye.normalize()),
+            &mut Rng::new(1, 1),
+            &mut Stats::default(),
+            &mut AovSample::default(),
+        );
+        assert!(
+            (got.r - want.r).abs() < 1e-6 && (got.g - want.g).abs() < 1e-6,
+            "from {eye}: {got:?}"
+        );
+    }
+}

@@ -314,7 +314,7 @@ impl Csg {
         }
         match param {
             Some((c, t)) => {
-                let mut h = c.instance.surface_at(ray, t);
+                let mut h = c.instance.surface_at(ray, t, true);
                 h.leaf += c.leaf_offset;
                 Some(h)
             }

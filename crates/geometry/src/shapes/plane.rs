@@ -134,7 +134,7 @@ impl Shape for Plane {
         self.crossing_t(ray, t_max)
     }
 
-    fn surface_at(&self, ray: &Ray, t: f64) -> Hit {
+    fn surface_at(&self, ray: &Ray, t: f64, _uv: bool) -> Hit {
         self.hit_at(ray, t)
     }
 

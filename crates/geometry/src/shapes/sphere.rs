@@ -70,8 +70,8 @@ impl Sphere {
 
     /// The hit at root `t` ([`Self::root_t`]): [`Self::surface`] and the error bound.
     #[inline]
-    fn hit_at(&self, ray: &Ray, t: f64) -> Hit {
-        let (p, n, uv) = self.surface(ray, t);
+    fn hit_at(&self, ray: &Ray, t: f64, uv: bool) -> Hit {
+        let (p, n, uv) = self.surface(ray, t, uv);
         let mut h = Hit::new(t as f32, p, n, uv);
         h.error = (self.center.abs().max_element() + self.radius) * 4.0 * f32::EPSILON;
         h
@@ -105,12 +105,12 @@ impl Sphere {
     /// normal is normalised and the point projected back onto the sphere in f32, which
     /// stays within the hit's error bound `4 ε (max |c_i| + r)` (the normal's relative
     /// error is a few ε; `c + r n` adds half an ulp) at a fraction of the f64 cost.
-    fn surface(&self, ray: &Ray, t: f64) -> (Vec3, Vec3, Vec2) {
+    fn surface(&self, ray: &Ray, t: f64, uv: bool) -> (Vec3, Vec3, Vec2) {
         let p = ray.origin.as_dvec3() + ray.dir.as_dvec3() * t;
         let n = (p - self.center.as_dvec3()).as_vec3().normalize();
         // Texture coordinates in f32: plenty for textures, and f32 atan2/acos cost a
         // fraction of the f64 ones (this runs for both ends of every CSG span).
-        let uv = mitsuba_sphere_uv(n);
+        let uv = if uv { mitsuba_sphere_uv(n) } else { Vec2::ZERO };
         // Project the point onto the sphere to remove the error of t.
         let p = self.center + n * self.radius;
         let n = if self.flipped { -n } else { n };
@@ -143,7 +143,7 @@ impl Shape for Sphere {
     }
 
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        self.root_t(ray, t_max).map(|t| self.hit_at(ray, t))
+        self.root_t(ray, t_max).map(|t| self.hit_at(ray, t, true))
     }
 
     fn splits_surface(&self) -> bool {
@@ -155,8 +155,8 @@ impl Shape for Sphere {
         self.root_t(ray, t_max)
     }
 
-    fn surface_at(&self, ray: &Ray, t: f64) -> Hit {
-        self.hit_at(ray, t)
+    fn surface_at(&self, ray: &Ray, t: f64, uv: bool) -> Hit {
+        self.hit_at(ray, t, uv)
     }
 
     /// `(dp/du, dp/dv)` at the point with unit direction `n` from the centre, for
@@ -227,8 +227,8 @@ impl Shape for Sphere {
             return;
         }
         if let Some((t0, t1)) = self.roots(ray) {
-            let (_, n0, uv0) = self.surface(ray, t0);
-            let (_, n1, uv1) = self.surface(ray, t1);
+            let (_, n0, uv0) = self.surface(ray, t0, true);
+            let (_, n1, uv1) = self.surface(ray, t1, true);
             out.push(Span {
                 enter: Boundary::new(t0 as f32, n0, uv0),
                 exit: Boundary::new(t1 as f32, n1, uv1),

@@ -50,6 +50,15 @@ pub fn clear_passes_all(scene: &Scene) -> bool {
         })
 }
 
+/// Whether the tracer reads the uv of `object`'s hits: where a material of it (its own
+/// or a CSG leaf's) is coloured by an image, the only texture looked up by uv.
+pub fn object_reads_uv(scene: &Scene, object: u32) -> bool {
+    let o = &scene.objects[object as usize];
+    std::iter::once(&o.material)
+        .chain(&o.leaf_materials)
+        .any(|&m| matches!(scene.materials[m as usize].color, Texture::Image { .. }))
+}
+
 /// Two queries over the scene's objects: those no light passes (an any-hit test
 /// suffices) and those that filter it. `*_ids` map tree slots back to objects.
 struct ShadowSets {
@@ -80,9 +89,9 @@ impl ShadowSets {
             }
         }
         Some(Self {
-            opaque: Query::new(opaque, opaque_ids.clone()),
+            opaque: Query::new(opaque, opaque_ids.clone(), |i| object_reads_uv(scene, i)),
             opaque_ids,
-            clear: Query::new(clear, clear_ids.clone()),
+            clear: Query::new(clear, clear_ids.clone(), |i| object_reads_uv(scene, i)),
             clear_ids,
         })
     }
@@ -106,7 +115,9 @@ impl<'s> SceneGeometry<'s> {
             accel: &scene.accel,
             all: (scene.accel.instances().len() <= LINEAR_MAX).then(|| {
                 let n = scene.accel.instances().len() as u32;
-                Query::new(scene.accel.instances().to_vec(), (0..n).collect())
+                Query::new(scene.accel.instances().to_vec(), (0..n).collect(), |i| {
+                    object_reads_uv(scene, i)
+                })
             }),
             shadow_sets: ShadowSets::build(scene),
         }

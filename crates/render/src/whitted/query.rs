@@ -14,15 +14,28 @@ pub(crate) const LINEAR_MAX: usize = 8;
 
 pub(crate) enum Query {
     Tree(Accel),
-    /// Instances with their world boxes (`None` for unbounded ones, tested always),
-    /// the object index each stands for, and whether it splits its hits
-    /// ([`Instance::splits_surface`]).
-    Linear(Vec<(Instance, Option<Aabb>, u32, bool)>),
+    /// The objects in scan order.
+    Linear(Vec<Scanned>),
+}
+
+/// One object of a linear scan.
+pub(crate) struct Scanned {
+    instance: Instance,
+    /// World box; `None` for unbounded objects, tested always.
+    bounds: Option<Aabb>,
+    /// The object index it stands for.
+    id: u32,
+    /// Whether it splits its hits ([`Instance::splits_surface`]).
+    splits: bool,
+    /// Whether the tracer reads its hits' uv (an image texture); a split hit's
+    /// surface is computed without uv otherwise ([`Instance::surface_at`]).
+    uv: bool,
 }
 
 impl Query {
-    /// A query over `instances`, standing for objects `ids` (same order).
-    pub fn new(instances: Vec<Instance>, ids: Vec<u32>) -> Self {
+    /// A query over `instances`, standing for objects `ids` (same order); `reads_uv`
+    /// says, by object index, whose hits need their uv.
+    pub fn new(instances: Vec<Instance>, ids: Vec<u32>, reads_uv: impl Fn(u32) -> bool) -> Self {
         if instances.len() > LINEAR_MAX {
             return Query::Tree(Accel::build(instances));
         }
@@ -30,11 +43,15 @@ impl Query {
             instances
                 .into_iter()
                 .zip(ids)
-                .map(|(inst, id)| {
-                    let b = inst.bounds();
-                    let bounds = (b.is_finite() && !b.is_empty()).then_some(b);
-                    let splits = inst.splits_surface();
-                    (inst, bounds, id, splits)
+                .map(|(instance, id)| {
+                    let b = instance.bounds();
+                    Scanned {
+                        bounds: (b.is_finite() && !b.is_empty()).then_some(b),
+                        splits: instance.splits_surface(),
+                        uv: reads_uv(id),
+                        instance,
+                        id,
+                    }
                 })
                 .collect(),
         )
@@ -60,25 +77,30 @@ impl Query {
                 let mut t_max = t_max;
                 let mut best = None;
                 let mut param = None;
-                for (inst, bounds, id, splits) in list {
-                    if bounds.is_some_and(|b| b.hit_inv(ray.origin, inv, t_max).is_none()) {
+                for o in list {
+                    if o.bounds
+                        .is_some_and(|b| b.hit_inv(ray.origin, inv, t_max).is_none())
+                    {
                         continue;
                     }
-                    if *splits {
-                        if let Some(t) = inst.nearest_t(ray, t_max) {
+                    if o.splits {
+                        if let Some(t) = o.instance.nearest_t(ray, t_max) {
                             t_max = t as f32;
-                            param = Some((inst, *id, t));
+                            param = Some((o, t));
                         }
-                    } else if let Some(hit) = inst.intersect(ray, t_max) {
+                    } else if let Some(hit) = o.instance.intersect(ray, t_max) {
                         t_max = hit.t;
-                        best = Some(SceneHit { instance: *id, hit });
+                        best = Some(SceneHit {
+                            instance: o.id,
+                            hit,
+                        });
                         param = None;
                     }
                 }
                 match param {
-                    Some((inst, id, t)) => Some(SceneHit {
-                        instance: id,
-                        hit: inst.surface_at(ray, t),
+                    Some((o, t)) => Some(SceneHit {
+                        instance: o.id,
+                        hit: o.instance.surface_at(ray, t, o.uv),
                     }),
                     None => best,
                 }
@@ -93,9 +115,10 @@ impl Query {
             Query::Tree(accel) => accel.occluded(ray, t_max),
             Query::Linear(list) => {
                 let inv = ray.dir.recip();
-                list.iter().any(|(inst, bounds, _, _)| {
-                    bounds.is_none_or(|b| b.hit_inv(ray.origin, inv, t_max).is_some())
-                        && inst.occluded(ray, t_max)
+                list.iter().any(|o| {
+                    o.bounds
+                        .is_none_or(|b| b.hit_inv(ray.origin, inv, t_max).is_some())
+                        && o.instance.occluded(ray, t_max)
                 })
             }
         }
@@ -152,7 +175,7 @@ mod tests {
             Instance::untransformed(Arc::new(Plane::new(Vec3::Z, 2.0).unwrap())),
         ];
         let n = list.len() as u32;
-        let query = Query::new(list.clone(), (0..n).collect());
+        let query = Query::new(list.clone(), (0..n).collect(), |_| true);
         let mut rng = Rng::new(3, 7);
         let (mut hits, mut winners) = (0, vec![0u32; list.len()]);
         for i in 0..40_000 {
