@@ -51,10 +51,11 @@ impl LeafPackets {
         }
     }
 
-    /// Stores one leaf's packets (at least one) and returns the index of its first.
-    pub(super) fn push(&mut self, leaf: &[Triangle4]) -> u32 {
-        debug_assert!(!leaf.is_empty());
-        let start = if leaf.len() == 1 {
+    /// Stores one leaf's `n` packets (at least one), `packet(j)` for `j` in `0..n`,
+    /// and returns the index of its first.
+    pub(super) fn push(&mut self, n: usize, mut packet: impl FnMut(usize) -> Triangle4) -> u32 {
+        debug_assert!(n > 0);
+        let start = if n == 1 {
             self.holes.pop().unwrap_or(self.len)
         } else {
             if self.len % 2 == 1 {
@@ -63,23 +64,28 @@ impl LeafPackets {
             }
             self.len
         };
-        for (j, p) in leaf.iter().enumerate() {
-            self.set(start + j, *p);
-        }
-        start as u32
-    }
-
-    fn set(&mut self, i: usize, p: Triangle4) {
-        let (pair, half) = (i / 2, i % 2);
-        if pair == self.pairs.len() && half == 0 {
-            self.pairs.push(Pair([p, FILLER]));
-        } else {
-            while self.pairs.len() <= pair {
-                self.pairs.push(Pair([FILLER; 2]));
+        let mut j = 0;
+        while j < n {
+            let (pair, half) = ((start + j) / 2, (start + j) % 2);
+            if pair == self.pairs.len() {
+                // A new pair begins here (an odd slot always lies in an existing
+                // pair): written once, with the next packet or a filler.
+                debug_assert_eq!(half, 0);
+                let a = packet(j);
+                let b = if j + 1 < n {
+                    j += 1;
+                    packet(j)
+                } else {
+                    FILLER
+                };
+                self.pairs.push(Pair([a, b]));
+            } else {
+                self.pairs[pair].0[half] = packet(j);
             }
-            self.pairs[pair].0[half] = p;
+            j += 1;
         }
-        self.len = self.len.max(i + 1);
+        self.len = self.len.max(start + n);
+        start as u32
     }
 
     #[inline(always)]
@@ -109,8 +115,7 @@ mod tests {
         let sizes = [1, 2, 2, 1, 1, 2, 1, 3, 1, 2];
         let mut starts = Vec::new();
         for (leaf, &n) in sizes.iter().enumerate() {
-            let packets: Vec<Triangle4> = (0..n).map(|_| packet(leaf as u32)).collect();
-            starts.push(store.push(&packets) as usize);
+            starts.push(store.push(n, |_| packet(leaf as u32)) as usize);
         }
         let all = store.as_slice();
         let base = all.as_ptr() as usize;

@@ -178,17 +178,15 @@ impl TriangleMesh {
         );
         // At most one packet per leaf beyond a full packet per 4 triangles.
         let mut packets = LeafPackets::with_capacity(bvh.order().len() / 2 + 1);
-        let mut leaf = Vec::with_capacity(2);
         bvh.map_leaf_primitives(|tris| {
-            leaf.clear();
-            for chunk in tris.chunks(4) {
+            packets.push(tris.len().div_ceil(4), |j| {
+                let chunk = &tris[4 * j..(4 * j + 4).min(tris.len())];
                 let mut lanes = [[Vec3::ZERO; 3]; 4];
                 for (lane, &t) in lanes.iter_mut().zip(chunk) {
                     *lane = corners(&indices[t as usize]);
                 }
-                leaf.push(Triangle4::new(&lanes[..chunk.len()]).with_ids(chunk));
-            }
-            packets.push(&leaf)
+                Triangle4::new(&lanes[..chunk.len()]).with_ids(chunk)
+            })
         });
         let bounds = bvh.bounds();
         Ok(TriangleMesh {
