@@ -28,9 +28,12 @@
 //!
 //! Files: `node.rs` (the 8-wide node and its SIMD box test), `build.rs` (binned SAH,
 //! parallel, collapsed to wide nodes), `traverse.rs` (ordered closest-hit and any-hit
-//! traversal), `packet_traverse.rs` (eight coherent rays walking the tree together).
+//! traversal), `packet_traverse.rs` (eight coherent rays walking the tree together),
+//! `interleaved.rs` (incoherent rays walked a few at a time in turns, to overlap their
+//! cache misses).
 
 mod build;
+mod interleaved;
 mod memory;
 pub mod node;
 pub mod packet_traverse;

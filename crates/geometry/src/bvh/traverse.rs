@@ -11,12 +11,12 @@ use std::mem::MaybeUninit;
 /// Stack depth: at most `WIDTH - 1` entries per level, and the builder bounds the
 /// binary depth, and so the number of wide levels (median splits beyond binary depth
 /// `MAX_SAH_DEPTH`, which halve the set: at most 32 more levels for 32-bit counts).
-const STACK: usize = (WIDTH - 1) * (MAX_SAH_DEPTH as usize + 33);
+pub(super) const STACK: usize = (WIDTH - 1) * (MAX_SAH_DEPTH as usize + 33);
 
 #[derive(Clone, Copy)]
-struct Entry {
-    node: ChildRef,
-    t_near: f32,
+pub(super) struct Entry {
+    pub(super) node: ChildRef,
+    pub(super) t_near: f32,
 }
 
 impl Bvh {

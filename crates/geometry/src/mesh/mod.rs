@@ -4,6 +4,7 @@
 //! per vertex or per face ([`attributes`]).
 
 pub mod attributes;
+mod leaf_packets;
 mod spans;
 mod stream;
 
@@ -21,6 +22,7 @@ use crate::shape::{CastHit, Facets, Hit, Shape, Span};
 use crate::triangle::{TriangleHit, TriangleRay};
 use glam::{Vec2, Vec3};
 use irradia_core::{Aabb, Ray};
+use leaf_packets::LeafPackets;
 use rayon::prelude::*;
 
 /// Why a mesh was refused. Indices and counts are 0-based.
@@ -76,8 +78,9 @@ pub struct TriangleMesh {
     /// Leaves index `packets`: a leaf of n triangles owns ceil(n / 4) consecutive
     /// packets.
     bvh: Bvh,
-    /// Triangle corners in leaf order, four to a packet, with each lane's triangle index.
-    packets: Vec<Triangle4>,
+    /// Triangle corners in leaf order, four to a packet, with each lane's triangle
+    /// index; leaves of two packets start on a cache line (see `leaf_packets.rs`).
+    packets: LeafPackets,
     bounds: Aabb,
 }
 
@@ -174,18 +177,16 @@ impl TriangleMesh {
             8,
         );
         // At most one packet per leaf beyond a full packet per 4 triangles.
-        let mut packets = Vec::with_capacity(bvh.order().len() / 2 + 1);
-        crate::bvh::advise_huge_pages(&mut packets);
+        let mut packets = LeafPackets::with_capacity(bvh.order().len() / 2 + 1);
         bvh.map_leaf_primitives(|tris| {
-            let first = packets.len() as u32;
-            for chunk in tris.chunks(4) {
+            packets.push(tris.len().div_ceil(4), |j| {
+                let chunk = &tris[4 * j..(4 * j + 4).min(tris.len())];
                 let mut lanes = [[Vec3::ZERO; 3]; 4];
                 for (lane, &t) in lanes.iter_mut().zip(chunk) {
                     *lane = corners(&indices[t as usize]);
                 }
-                packets.push(Triangle4::new(&lanes[..chunk.len()]).with_ids(chunk));
-            }
-            first
+                Triangle4::new(&lanes[..chunk.len()]).with_ids(chunk)
+            })
         });
         let bounds = bvh.bounds();
         Ok(TriangleMesh {
@@ -334,12 +335,13 @@ impl TriangleMesh {
     #[inline(always)]
     fn prefetch_leaf(&self, leaf: ChildRef) {
         #[cfg(target_arch = "x86_64")]
-        if let Some(p) = self.packets.get(leaf.index as usize) {
+        if let Some(p) = self.packets.as_slice().get(leaf.index as usize) {
             use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
             let p = p as *const Triangle4 as *const i8;
-            // SAFETY: a prefetch is only a hint (never faults); the lines hold the
-            // leaf's one or two 160-byte packets (16-byte aligned, so one packet
-            // spans up to 4 lines, two up to 6: the last byte's line is fetched too).
+            // SAFETY: a prefetch is only a hint (never faults). The lines hold the
+            // leaf's one or two 160-byte packets: a leaf of two starts on a line (5
+            // lines), one packet starts at a line or 32 bytes into one (3 lines either
+            // way; see `leaf_packets.rs`).
             unsafe {
                 _mm_prefetch(p, _MM_HINT_T0);
                 _mm_prefetch(p.add(64), _MM_HINT_T0);
@@ -347,9 +349,6 @@ impl TriangleMesh {
                 if leaf.count > 4 {
                     _mm_prefetch(p.add(192), _MM_HINT_T0);
                     _mm_prefetch(p.add(256), _MM_HINT_T0);
-                    _mm_prefetch(p.add(319), _MM_HINT_T0);
-                } else {
-                    _mm_prefetch(p.add(159), _MM_HINT_T0);
                 }
             }
         }
@@ -360,7 +359,7 @@ impl TriangleMesh {
     #[inline(always)]
     fn leaf_packets(&self, leaf: ChildRef) -> &[Triangle4] {
         let start = leaf.index as usize;
-        &self.packets[start..start + (leaf.count as usize).div_ceil(4)]
+        &self.packets.as_slice()[start..start + (leaf.count as usize).div_ceil(4)]
     }
 
     /// +1 closed and wound counter-clockwise from outside, -1 closed and wound the

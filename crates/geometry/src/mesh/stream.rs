@@ -1,9 +1,11 @@
 //! Batches of rays against a mesh: consecutive rays go eight at a time through the
 //! packet traversal of the BVH ([`crate::bvh::packet_traverse`]) when they agree on
-//! their direction signs (primary rays of a camera do, almost everywhere), and one at
-//! a time through the single-ray traversal otherwise (Benthin, Wald et al. 2012 pick
-//! between packet and single-ray traversal by the coherence of the rays; the test here
-//! is the cheapest one, Wald et al. 2001's requirement of a common direction octant).
+//! their direction signs (primary rays of a camera do, almost everywhere), and through
+//! the single-ray traversal otherwise (Benthin, Wald et al. 2012 pick between packet
+//! and single-ray traversal by the coherence of the rays; the test here is the
+//! cheapest one, Wald et al. 2001's requirement of a common direction octant). The
+//! batch's single rays are walked several at a time in turns, each as it would be
+//! alone, so their cache misses overlap ([`crate::bvh`]'s `interleaved.rs`).
 //!
 //! The answers are bit for bit those of [`TriangleMesh::intersect_triangle`] and
 //! [`TriangleMesh::intersect_cast_hit`], ray by ray. The single-ray traversal keeps the
@@ -66,7 +68,10 @@ impl TriangleMesh {
         });
     }
 
-    /// The nearest hit of every ray, `emit(index, hit)`, in groups of [`PACKET`].
+    /// The nearest hit of every ray, `emit(index, hit)` (in no set order), in groups
+    /// of [`PACKET`]: coherent groups as packets, the rays of the others walked a few
+    /// at a time in turns, each exactly as `closest_lane` walks it (see
+    /// `bvh/interleaved.rs`).
     #[inline]
     fn closest_lanes_stream<'a>(
         &'a self,
@@ -74,6 +79,7 @@ impl TriangleMesh {
         t_max: f32,
         mut emit: impl FnMut(usize, LaneHit<'a>),
     ) {
+        let mut lone: Vec<usize> = Vec::new();
         for (g, group) in rays.chunks(PACKET).enumerate() {
             let base = g * PACKET;
             let packet = if group.len() > 1 && t_max > 0.0 {
@@ -87,12 +93,29 @@ impl TriangleMesh {
                         emit(base + k, h);
                     }
                 }
-                None => {
-                    for (k, r) in group.iter().enumerate() {
-                        emit(base + k, self.closest_lane(r, t_max));
-                    }
-                }
+                None => lone.extend(base..base + group.len()),
             }
+        }
+        if lone.is_empty() {
+            return;
+        }
+        let lone_rays: Vec<Ray> = lone.iter().map(|&i| rays[i]).collect();
+        let trays: Vec<TriangleRay> = lone_rays.iter().map(TriangleRay::new).collect();
+        let mut best: Vec<LaneHit<'a>> = vec![None; lone.len()];
+        self.bvh.closest_hit_leaves_interleaved(
+            &lone_rays,
+            t_max,
+            |leaf| self.prefetch_leaf(leaf),
+            |k, leaf, t_max| {
+                let packets = self.leaf_packets(leaf);
+                let (i, h) =
+                    watertight4::intersect_leaf(packets, leaf.count as usize, &trays[k], t_max)?;
+                best[k] = Some((&packets[i / 4], i % 4, h));
+                Some(h.t)
+            },
+        );
+        for (&i, h) in lone.iter().zip(best) {
+            emit(i, h);
         }
     }
 
