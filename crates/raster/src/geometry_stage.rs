@@ -13,6 +13,7 @@ use crate::rasterizer::{candidate_of_snapped, snap, unsnap, Candidate, CullMode,
 use crate::screen::{varying, Rect, ScreenTriangle, ScreenVertex, VARYINGS};
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::binning::BATCH;
 use crate::prefetch;
@@ -394,6 +395,17 @@ impl<'a> GeometryStage<'a> {
 
     /// [`Self::triangles`], dropping those `hiz` hides ([`Self::with_occlusion`]).
     fn triangles_behind(&self, tris: &[Triangle], hiz: Option<&DepthBounds>) -> Vec<Batch> {
+        self.triangles_probed(tris, hiz, &AtomicBool::new(false))
+    }
+
+    /// [`Self::triangles_behind`], setting `paying` when a batch found the snapshot
+    /// worth testing to its end ([`Probe`]).
+    fn triangles_probed(
+        &self,
+        tris: &[Triangle],
+        hiz: Option<&DepthBounds>,
+        paying: &AtomicBool,
+    ) -> Vec<Batch> {
         tris.par_chunks(BATCH)
             .map(|chunk| {
                 let mut out = self.new_batch(chunk.len());
@@ -406,9 +418,20 @@ impl<'a> GeometryStage<'a> {
                     let p = t.v.each_ref().map(|v| v.position);
                     self.lit_late(p, var, (t.id, t.material), hiz, &mut probe, &mut out);
                 }
+                probe.report(hiz.is_some(), paying);
                 out
             })
             .collect()
+    }
+
+    /// Whether to ask for a depth snapshot after group `g` (`tested`: its batches had
+    /// one; `paying`: one of them still found it worth testing at its end): always
+    /// at first, then while it pays, and every [`RETRY_GROUPS`] groups to look again
+    /// (a scene of little depth complexity does not read the whole depth buffer after
+    /// every group for nothing).
+    fn wants_snapshot(&self, g: usize, tested: bool, paying: &AtomicBool) -> bool {
+        self.occlusion.is_some()
+            && (!tested || paying.load(Ordering::Relaxed) || g % RETRY_GROUPS == RETRY_GROUPS - 1)
     }
 
     /// [`GeometryStage::triangles`] a group of `group` batches at a time: `sink` gets
@@ -422,10 +445,11 @@ impl<'a> GeometryStage<'a> {
         group: usize,
         mut sink: impl FnMut(Vec<Batch>, bool) -> Option<DepthBounds>,
     ) {
-        let want = self.occlusion.is_some();
         let mut hiz = None;
-        for part in tris.chunks(group.max(1) * BATCH) {
-            hiz = sink(self.triangles_behind(part, hiz.as_ref()), want);
+        for (g, part) in tris.chunks(group.max(1) * BATCH).enumerate() {
+            let paying = AtomicBool::new(false);
+            let batches = self.triangles_probed(part, hiz.as_ref(), &paying);
+            hiz = sink(batches, self.wants_snapshot(g, hiz.is_some(), &paying));
         }
     }
 
@@ -473,10 +497,10 @@ impl<'a> GeometryStage<'a> {
         let per_face_lighting = !mesh.materials.is_empty() && self.shading == Shading::Gouraud;
         let groups = mesh.indices.chunks(group.saturating_mul(BATCH)).enumerate();
         if flat || per_face_lighting || mesh.positions.len() >= 2 * mesh.indices.len() {
-            let want = self.occlusion.is_some();
             let mut hiz: Option<DepthBounds> = None;
             for (g, part) in groups {
                 let hiz_ref = hiz.as_ref();
+                let paying = AtomicBool::new(false);
                 let batches = part
                     .par_chunks(BATCH)
                     .enumerate()
@@ -501,10 +525,11 @@ impl<'a> GeometryStage<'a> {
                             let id = (mesh.id(t), material);
                             self.lit_late(p, var, id, hiz_ref, &mut probe, &mut out);
                         }
+                        probe.report(hiz_ref.is_some(), &paying);
                         out
                     })
                     .collect();
-                hiz = sink(batches, want);
+                hiz = sink(batches, self.wants_snapshot(g, hiz.is_some(), &paying));
             }
             return;
         }
@@ -566,7 +591,20 @@ struct Probe {
     hidden: u32,
 }
 
+/// Groups after which a depth snapshot is asked for again though the last one did
+/// not pay ([`GeometryStage::wants_snapshot`]).
+const RETRY_GROUPS: usize = 8;
+
 impl Probe {
+    /// Sets `paying` when the batch tested against a snapshot and still found it worth
+    /// it at its end.
+    #[inline]
+    fn report(&self, had_snapshot: bool, paying: &AtomicBool) {
+        if had_snapshot && self.on() {
+            paying.store(true, Ordering::Relaxed);
+        }
+    }
+
     #[inline(always)]
     fn on(&self) -> bool {
         self.tested < DepthBounds::PROBATION || self.hidden * 4 >= self.tested
