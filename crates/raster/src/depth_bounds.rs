@@ -89,6 +89,35 @@ impl DepthBounds {
         }
     }
 
+    /// The bounds of a whole depth buffer of rows `width` pixels wide, computed now: a
+    /// snapshot that stays valid (an overestimate) while `Less` and `LessEqual`
+    /// fragments are drawn, since stored depths only decrease. The geometry stage tests
+    /// triangles against it before lighting them ([`Self::hides`]).
+    pub fn snapshot(depth: &[f32], width: usize) -> Self {
+        let mut b = Self::new(depth, width, 0);
+        b.recompute(depth);
+        b.ready = true;
+        b
+    }
+
+    /// Whether no pixel of the block `x0..=x1` x `y0..=y1` of `s` can pass `func`
+    /// against a depth buffer whose stored depths are at most those these bounds were
+    /// computed from: the test of [`Self::hidden`] without its warm-up, probation or
+    /// counters (read-only, so threads share one snapshot). `s` needs its depth plane.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub fn hides(&self, s: &Setup, func: DepthFunc, x0: i64, x1: i64, y0: i64, y1: i64) -> bool {
+        if !(self.ready && s.zc.is_finite() && s.zx.is_finite() && s.zy.is_finite()) {
+            return false;
+        }
+        let z = || Self::triangle_min_depth(s, x0, x1, y0, y1);
+        match func {
+            DepthFunc::Less => z() >= self.max_over(x0, x1, y0, y1),
+            DepthFunc::LessEqual => z() > self.max_over(x0, x1, y0, y1),
+            DepthFunc::Always => false,
+        }
+    }
+
     /// Bounds that test every triangle asked about, from the first (for tests).
     #[cfg(test)]
     pub fn always_on(mut self) -> Self {

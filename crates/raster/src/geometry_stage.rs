@@ -5,12 +5,15 @@
 
 use crate::binning::{band_count, push_to_bands};
 use crate::clip::{ClipPlanes, ClipVertex};
+use crate::depth_bounds::DepthBounds;
+use crate::fragment::DepthFunc;
 use crate::lighting::{EyeLights, Shading};
 use crate::mesh::{Mesh, Triangle};
-use crate::rasterizer::{candidate_of_snapped, snap, unsnap, CullMode};
+use crate::rasterizer::{candidate_of_snapped, snap, unsnap, Candidate, CullMode, Setup};
 use crate::screen::{varying, Rect, ScreenTriangle, ScreenVertex, VARYINGS};
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::binning::BATCH;
 use crate::prefetch;
@@ -36,6 +39,10 @@ pub(crate) struct GeometryStage<'a> {
     fragments: bool,
     /// Buffers of earlier frames to reuse.
     pool: Option<&'a BatchPool>,
+    /// The depth test of the framebuffer that the grouped paths draw into, when
+    /// triangles lit one by one may be tested against a snapshot of its depth before
+    /// they are lit ([`GeometryStage::with_occlusion`]).
+    occlusion: Option<DepthFunc>,
 }
 
 impl<'a> GeometryStage<'a> {
@@ -65,6 +72,7 @@ impl<'a> GeometryStage<'a> {
             bands: band_count(height),
             fragments: false,
             pool: None,
+            occlusion: None,
         }
     }
 
@@ -72,6 +80,24 @@ impl<'a> GeometryStage<'a> {
     /// fragments when `on` (the caller draws into RGBA8 with interpolated colour).
     pub fn with_fragments(mut self, on: bool) -> Self {
         self.fragments = on && self.bin;
+        self
+    }
+
+    /// Lets the grouped paths that light each triangle's corners themselves (soups,
+    /// flat meshes, per-face materials, independent triangles) ask their sink for a
+    /// snapshot of the depth buffer after each group ([`DepthBounds::snapshot`]) and
+    /// drop, before lighting them, the triangles of the next group that cannot pass
+    /// `func` anywhere (hierarchical-z occlusion culling, Greene, Kass and Miller 1993).
+    /// Exact: the test is the rasterizer's own depth-bound test
+    /// ([`DepthBounds::hides`]) on the same depth plane, against bounds that only
+    /// overestimate the depths stored when the triangle is drawn, so images are
+    /// unchanged. Only for `Less` and `LessEqual`, and only when every fragment drawn
+    /// is depth tested first (no blending pass).
+    pub fn with_occlusion(mut self, func: DepthFunc) -> Self {
+        self.occlusion = match func {
+            DepthFunc::Less | DepthFunc::LessEqual if self.bin => Some(func),
+            _ => None,
+        };
         self
     }
 
@@ -84,7 +110,23 @@ impl<'a> GeometryStage<'a> {
     /// Transforms and lights one vertex (Gouraud: with material `material`).
     #[inline(always)]
     fn vertex(&self, p: Vec3, n: Vec3, color: [f32; 4], uv: Vec2, material: u32) -> ClipVertex {
-        let pos = self.clip_position(p);
+        ClipVertex {
+            pos: self.clip_position(p),
+            var: self.varyings(p, n, color, uv, material),
+        }
+    }
+
+    /// The attributes of [`Self::vertex`]: the lit colour (Gouraud), the eye-space
+    /// normal and base colour (Phong) or the colour (unlit), and the texture coordinate.
+    #[inline(always)]
+    fn varyings(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        color: [f32; 4],
+        uv: Vec2,
+        material: u32,
+    ) -> [f32; VARYINGS] {
         let mut var = [0.0; VARYINGS];
         match self.shading {
             Shading::Unlit => var[..4].copy_from_slice(&color),
@@ -107,7 +149,7 @@ impl<'a> GeometryStage<'a> {
         }
         var[varying::UV] = uv.x;
         var[varying::UV + 1] = uv.y;
-        ClipVertex { pos, var }
+        var
     }
 
     /// The clip-space position of object-space point `p` (the one function that makes
@@ -120,14 +162,79 @@ impl<'a> GeometryStage<'a> {
     /// Perspective divide and viewport: NDC x, y in [-1, 1] to pixels, y down.
     #[inline(always)]
     fn project(&self, c: &ClipVertex) -> ScreenVertex {
-        let inv_w = 1.0 / c.pos.w;
+        self.project_with(c.pos, c.var)
+    }
+
+    /// [`Self::project`] of clip position `pos` with attributes `var`.
+    #[inline(always)]
+    fn project_with(&self, pos: Vec4, var: [f32; VARYINGS]) -> ScreenVertex {
+        let inv_w = 1.0 / pos.w;
         ScreenVertex {
-            x: (c.pos.x * inv_w * 0.5 + 0.5) * self.width,
-            y: (0.5 - c.pos.y * inv_w * 0.5) * self.height,
-            z: c.pos.z * inv_w,
+            x: (pos.x * inv_w * 0.5 + 0.5) * self.width,
+            y: (0.5 - pos.y * inv_w * 0.5) * self.height,
+            z: pos.z * inv_w,
             inv_w,
-            var: c.var,
+            var,
         }
+    }
+
+    /// One triangle whose corners are lit here (not shared with other triangles):
+    /// object-space corners `p`, attributes `var(j)` of corner `j`. The corners are
+    /// placed on screen and the triangle culled first, and only a survivor is lit:
+    /// the same output as [`Self::prepare`] of [`Self::vertex`] of each corner and then
+    /// [`Self::assemble`], without the lighting of triangles that leave nothing. With a
+    /// depth snapshot (`hiz`, see [`Self::with_occlusion`]) a triangle that cannot pass
+    /// the depth test anywhere leaves nothing either; `probe` turns the test off for
+    /// the rest of a batch where it rarely finds one.
+    #[inline(always)]
+    fn lit_late(
+        &self,
+        p: [Vec3; 3],
+        var: impl Fn(usize) -> [f32; VARYINGS],
+        id: (u32, u32),
+        hiz: Option<&DepthBounds>,
+        probe: &mut Probe,
+        out: &mut Batch,
+    ) {
+        let pos = p.map(|q| self.clip_position(q));
+        let codes = pos.map(|c| self.planes.outcode(c));
+        if codes[0] & codes[1] & codes[2] != 0 {
+            return; // all outside one plane
+        }
+        if codes[0] | codes[1] | codes[2] != 0 {
+            // Clipped: the general path (it needs every corner's attributes).
+            let v: [Prepared; 3] = std::array::from_fn(|j| {
+                self.prepare(ClipVertex {
+                    pos: pos[j],
+                    var: var(j),
+                })
+            });
+            self.assemble([&v[0], &v[1], &v[2]], |j| p[j], id, out);
+            return;
+        }
+        let mut s = pos.map(|c| self.project_with(c, [0.0; VARYINGS]));
+        // As `prepare` stores and `Prepared::snapped` reads them.
+        let q = s
+            .each_ref()
+            .map(|v| (snap(v.x) as i32 as i64, snap(v.y) as i32 as i64));
+        let Some(k) = candidate_of_snapped(q, self.cull, &self.screen) else {
+            return;
+        };
+        if let (Some(b), Some(func)) = (hiz, self.occlusion) {
+            if probe.on() {
+                let st = Setup::edges([&s[0], &s[1], &s[2]], k.p, k.area).with_plane();
+                let (x0, x1, y0, y1) = k.bounds;
+                let hidden = b.hides(&st, func, x0, x1, y0, y1);
+                probe.count(hidden);
+                if hidden {
+                    return;
+                }
+            }
+        }
+        for (j, v) in s.iter_mut().enumerate() {
+            v.var = var(j);
+        }
+        self.emit_candidate([&s[0], &s[1], &s[2]], k, id, out);
     }
 
     /// A vertex with its clip outcode, projected and snapped to the rasterizer's
@@ -160,17 +267,24 @@ impl<'a> GeometryStage<'a> {
     /// `p` (the vertices' own `x` and `y` are not read: [`Prepared`] keeps the fixed-point
     /// position there).
     #[inline(always)]
-    fn emit(
-        &self,
-        v: [&ScreenVertex; 3],
-        p: [(i64, i64); 3],
-        (id, material): (u32, u32),
-        out: &mut Batch,
-    ) {
+    fn emit(&self, v: [&ScreenVertex; 3], p: [(i64, i64); 3], id: (u32, u32), out: &mut Batch) {
         // Cull before building the triangle: most rejected ones are never copied.
         let Some(k) = candidate_of_snapped(p, self.cull, &self.screen) else {
             return;
         };
+        self.emit_candidate(v, k, id, out);
+    }
+
+    /// [`Self::emit`] of a triangle that survived culling as candidate `k`.
+    #[inline(always)]
+    fn emit_candidate(
+        &self,
+        v: [&ScreenVertex; 3],
+        k: Candidate,
+        (id, material): (u32, u32),
+        out: &mut Batch,
+    ) {
+        let p = k.p;
         if k.centres() <= tiny::MAX_CENTRES {
             if self.fragments {
                 // Shaded here; a triangle that covers no centre leaves no fragment.
@@ -276,37 +390,66 @@ impl<'a> GeometryStage<'a> {
 
     /// Independent triangles, in batches that keep the input order.
     pub fn triangles(&self, tris: &[Triangle]) -> Vec<Batch> {
+        self.triangles_behind(tris, None)
+    }
+
+    /// [`Self::triangles`], dropping those `hiz` hides ([`Self::with_occlusion`]).
+    fn triangles_behind(&self, tris: &[Triangle], hiz: Option<&DepthBounds>) -> Vec<Batch> {
+        self.triangles_probed(tris, hiz, &AtomicBool::new(false))
+    }
+
+    /// [`Self::triangles_behind`], setting `paying` when a batch found the snapshot
+    /// worth testing to its end ([`Probe`]).
+    fn triangles_probed(
+        &self,
+        tris: &[Triangle],
+        hiz: Option<&DepthBounds>,
+        paying: &AtomicBool,
+    ) -> Vec<Batch> {
         tris.par_chunks(BATCH)
             .map(|chunk| {
                 let mut out = self.new_batch(chunk.len());
+                let mut probe = Probe::default();
                 for t in chunk {
-                    let v = t.v.map(|v| {
-                        self.prepare(self.vertex(v.position, v.normal, v.color, v.uv, t.material))
-                    });
-                    let position = |j: usize| t.v[j].position;
-                    self.assemble(
-                        [&v[0], &v[1], &v[2]],
-                        position,
-                        (t.id, t.material),
-                        &mut out,
-                    );
+                    let var = |j: usize| {
+                        let v = &t.v[j];
+                        self.varyings(v.position, v.normal, v.color, v.uv, t.material)
+                    };
+                    let p = t.v.each_ref().map(|v| v.position);
+                    self.lit_late(p, var, (t.id, t.material), hiz, &mut probe, &mut out);
                 }
+                probe.report(hiz.is_some(), paying);
                 out
             })
             .collect()
     }
 
+    /// Whether to ask for a depth snapshot after group `g` (`tested`: its batches had
+    /// one; `paying`: one of them still found it worth testing at its end): always
+    /// at first, then while it pays, and every [`RETRY_GROUPS`] groups to look again
+    /// (a scene of little depth complexity does not read the whole depth buffer after
+    /// every group for nothing).
+    fn wants_snapshot(&self, g: usize, tested: bool, paying: &AtomicBool) -> bool {
+        self.occlusion.is_some()
+            && (!tested || paying.load(Ordering::Relaxed) || g % RETRY_GROUPS == RETRY_GROUPS - 1)
+    }
+
     /// [`GeometryStage::triangles`] a group of `group` batches at a time: `sink` gets
     /// each group's batches (in order) while they are still in the cache, and can hand
-    /// them back to the pool for the next group.
+    /// them back to the pool for the next group. Its second argument says whether the
+    /// stage wants a depth snapshot of the framebuffer after the group is drawn
+    /// ([`Self::with_occlusion`]), which the sink then returns.
     pub fn triangles_grouped(
         &self,
         tris: &[Triangle],
         group: usize,
-        mut sink: impl FnMut(Vec<Batch>),
+        mut sink: impl FnMut(Vec<Batch>, bool) -> Option<DepthBounds>,
     ) {
-        for part in tris.chunks(group.max(1) * BATCH) {
-            sink(self.triangles(part));
+        let mut hiz = None;
+        for (g, part) in tris.chunks(group.max(1) * BATCH).enumerate() {
+            let paying = AtomicBool::new(false);
+            let batches = self.triangles_probed(part, hiz.as_ref(), &paying);
+            hiz = sink(batches, self.wants_snapshot(g, hiz.is_some(), &paying));
         }
     }
 
@@ -315,13 +458,22 @@ impl<'a> GeometryStage<'a> {
     /// face normal.
     pub fn mesh(&self, mesh: &Mesh) -> Vec<Batch> {
         let mut all = Vec::new();
-        self.mesh_grouped(mesh, usize::MAX, |b| all.extend(b));
+        self.mesh_grouped(mesh, usize::MAX, |b, _| {
+            all.extend(b);
+            None
+        });
         all
     }
 
     /// [`GeometryStage::mesh`] a group of `group` batches at a time, handed to `sink` in
-    /// order (see [`GeometryStage::triangles_grouped`]).
-    pub fn mesh_grouped(&self, mesh: &Mesh, group: usize, mut sink: impl FnMut(Vec<Batch>)) {
+    /// order (see [`GeometryStage::triangles_grouped`]; snapshots are asked for only
+    /// where the corners are lit triangle by triangle).
+    pub fn mesh_grouped(
+        &self,
+        mesh: &Mesh,
+        group: usize,
+        mut sink: impl FnMut(Vec<Batch>, bool) -> Option<DepthBounds>,
+    ) {
         let group = group.max(1);
         let color = |i: usize| {
             if mesh.colors.is_empty() {
@@ -345,13 +497,17 @@ impl<'a> GeometryStage<'a> {
         let per_face_lighting = !mesh.materials.is_empty() && self.shading == Shading::Gouraud;
         let groups = mesh.indices.chunks(group.saturating_mul(BATCH)).enumerate();
         if flat || per_face_lighting || mesh.positions.len() >= 2 * mesh.indices.len() {
+            let mut hiz: Option<DepthBounds> = None;
             for (g, part) in groups {
+                let hiz_ref = hiz.as_ref();
+                let paying = AtomicBool::new(false);
                 let batches = part
                     .par_chunks(BATCH)
                     .enumerate()
                     .map(|(c, chunk)| {
                         let c = g * group + c;
                         let mut out = self.new_batch(chunk.len());
+                        let mut probe = Probe::default();
                         for (k, idx) in chunk.iter().enumerate() {
                             let p = idx.map(|i| mesh.positions[i as usize]);
                             let face = if flat {
@@ -361,18 +517,19 @@ impl<'a> GeometryStage<'a> {
                             };
                             let t = c * BATCH + k;
                             let material = mesh.material(t);
-                            let v = [0, 1, 2].map(|j| {
+                            let var = |j: usize| {
                                 let i = idx[j] as usize;
                                 let n = if flat { face } else { mesh.normals[i] };
-                                self.prepare(self.vertex(p[j], n, color(i), uv(i), material))
-                            });
+                                self.varyings(p[j], n, color(i), uv(i), material)
+                            };
                             let id = (mesh.id(t), material);
-                            self.assemble([&v[0], &v[1], &v[2]], |j| p[j], id, &mut out);
+                            self.lit_late(p, var, id, hiz_ref, &mut probe, &mut out);
                         }
+                        probe.report(hiz_ref.is_some(), &paying);
                         out
                     })
                     .collect();
-                sink(batches);
+                hiz = sink(batches, self.wants_snapshot(g, hiz.is_some(), &paying));
             }
             return;
         }
@@ -413,13 +570,50 @@ impl<'a> GeometryStage<'a> {
                     out
                 })
                 .collect();
-            sink(batches);
+            sink(batches, false);
         }
         if let Some(pool) = self.pool {
             if let Ok(mut v) = pool.1.lock() {
                 *v = verts;
             }
         }
+    }
+}
+
+/// Whether a batch still tests its triangles against the depth snapshot: after
+/// [`DepthBounds::PROBATION`] tests, only while at least a quarter of them found the
+/// triangle hidden (the test, a depth plane and four corner depths, costs far less than
+/// lighting the three corners and drawing the triangle, which it saves; a scene of
+/// little depth complexity stops paying for it).
+#[derive(Default)]
+struct Probe {
+    tested: u32,
+    hidden: u32,
+}
+
+/// Groups after which a depth snapshot is asked for again though the last one did
+/// not pay ([`GeometryStage::wants_snapshot`]).
+const RETRY_GROUPS: usize = 8;
+
+impl Probe {
+    /// Sets `paying` when the batch tested against a snapshot and still found it worth
+    /// it at its end.
+    #[inline]
+    fn report(&self, had_snapshot: bool, paying: &AtomicBool) {
+        if had_snapshot && self.on() {
+            paying.store(true, Ordering::Relaxed);
+        }
+    }
+
+    #[inline(always)]
+    fn on(&self) -> bool {
+        self.tested < DepthBounds::PROBATION || self.hidden * 4 >= self.tested
+    }
+
+    #[inline(always)]
+    fn count(&mut self, hidden: bool) {
+        self.tested += 1;
+        self.hidden += hidden as u32;
     }
 }
 

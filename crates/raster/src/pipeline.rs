@@ -3,6 +3,7 @@
 //! rendering run them on different ranks) or together.
 
 use crate::binning::{rasterize_batches, rasterize_binned, FragmentState};
+use crate::depth_bounds::DepthBounds;
 use crate::fragment::{DepthFunc, Unproject};
 use crate::framebuffer::Framebuffer;
 use crate::geometry_stage::{Batch, BatchPool, GeometryStage};
@@ -191,9 +192,11 @@ impl Pipeline {
         self.stage(&lights, true)
             .with_fragments(self.fragments_for(&lights, fb))
             .with_pool(&self.scratch)
-            .mesh_grouped(mesh, group_batches(), |batches| {
+            .with_occlusion(self.depth_func)
+            .mesh_grouped(mesh, group_batches(), |batches, snapshot| {
                 self.draw_batches(&lights, &batches, fb);
                 self.scratch.give(batches);
+                snapshot.then(|| DepthBounds::snapshot(&fb.depth, self.width as usize))
             });
         Ok(())
     }
@@ -213,9 +216,11 @@ impl Pipeline {
         self.stage(&lights, true)
             .with_fragments(self.fragments_for(&lights, fb))
             .with_pool(&self.scratch)
-            .triangles_grouped(tris, group_batches(), |batches| {
+            .with_occlusion(self.depth_func)
+            .triangles_grouped(tris, group_batches(), |batches, snapshot| {
                 self.draw_batches(&lights, &batches, fb);
                 self.scratch.give(batches);
+                snapshot.then(|| DepthBounds::snapshot(&fb.depth, self.width as usize))
             });
         Ok(())
     }
