@@ -14,7 +14,7 @@
 //! the single-ray one bit for bit; only the interleaving of different rays' steps
 //! changes.
 
-use super::node::{ChildRef, NodeRay, WIDTH};
+use super::node::{ChildRef, NodeRay};
 use super::traverse::{Entry, STACK};
 use super::Bvh;
 use irradia_core::Ray;
@@ -143,34 +143,9 @@ impl Bvh {
             }
         } else {
             let node = &self.nodes[current.index as usize];
-            let (mut mask, t_near) = node.intersect_with::<AVX>(&w.ray, w.t_max);
+            let (mask, t_near) = node.intersect_with::<AVX>(&w.ray, w.t_max);
             if mask != 0 {
-                let mut hits = [Entry {
-                    node: ChildRef::EMPTY,
-                    t_near: 0.0,
-                }; WIDTH];
-                let mut n = 0;
-                while mask != 0 {
-                    let i = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let c = node.child_ref(i);
-                    if c.is_leaf() {
-                        prefetch(c);
-                    } else {
-                        self.prefetch(c);
-                    }
-                    let e = Entry {
-                        node: c,
-                        t_near: t_near[i],
-                    };
-                    let mut j = n;
-                    while j > 0 && hits[j - 1].t_near < e.t_near {
-                        hits[j] = hits[j - 1];
-                        j -= 1;
-                    }
-                    hits[j] = e;
-                    n += 1;
-                }
+                let (hits, n) = self.entered_far_to_near(node, mask, &t_near, prefetch);
                 for e in &hits[..n - 1] {
                     w.stack[w.sp] = MaybeUninit::new(*e);
                     w.sp += 1;

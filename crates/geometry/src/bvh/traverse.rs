@@ -20,6 +20,47 @@ pub(super) struct Entry {
 }
 
 impl Bvh {
+    /// The children of `node` that `mask` says a ray enters (at distances `t_near`),
+    /// each prefetched (a leaf by `leaf_prefetch`, a node by [`Bvh::prefetch`]), sorted
+    /// far to near: the nearest is `hits[n - 1]`, the rest are pushed in order.
+    #[inline(always)]
+    pub(super) fn entered_far_to_near(
+        &self,
+        node: &super::node::WideNode,
+        mut mask: u32,
+        t_near: &[f32; WIDTH],
+        leaf_prefetch: impl Fn(ChildRef),
+    ) -> ([Entry; WIDTH], usize) {
+        let mut hits = [Entry {
+            node: ChildRef::EMPTY,
+            t_near: 0.0,
+        }; WIDTH];
+        let mut n = 0;
+        while mask != 0 {
+            let i = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            let c = node.child_ref(i);
+            if c.is_leaf() {
+                leaf_prefetch(c);
+            } else {
+                self.prefetch(c);
+            }
+            let e = Entry {
+                node: c,
+                t_near: t_near[i],
+            };
+            // Insertion sort, descending by distance.
+            let mut j = n;
+            while j > 0 && hits[j - 1].t_near < e.t_near {
+                hits[j] = hits[j - 1];
+                j -= 1;
+            }
+            hits[j] = e;
+            n += 1;
+        }
+        (hits, n)
+    }
+
     /// Starts fetching an inner node's four cache lines (a leaf's data is the caller's).
     #[inline(always)]
     pub(super) fn prefetch(&self, c: ChildRef) {
@@ -156,37 +197,11 @@ impl Bvh {
                 }
             } else {
                 let node = &self.nodes[current.index as usize];
-                let (mut mask, t_near) = node.intersect_with::<AVX>(nray, t_max);
+                let (mask, t_near) = node.intersect_with::<AVX>(nray, t_max);
                 if mask != 0 {
                     // Collect the entered children, sort them near to far, push all
                     // but the nearest (farthest pushed first) and descend into it.
-                    let mut hits = [Entry {
-                        node: ChildRef::EMPTY,
-                        t_near: 0.0,
-                    }; WIDTH];
-                    let mut n = 0;
-                    while mask != 0 {
-                        let i = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        let c = node.child_ref(i);
-                        if c.is_leaf() {
-                            prefetch(c);
-                        } else {
-                            self.prefetch(c);
-                        }
-                        let e = Entry {
-                            node: node.child_ref(i),
-                            t_near: t_near[i],
-                        };
-                        // Insertion sort, descending by distance.
-                        let mut j = n;
-                        while j > 0 && hits[j - 1].t_near < e.t_near {
-                            hits[j] = hits[j - 1];
-                            j -= 1;
-                        }
-                        hits[j] = e;
-                        n += 1;
-                    }
+                    let (hits, n) = self.entered_far_to_near(node, mask, &t_near, &prefetch);
                     for e in &hits[..n - 1] {
                         stack[sp] = MaybeUninit::new(*e);
                         sp += 1;
