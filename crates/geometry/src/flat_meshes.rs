@@ -104,10 +104,10 @@ impl Accel {
     }
 
     /// `out[i]` = [`Accel::intersect_cast`]`(&rays[i], t_max)` through the flat mesh:
-    /// groups of eight rays that share an octant as packets, the rest one by one
-    /// through the single-ray traversal (`TriangleMesh::nearest_cast_one`), near ties
-    /// traced again through the two levels. `false`, having written nothing,
-    /// where the packet traversal is not available.
+    /// groups of eight rays that share an octant as packets, the rest through the
+    /// single-ray traversal, several in turns (`TriangleMesh::nearest_cast_stream`),
+    /// near ties traced again through the two levels. `false`, having written
+    /// nothing, where the packet traversal is not available.
     pub(crate) fn intersect_cast_flat(
         &self,
         flat: &FlatMeshes,
@@ -119,7 +119,10 @@ impl Accel {
             return false;
         }
         let bound = Lanes8([t_max; PACKET]);
-        for (group, out) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)) {
+        // Rays outside a coherent group (an 8-lane traversal of one ray took 1.2
+        // times as long on incoherent rays than the single-ray one).
+        let mut lone: Vec<usize> = Vec::new();
+        for (g, (group, out)) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)).enumerate() {
             let packet = if group.len() > 1 {
                 PacketRay::new(group)
             } else {
@@ -127,18 +130,27 @@ impl Accel {
             };
             match packet {
                 Some(p) => self.flat_group(flat, group, &p, p.lanes(), &bound, t_max, out),
-                // Rays outside a coherent group: the single-ray traversal, which
-                // reports near ties as the packet one does (an 8-lane traversal of
-                // one ray took 1.2 times as long on incoherent rays).
-                None => {
-                    for (r, o) in group.iter().zip(out.iter_mut()) {
-                        *o = match flat.mesh.nearest_cast_one(r, t_max) {
-                            Some((hit, false)) => hit.map(|h| flat.object_hit(h)),
-                            _ => self.intersect_cast(r, t_max),
-                        };
-                    }
-                }
+                None => lone.extend(g * PACKET..g * PACKET + group.len()),
             }
+        }
+        if lone.is_empty() {
+            return true;
+        }
+        let lone_rays: Vec<Ray> = lone.iter().map(|&i| rays[i]).collect();
+        let mut tied: Vec<usize> = Vec::new();
+        let streamed = flat.mesh.nearest_cast_stream(&lone_rays, t_max, |k, hit, tie| {
+            if tie {
+                tied.push(lone[k]);
+            } else {
+                out[lone[k]] = hit.map(|h| flat.object_hit(h));
+            }
+        });
+        if !streamed {
+            // (Not reached: the flat mesh is built without given normals or uvs.)
+            tied = lone;
+        }
+        for i in tied {
+            out[i] = self.intersect_cast(&rays[i], t_max);
         }
         true
     }

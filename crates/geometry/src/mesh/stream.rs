@@ -234,63 +234,81 @@ impl TriangleMesh {
         Some((best, ties))
     }
 
-    /// One ray's nearest cast hit (bounded by `t_max`) through the single-ray
-    /// traversal, and whether another hit lies within [`TIE_ULPS`] of it: what
-    /// [`Self::nearest_cast_lanes`] answers for one lane, without carrying seven empty
-    /// lanes through the 8-wide packet traversal (for rays outside a coherent group,
-    /// which are most rays of an incoherent batch). The same rule as
-    /// [`Self::nearest_lanes`]: the leaves' tests run against a bound [`LOOSE_ULPS`]
-    /// beyond the nearest hit so far, every other hit met is kept as the second, and
-    /// a second within [`TIE_ULPS`] of the nearest flags the ray. `None` where the
-    /// mesh's cast hits need more than the leaf.
-    pub(crate) fn nearest_cast_one(
+    /// The nearest cast hit (bounded by `t_max`) of each of `rays` through the
+    /// single-ray traversal, walked several at a time in turns (see
+    /// `bvh/interleaved.rs`), and whether another hit lies within [`TIE_ULPS`] of it:
+    /// what [`Self::nearest_cast_lanes`] answers for one lane, without carrying seven
+    /// empty lanes through the 8-wide packet traversal (for rays outside a coherent
+    /// group, which are most rays of an incoherent batch); `emit(index, hit, tied)`
+    /// once per ray. The same rule as [`Self::nearest_lanes`]: the leaves' tests run
+    /// against a bound [`LOOSE_ULPS`] beyond the nearest hit so far, every other hit
+    /// met is kept as the second, and a second within [`TIE_ULPS`] of the nearest
+    /// flags the ray. `false`, having emitted nothing, where the mesh's cast hits
+    /// need more than the leaf.
+    pub(crate) fn nearest_cast_stream(
         &self,
-        ray: &Ray,
+        rays: &[Ray],
         t_max: f32,
-    ) -> Option<(Option<CastHit>, bool)> {
+        mut emit: impl FnMut(usize, Option<CastHit>, bool),
+    ) -> bool {
         if !self.casts_from_leaves() {
-            return None;
+            return false;
         }
-        let tray = TriangleRay::new(ray);
-        let mut best: LaneHit<'_> = None;
-        let mut second = f32::INFINITY;
-        let loose = 1.0 + LOOSE_ULPS * f32::EPSILON;
-        self.bvh.closest_hit_leaves_prefetch(
-            ray,
+        let trays: Vec<TriangleRay> = rays.iter().map(TriangleRay::new).collect();
+        let mut best: Vec<LaneHit<'_>> = vec![None; rays.len()];
+        let mut second = vec![f32::INFINITY; rays.len()];
+        self.bvh.closest_hit_leaves_interleaved(
+            rays,
             t_max,
             |l| self.prefetch_leaf(l),
-            |leaf, bound| {
-                let packets = self.leaf_packets(leaf);
-                let mut cand =
-                    watertight4::leaf_candidates(packets, leaf.count as usize, &tray, bound);
-                let mut tightened = None;
-                while cand != 0 {
-                    let i = cand.trailing_zeros() as usize;
-                    cand &= cand - 1;
-                    let [a, b, c] = packets[i / 4].corners(i % 4);
-                    let Some(h) = tray.intersect(a, b, c, bound) else {
-                        continue;
-                    };
-                    match best {
-                        Some((_, _, old)) if h.t >= old.t => second = second.min(h.t),
-                        old => {
-                            if let Some((_, _, old)) = old {
-                                second = second.min(old.t);
-                            }
-                            best = Some((&packets[i / 4], i % 4, h));
-                            tightened = Some((h.t * loose).min(t_max));
-                        }
-                    }
-                }
-                tightened
+            |k, leaf, bound| {
+                self.nearest_in_leaf(leaf, &trays[k], bound, t_max, &mut best[k], &mut second[k])
             },
         );
         let tie = 1.0 + TIE_ULPS * f32::EPSILON;
-        let tied = matches!(best, Some((_, _, h)) if second <= h.t * tie);
-        Some((
-            best.map(|(p, lane, h)| Self::cast_hit_of(p, lane, &h)),
-            tied,
-        ))
+        for (k, (best, second)) in best.into_iter().zip(second).enumerate() {
+            let tied = matches!(best, Some((_, _, h)) if second <= h.t * tie);
+            emit(k, best.map(|(p, lane, h)| Self::cast_hit_of(p, lane, &h)), tied);
+        }
+        true
+    }
+
+    /// One leaf of [`Self::nearest_cast_stream`]'s walk for one ray: its hits within
+    /// `bound` update the nearest (`best`) and the nearest other (`second`); the
+    /// tightened bound ([`LOOSE_ULPS`] beyond a new nearest) when there is one.
+    #[inline(always)]
+    fn nearest_in_leaf<'a>(
+        &'a self,
+        leaf: crate::bvh::ChildRef,
+        tray: &TriangleRay,
+        bound: f32,
+        t_max: f32,
+        best: &mut LaneHit<'a>,
+        second: &mut f32,
+    ) -> Option<f32> {
+        let loose = 1.0 + LOOSE_ULPS * f32::EPSILON;
+        let packets = self.leaf_packets(leaf);
+        let mut cand = watertight4::leaf_candidates(packets, leaf.count as usize, tray, bound);
+        let mut tightened = None;
+        while cand != 0 {
+            let i = cand.trailing_zeros() as usize;
+            cand &= cand - 1;
+            let [a, b, c] = packets[i / 4].corners(i % 4);
+            let Some(h) = tray.intersect(a, b, c, bound) else {
+                continue;
+            };
+            match *best {
+                Some((_, _, old)) if h.t >= old.t => *second = second.min(h.t),
+                old => {
+                    if let Some((_, _, old)) = old {
+                        *second = second.min(old.t);
+                    }
+                    *best = Some((&packets[i / 4], i % 4, h));
+                    tightened = Some((h.t * loose).min(t_max));
+                }
+            }
+        }
+        tightened
     }
 
     /// [`Self::nearest_lanes`] as cast hits (triangle ids as the mesh numbers them):
