@@ -7,21 +7,32 @@
 //! `MADV_HUGEPAGE` by 2 MiB pages instead (512 times fewer faults, and fewer TLB
 //! misses afterwards); distributions ship them in `madvise` mode, so a process gets
 //! them only where it asks (Linux's Documentation/admin-guide/mm/transhuge.rst).
+//!
+//! Used for the film and the image made from it, for the BVH's nodes and leaf
+//! packets (incoherent rays read them in random order, so on 4 KiB pages nearly every
+//! node fetch also misses the TLB; Embree advises its BVH memory likewise), and for
+//! the arrays `irradia.composite` returns.
 
-/// Buffers below this size are left to the allocator's pages.
-const MIN_BYTES: usize = 4 << 20;
 const HUGE: usize = 2 << 20;
 
 /// Asks for `buf`'s whole 2 MiB pages to be huge pages when first touched. Call it
 /// right after allocating, before writing: pages already touched stay as they are
 /// until the kernel collapses them. A hint only: nothing changes where the kernel
-/// declines, on other systems, or for buffers under 4 MiB.
+/// declines, on other systems, or for buffers holding no whole aligned 2 MiB page
+/// (so a huge page never reaches beyond the buffer).
 pub fn prefer_huge_pages<T>(buf: &mut [T]) {
-    let len = std::mem::size_of_val(buf);
-    if len < MIN_BYTES {
-        return;
-    }
-    let start = buf.as_mut_ptr() as usize;
+    advise_inside(buf.as_mut_ptr() as usize, std::mem::size_of_val(buf));
+}
+
+/// [`prefer_huge_pages`] for the `len` elements at `ptr`, which may be uninitialised
+/// (a Vec's spare capacity, a fresh numpy array). Safe: advising reads and writes
+/// nothing, and a range that is not mapped is refused by the kernel, harmlessly.
+pub fn prefer_huge_pages_raw<T>(ptr: *mut T, len: usize) {
+    advise_inside(ptr as usize, len * std::mem::size_of::<T>());
+}
+
+/// Advises the whole 2 MiB pages inside `[start, start + len)`.
+fn advise_inside(start: usize, len: usize) {
     let lo = start.next_multiple_of(HUGE);
     let hi = (start + len) & !(HUGE - 1);
     if hi > lo {
@@ -31,10 +42,10 @@ pub fn prefer_huge_pages<T>(buf: &mut [T]) {
 
 #[cfg(target_os = "linux")]
 fn advise(addr: usize, len: usize) {
-    // SAFETY: `[addr, addr + len)` lies inside the caller's live allocation (`buf`,
-    // borrowed mutably for the call) and is page-aligned; MADV_HUGEPAGE changes how
-    // the range is backed, never its contents or its mapping, and its failure
-    // (EINVAL where THP is off) leaves everything as it was, so the result is ignored.
+    // SAFETY: `[addr, addr + len)` is page-aligned; MADV_HUGEPAGE changes how the
+    // range is backed, never its contents or its mapping, and its failure (EINVAL
+    // where THP is off, ENOMEM for a range not mapped) leaves everything as it was,
+    // so the result is ignored.
     unsafe {
         libc::madvise(addr as *mut libc::c_void, len, libc::MADV_HUGEPAGE);
     }

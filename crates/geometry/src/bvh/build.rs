@@ -631,7 +631,7 @@ pub(crate) fn build(
     // primitive, so there are fewer nodes than primitives (plus the root).
     let capacity = prims.len() + 1;
     let mut nodes: Vec<WideNode> = Vec::with_capacity(capacity);
-    super::memory::advise_huge_pages(&mut nodes);
+    irradia_core::pages::prefer_huge_pages_raw(nodes.as_mut_ptr(), capacity);
     let arena = Arena {
         ptr: nodes.as_mut_ptr(),
         capacity,

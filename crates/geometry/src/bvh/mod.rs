@@ -34,14 +34,12 @@
 
 mod build;
 mod interleaved;
-mod memory;
 pub mod node;
 pub mod packet_traverse;
 mod partition;
 mod traverse;
 
 use irradia_core::Aabb;
-pub use memory::advise_huge_pages;
 pub use node::{ChildRef, WideNode, WIDTH};
 
 /// An 8-wide bounding volume hierarchy.

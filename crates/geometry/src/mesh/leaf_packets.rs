@@ -43,7 +43,7 @@ impl LeafPackets {
     /// advised onto huge pages.
     pub(super) fn with_capacity(packets: usize) -> Self {
         let mut pairs = Vec::with_capacity(packets.div_ceil(2) + 1);
-        crate::bvh::advise_huge_pages(&mut pairs);
+        irradia_core::pages::prefer_huge_pages_raw(pairs.as_mut_ptr(), pairs.capacity());
         Self {
             pairs,
             len: 0,
