@@ -1,38 +1,26 @@
 //! The image does not depend on the number of threads, and drawing the screen region by
 //! region (sort-first) gives the same framebuffer as drawing it whole.
 
+#[path = "common/scenes.rs"]
+mod scenes;
+
 use glam::Vec3;
-use irradia_geometry::generators::random_triangles::{
-    random_triangles, RandomTriangles, SizeDistribution,
-};
-use irradia_raster::{ColorFormat, Framebuffer, Mesh, Pipeline, Rect, Shading, ViewParams};
+use irradia_geometry::generators::random_triangles::SizeDistribution;
+use irradia_raster::{ColorFormat, Framebuffer, Mesh, Pipeline, Rect, Shading};
+use scenes::{pool, random_scene};
 
 fn scene() -> (Pipeline, Mesh) {
-    let m = random_triangles(&RandomTriangles::new(
+    random_scene(
         20_000,
         SizeDistribution::Exponential { mean: 0.01 },
         3,
-    ));
-    let mut mesh = Mesh::new(m.positions, m.indices);
-    mesh.compute_vertex_normals();
-    let mut p = Pipeline::new(96, 64);
-    p.view = ViewParams::look_at_perspective(
         Vec3::new(0.3, 0.2, 2.5),
-        Vec3::ZERO,
-        Vec3::Y,
-        60.0,
-        1.5,
-        0.5,
-        10.0,
-    );
-    (p, mesh)
+        None,
+    )
 }
 
 fn render(threads: usize, p: &Pipeline, mesh: &Mesh, format: ColorFormat) -> Framebuffer {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap();
+    let pool = pool(threads);
     let mut fb = Framebuffer::new(p.width, p.height, format).unwrap();
     pool.install(|| p.render_mesh(mesh, &mut fb)).unwrap();
     fb

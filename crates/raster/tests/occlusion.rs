@@ -9,55 +9,27 @@
 //! copy and `Less` must not, so a test that rejects a triangle at equal depth under
 //! `LessEqual` (or keeps the first copy's colour) shows.
 
+#[path = "common/scenes.rs"]
+mod scenes;
+
 use glam::Vec3;
-use irradia_geometry::generators::random_triangles::{
-    random_triangles, RandomTriangles, SizeDistribution,
-};
+use irradia_geometry::generators::random_triangles::SizeDistribution;
 use irradia_raster::{ColorFormat, DepthFunc, Framebuffer, Mesh, Pipeline, Shading, ViewParams};
+use scenes::{pool, random_scene, Copies};
 
 /// 24,000 triangles of about 40 pixels each on a 96 x 64 screen (about 150 layers),
 /// then the same triangles again with other colours.
 fn scene() -> (Pipeline, Mesh) {
-    let m = random_triangles(&RandomTriangles::new(
+    random_scene(
         24_000,
         SizeDistribution::Constant(0.02),
         5,
-    ));
-    let n = m.positions.len() as u32;
-    let mut positions = m.positions.clone();
-    positions.extend_from_slice(&m.positions);
-    let mut indices = m.indices.clone();
-    indices.extend(m.indices.iter().map(|t| t.map(|i| i + n)));
-    let mut mesh = Mesh::new(positions, indices);
-    mesh.colors = (0..2 * n)
-        .map(|i| {
-            let f = (i % 89) as f32 / 88.0;
-            if i < n {
-                [f, 1.0 - f, 0.3, 1.0]
-            } else {
-                [0.2, f, 1.0 - f, 1.0]
-            }
-        })
-        .collect();
-    mesh.compute_vertex_normals();
-    let mut p = Pipeline::new(96, 64);
-    p.view = ViewParams::look_at_perspective(
         Vec3::new(0.2, 0.3, 2.2),
-        Vec3::ZERO,
-        Vec3::Y,
-        60.0,
-        1.5,
-        0.5,
-        10.0,
-    );
-    (p, mesh)
-}
-
-fn pool(threads: usize) -> rayon::ThreadPool {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
+        Some(Copies {
+            period: 89,
+            alpha: 1.0,
+        }),
+    )
 }
 
 #[test]

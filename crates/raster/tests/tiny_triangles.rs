@@ -5,57 +5,27 @@
 //! twice, the second time in another colour, so a fragment drawn out of its place in
 //! the order would show.
 
+#[path = "common/scenes.rs"]
+mod scenes;
+
 use glam::Vec3;
-use irradia_geometry::generators::random_triangles::{
-    random_triangles, RandomTriangles, SizeDistribution,
-};
+use irradia_geometry::generators::random_triangles::SizeDistribution;
 use irradia_raster::rasterizer::row_range;
-use irradia_raster::{
-    ColorFormat, DepthFunc, Framebuffer, Mesh, Pipeline, Rect, Shading, ViewParams,
-};
+use irradia_raster::{ColorFormat, DepthFunc, Framebuffer, Mesh, Pipeline, Rect, Shading};
+use scenes::{pool, random_scene, Copies};
 
 /// Mostly sub-pixel triangles (some large), each given twice with other colours.
 fn scene() -> (Pipeline, Mesh) {
-    let m = random_triangles(&RandomTriangles::new(
+    random_scene(
         30_000,
         SizeDistribution::Exponential { mean: 0.002 },
         11,
-    ));
-    let n = m.positions.len() as u32;
-    let mut positions = m.positions.clone();
-    positions.extend_from_slice(&m.positions);
-    let mut indices = m.indices.clone();
-    indices.extend(m.indices.iter().map(|t| t.map(|i| i + n)));
-    let mut mesh = Mesh::new(positions, indices);
-    mesh.colors = (0..2 * n)
-        .map(|i| {
-            let f = (i % 97) as f32 / 96.0;
-            if i < n {
-                [f, 1.0 - f, 0.3, 1.0]
-            } else {
-                [0.2, f, 1.0 - f, 0.5]
-            }
-        })
-        .collect();
-    mesh.compute_vertex_normals();
-    let mut p = Pipeline::new(96, 64);
-    p.view = ViewParams::look_at_perspective(
         Vec3::new(0.3, 0.2, 2.5),
-        Vec3::ZERO,
-        Vec3::Y,
-        60.0,
-        1.5,
-        0.5,
-        10.0,
-    );
-    (p, mesh)
-}
-
-fn pool(threads: usize) -> rayon::ThreadPool {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
+        Some(Copies {
+            period: 97,
+            alpha: 0.5,
+        }),
+    )
 }
 
 #[test]
