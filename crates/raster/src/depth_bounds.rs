@@ -92,10 +92,23 @@ impl DepthBounds {
     /// The bounds of a whole depth buffer of rows `width` pixels wide, computed now: a
     /// snapshot that stays valid (an overestimate) while `Less` and `LessEqual`
     /// fragments are drawn, since stored depths only decrease. The geometry stage tests
-    /// triangles against it before lighting them ([`Self::hides`]).
+    /// triangles against it before lighting them ([`Self::hides`]). Rows of tiles are
+    /// computed in parallel (the same maxima: each tile is one thread's): the fused
+    /// paths take a snapshot between groups of batches, where the other threads
+    /// would otherwise wait.
     pub fn snapshot(depth: &[f32], width: usize) -> Self {
+        use rayon::prelude::*;
         let mut b = Self::new(depth, width, 0);
-        b.recompute(depth);
+        let mut max = std::mem::take(&mut b.max);
+        max.par_chunks_mut(b.tiles_x.max(1))
+            .enumerate()
+            .for_each(|(ty, row)| {
+                for (tx, m) in row.iter_mut().enumerate() {
+                    *m = b.tile(depth, tx, ty);
+                }
+            });
+        b.max = max;
+        b.drawn = 0;
         b.ready = true;
         b
     }

@@ -338,6 +338,14 @@ impl<'a> Setup<'a> {
     /// Completes a set-up made by [`Setup::edges`]: `inv_area` and the depth plane.
     #[inline(always)]
     pub(crate) fn with_plane(mut self) -> Self {
+        self.plane();
+        self
+    }
+
+    /// [`Setup::with_plane`] in place (for a set-up that is scanned before it knows
+    /// whether it needs the plane).
+    #[inline(always)]
+    pub(crate) fn plane(&mut self) {
         let (a, b, c, bias, v) = (self.a, self.b, self.c, self.bias, self.v);
         let inv = 1.0 / self.area as f64;
         let z = [v[0].z as f64, v[1].z as f64, v[2].z as f64];
@@ -353,7 +361,6 @@ impl<'a> Setup<'a> {
         self.zc = zc * inv;
         self.zx = zx * inv;
         self.zy = zy * inv;
-        self
     }
 
     /// Screen-space barycentric weights of `self.v` from the edge values of a fragment.

@@ -23,8 +23,8 @@
 use crate::fragment::DepthFunc;
 use crate::framebuffer::to_rgba8;
 use crate::interpolate::{perspective_weights, varyings};
-use crate::rasterizer::{Candidate, Setup, EXACT_CULL_CENTRES};
-use crate::screen::{varying, Rect, ScreenVertex};
+use crate::rasterizer::{Candidate, Setup, EXACT_CULL_CENTRES, HALF, ONE};
+use crate::screen::{varying, ScreenVertex};
 
 /// Bounding boxes of at most this many pixel centres are turned into fragments (those
 /// the geometry stage's cull tests centre by centre anyway).
@@ -46,35 +46,48 @@ pub(crate) struct Fragment {
 /// Calls `f` with the fragment of every pixel centre of the candidate's box that the
 /// triangle `v` (snapped as in `k`) covers, in scan order: the pixels, depths and
 /// colours that drawing it with interpolated colour into an RGBA8 buffer computes.
+///
+/// The box has at most [`MAX_CENTRES`] centres, so it is walked here centre by centre
+/// with the edge functions of [`Setup::scan`] (the same values, stepped the same way;
+/// a box this narrow never takes `scan`'s skip of a row's uncovered start), and the
+/// f64 depth plane and its division are computed at the first covered centre: about a
+/// third of these triangles (the gyroid's sub-pixel ones) cover none and need neither.
 #[inline(always)]
 pub(crate) fn fragments(v: [&ScreenVertex; 3], k: &Candidate, mut f: impl FnMut(Fragment)) {
     let (x0, x1, y0, y1) = k.bounds;
-    // The edges first: about a third of these triangles cover no centre (the gyroid's
-    // sub-pixel ones), and need neither the f64 depth plane nor its division.
-    let s = Setup::edges(v, k.p, k.area);
-    let clip = Rect::new(x0 as u32, y0 as u32, x1 as u32 + 1, y1 as u32 + 1);
     debug_assert!(k.centres() <= MAX_CENTRES);
-    let mut hits = [(0u32, 0u32, [0i64; 3]); MAX_CENTRES as usize];
-    let mut n = 0;
-    s.scan(&clip, |x, y, e| {
-        hits[n] = (x, y, *e);
-        n += 1;
-    });
-    if n == 0 {
-        return;
-    }
-    let s = s.with_plane();
-    // As `fragment::draw` with `InterpolatedColor` and `ColorTarget for [[u8; 4]]`.
-    for (x, y, e) in &hits[..n] {
-        let z = s.depth_in_row(s.depth_row(*y), *x);
-        let w = perspective_weights(&s.v, s.lambda(e));
-        let rgba = to_rgba8(varyings::<4>(&s.v, w, varying::COLOR));
-        f(Fragment {
-            x: *x,
-            y: *y,
-            z,
-            rgba,
-        });
+    let mut s = Setup::edges(v, k.p, k.area);
+    let step_x = [s.a[0] * ONE, s.a[1] * ONE, s.a[2] * ONE];
+    let step_y = [s.b[0] * ONE, s.b[1] * ONE, s.b[2] * ONE];
+    let (px, py) = (x0 * ONE + HALF, y0 * ONE + HALF);
+    let mut row: [i64; 3] = std::array::from_fn(|j| s.a[j] * px + s.b[j] * py + s.c[j]);
+    let mut planed = false;
+    for y in y0..=y1 {
+        let mut e = row;
+        for x in x0..=x1 {
+            if (e[0] | e[1] | e[2]) >= 0 {
+                if !planed {
+                    s.plane();
+                    planed = true;
+                }
+                // As `fragment::draw` with `InterpolatedColor` and `ColorTarget for [[u8; 4]]`.
+                let z = s.depth_in_row(s.depth_row(y as u32), x as u32);
+                let w = perspective_weights(&s.v, s.lambda(&e));
+                let rgba = to_rgba8(varyings::<4>(&s.v, w, varying::COLOR));
+                f(Fragment {
+                    x: x as u32,
+                    y: y as u32,
+                    z,
+                    rgba,
+                });
+            }
+            for j in 0..3 {
+                e[j] += step_x[j];
+            }
+        }
+        for j in 0..3 {
+            row[j] += step_y[j];
+        }
     }
 }
 
