@@ -143,17 +143,33 @@ impl Envmap8 {
         let i11: [u32; W] = std::array::from_fn(|k| idx[k] + s + 1);
         // The largest of the four: in bounds, so are the others.
         checked(&self.vertex, &i11);
-        let t = &self.vertex;
+        let corners = [idx, &i10, &i01, &i11];
         let (gx, gy) = (1.0 - fx, 1.0 - fy);
-        let channel = |c: usize| {
-            let top = field(t, idx, vtx::RGB + c) * gx + field(t, &i10, vtx::RGB + c) * fx;
-            let bottom = field(t, &i01, vtx::RGB + c) * gx + field(t, &i11, vtx::RGB + c) * fx;
-            (top * gy + bottom * fy) * self.scale
-        };
-        (
-            V3::new(channel(0), channel(1), channel(2)),
-            field(t, idx, vtx::PDF),
-        )
+        // (No closure: it would not inherit the kernel's target features.)
+        let l = V3::new(
+            self.channel(corners, 0, (fx, gx), (fy, gy)),
+            self.channel(corners, 1, (fx, gx), (fy, gy)),
+            self.channel(corners, 2, (fx, gx), (fy, gy)),
+        );
+        (l, field(&self.vertex, idx, vtx::PDF))
+    }
+
+    /// One colour channel `c` of [`Envmap8::bilinear`]: the corners `(i, j)`,
+    /// `(i + 1, j)`, `(i, j + 1)`, `(i + 1, j + 1)` weighted as `eval_uv` weighs them
+    /// (`(fx, 1 - fx)`, `(fy, 1 - fy)`), times the scale.
+    #[inline(always)]
+    fn channel(
+        &self,
+        corners: [&[u32; W]; 4],
+        c: usize,
+        (fx, gx): (F8, F8),
+        (fy, gy): (F8, F8),
+    ) -> F8 {
+        let t = &self.vertex;
+        let at = vtx::RGB + c;
+        let top = field(t, corners[0], at) * gx + field(t, corners[1], at) * fx;
+        let bottom = field(t, corners[2], at) * gx + field(t, corners[3], at) * fx;
+        (top * gy + bottom * fy) * self.scale
     }
 
     /// `EnvmapSampler::pdf_uv`: the cell's density `p` turned into solid angle at
