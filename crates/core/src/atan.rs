@@ -14,8 +14,9 @@
 
 use std::f32::consts::{FRAC_PI_2, PI};
 
-/// Coefficients of `P`, constant term first.
-const C: [f32; 8] = [
+/// Coefficients of `P`, constant term first (public so that lane versions, such as the
+/// 8-wide path kernel's, evaluate the same polynomial in the same order).
+pub const COEFFS: [f32; 8] = [
     0.999_999_34,
     -0.333_298_6,
     0.199_465_66,
@@ -36,14 +37,14 @@ pub fn atan2(y: f32, x: f32) -> f32 {
     }
     let a = lo / hi;
     let s = a * a;
-    let p = C[7];
-    let p = p * s + C[6];
-    let p = p * s + C[5];
-    let p = p * s + C[4];
-    let p = p * s + C[3];
-    let p = p * s + C[2];
-    let p = p * s + C[1];
-    let p = p * s + C[0];
+    let p = COEFFS[7];
+    let p = p * s + COEFFS[6];
+    let p = p * s + COEFFS[5];
+    let p = p * s + COEFFS[4];
+    let p = p * s + COEFFS[3];
+    let p = p * s + COEFFS[2];
+    let p = p * s + COEFFS[1];
+    let p = p * s + COEFFS[0];
     let mut r = a * p;
     if ay > ax {
         r = FRAC_PI_2 - r;

@@ -72,6 +72,11 @@ impl Piecewise1D {
         self.integral
     }
 
+    /// The cumulative table `sample` searches: `n + 1` entries from 0 to 1.
+    pub(crate) fn cdf(&self) -> &[f32] {
+        &self.cdf
+    }
+
     /// A point of [0, 1) and the cell it lies in, drawn with density `pdf`.
     #[inline]
     pub fn sample(&self, u: f32) -> (f32, usize) {
@@ -136,6 +141,17 @@ impl Piecewise2D {
     /// The integral of the step function over the unit square.
     pub fn integral(&self) -> f32 {
         self.marginal.integral()
+    }
+
+    /// The distribution of rows (`sample` draws `v` and the row from it).
+    pub(crate) fn marginal(&self) -> &Piecewise1D {
+        &self.marginal
+    }
+
+    /// Each row's distribution (`sample` draws `u` and the cell from the drawn row's),
+    /// all of one length.
+    pub(crate) fn rows(&self) -> &[Piecewise1D] {
+        &self.rows
     }
 
     /// A point `(u, v)` and its cell `(i, j)`, drawn with density `pdf`.

@@ -72,6 +72,12 @@ impl EnvmapSampler {
         }
     }
 
+    /// The distribution of grid cells that `sample` draws from (for the 8-wide
+    /// kernel's lanes, [`crate::path::wide::envmap8`]).
+    pub(crate) fn distribution(&self) -> &Piecewise2D {
+        &self.dist
+    }
+
     /// Mean radiance over all directions (for choosing among lights by power).
     pub fn mean_radiance(&self) -> f32 {
         self.mean_radiance

@@ -4,10 +4,13 @@
 //! object-space sphere carried to world space by the instance's transform, its density
 //! by the area Jacobian `|det M| |M^-T n|`, as [`LightSampler::sample`] does), and the
 //! emitters at infinity (the constant environment: the background plus Mitsuba's
-//! `constant` emitters, and Mitsuba's `envmap`), sampled lane by lane with the scalar
-//! code's arithmetic so that samples agree with [`LightSampler::sample`]'s bit for bit.
+//! `constant` emitters, and Mitsuba's `envmap`): the constant environment sampled lane
+//! by lane with the scalar code's arithmetic, an environment map chosen lane by lane and
+//! sampled by the kernel in lanes ([`crate::path::wide::envmap8`]), so that samples
+//! agree with [`LightSampler::sample`]'s bit for bit.
 
 use super::{det3, Emitter, FacetEmitter, LightSample, LightSampler, SurfaceSampler};
+use crate::path::envmap::EnvmapSampler;
 use glam::{Affine3A, Mat3, Vec2, Vec3};
 use irradia_core::{sampling, Rgb};
 use irradia_scene::Scene;
@@ -48,9 +51,13 @@ pub(crate) enum KernelLight {
     /// (emitter, probability of choosing it, and for a facet emitter its triangle and
     /// the point of the unit square to warp into it; a sphere warps `u` itself).
     Surface(usize, f32, Option<(usize, Vec2)>),
-    /// The whole sample [`LightSampler::sample`] gives for the same numbers towards an
-    /// emitter at infinity.
+    /// The whole sample [`LightSampler::sample`] gives for the same numbers towards the
+    /// constant environment.
     AtInfinity(LightSample),
+    /// An environment map (its place among the maps, as [`LightSampler::environment_parts`]
+    /// lists them) with the probability of choosing it: the kernel draws the direction
+    /// from the map in lanes with the lane's numbers, as `sample` would.
+    Envmap(usize, f32),
 }
 
 impl LightSampler {
@@ -120,12 +127,35 @@ impl LightSampler {
             .collect()
     }
 
+    /// The emitters at infinity as the kernel's lanes evaluate them
+    /// ([`crate::path::wide::envmap8`]): the constant environment's radiance and its
+    /// share of the light density, `probability / 4π` (black and 0 without one), and
+    /// every environment map with the probability of choosing it, in the order
+    /// [`LightSampler::environment_radiance_pdf`] sums them.
+    pub(crate) fn environment_parts(&self) -> (Rgb, f32, Vec<(&EnvmapSampler, f32)>) {
+        let (radiance, pdf) = match self.environment.map(|i| (i, &self.emitters[i as usize])) {
+            Some((i, Emitter::Environment { radiance, .. })) => {
+                (*radiance, self.probability[i as usize] / (4.0 * PI))
+            }
+            _ => (Rgb::BLACK, 0.0),
+        };
+        let maps = self
+            .envmaps
+            .iter()
+            .filter_map(|&i| match &self.emitters[i as usize] {
+                Emitter::Envmap { sampler, .. } => Some((sampler, self.probability[i as usize])),
+                _ => None,
+            })
+            .collect();
+        (radiance, pdf, maps)
+    }
+
     /// The choice [`LightSampler::sample`] makes for `(u_pick, u)` in a scene of
     /// [`KernelEmitter`]s: a facet or sphere emitter to be sampled by the vector stage,
-    /// or the whole sample of an emitter at infinity (the same arithmetic as `sample`'s:
-    /// a uniform direction on the sphere, density `pick / 4π`, for the constant
-    /// environment; the map's importance sample, density `pick` times the map's, for an
-    /// `envmap`). `None` where `sample` gives none.
+    /// the whole sample of the constant environment (the same arithmetic as `sample`'s:
+    /// a uniform direction on the sphere, density `pick / 4π`), or an environment map
+    /// for the kernel to sample in lanes. `None` where `sample` gives none (an
+    /// environment map's sample may still give none: a black map, a pole).
     #[inline]
     pub(crate) fn pick_kernel(&self, u_pick: f32, u: Vec2) -> Option<KernelLight> {
         let (idx, pick) = self.pick(u_pick)?;
@@ -142,15 +172,9 @@ impl LightSampler {
                 pdf: pick / (4.0 * PI),
                 delta: false,
             })),
-            Emitter::Envmap { sampler, .. } => {
-                let s = sampler.sample(u)?;
-                Some(KernelLight::AtInfinity(LightSample {
-                    wi: s.wi,
-                    target: None,
-                    li: s.radiance,
-                    pdf: pick * s.pdf,
-                    delta: false,
-                }))
+            Emitter::Envmap { .. } => {
+                let k = self.envmaps.iter().position(|&e| e as usize == idx)?;
+                Some(KernelLight::Envmap(k, pick))
             }
             _ => None,
         }
@@ -220,6 +244,24 @@ mod tests {
                     assert_eq!(wd.pick(u), Some((t, w)));
                 }
                 Some(KernelLight::Surface(_, _, None)) => panic!("no sphere emitter here"),
+                Some(KernelLight::Envmap(k, pick)) => {
+                    // The map's own sample, as the kernel draws it in lanes.
+                    far += 1;
+                    let idx = lights.envmaps[k] as usize;
+                    assert_eq!(lights.pick(up), Some((idx, pick)));
+                    let Emitter::Envmap { sampler, .. } = &lights.emitters[idx] else {
+                        panic!("an environment map");
+                    };
+                    match (sampler.sample(u), lights.sample(&scene, p, up, u)) {
+                        (Some(s), Some(want)) => {
+                            assert_eq!(s.wi, want.wi);
+                            assert_eq!(s.radiance, want.li);
+                            assert_eq!((pick * s.pdf).to_bits(), want.pdf.to_bits());
+                        }
+                        (None, None) => {}
+                        (s, want) => panic!("{s:?} against {want:?}"),
+                    }
+                }
                 Some(KernelLight::AtInfinity(ls)) => {
                     far += 1;
                     let want = lights.sample(&scene, p, up, u).unwrap();

@@ -6,22 +6,26 @@
 //! PBRT 4th ed., 13.4 "Improving the Sampling": lights at infinity):
 //! - a ray that leaves the scene gathers the environment's radiance, weighted by the
 //!   power heuristic against the light sample's density of its direction when it was
-//!   sampled from a non-delta BSDF ([`Background::escape`] per lane: the map's lookup
-//!   and density, `LightSampler::environment_radiance_pdf`, are a gather; the weight
-//!   and the sum are vector arithmetic in [`Background::add_escaped`]);
+//!   sampled from a non-delta BSDF ([`Background::escaped_radiance`]: the maps' lookups
+//!   and densities, `LightSampler::environment_radiance_pdf`, for all lanes at once in
+//!   [`envmap8`](super::envmap8); the weight and the sum in
+//!   [`Background::add_escaped`]);
 //! - next-event estimation chooses an emitter at infinity with its probability and
-//!   samples a direction from it ([`Background::light`] per lane, with
-//!   `LightSampler::pick_kernel`, the scalar `sample`'s arithmetic); the vector stage
-//!   then evaluates the BSDF, the MIS weight and the unbounded shadow ray for those
-//!   lanes as for facet lights, with the sampled direction in place of the direction
-//!   to the facet's point.
+//!   samples a direction from it (per lane with `LightSampler::pick_kernel`: the
+//!   constant environment's uniform direction with the scalar `sample`'s arithmetic,
+//!   [`Background::light`]; an environment map's importance sample for all the lanes
+//!   that chose it at once, [`Background::sample_maps`]); the vector stage then
+//!   evaluates the BSDF, the MIS weight and the unbounded shadow ray for those lanes as
+//!   for facet lights, with the sampled direction in place of the direction to the
+//!   facet's point.
 //!
 //! Both use the scalar estimator's numbers in its order, so samples agree with
 //! [`radiance_in`](crate::path::integrator::radiance_in)'s to rounding.
 
-use crate::path::lights::{LightSample, LightSampler};
-use glam::Vec3;
-use irradia_geometry::packet::lanes::{F8, M8, V3};
+use super::envmap8::Environment8;
+use crate::path::lights::LightSample;
+use glam::{Vec2, Vec3};
+use irradia_geometry::packet::lanes::{F8, M8, V3, W};
 
 /// What the per-lane stage records of the emitters at infinity, per bounce.
 #[derive(Default)]
@@ -39,6 +43,13 @@ pub(crate) struct Background {
     pub wi: V3,
     pub li: V3,
     pub light_pdf: F8,
+    /// Lanes whose light choice fell on an environment map, with the map (its place in
+    /// [`Environment8`]), the probability of choosing it and the numbers to sample it
+    /// with; [`Background::sample_maps`] turns them into `light` lanes.
+    pub map_light: M8,
+    pub map: [u32; W],
+    pub map_pick: F8,
+    pub map_u: [F8; 2],
 }
 
 impl Background {
@@ -47,27 +58,52 @@ impl Background {
     pub fn clear(&mut self) {
         self.escaped = M8::FALSE;
         self.light = M8::FALSE;
+        self.map_light = M8::FALSE;
     }
 
-    /// Lane `lane`'s ray (direction `dir`) left the scene: the environment's radiance
-    /// and, when the path has a previous non-delta vertex (`has_prev`), the density
-    /// with which light sampling gives `dir`.
+    /// The rays of the `escaped` lanes (directions `dir`) left the scene: the
+    /// environment's radiance and, where the path has a previous non-delta vertex
+    /// (`has_prev`), the density with which light sampling gives `dir` (else 0), all
+    /// lanes at once, bit for bit `LightSampler::environment_radiance_pdf`'s.
     #[inline(always)]
-    pub fn escape(
-        &mut self,
-        lights: &LightSampler,
-        lane: usize,
-        dir: Vec3,
-        has_prev: bool,
-        scale: f32,
-    ) {
-        let (le, pdf) = lights.environment_radiance_pdf(dir, has_prev);
-        self.escaped.set(lane, true);
-        self.le.set_lane(lane, Vec3::new(le.r, le.g, le.b) * scale);
-        self.pdf.0[lane] = pdf;
+    pub fn escaped_radiance(&mut self, env: &Environment8, dir: V3, has_prev: M8, scale: f32) {
+        let (le, pdf) = env.radiance_pdf(dir);
+        self.le = le.scale(F8::splat(scale));
+        self.pdf = has_prev.keep(pdf);
     }
 
-    /// Lane `lane` samples an emitter at infinity: `ls` is the sample.
+    /// Lane `lane` chose environment map `map` (with probability `pick`), to be
+    /// sampled with the numbers `u`.
+    #[inline(always)]
+    pub fn pick_map(&mut self, lane: usize, map: usize, pick: f32, u: Vec2) {
+        self.map_light.set(lane, true);
+        self.map[lane] = map as u32;
+        self.map_pick.0[lane] = pick;
+        self.map_u[0].0[lane] = u.x;
+        self.map_u[1].0[lane] = u.y;
+    }
+
+    /// The environment maps' samples of the `map_light` lanes, each map's lanes at
+    /// once: the lanes that got one become `light` lanes with the direction, the
+    /// radiance (times the test scale) and the density `pick` times the map's, as
+    /// `LightSampler::sample` gives them.
+    #[inline(always)]
+    pub fn sample_maps(&mut self, env: &Environment8, scale: f32) {
+        for (k, m) in env.maps().iter().enumerate() {
+            let lanes = self.map_light & M8::from_fn(|l| self.map[l] == k as u32);
+            if !lanes.any() {
+                continue;
+            }
+            let (ok, wi, li, pdf) = m.sample(self.map_u);
+            let ok = lanes & ok;
+            self.light = self.light | ok;
+            self.wi = V3::select(ok, wi, self.wi);
+            self.li = V3::select(ok, li.scale(F8::splat(scale)), self.li);
+            self.light_pdf = ok.select(self.map_pick * pdf, self.light_pdf);
+        }
+    }
+
+    /// Lane `lane` samples the constant environment: `ls` is the sample.
     #[inline(always)]
     pub fn light(&mut self, lane: usize, ls: &LightSample, scale: f32) {
         self.light.set(lane, true);

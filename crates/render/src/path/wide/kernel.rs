@@ -532,11 +532,8 @@ fn run<const FMA: bool>(
             if !hits.hit.get(lane) && other.is_none() {
                 // The path ends with what it has and, under emitters at infinity, what
                 // it sees of them.
-                if ws.background {
-                    let dir = paths.dir.lane(lane);
-                    let has_prev = paths.has_prev.get(lane);
-                    b.bg.escape(ps.lights, lane, dir, has_prev, ws.background_scale);
-                }
+                // (What it sees: below, all lanes at once.)
+                b.bg.escaped.set(lane, ws.background);
                 b.hit.set(lane, false);
                 b.scatter.set(lane, false);
                 continue;
@@ -622,6 +619,11 @@ fn run<const FMA: bool>(
                     b.light.set(lane, false);
                     b.bg.light(lane, &ls, ws.background_scale);
                 }
+                Some(KernelLight::Envmap(map, pick)) => {
+                    // Sampled below, with the other lanes that chose the map.
+                    b.light.set(lane, false);
+                    b.bg.pick_map(lane, map, pick, u_light);
+                }
                 Some(KernelLight::Surface(emitter, pick, facet)) => {
                     // A sphere (no facet) warps the numbers as drawn.
                     let (facet, u) = facet.unwrap_or((0, u_light));
@@ -633,6 +635,18 @@ fn run<const FMA: bool>(
                     b.u_light[1].0[lane] = u.y;
                 }
                 None => b.light.set(lane, false),
+            }
+        }
+
+        // The emitters at infinity, all lanes at once: what the escaped rays see, and
+        // the environment maps' light samples.
+        if let Some(env) = &ws.environment {
+            if b.bg.escaped.any() {
+                let scale = ws.background_scale;
+                b.bg.escaped_radiance(env, paths.dir, paths.has_prev, scale);
+            }
+            if b.bg.map_light.any() {
+                b.bg.sample_maps(env, ws.background_scale);
             }
         }
 

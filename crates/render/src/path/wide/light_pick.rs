@@ -121,7 +121,9 @@ mod tests {
                     Some(KernelLight::Surface(_, _, None)) => {
                         panic!("the Cornell box has no sphere light")
                     }
-                    Some(KernelLight::AtInfinity(_)) => panic!("nor an environment"),
+                    Some(KernelLight::AtInfinity(_)) | Some(KernelLight::Envmap(..)) => {
+                        panic!("nor an environment")
+                    }
                     None => assert!(!m.get(l)),
                 }
             }

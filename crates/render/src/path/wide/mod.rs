@@ -64,8 +64,9 @@
 //! choice falls on a sphere warp their numbers onto it), or an emitter at infinity: the
 //! constant environment (a background colour and Mitsuba's `constant` emitters) and
 //! Mitsuba's `envmap` ([`background`]: escaped rays gather them with MIS, light samples
-//! choose them with their probability and sample a direction lane by lane with the
-//! scalar code, then shade with an unbounded shadow ray in the vector stage); no point,
+//! choose them with their probability lane by lane, then shade with an unbounded shadow
+//! ray in the vector stage; the maps' lookups, densities and importance samples run for
+//! all lanes at once, [`envmap8`]); no point,
 //! spot, directional or rectangle *lights*. The Cornell box qualifies, and so do diffuse
 //! scenes under an environment map. Every object must be baked into the [`FlatScene`]'s
 //! triangles (polygons, rectangles, boxes, polyhedra, and triangle meshes of any size,
@@ -88,6 +89,7 @@
 pub(crate) mod background;
 pub mod bsdf;
 mod d8;
+pub(crate) mod envmap8;
 pub(crate) mod fresnel8;
 mod gather;
 pub mod ggx;
@@ -251,6 +253,8 @@ pub struct WideScene<'s, 'a> {
     /// A factor on the radiance of the emitters at infinity: 1 except in the test
     /// that shows a wrong environment is caught.
     pub(crate) background_scale: f32,
+    /// The emitters at infinity in the lanes' form ([`envmap8`]), when there are any.
+    pub(crate) environment: Option<envmap8::Environment8>,
     /// Whether some material is glossy (a rough conductor, dielectric or plastic: the
     /// vector stage skips their lobes otherwise).
     pub(crate) has_rough: bool,
@@ -529,6 +533,10 @@ impl<'s, 'a> WideScene<'s, 'a> {
             fresnel_scale: 1.0,
             background: ps.lights.has_environment(),
             background_scale: 1.0,
+            environment: ps
+                .lights
+                .has_environment()
+                .then(|| envmap8::Environment8::new(ps.lights)),
             has_rough,
             alpha_scale: 1.0,
             transmittance,
