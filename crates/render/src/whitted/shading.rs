@@ -14,7 +14,7 @@
 use super::{Ctx, RayQuery, Whitted};
 use crate::raytree::Recorder;
 use glam::Vec3;
-use irradia_core::{offset_ray_origin, Rgb};
+use irradia_core::{offset_ray_origin, Ray, Rgb};
 use irradia_geometry::Hit;
 use irradia_scatter::optics::reflect_about;
 use irradia_scene::{Material, ShadingModel};
@@ -48,7 +48,11 @@ impl<G: RayQuery> Whitted<'_, G> {
         if (kd <= 0.0 && mat.specular <= 0.0) || self.lights.is_empty() {
             return c;
         }
-        let origin = offset_ray_origin(hit.point, ng, hit.error);
+        // The feeler's origin is written into the ray once per hit, in place, and only
+        // its direction per light sample: built per sample from the origin's three
+        // lanes, the ray was assembled through a stack copy whose 8-byte reload of two
+        // 4-byte stores stalled on store forwarding (perf annotate, `whitted`).
+        let mut feeler = Ray::new(offset_ray_origin(hit.point, ng, hit.error), Vec3::ZERO);
         for light in &self.lights {
             for i in 0..light.samples() {
                 let Some(s) = light.sample(hit.point, i, !pov, cx.rng) else {
@@ -58,7 +62,8 @@ impl<G: RayQuery> Whitted<'_, G> {
                 if cos <= 0.0 || ng.dot(s.dir) <= 0.0 {
                     continue;
                 }
-                let tr = self.shadow_transmittance(origin, s.dir, s.dist, depth, cx);
+                feeler.dir = s.dir;
+                let tr = self.shadow_transmittance(&feeler, s.dist, depth, cx);
                 if tr.is_black() {
                     continue;
                 }

@@ -14,18 +14,17 @@ use irradia_geometry::SceneHit;
 const MAX_CROSSINGS: u32 = 64;
 
 impl<G: RayQuery> Whitted<'_, G> {
-    /// Fraction of a light's colour that arrives at `origin` from direction `dir`
-    /// (unit) over distance `dist`. Counts the shadow ray and records it.
+    /// Fraction of a light's colour that arrives at the origin of the shadow ray `first`
+    /// from its direction (unit) over distance `dist`. Counts the shadow ray and
+    /// records it.
     pub(super) fn shadow_transmittance<R: Recorder>(
         &self,
-        origin: Vec3,
-        dir: Vec3,
+        first: &Ray,
         dist: f32,
         depth: u32,
         cx: &mut Ctx<'_, R>,
     ) -> Rgb {
         cx.stats.shadow_rays += 1;
-        let first = Ray::new(origin, dir);
         // Stop a hair short of the light so a light on a surface is not hidden by it.
         let t_max = if dist.is_finite() {
             dist * (1.0 - 1e-5)
@@ -35,7 +34,7 @@ impl<G: RayQuery> Whitted<'_, G> {
         if self.any_clear && self.clear_passes_all && !R::RECORDS {
             // Clear objects pass the light whole: only an opaque one can block it (a
             // ray tree, which names the surfaces crossed, still walks below).
-            if self.geometry.any_hit(ObjectSet::Opaque, &first, t_max) {
+            if self.geometry.any_hit(ObjectSet::Opaque, first, t_max) {
                 cx.stats.shadow_blocked += 1;
                 return Rgb::BLACK;
             }
@@ -45,11 +44,11 @@ impl<G: RayQuery> Whitted<'_, G> {
         // settles those, here; the rest (blocked, or filtered through clear objects)
         // go to a function of their own, kept out of line so that the tracer's hot
         // path stays small.
-        if !self.occluded_all(&first, t_max) {
-            cx.rec.shadow(&first, depth, None, Rgb::WHITE);
+        if !self.occluded_all(first, t_max) {
+            cx.rec.shadow(first, depth, None, Rgb::WHITE);
             return Rgb::WHITE;
         }
-        self.shadow_through(origin, dir, t_max, depth, cx)
+        self.shadow_through(first.origin, first.dir, t_max, depth, cx)
     }
 
     /// [`Self::shadow_transmittance`] of a shadow ray that something lies across: black
