@@ -138,13 +138,15 @@ impl Accel {
         }
         let lone_rays: Vec<Ray> = lone.iter().map(|&i| rays[i]).collect();
         let mut tied: Vec<usize> = Vec::new();
-        let streamed = flat.mesh.nearest_cast_stream(&lone_rays, t_max, |k, hit, tie| {
-            if tie {
-                tied.push(lone[k]);
-            } else {
-                out[lone[k]] = hit.map(|h| flat.object_hit(h));
-            }
-        });
+        let streamed = flat
+            .mesh
+            .nearest_cast_stream(&lone_rays, t_max, |k, hit, tie| {
+                if tie {
+                    tied.push(lone[k]);
+                } else {
+                    out[lone[k]] = hit.map(|h| flat.object_hit(h));
+                }
+            });
         if !streamed {
             // (Not reached: the flat mesh is built without given normals or uvs.)
             tied = lone;

@@ -268,7 +268,11 @@ impl TriangleMesh {
         let tie = 1.0 + TIE_ULPS * f32::EPSILON;
         for (k, (best, second)) in best.into_iter().zip(second).enumerate() {
             let tied = matches!(best, Some((_, _, h)) if second <= h.t * tie);
-            emit(k, best.map(|(p, lane, h)| Self::cast_hit_of(p, lane, &h)), tied);
+            emit(
+                k,
+                best.map(|(p, lane, h)| Self::cast_hit_of(p, lane, &h)),
+                tied,
+            );
         }
         true
     }
