@@ -11,8 +11,10 @@
 
 use crate::convert::values;
 use crate::errors;
+use crate::pool;
 use irradia_parallel::composite::{self, Layer, LayerRef, Operator, Pixel, Strategy};
 use irradia_parallel::display_tiles::{DisplayLayout, DisplayTile};
+use numpy::ndarray::Dim;
 use numpy::{
     PyArray2, PyArray3, PyArrayMethods, PyReadonlyArrayDyn, PyReadwriteArray2, PyReadwriteArray3,
     PyUntypedArrayMethods,
@@ -236,26 +238,24 @@ pub type ImageArrays<'py, P> = (
     Bound<'py, PyArray2<f32>>,
 );
 
-/// [`ImageArrays`] left uninitialised (as `numpy.empty`: no pass over the memory before
-/// the one that writes it). Every caller writes every element before the arrays reach
-/// Python (`serial_into`, `gather_into` on the root, a copy of a whole layer) and drops
-/// them unseen on error.
-pub fn image_arrays<P: Channels>(py: Python<'_>, width: u32, height: u32) -> ImageArrays<'_, P> {
+/// [`ImageArrays`] on memory kept from earlier calls ([`crate::pool`]: no page faults
+/// once the caller's last result is freed), left uninitialised (as `numpy.empty`: no
+/// pass over the memory before the one that writes it). Every caller writes every
+/// element before the arrays reach Python (`serial_into`, `gather_into` on the root, a
+/// copy of a whole layer) and drops them unseen on error.
+pub fn image_arrays<P: Channels>(
+    py: Python<'_>,
+    width: u32,
+    height: u32,
+) -> PyResult<ImageArrays<'_, P>> {
     let (h, w) = (height as usize, width as usize);
-    // SAFETY: plain numbers (u8, f32), for which any bits are valid; see above for why
-    // nothing reads them before they are written.
-    let (color, depth) = unsafe {
-        (
-            PyArray3::<P::Channel>::new(py, [h, w, 4], false),
-            PyArray2::<f32>::new(py, [h, w], false),
-        )
-    };
-    // Fresh memory is mapped on its first write, one 4 KiB page fault at a time (about
-    // 1,800 for a 1280x720 RGBA8 image and its depth, as long as compositing it): ask
-    // for 2 MiB pages before writing (`data()` is the arrays' own contiguous buffer).
-    irradia_core::pages::prefer_huge_pages_raw(color.data(), h * w * 4);
-    irradia_core::pages::prefer_huge_pages_raw(depth.data(), h * w);
-    (color, depth)
+    // SAFETY: plain numbers (u8, f32), written whole before Python sees them (above).
+    unsafe {
+        Ok((
+            pool::empty_array::<P::Channel, _>(py, Dim([h, w, 4]))?,
+            pool::empty_array::<f32, _>(py, Dim([h, w]))?,
+        ))
+    }
 }
 
 /// The planes of fresh [`image_arrays`] to write into.
@@ -271,7 +271,7 @@ pub fn planes_mut<'a, P: Channels>(
 
 /// A layer as (color (h, w, 4), depth (h, w)) arrays.
 pub fn layer_arrays<P: Channels>(py: Python<'_>, l: &Layer<P>) -> PyResult<(PyObject, PyObject)> {
-    let (c, d) = image_arrays::<P>(py, l.width, l.height);
+    let (c, d) = image_arrays::<P>(py, l.width, l.height)?;
     {
         let (mut cw, mut dw) = (c.readwrite(), d.readwrite());
         let (oc, od) = planes_mut::<P>(&mut cw, &mut dw);
@@ -323,7 +323,7 @@ fn serial_of<P: Channels>(
     };
     match tiles {
         None => {
-            let (c, d) = image_arrays::<P>(py, w, h);
+            let (c, d) = image_arrays::<P>(py, w, h)?;
             {
                 let (mut cw, mut dw) = (c.readwrite(), d.readwrite());
                 let (oc, od) = planes_mut::<P>(&mut cw, &mut dw);

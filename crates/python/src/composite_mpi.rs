@@ -74,8 +74,11 @@ fn run<P: Channels>(
         None => None,
     };
     // The root's result goes straight into fresh numpy arrays.
-    let out =
-        (layout.is_none() && rank == root).then(|| image_arrays::<P>(py, pl.width, pl.height));
+    let out = if layout.is_none() && rank == root {
+        Some(image_arrays::<P>(py, pl.width, pl.height)?)
+    } else {
+        None
+    };
     let mut out_rw = out.as_ref().map(|(c, d)| (c.readwrite(), d.readwrite()));
     let out_planes = out_rw.as_mut().map(|(c, d)| planes_mut::<P>(c, d));
     // The private duplicate of the caller's communicator (made by the first composite

@@ -9,7 +9,8 @@
 //! - [`render`]: `Scene.render` (AOVs, progress, Ctrl-C), [`raycast`]: `Scene.cast_rays`;
 //! - [`radiosity`]: `form_factor`, `form_factor_cases`, `radiosity`;
 //! - [`composite`] (and `composite_mpi` with feature `mpi`): sort-last compositing;
-//! - [`image`]: `read_image`, `write_image`; [`errors`]: the exceptions.
+//! - [`image`]: `read_image`, `write_image`; [`errors`]: the exceptions;
+//! - [`pool`]: the memory of the composited images, kept mapped between calls.
 //!
 //! The Python half (`python/irradia/__init__.py`) adds `load_dict`, `composite` (the
 //! mpi4py glue) and the tqdm bar; `python/irradia/__init__.pyi` has the type stubs.
@@ -22,6 +23,7 @@ pub mod composite_mpi;
 pub mod convert;
 pub mod errors;
 pub mod image;
+pub mod pool;
 pub mod radiosity;
 pub mod raycast;
 pub mod render;
@@ -48,6 +50,8 @@ fn _irradia(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(composite::_composite_serial, m)?)?;
     m.add_function(wrap_pyfunction!(composite::mpi_available, m)?)?;
     m.add_function(wrap_pyfunction!(composite::display_grid, m)?)?;
+    m.add_function(wrap_pyfunction!(pool::_pool_stats, m)?)?;
+    m.add_class::<pool::PooledBuffer>()?;
     #[cfg(feature = "mpi")]
     m.add_function(wrap_pyfunction!(composite_mpi::_composite_mpi, m)?)?;
     #[cfg(feature = "mpi")]

@@ -93,9 +93,13 @@ def test_arrays_are_read_in_place_and_left_alone():
     got_c, got_d = irradia.composite(ro_c, ro_d)
     assert np.array_equal(got_c, ref_c) and np.array_equal(got_d, ref_d)
     assert np.array_equal(c, keep_c) and np.array_equal(d, keep_d)
-    # The result is the caller's own: fresh, writable, C-contiguous.
+    # The result is the caller's own: fresh, writable, C-contiguous, on memory owned by
+    # its base object (the pool's buffer, crates/python/src/pool.rs).
+    from irradia import _irradia
+
     for a in (got_c, got_d):
-        assert a.flags.c_contiguous and a.flags.writeable and a.flags.owndata
+        assert a.flags.c_contiguous and a.flags.writeable
+        assert isinstance(a.base, _irradia.PooledBuffer)
     got_c[...] = 0
     assert np.array_equal(irradia.composite(c, d)[0], ref_c)
 
@@ -134,3 +138,58 @@ def test_serial_tiles_are_crops():
         irradia.composite(c, d, tiles=[(0, 50, 0, 10, 10)])
     with pytest.raises(irradia.IrradiaError):
         irradia.display_grid(10, 10, 0, 1)
+
+
+def test_result_memory_is_reused_only_after_the_caller_frees_it():
+    # The returned arrays come from a pool (crates/python/src/pool.rs) so that a loop of
+    # composites does not page-fault its results in again. An array the caller still
+    # holds must never be written by a later call; a freed one is taken again.
+    from irradia import _irradia
+
+    c, d = stack(3, dtype=np.uint8)
+    first_c, first_d = irradia.composite(c, d)
+    kept_c, kept_d = first_c.copy(), first_d.copy()
+    c2, d2 = c[::-1].copy(), d[::-1].copy()  # a different image into the next result
+    second_c, second_d = irradia.composite(c2, d2)
+    assert not np.array_equal(second_c, kept_c)
+    assert np.array_equal(first_c, kept_c) and np.array_equal(first_d, kept_d)
+    addr = lambda a: a.__array_interface__["data"][0]
+    held = {addr(first_c), addr(first_d)}
+    assert addr(second_c) not in held and addr(second_d) not in held
+    assert isinstance(first_c.base, _irradia.PooledBuffer)
+
+    old = {addr(second_c), addr(second_d)}
+    del second_c, second_d
+    allocated, reused = _irradia._pool_stats()
+    third_c, third_d = irradia.composite(c2, d2)
+    assert {addr(third_c), addr(third_d)} == old
+    assert _irradia._pool_stats() == (allocated, reused + 2)
+    ref_c, ref_d = numpy_depth(c2, d2, [0, 1, 2])
+    assert np.array_equal(third_c, ref_c) and np.array_equal(third_d, ref_d)
+    # A view outliving its array keeps the memory too.
+    view = third_c[1:, 1:]
+    snapshot = view.copy()
+    del third_c, third_d
+    for _ in range(3):
+        irradia.composite(c, d)
+    assert np.array_equal(view, snapshot)
+
+
+def test_result_pool_is_bounded():
+    from irradia import _irradia
+
+    c, d = stack(2, dtype=np.float32)
+    irradia.composite(c, d)
+    allocated, _ = _irradia._pool_stats()
+    for _ in range(50):  # freed at once: every call after the first reuses
+        irradia.composite(c, d)
+    assert _irradia._pool_stats()[0] == allocated
+    # Beyond 64 MiB kept, the oldest freed buffer goes back to the system: two results
+    # of 1700x1024 float RGBA + depth (2 x 34.8 MB) are freed, three buffers stay.
+    big_c = np.zeros((1, 1024, 1700, 4), np.float32)
+    big_d = np.zeros((1, 1024, 1700), np.float32)
+    held = [irradia.composite(big_c, big_d) for _ in range(2)]
+    allocated, reused = _irradia._pool_stats()
+    del held
+    held = [irradia.composite(big_c, big_d) for _ in range(2)]
+    assert _irradia._pool_stats() == (allocated + 1, reused + 3)
