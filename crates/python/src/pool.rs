@@ -107,16 +107,14 @@ pub unsafe fn empty_array<'py, T: numpy::Element, D: Dimension>(
     let len = dims.size();
     let words = take(len * std::mem::size_of::<T>());
     let n = words.len();
-    let ptr = NonNull::new(Box::into_raw(words).cast::<MaybeUninit<u64>>())
-        .expect("a box is never null");
+    let ptr =
+        NonNull::new(Box::into_raw(words).cast::<MaybeUninit<u64>>()).expect("a box is never null");
     let owner = Bound::new(py, PooledBuffer { ptr, words: n })?;
     // SAFETY: `ptr` holds at least `len` elements of `T` (aligned: 8-byte words), it
     // stays valid while `owner` lives, and `owner` becomes the array's base object, so
     // it lives as long as the array; the view is never read before it is written
     // (this function's contract).
-    let view = unsafe {
-        ArrayView::from_shape_ptr(dims, ptr.as_ptr().cast::<T>().cast_const())
-    };
+    let view = unsafe { ArrayView::from_shape_ptr(dims, ptr.as_ptr().cast::<T>().cast_const()) };
     // SAFETY: as above; the array is writable through numpy (the memory is owned by
     // `owner` and no Rust reference to it exists).
     Ok(unsafe { numpy::PyArray::borrow_from_array(&view, owner.into_any()) })
