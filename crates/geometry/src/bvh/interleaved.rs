@@ -168,3 +168,139 @@ impl Bvh {
         }
     }
 }
+
+/// One shadow ray's any-hit walk in progress.
+struct AnyWalk {
+    ray: NodeRay,
+    index: usize,
+    t_max: f32,
+    current: ChildRef,
+    sp: usize,
+    stack: [MaybeUninit<ChildRef>; STACK],
+}
+
+impl Bvh {
+    /// Whether each of `rays` hits anything with `0 < t < t_max[i]`, written to
+    /// `out[i]`: [`Bvh::any_hit_leaves`] for every ray, walked [`LANES`] at a time in
+    /// turns (`hit(ray_index, leaf, t_max)` says whether the leaf blocks the ray).
+    /// Each walk is the single-ray one (the same nodes in the same order with the same
+    /// bound), so every answer is the same.
+    pub fn any_hit_leaves_interleaved<F>(
+        &self,
+        rays: &[Ray],
+        t_max: &[f32],
+        out: &mut [bool],
+        hit: F,
+    ) where
+        F: FnMut(usize, ChildRef, f32) -> bool,
+    {
+        assert!(t_max.len() == rays.len() && out.len() == rays.len());
+        if rays.is_empty() {
+            return;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if crate::packet::has_avx2() {
+            // SAFETY: the CPU has AVX2.
+            return unsafe { self.any_interleaved_avx2(rays, t_max, out, hit) };
+        }
+        self.any_interleaved::<false, F>(rays, t_max, out, hit)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn any_interleaved_avx2<F>(&self, rays: &[Ray], t_max: &[f32], out: &mut [bool], hit: F)
+    where
+        F: FnMut(usize, ChildRef, f32) -> bool,
+    {
+        self.any_interleaved::<true, F>(rays, t_max, out, hit)
+    }
+
+    #[inline(always)]
+    fn any_interleaved<const AVX: bool, F>(
+        &self,
+        rays: &[Ray],
+        t_max: &[f32],
+        out: &mut [bool],
+        mut hit: F,
+    ) where
+        F: FnMut(usize, ChildRef, f32) -> bool,
+    {
+        let root = ChildRef { index: 0, count: 0 };
+        let begin = |w: &mut AnyWalk, index: usize| {
+            w.ray = NodeRay::new(rays[index].origin, rays[index].dir);
+            w.index = index;
+            w.t_max = t_max[index];
+            w.current = root;
+            w.sp = 0;
+        };
+        let mut walks: [AnyWalk; LANES] = std::array::from_fn(|_| AnyWalk {
+            ray: NodeRay::new(rays[0].origin, rays[0].dir),
+            index: 0,
+            t_max: 0.0,
+            current: root,
+            sp: 0,
+            stack: [const { MaybeUninit::uninit() }; STACK],
+        });
+        let live_n = LANES.min(rays.len());
+        for (k, w) in walks.iter_mut().enumerate().take(live_n) {
+            begin(w, k);
+        }
+        let mut live: u32 = (1u32 << live_n) - 1;
+        let mut next = live_n;
+        while live != 0 {
+            let mut m = live;
+            while m != 0 {
+                let k = m.trailing_zeros() as usize;
+                m &= m - 1;
+                let w = &mut walks[k];
+                match self.any_step::<AVX, F>(w, &mut hit) {
+                    None => continue,
+                    Some(blocked) => out[w.index] = blocked,
+                }
+                if next < rays.len() {
+                    begin(w, next);
+                    next += 1;
+                } else {
+                    live &= !(1 << k);
+                }
+            }
+        }
+    }
+
+    /// One step of `w`'s any-hit walk (the loop body of `Bvh::any`): `None` while it
+    /// goes on, else whether the ray is blocked.
+    #[inline(always)]
+    fn any_step<const AVX: bool, F>(&self, w: &mut AnyWalk, hit: &mut F) -> Option<bool>
+    where
+        F: FnMut(usize, ChildRef, f32) -> bool,
+    {
+        let current = w.current;
+        if current.is_leaf() {
+            if hit(w.index, current, w.t_max) {
+                return Some(true);
+            }
+        } else {
+            let node = &self.nodes[current.index as usize];
+            let (mut mask, _) = node.intersect_with::<AVX>(&w.ray, w.t_max);
+            if mask != 0 {
+                let first = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                while mask != 0 {
+                    let i = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    w.stack[w.sp] = MaybeUninit::new(node.child_ref(i));
+                    w.sp += 1;
+                }
+                w.current = node.child_ref(first);
+                return None;
+            }
+        }
+        if w.sp == 0 {
+            return Some(false);
+        }
+        w.sp -= 1;
+        // SAFETY: every slot below the stack pointer was written by a push.
+        w.current = unsafe { w.stack[w.sp].assume_init() };
+        None
+    }
+}

@@ -483,9 +483,20 @@ fn run<const FMA: bool>(
                     b1: F8::ZERO,
                     b2: F8::ZERO,
                 };
+                // The live lanes' rays walk the BVH in turns (one's cache misses
+                // overlap the others' work); each answer is its single ray's.
+                let mut which = [0usize; W];
+                let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
+                let mut n = 0;
                 for lane in (0..W).filter(|&l| live.get(l)) {
-                    let (o, d) = (paths.origin.lane(lane), paths.dir.lane(lane));
-                    if let Some((t, ph)) = ps.tracer.nearest_triangle(o, d) {
+                    which[n] = lane;
+                    rays[n] = Ray::new(paths.origin.lane(lane), paths.dir.lane(lane));
+                    n += 1;
+                }
+                let mut found = [None; W];
+                ps.tracer.nearest_triangles(&rays[..n], &mut found[..n]);
+                for (&lane, found) in which[..n].iter().zip(found) {
+                    if let Some((t, ph)) = found {
                         // Start loading what the next stages read of the triangle
                         // while the other lanes are traced (large scenes: not in cache).
                         let t_ = t as usize;
@@ -658,14 +669,27 @@ fn run<const FMA: bool>(
             Some(rays) => {
                 rays.occluded::<FMA>(s.shadow_origin, s.shadow_dir, s.shadow_t_max, s.nee)
             }
-            None => M8::from_fn(|lane| {
-                s.nee.get(lane)
-                    && ps.tracer.occluded_baked(
-                        s.shadow_origin.lane(lane),
-                        s.shadow_dir.lane(lane),
-                        s.shadow_t_max.0[lane],
-                    )
-            }),
+            None => {
+                // Walked in turns, as the nearest hits above.
+                let mut which = [0usize; W];
+                let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
+                let mut t_max = [0.0f32; W];
+                let mut n = 0;
+                for lane in (0..W).filter(|&l| s.nee.get(l)) {
+                    which[n] = lane;
+                    rays[n] = Ray::new(s.shadow_origin.lane(lane), s.shadow_dir.lane(lane));
+                    t_max[n] = s.shadow_t_max.0[lane];
+                    n += 1;
+                }
+                let mut hit = [false; W];
+                ps.tracer
+                    .occluded_baked_many(&rays[..n], &t_max[..n], &mut hit[..n]);
+                let mut blocked = M8::FALSE;
+                for (&lane, &h) in which[..n].iter().zip(&hit[..n]) {
+                    blocked.set(lane, h);
+                }
+                blocked
+            }
         };
         // And the objects with their own tests (spheres), for shadow rays the
         // triangles leave through.
