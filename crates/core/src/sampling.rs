@@ -221,8 +221,8 @@ mod tests {
     }
 
     /// `for_pixels_2d` is `for_pixel` then `next_2d`, sample by sample: the numbers
-    /// and the streams after them. (Mutations that fail it: the sample index shifted
-    /// by 21 in place of 20; the seed added after the second step of `new`.)
+    /// and the streams after them. (The sample index shifted by 21 in place of 20
+    /// fails it: tried.)
     #[test]
     fn pixel_streams_in_lanes_are_the_one_by_one_streams() {
         let mut r = Rng::new(1, 2);

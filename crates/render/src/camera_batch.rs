@@ -189,9 +189,7 @@ mod tests {
 
     /// Every lane of `eight` is the one-by-one sample bit for bit: ray, and stream
     /// (its next numbers), over tiles, batch sizes, first samples, samplers, partial
-    /// groups and near clips. (Mutations that fail it: the sample index without
-    /// `first`; `u` added to the pixel's other coordinate; the cursor stepping to the
-    /// next pixel one sample late.)
+    /// groups and near clips.
     #[test]
     fn lanes_are_the_one_by_one_samples() {
         let filter = FilterSampler::new(PixelFilter::Box { radius: 0.5 });

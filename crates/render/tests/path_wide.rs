@@ -489,8 +489,8 @@ fn a_wrong_fresnel_reflectance_is_caught() {
 /// the estimates that the same samples made one by one give, bit for bit: both
 /// builds of the kernel, tiles of several shapes and sample counts (groups of eight
 /// that straddle pixels and rows, and a last group of fewer than eight), a near clip,
-/// the Cornell box with spheres. (A kernel that took the made samples in another
-/// order, or lost the near clip, fails it.)
+/// the Cornell box with spheres. (Batches whose samples forget the pass's first
+/// sample index fail it: tried.)
 #[test]
 fn camera_batches_give_the_one_by_one_estimates_bit_for_bit() {
     let mut scene = cornell_with_spheres(40, 30, &[Ball::Glass, Ball::Mirror]);

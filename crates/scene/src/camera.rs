@@ -266,8 +266,8 @@ mod tests {
 
     /// Every lane of `pinhole_rays8` is the scalar `ray` bit for bit, with and
     /// without a near clip, over odd positions and camera frames. (Summing the
-    /// direction in another order, `forward + (right * sx + up * sy)`, fails it, and
-    /// so does a dropped near clip.)
+    /// direction in another order, `forward + (right * sx + up * sy)`, fails it:
+    /// tried.)
     #[test]
     fn pinhole_lanes_are_the_scalar_rays() {
         let mut rng = irradia_core::Rng::new(3, 7);
