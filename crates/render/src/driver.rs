@@ -13,6 +13,7 @@
 
 use crate::adaptive;
 use crate::aov::Aov;
+use crate::camera_batch::{CameraBatch, Cursor};
 use crate::film::{Film, FilmPixel};
 use crate::filter::FilterSampler;
 use crate::integrator::{AovSample, Integrator};
@@ -540,73 +541,37 @@ fn render_tile<I: Integrator>(
     let m = end.saturating_sub(rest) as usize;
     if m > 0 {
         let mut out = vec![Rgb::BLACK; count * m];
-        let mut weights = vec![0.0f32; count * m];
-        let mut cursor = Cursor::new(t, m);
-        integrator.sample_batch(
-            |k| {
-                let (x, y, s) = cursor.at(k);
-                let cs = camera_sample(cx.cam, cx.filter, cx.sampler, x, y, rest + s);
-                weights[k] = cs.weight;
-                (cs.ray, cs.rng)
-            },
-            &mut out,
-            &mut stats,
-        );
-        for (p, px) in pixels.iter_mut().enumerate() {
-            for k in p * m..(p + 1) * m {
-                px.add(out[k], weights[k]);
+        // A pinhole camera and the unit box filter: the integrator may make the camera
+        // samples eight at once ([`CameraBatch`]); every weight is then 1.
+        let batch = CameraBatch::new(cx.cam, cx.filter, cx.sampler, t, rest, m as u32);
+        if batch.is_some_and(|b| integrator.sample_camera_batch(&b, &mut out, &mut stats)) {
+            for (px, l) in pixels.iter_mut().zip(out.chunks_exact(m)) {
+                for &l in l {
+                    px.add(l, 1.0);
+                }
+            }
+        } else {
+            let mut weights = vec![0.0f32; count * m];
+            let mut cursor = Cursor::new(t, m);
+            integrator.sample_batch(
+                |k| {
+                    let (x, y, s) = cursor.at(k);
+                    let cs = camera_sample(cx.cam, cx.filter, cx.sampler, x, y, rest + s);
+                    weights[k] = cs.weight;
+                    (cs.ray, cs.rng)
+                },
+                &mut out,
+                &mut stats,
+            );
+            for (p, px) in pixels.iter_mut().enumerate() {
+                for k in p * m..(p + 1) * m {
+                    px.add(out[k], weights[k]);
+                }
             }
         }
     }
     stats.samples += count as u64 * n as u64;
     TileResult { pixels, aov, stats }
-}
-
-/// Pixel and sample of the `k`-th sample of a tile's batch (pixel-major, `m` samples
-/// a pixel): found by stepping from the previous one when the integrator asks in order
-/// (every one does today), by division otherwise. A one-sample render asks for a
-/// million of these, and three integer divisions a sample showed in its profile.
-struct Cursor {
-    t: Tile,
-    m: u32,
-    /// The next `k` in order and its (x, y, sample).
-    k: usize,
-    at: (u32, u32, u32),
-}
-
-impl Cursor {
-    fn new(t: Tile, m: usize) -> Self {
-        Self {
-            t,
-            m: m as u32,
-            k: 0,
-            at: (t.x0, t.y0, 0),
-        }
-    }
-
-    #[inline]
-    fn at(&mut self, k: usize) -> (u32, u32, u32) {
-        if k != self.k {
-            let (p, s) = (k / self.m as usize, (k % self.m as usize) as u32);
-            let w = self.t.w as usize;
-            self.at = (self.t.x0 + (p % w) as u32, self.t.y0 + (p / w) as u32, s);
-        }
-        let here = self.at;
-        // Step to k + 1: the next sample, else the next pixel, else the next row.
-        let (mut x, mut y, mut s) = here;
-        s += 1;
-        if s == self.m {
-            s = 0;
-            x += 1;
-            if x == self.t.x0 + self.t.w {
-                x = self.t.x0;
-                y += 1;
-            }
-        }
-        self.k = k + 1;
-        self.at = (x, y, s);
-        here
-    }
 }
 
 /// Renders `scene` at its settings' sample count in one sweep of `integrator`

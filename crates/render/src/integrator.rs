@@ -4,6 +4,7 @@
 //! samples. The Whitted tracer ([`crate::Whitted`]) and the path tracer
 //! ([`crate::path::PathIntegrator`]) implement it; [`crate::render`] picks one.
 
+use crate::camera_batch::CameraBatch;
 use crate::stats::Stats;
 use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
@@ -53,5 +54,20 @@ pub trait Integrator: Sync {
             let (ray, mut rng) = start(k);
             *o = self.sample(&ray, &mut rng, stats, &mut scratch);
         }
+    }
+
+    /// [`Integrator::sample_batch`] over a tile's camera samples that can be made in
+    /// lanes ([`CameraBatch`]: sample `k` is `batch.sample(k)`, filter weight 1), for
+    /// integrators that make them so (the path tracer's 8-wide kernel); returns false,
+    /// having done nothing, when this one does not (then the driver calls
+    /// `sample_batch`).
+    fn sample_camera_batch(
+        &self,
+        batch: &CameraBatch<'_>,
+        out: &mut [Rgb],
+        stats: &mut Stats,
+    ) -> bool {
+        let _ = (batch, out, stats);
+        false
     }
 }

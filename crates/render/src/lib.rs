@@ -15,6 +15,7 @@
 pub mod adaptive;
 pub mod aov;
 pub mod budget;
+pub mod camera_batch;
 pub mod cancel;
 pub mod driver;
 pub mod film;

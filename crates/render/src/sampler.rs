@@ -48,6 +48,33 @@ impl Sampler {
             }
         }
     }
+
+    /// [`Sampler::pixel_sample`] of eight samples at once (pixel `(x[i], y[i])`, sample
+    /// `i[i]`): the offsets' coordinates in lanes and the streams, each exactly the
+    /// one-by-one sample's. The independent sampler's streams are made side by side
+    /// ([`Rng::for_pixels_2d`]); the stratified sampler's one by one.
+    #[inline(always)]
+    pub fn pixel_samples8(
+        &self,
+        x: &[u32; 8],
+        y: &[u32; 8],
+        i: &[u32; 8],
+    ) -> ([Rng; 8], [[f32; 8]; 2]) {
+        match *self {
+            Sampler::Independent { seed } => {
+                Rng::for_pixels_2d(x, y, i, INDEPENDENT_STREAM ^ seed.wrapping_mul(0x9e37_79b9))
+            }
+            Sampler::Stratified { .. } => {
+                let mut u = [[0.0; 8]; 2];
+                let rngs = std::array::from_fn(|k| {
+                    let (v, rng) = self.pixel_sample(x[k], y[k], i[k]);
+                    (u[0][k], u[1][k]) = (v.x, v.y);
+                    rng
+                });
+                (rngs, u)
+            }
+        }
+    }
 }
 
 /// A camera sample: the ray, its random stream and its filter weight.

@@ -9,6 +9,7 @@ use super::integrator::{radiance_in, PathCounters, PathParams, PathScene};
 use super::lights::LightSampler;
 use super::tracer::Tracer;
 use super::wide::WideScene;
+use crate::camera_batch::CameraBatch;
 use crate::driver::{self, DriverSetup, ProgressiveOptions, Rendered, SamplerKind};
 use crate::film::Film;
 use crate::integrator::{AovSample, Integrator};
@@ -131,6 +132,22 @@ impl Integrator for PathIntegrator<'_, '_> {
             }
         }
         count(stats, &c);
+    }
+
+    /// On the 8-wide kernel, which makes the camera samples eight at once.
+    fn sample_camera_batch(
+        &self,
+        batch: &CameraBatch<'_>,
+        out: &mut [Rgb],
+        stats: &mut Stats,
+    ) -> bool {
+        let Some(ws) = &self.wide else {
+            return false;
+        };
+        let mut c = PathCounters::default();
+        ws.radiance_camera_batch(&self.params, batch, out, &mut c);
+        count(stats, &c);
+        true
     }
 }
 

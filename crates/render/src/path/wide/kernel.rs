@@ -21,6 +21,7 @@ use super::light_pick::pick_lights;
 use super::sphere_hit8::SphereHits;
 use super::sphere_light::{self, LightPoint};
 use super::{facet, mat, smooth, tri, WideScene};
+use crate::camera_batch::{CameraBatch, Cursor, Starts8};
 use crate::path::flat_scene::prefetch_bytes;
 use crate::path::integrator::{PathCounters, PathParams};
 use crate::path::lights::KernelLight;
@@ -53,6 +54,66 @@ struct Paths {
     /// The product of the relative indices of refraction crossed (Russian roulette
     /// judges `max(beta) eta²`, as the scalar estimator does).
     eta: F8,
+}
+
+/// Where the kernel's paths start: a camera sample per sample index.
+pub(crate) enum Starts<'a, 'c> {
+    /// Sample `k` from a call (tests; cameras and filters the lanes do not make):
+    /// its camera ray and its stream, already past the pixel jitter. Called through a
+    /// `dyn` reference, so the kernel is compiled once, in this crate.
+    Each(&'a mut dyn FnMut(usize) -> (Ray, Rng)),
+    /// A tile's camera samples, made eight at once in the kernel's own vector width.
+    Camera(&'a CameraBatch<'c>),
+}
+
+/// Camera samples made ahead of the lanes that take them, up to eight at once: the
+/// rays in lanes and the streams.
+struct Ahead {
+    /// The batch's cursor at the next sample to make ([`Starts::Camera`]).
+    cursor: Option<Cursor>,
+    starts: Starts8,
+    /// How many are made, and how many of them lanes have taken.
+    made: usize,
+    taken: usize,
+}
+
+impl Ahead {
+    fn new(starts: &Starts<'_, '_>) -> Self {
+        Self {
+            cursor: match starts {
+                Starts::Camera(batch) => Some(batch.cursor()),
+                Starts::Each(_) => None,
+            },
+            starts: Starts8 {
+                origin: V3::ZERO,
+                dir: V3::ZERO,
+                rng: std::array::from_fn(|_| Rng::new(0, 0)),
+            },
+            made: 0,
+            taken: 0,
+        }
+    }
+
+    /// Makes samples `next..next + n` (`n <= 8`, `next` the first not yet made).
+    #[inline(always)]
+    fn make(&mut self, starts: &mut Starts<'_, '_>, next: usize, n: usize) {
+        match starts {
+            Starts::Camera(batch) => {
+                let cursor = self.cursor.as_mut().expect("a camera batch's cursor");
+                self.starts = batch.eight(cursor, n);
+            }
+            Starts::Each(start) => {
+                for i in 0..n {
+                    let (ray, rng) = (*start)(next + i);
+                    self.starts.origin.set_lane(i, ray.origin);
+                    self.starts.dir.set_lane(i, ray.dir);
+                    self.starts.rng[i] = rng;
+                }
+            }
+        }
+        self.made = n;
+        self.taken = 0;
+    }
 }
 
 /// What the per-lane stage hands to the vector stage, per bounce: indices into the
@@ -423,11 +484,12 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
 fn run<const FMA: bool>(
     ws: &WideScene<'_, '_>,
     params: &PathParams,
-    start: &mut dyn FnMut(usize) -> (Ray, Rng),
+    starts: &mut Starts<'_, '_>,
     out: &mut [Rgb],
     counters: &mut PathCounters,
 ) {
     let ps = ws.ps;
+    let mut ahead = Ahead::new(starts);
     let mut paths = Paths {
         sample: [IDLE; W],
         rng: std::array::from_fn(|_| Rng::new(0, 0)),
@@ -453,13 +515,18 @@ fn run<const FMA: bool>(
                     b.scatter.set(lane, false);
                     continue;
                 }
-                let (ray, rng) = start(next);
+                // The next camera sample, made with up to seven more.
+                if ahead.taken == ahead.made {
+                    ahead.make(starts, next, (out.len() - next).min(W));
+                }
+                let i = ahead.taken;
+                ahead.taken += 1;
                 paths.sample[lane] = next;
                 next += 1;
-                paths.rng[lane] = rng;
+                paths.rng[lane] = ahead.starts.rng[i].clone();
                 paths.depth[lane] = 1;
-                paths.origin.set_lane(lane, ray.origin);
-                paths.dir.set_lane(lane, ray.dir);
+                paths.origin.set_lane(lane, ahead.starts.origin.lane(i));
+                paths.dir.set_lane(lane, ahead.starts.dir.lane(i));
                 paths.beta.set_lane(lane, Vec3::ONE);
                 paths.radiance.set_lane(lane, Vec3::ZERO);
                 paths.has_prev.set(lane, false);
@@ -751,22 +818,22 @@ fn run<const FMA: bool>(
 pub(super) unsafe fn run_avx2(
     ws: &WideScene<'_, '_>,
     params: &PathParams,
-    start: &mut dyn FnMut(usize) -> (Ray, Rng),
+    starts: &mut Starts<'_, '_>,
     out: &mut [Rgb],
     counters: &mut PathCounters,
 ) {
-    run::<true>(ws, params, start, out, counters)
+    run::<true>(ws, params, starts, out, counters)
 }
 
 /// The loop for any CPU (SSE2 on x86_64).
 pub(super) fn run_portable(
     ws: &WideScene<'_, '_>,
     params: &PathParams,
-    start: &mut dyn FnMut(usize) -> (Ray, Rng),
+    starts: &mut Starts<'_, '_>,
     out: &mut [Rgb],
     counters: &mut PathCounters,
 ) {
-    run::<false>(ws, params, start, out, counters)
+    run::<false>(ws, params, starts, out, counters)
 }
 
 #[cfg(test)]

@@ -6,8 +6,10 @@
 //! stages as a wavefront path tracer splits its kernels (Laine, Karras, Aila,
 //! "Megakernels Considered Harmful: Wavefront Path Tracing on GPUs", HPG 2013):
 //!
-//! 1. per lane: refill a finished lane with the next sample of the batch and draw
-//!    the bounce's random numbers from the lane's own stream;
+//! 1. per lane: refill a finished lane with the next sample of the batch (camera
+//!    samples are made eight at a time ahead of the lanes that take them: a tile's
+//!    pinhole rays in lanes, [`crate::camera_batch`]) and draw the bounce's random
+//!    numbers from the lane's own stream;
 //! 2. all lanes at once ([`kernel`], 8-wide AVX2 + FMA chosen at run time, or the same
 //!    code in SSE): the nearest hits ([`ray8`](irradia_geometry::packet::ray8): eight rays against every triangle of
 //!    a small scene; larger scenes walk the [`FlatScene`]'s hierarchy lane by lane,
@@ -105,11 +107,13 @@ pub mod sphere_light;
 use super::flat_scene::FlatScene;
 use super::integrator::{PathCounters, PathParams, PathScene};
 use super::lights::{FacetEmitter, KernelEmitter};
+use crate::camera_batch::CameraBatch;
 use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::packet::RayLaneTriangles;
 use irradia_scatter::microfacet::MicrofacetType;
 use irradia_scatter::{bsdfs::LectureLobe, Bsdf};
+use kernel::Starts;
 use light_pick::LightPick;
 use sphere_light::sph;
 
@@ -606,7 +610,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
         out: &mut [Rgb],
         counters: &mut PathCounters,
     ) {
-        kernel::run_portable(self, params, &mut start, out, counters);
+        kernel::run_portable(self, params, &mut Starts::Each(&mut start), out, counters);
     }
 
     /// Radiance samples `0..out.len()`: sample `k` starts from `start(k)` (its camera
@@ -622,12 +626,51 @@ impl<'s, 'a> WideScene<'s, 'a> {
         out: &mut [Rgb],
         counters: &mut PathCounters,
     ) {
+        self.run(params, &mut Starts::Each(&mut start), out, counters);
+    }
+
+    /// The radiance of a tile's camera samples ([`CameraBatch`]): sample `k` is
+    /// `batch.sample(k)`, its estimate goes to `out[k]` (`out.len() == batch.len()`).
+    /// The same as [`Self::radiance_batch`] over `batch.sample`, but the kernel makes
+    /// the camera samples eight at once, in its own vector width.
+    pub fn radiance_camera_batch(
+        &self,
+        params: &PathParams,
+        batch: &CameraBatch<'_>,
+        out: &mut [Rgb],
+        counters: &mut PathCounters,
+    ) {
+        assert_eq!(out.len(), batch.len());
+        self.run(params, &mut Starts::Camera(batch), out, counters);
+    }
+
+    /// [`Self::radiance_camera_batch`] with the portable build of the kernel; for
+    /// tests.
+    #[doc(hidden)]
+    pub fn radiance_camera_batch_portable(
+        &self,
+        params: &PathParams,
+        batch: &CameraBatch<'_>,
+        out: &mut [Rgb],
+        counters: &mut PathCounters,
+    ) {
+        assert_eq!(out.len(), batch.len());
+        kernel::run_portable(self, params, &mut Starts::Camera(batch), out, counters);
+    }
+
+    fn run(
+        &self,
+        params: &PathParams,
+        starts: &mut Starts<'_, '_>,
+        out: &mut [Rgb],
+        counters: &mut PathCounters,
+    ) {
         #[cfg(target_arch = "x86_64")]
         if irradia_geometry::packet::has_avx2() {
             // SAFETY: the CPU supports AVX2 and FMA.
-            unsafe { kernel::run_avx2(self, params, &mut start, out, counters) };
+            unsafe { kernel::run_avx2(self, params, starts, out, counters) };
             return;
         }
-        kernel::run_portable(self, params, &mut start, out, counters);
+        kernel::run_portable(self, params, starts, out, counters);
     }
 }

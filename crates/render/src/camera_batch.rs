@@ -1,0 +1,319 @@
+//! A tile's camera samples as one batch, made eight at a time in lanes for the 8-wide
+//! path kernel ([`crate::path::wide`]).
+//!
+//! The driver asks for samples `first..first + m` of every pixel of a tile, pixel-major
+//! ([`Cursor`]). One by one, each is [`camera_sample`]: the sampler's point and stream,
+//! the pixel filter's warp, the camera's ray. Where the filter leaves the point where
+//! the sampler put it (the default box of one pixel, weight 1) and the camera is a
+//! pinhole, [`CameraBatch::eight`] makes eight samples at once: the eight streams and
+//! points side by side ([`Sampler::pixel_samples8`]: eight independent chains of
+//! integer hashing, instead of one chain between two bounces of the kernel), then the
+//! perspective projection and the normalisation of the eight directions in lanes
+//! ([`CameraRays::pinhole_rays8`]), inlined into the kernel's AVX2 loop. Every sample
+//! is the one [`camera_sample`] makes, bit for bit (tests below), so the image does not
+//! change; this is the wavefront path tracer's batched camera-ray generation (Laine,
+//! Karras, Aila, "Megakernels Considered Harmful: Wavefront Path Tracing on GPUs", HPG
+//! 2013, section 4: a "new path" kernel that generates camera rays for many paths at
+//! once).
+
+// Lane loops index several arrays by the lane on purpose.
+#![allow(clippy::needless_range_loop)]
+
+use crate::driver::Tile;
+use crate::filter::FilterSampler;
+use crate::sampler::{camera_sample, Sampler};
+use irradia_core::{Ray, Rng};
+use irradia_geometry::packet::lanes::{F8, V3, W};
+use irradia_scene::camera::CameraRays;
+
+/// The samples `first..first + m` of every pixel of a tile whose camera rays can be
+/// made in lanes: sample `k` of the batch is sample `first + k % m` of pixel `k / m`
+/// (row-major in the tile).
+#[derive(Clone, Copy, Debug)]
+pub struct CameraBatch<'a> {
+    cam: &'a CameraRays,
+    filter: &'a FilterSampler,
+    sampler: Sampler,
+    tile: Tile,
+    first: u32,
+    m: u32,
+}
+
+/// Up to eight camera samples in lanes: ray origins and unit directions, and each
+/// sample's stream (already past its pixel jitter).
+#[derive(Clone, Debug)]
+pub struct Starts8 {
+    pub origin: V3,
+    pub dir: V3,
+    pub rng: [Rng; W],
+}
+
+impl<'a> CameraBatch<'a> {
+    /// The batch, when its samples qualify for lanes: a pinhole camera and the unit
+    /// box filter (samples unmoved, weight 1); `None` otherwise (thin lens,
+    /// orthographic, other filters), and the driver asks for samples one by one.
+    pub fn new(
+        cam: &'a CameraRays,
+        filter: &'a FilterSampler,
+        sampler: Sampler,
+        tile: Tile,
+        first: u32,
+        m: u32,
+    ) -> Option<Self> {
+        (cam.is_pinhole() && filter.is_unit_box() && m > 0).then_some(Self {
+            cam,
+            filter,
+            sampler,
+            tile,
+            first,
+            m,
+        })
+    }
+
+    /// The number of samples: `m` for every pixel of the tile.
+    pub fn len(&self) -> usize {
+        (self.tile.w * self.tile.h * self.m) as usize
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// A cursor at the batch's sample 0.
+    pub fn cursor(&self) -> Cursor {
+        Cursor::new(self.tile, self.m as usize)
+    }
+
+    /// Sample `k` one by one, as [`camera_sample`] makes it (its filter weight is 1).
+    pub fn sample(&self, k: usize) -> (Ray, Rng) {
+        let (x, y, s) = self.cursor().at(k);
+        let cs = camera_sample(self.cam, self.filter, self.sampler, x, y, self.first + s);
+        (cs.ray, cs.rng)
+    }
+
+    /// Samples `k..k + n` in lanes `0..n` (`0 < n <= 8`), `k` being where `cursor`
+    /// stands (it moves on by `n`); lanes `n..` repeat lane 0. Each lane is
+    /// [`Self::sample`] bit for bit.
+    #[inline(always)]
+    pub fn eight(&self, cursor: &mut Cursor, n: usize) -> Starts8 {
+        debug_assert!(n > 0 && n <= W);
+        let (mut px, mut py, mut s) = ([0u32; W], [0u32; W], [0u32; W]);
+        let k = cursor.k;
+        for i in 0..n {
+            let (x, y, j) = cursor.at(k + i);
+            (px[i], py[i], s[i]) = (x, y, self.first + j);
+        }
+        // (Lanes `n..` repeat lane 0.)
+        for i in n..W {
+            (px[i], py[i], s[i]) = (px[0], py[0], s[0]);
+        }
+        // The streams and points: eight independent hash chains side by side.
+        let (rng, u) = self.sampler.pixel_samples8(&px, &py, &s);
+        // `camera_sample`: the unit box leaves `u` as it is.
+        let x = F8(std::array::from_fn(|i| px[i] as f32)) + F8(u[0]);
+        let y = F8(std::array::from_fn(|i| py[i] as f32)) + F8(u[1]);
+        let (origin, dir) = self.cam.pinhole_rays8(x, y);
+        Starts8 { origin, dir, rng }
+    }
+}
+
+/// Pixel and sample of the `k`-th sample of a tile's batch (pixel-major, `m` samples
+/// a pixel): found by stepping from the previous one when asked in order (the kernel
+/// and the driver always ask so), by division otherwise. A one-sample render asks for
+/// a million of these, and three integer divisions a sample showed in its profile.
+#[derive(Clone, Copy, Debug)]
+pub struct Cursor {
+    t: Tile,
+    m: u32,
+    /// The next `k` in order and its (x, y, sample).
+    k: usize,
+    at: (u32, u32, u32),
+}
+
+impl Cursor {
+    pub fn new(t: Tile, m: usize) -> Self {
+        Self {
+            t,
+            m: m as u32,
+            k: 0,
+            at: (t.x0, t.y0, 0),
+        }
+    }
+
+    /// The (x, y, sample within the batch) of sample `k`.
+    #[inline]
+    pub fn at(&mut self, k: usize) -> (u32, u32, u32) {
+        if k != self.k {
+            let (p, s) = (k / self.m as usize, (k % self.m as usize) as u32);
+            let w = self.t.w as usize;
+            self.at = (self.t.x0 + (p % w) as u32, self.t.y0 + (p / w) as u32, s);
+        }
+        let here = self.at;
+        // Step to k + 1: the next sample, else the next pixel, else the next row.
+        let (mut x, mut y, mut s) = here;
+        s += 1;
+        if s == self.m {
+            s = 0;
+            x += 1;
+            if x == self.t.x0 + self.t.w {
+                x = self.t.x0;
+                y += 1;
+            }
+        }
+        self.k = k + 1;
+        self.at = (x, y, s);
+        here
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+    use irradia_scene::camera::{Camera, FovAxis, Projection};
+    use irradia_scene::PixelFilter;
+
+    fn camera(near_clip: f32) -> CameraRays {
+        let mut c = Camera::new(
+            Vec3::new(0.3, 1.1, 4.0),
+            Vec3::new(-0.2, 0.4, 0.0),
+            Vec3::Y,
+            Projection::Perspective {
+                fov_degrees: 39.3,
+                axis: FovAxis::Horizontal,
+            },
+        );
+        c.near_clip = near_clip;
+        c.rays(97, 61)
+    }
+
+    /// Every lane of `eight` is the one-by-one sample bit for bit: ray, and stream
+    /// (its next numbers), over tiles, batch sizes, first samples, samplers, partial
+    /// groups and near clips.
+    #[test]
+    fn lanes_are_the_one_by_one_samples() {
+        let filter = FilterSampler::new(PixelFilter::Box { radius: 0.5 });
+        let mut checked = 0;
+        for (case, near) in [0.0f32, 0.05].into_iter().enumerate() {
+            let cam = camera(near);
+            for (tile, first, m, sampler) in [
+                (
+                    Tile {
+                        x0: 0,
+                        y0: 0,
+                        w: 5,
+                        h: 3,
+                    },
+                    0,
+                    1,
+                    Sampler::Independent { seed: 0 },
+                ),
+                (
+                    Tile {
+                        x0: 32,
+                        y0: 17,
+                        w: 7,
+                        h: 4,
+                    },
+                    3,
+                    2,
+                    Sampler::Independent { seed: 9 },
+                ),
+                (
+                    Tile {
+                        x0: 90,
+                        y0: 60,
+                        w: 7,
+                        h: 1,
+                    },
+                    7,
+                    16,
+                    Sampler::Independent { seed: 1 },
+                ),
+                (
+                    Tile {
+                        x0: 11,
+                        y0: 2,
+                        w: 3,
+                        h: 3,
+                    },
+                    1,
+                    5,
+                    Sampler::Stratified { spp: 16 },
+                ),
+            ] {
+                let batch = CameraBatch::new(&cam, &filter, sampler, tile, first, m).unwrap();
+                let mut cursor = batch.cursor();
+                let mut k = 0;
+                while k < batch.len() {
+                    let n = (batch.len() - k).min(W);
+                    let got = batch.eight(&mut cursor, n);
+                    for lane in 0..n {
+                        let (ray, mut rng) = batch.sample(k + lane);
+                        let cs = {
+                            let mut c = batch.cursor();
+                            let (x, y, s) = c.at(k + lane);
+                            camera_sample(&cam, &filter, sampler, x, y, first + s)
+                        };
+                        assert_eq!(cs.weight, 1.0);
+                        assert_eq!(ray.origin, cs.ray.origin);
+                        assert_eq!(ray.dir, cs.ray.dir);
+                        let what = format!("case {case} {tile:?} k {}", k + lane);
+                        assert_eq!(got.origin.lane(lane), ray.origin, "{what}");
+                        assert_eq!(got.dir.lane(lane), ray.dir, "{what}");
+                        let mut lane_rng = got.rng[lane].clone();
+                        for _ in 0..4 {
+                            assert_eq!(lane_rng.next_u32(), rng.next_u32(), "{what}");
+                        }
+                        checked += 1;
+                    }
+                    k += n;
+                }
+            }
+        }
+        assert!(checked > 300);
+    }
+
+    /// The cursor stepping in order agrees with division.
+    #[test]
+    fn cursor_steps_as_it_divides() {
+        let t = Tile {
+            x0: 4,
+            y0: 8,
+            w: 3,
+            h: 2,
+        };
+        let mut stepping = Cursor::new(t, 5);
+        for k in 0..30 {
+            let (p, s) = (k / 5, (k % 5) as u32);
+            let want = (4 + (p % 3) as u32, 8 + (p / 3) as u32, s);
+            assert_eq!(stepping.at(k), want);
+            assert_eq!(Cursor::new(t, 5).at(k), want);
+        }
+    }
+
+    /// Only the pinhole camera with the unit box filter qualifies.
+    #[test]
+    fn other_cameras_and_filters_go_one_by_one() {
+        let cam = camera(0.0);
+        let t = Tile {
+            x0: 0,
+            y0: 0,
+            w: 2,
+            h: 2,
+        };
+        let s = Sampler::Independent { seed: 0 };
+        let tent = FilterSampler::new(PixelFilter::Tent { radius: 1.0 });
+        assert!(CameraBatch::new(&cam, &tent, s, t, 0, 4).is_none());
+        let ortho = Camera::new(
+            Vec3::Z,
+            Vec3::ZERO,
+            Vec3::Y,
+            Projection::Orthographic { height: 2.0 },
+        )
+        .rays(8, 8);
+        let unit = FilterSampler::new(PixelFilter::Box { radius: 0.5 });
+        assert!(CameraBatch::new(&ortho, &unit, s, t, 0, 4).is_none());
+        assert!(CameraBatch::new(&cam, &unit, s, t, 0, 4).is_some());
+    }
+}
