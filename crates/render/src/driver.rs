@@ -369,7 +369,7 @@ pub fn run_with<I: Integrator, S: Sweep>(
     let tiles = tiles_of(window, setup.tile_size);
     let job = TileJob::new(integrator, scene, setup, options);
     let want_aov = !setup.aovs.is_empty();
-    let mut aov = vec![AovSample::default(); if want_aov { film.pixels().len() } else { 0 }];
+    let mut aov = vec![AovSample::default(); if want_aov { film.len() } else { 0 }];
     let mut stats = Stats {
         width: s.width,
         height: s.height,
@@ -448,7 +448,7 @@ pub fn run_with<I: Integrator, S: Sweep>(
         film.save_checkpoint(path, setup.fingerprint)
             .map_err(RunError::Checkpoint)?;
     }
-    stats.pixels = film.pixels().len() as u64;
+    stats.pixels = film.len() as u64;
     let aovs = setup
         .aovs
         .iter()
@@ -484,7 +484,7 @@ pub fn store_tile(sink: &mut Sink<'_>, t: Tile, r: TileResult) {
     for j in 0..t.h as usize {
         let (dst, src) = (base + j * fw, j * t.w as usize);
         let row = src..src + t.w as usize;
-        sink.film.pixels_mut()[dst..dst + t.w as usize].copy_from_slice(&r.pixels[row.clone()]);
+        sink.film.store_row(dst, &r.pixels[row.clone()]);
         if !r.aov.is_empty() {
             sink.aov[dst..dst + t.w as usize].copy_from_slice(&r.aov[row]);
         }
@@ -495,8 +495,7 @@ pub fn store_tile(sink: &mut Sink<'_>, t: Tile, r: TileResult) {
 pub fn read_tile(film: &Film, t: Tile) -> Vec<FilmPixel> {
     let mut out = Vec::with_capacity((t.w * t.h) as usize);
     for y in t.y0..t.y0 + t.h {
-        let i = film.index(t.x0, y);
-        out.extend_from_slice(&film.pixels()[i..i + t.w as usize]);
+        film.read_row(film.index(t.x0, y), t.w as usize, &mut out);
     }
     out
 }

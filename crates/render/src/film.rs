@@ -4,6 +4,14 @@
 //! f64; so the image (`sum / weight`, pbrt-v4's `RGBFilm`), a per-pixel variance
 //! estimate and the error of the whole image are known at any time, and a checkpoint of
 //! it can be written and resumed.
+//!
+//! A render of one sample per pixel has no use for the sums after its one pass (no
+//! variance before two samples, no second pass to resume), so its film can keep each
+//! pixel's value alone ([`Film::for_one_sample`]): 12 bytes a pixel written once, in
+//! place of 40 bytes kept for the image to be computed from afterwards (a 1280x720
+//! film of sums is 37 MB, whose first touch alone showed as a tenth of a one-sample
+//! Whitted render). Tiles still add their samples into [`FilmPixel`]s of their own, so
+//! the value stored is the very `sum / weight` the sums would give.
 
 use irradia_core::{Image, ImageError, Rgb};
 use irradia_scene::{CropWindow, Scene};
@@ -76,13 +84,44 @@ fn zeroed_pixels(n: usize) -> Vec<FilmPixel> {
     v
 }
 
+/// `n` black pixel values from a zeroed allocation (mapped by the kernel on first
+/// write, as [`zeroed_pixels`]), on 2 MiB pages where the kernel agrees.
+fn zeroed_values(n: usize) -> Vec<Rgb> {
+    let layout = std::alloc::Layout::array::<Rgb>(n).expect("the size was checked");
+    if layout.size() == 0 {
+        return Vec::new();
+    }
+    // SAFETY: the block is allocated by the global allocator with exactly the layout a
+    // `Vec<Rgb>` of capacity `n` has, and all-zero bits are a valid `Rgb` (three f32
+    // zeros, whatever the field order); a null pointer (out of memory) is handled.
+    let mut v = unsafe {
+        let ptr = std::alloc::alloc_zeroed(layout).cast::<Rgb>();
+        if ptr.is_null() {
+            std::alloc::handle_alloc_error(layout);
+        }
+        Vec::from_raw_parts(ptr, n, n)
+    };
+    irradia_core::pages::prefer_huge_pages(&mut v);
+    v
+}
+
+/// What a film keeps of each pixel.
+#[derive(Clone, Debug, PartialEq)]
+enum Store {
+    /// The running sums: any number of passes, error estimates, checkpoints.
+    Sums(Vec<FilmPixel>),
+    /// The finished value alone ([`FilmPixel::value`] of the pixel's one sample),
+    /// written once by the one pass of a one-sample render ([`Film::for_one_sample`]).
+    Values(Vec<Rgb>),
+}
+
 /// Accumulated samples of a window of the image. Progressive renders give every pixel
 /// the same number of samples ([`Film::samples`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
     window: CropWindow,
     samples: u32,
-    pixels: Vec<FilmPixel>,
+    store: Store,
 }
 
 /// Errors reading a checkpoint.
@@ -114,7 +153,20 @@ impl Film {
         Ok(Self {
             window,
             samples: 0,
-            pixels: zeroed_pixels(n),
+            store: Store::Sums(zeroed_pixels(n)),
+        })
+    }
+
+    /// An empty film of the pixels of `window` for a render of one sample per pixel in
+    /// one pass: it keeps each pixel's value, not its sums, so it takes that one pass
+    /// only, gives no error estimate (none exists below two samples) and cannot be
+    /// checkpointed. Its image is the one a film of sums gives, bit for bit.
+    pub fn for_one_sample(window: CropWindow) -> Result<Self, ImageError> {
+        let n = irradia_core::image::check_size(window.width, window.height, 12)?;
+        Ok(Self {
+            window,
+            samples: 0,
+            store: Store::Values(zeroed_values(n)),
         })
     }
 
@@ -139,8 +191,25 @@ impl Film {
         self.samples
     }
 
-    pub fn pixels(&self) -> &[FilmPixel] {
-        &self.pixels
+    /// Number of pixels (of the window).
+    pub fn len(&self) -> usize {
+        match &self.store {
+            Store::Sums(p) => p.len(),
+            Store::Values(v) => v.len(),
+        }
+    }
+
+    /// Whether the film has no pixels (never: sizes are checked to be positive).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The pixels' sums; `None` for a film of values ([`Film::for_one_sample`]).
+    pub fn sums(&self) -> Option<&[FilmPixel]> {
+        match &self.store {
+            Store::Sums(p) => Some(p),
+            Store::Values(_) => None,
+        }
     }
 
     /// The pixel at image coordinates (x, y), which must lie in the window.
@@ -149,29 +218,70 @@ impl Film {
         (y - self.window.y) as usize * self.window.width as usize + (x - self.window.x) as usize
     }
 
-    pub(crate) fn pixels_mut(&mut self) -> &mut [FilmPixel] {
-        &mut self.pixels
+    /// Stores `row`, the pixels from index `at` on (a tile's row, its film values plus
+    /// its new samples).
+    #[inline]
+    pub(crate) fn store_row(&mut self, at: usize, row: &[FilmPixel]) {
+        match &mut self.store {
+            Store::Sums(p) => p[at..at + row.len()].copy_from_slice(row),
+            Store::Values(v) => {
+                for (o, p) in v[at..at + row.len()].iter_mut().zip(row) {
+                    *o = p.value();
+                }
+            }
+        }
+    }
+
+    /// Appends the `n` pixels from index `at` on to `out`: their sums, or, for a film
+    /// of values before its one pass, empty pixels.
+    pub(crate) fn read_row(&self, at: usize, n: usize, out: &mut Vec<FilmPixel>) {
+        match &self.store {
+            Store::Sums(p) => out.extend_from_slice(&p[at..at + n]),
+            Store::Values(_) => {
+                assert_eq!(self.samples, 0, "a film of values takes one pass only");
+                out.resize(out.len() + n, FilmPixel::default());
+            }
+        }
     }
 
     pub(crate) fn finish_pass(&mut self, samples: u32) {
         self.samples += samples;
+        if matches!(self.store, Store::Values(_)) {
+            assert!(self.samples <= 1, "a film of values holds one sample");
+        }
     }
 
     /// The filtered mean of the samples (black before the first sample).
     pub fn image(&self) -> Image {
-        let mut px = Vec::with_capacity(self.pixels.len());
-        irradia_core::pages::prefer_huge_pages(px.spare_capacity_mut());
-        px.extend(self.pixels.iter().map(FilmPixel::value));
+        let px = match &self.store {
+            Store::Sums(p) => {
+                let mut px = Vec::with_capacity(p.len());
+                irradia_core::pages::prefer_huge_pages(px.spare_capacity_mut());
+                px.extend(p.iter().map(FilmPixel::value));
+                px
+            }
+            Store::Values(v) => v.clone(),
+        };
         Image::from_pixels(self.window.width, self.window.height, px)
     }
 
-    /// Per-pixel variance of the mean luminance (the squared standard error).
+    /// [`Film::image`], the film's values moved into it where it keeps values.
+    pub fn into_image(self) -> Image {
+        match self.store {
+            Store::Values(v) => Image::from_pixels(self.window.width, self.window.height, v),
+            Store::Sums(_) => self.image(),
+        }
+    }
+
+    /// Per-pixel variance of the mean luminance (the squared standard error); infinite
+    /// below two samples.
     pub fn variance_of_mean(&self) -> Vec<f64> {
         let n = self.samples as f64;
-        if self.samples < 2 {
-            return vec![f64::INFINITY; self.pixels.len()];
-        }
-        self.pixels
+        let pixels = match &self.store {
+            Store::Sums(p) if self.samples >= 2 => p,
+            _ => return vec![f64::INFINITY; self.len()],
+        };
+        pixels
             .iter()
             .map(|p| {
                 // Luminance samples are w·y; their mean over the mean weight is the
@@ -193,10 +303,12 @@ impl Film {
         if self.samples < 2 {
             return f64::INFINITY;
         }
+        let Store::Sums(pixels) = &self.store else {
+            return f64::INFINITY;
+        };
         let var = self.variance_of_mean();
         let rms = (var.iter().sum::<f64>() / var.len() as f64).sqrt();
-        let mean = self
-            .pixels
+        let mean = pixels
             .iter()
             .map(|p| {
                 if p.weight > 0.0 {
@@ -206,7 +318,7 @@ impl Film {
                 }
             })
             .sum::<f64>()
-            / self.pixels.len() as f64;
+            / pixels.len() as f64;
         if mean > 0.0 {
             rms / mean
         } else if rms == 0.0 {
@@ -216,16 +328,22 @@ impl Film {
         }
     }
 
-    /// Writes the film to `path` atomically, tagged with the scene's fingerprint.
+    /// Writes the film to `path` atomically, tagged with the scene's fingerprint. A film
+    /// of values ([`Film::for_one_sample`]) has no sums to write: an error.
     pub fn save_checkpoint(&self, path: &Path, fingerprint: u64) -> std::io::Result<()> {
-        let mut out = Vec::with_capacity(HEADER + self.pixels.len() * PIXEL);
+        let Store::Sums(pixels) = &self.store else {
+            return Err(std::io::Error::other(
+                "a one-sample film keeps pixel values, not the sums a checkpoint needs",
+            ));
+        };
+        let mut out = Vec::with_capacity(HEADER + pixels.len() * PIXEL);
         out.extend_from_slice(MAGIC);
         let w = self.window;
         for v in [w.x, w.y, w.width, w.height, self.samples] {
             out.extend_from_slice(&v.to_le_bytes());
         }
         out.extend_from_slice(&fingerprint.to_le_bytes());
-        for p in &self.pixels {
+        for p in pixels {
             for v in [p.sum[0], p.sum[1], p.sum[2], p.sum_sq, p.weight] {
                 out.extend_from_slice(&v.to_le_bytes());
             }
@@ -260,11 +378,14 @@ impl Film {
             return Err(CheckpointError::Mismatch { path: p });
         }
         let mut film = Film::for_window(window).map_err(|e| bad(&e.to_string()))?;
-        let n = film.pixels.len();
+        let n = film.len();
         if bytes.len() != HEADER + n * PIXEL {
             return Err(bad("truncated data"));
         }
-        for (i, px) in film.pixels.iter_mut().enumerate() {
+        let Store::Sums(pixels) = &mut film.store else {
+            unreachable!("for_window makes a film of sums")
+        };
+        for (i, px) in pixels.iter_mut().enumerate() {
             let o = HEADER + i * PIXEL;
             let f =
                 |k: usize| f64::from_le_bytes(bytes[o + 8 * k..o + 8 * k + 8].try_into().unwrap());

@@ -299,9 +299,14 @@ pub(crate) fn run_driver<I: Integrator, S: Sweep>(
     let spp = progressive.spp;
     let film = match &options.resume {
         Some(p) => Film::load_checkpoint(p, setup.fingerprint)?,
+        // One sample per pixel is one pass, after which nothing reads the sums (no
+        // error estimate below two samples): the film keeps the values alone.
+        None if spp == 1 && progressive.checkpoint.is_none() => {
+            Film::for_one_sample(scene.settings.window())?
+        }
         None => Film::for_scene(scene)?,
     };
-    let pixels = film.pixels().len() as u64;
+    let pixels = film.len() as u64;
     let total = (spp != u32::MAX).then(|| pixels * spp.saturating_sub(film.samples()) as u64);
     let done = AtomicU64::new(0);
     let report = |pass: Option<PassReport>, n: u64| {
@@ -330,14 +335,15 @@ pub(crate) fn run_driver<I: Integrator, S: Sweep>(
         RunError::Sweep(e) if e.is::<cancel::Cancelled>() => RenderError::Cancelled,
         RunError::Sweep(e) => RenderError::Distributed(e.to_string()),
     })?;
+    let (samples, relative_error) = (r.film.samples(), r.film.relative_error());
     Ok(RenderOutput {
-        image: r.film.image(),
+        image: r.film.into_image(),
         aovs: r.aovs,
         stats: r.stats,
         elapsed: r.elapsed,
-        samples: r.film.samples(),
+        samples,
         stop: r.stop,
-        relative_error: r.film.relative_error(),
+        relative_error,
     })
 }
 

@@ -4,7 +4,9 @@
 //! - a crop-window render equals the same pixels of the full render, bit for bit, for
 //!   both integrators;
 //! - the path tracer's depth, normal and object AOVs equal the Whitted tracer's
-//!   first-hit AOVs of the same camera rays.
+//!   first-hit AOVs of the same camera rays;
+//! - a one-sample render's film of values gives the image a film of sums gives, bit
+//!   for bit.
 
 use irradia_render::filter::{erf, FilterSampler};
 use irradia_render::sampler::{camera_sample, Sampler};
@@ -244,6 +246,88 @@ fn path_tracer_aovs_equal_the_whitted_first_hit_aovs() {
         // And the record is a real one: some pixels see objects, at finite depth.
         assert!(out.aovs[2].1.pixels().iter().any(|p| p.r >= 0.0));
     }
+}
+
+/// A one-sample render keeps pixel values, not sums (`Film::for_one_sample`); asking
+/// for a checkpoint makes the driver keep the sums. Both images must agree bit for bit:
+/// with the Gaussian filter (weights other than 1 where adaptive sampling adds four
+/// samples), a crop window, both integrators, and through the public `Film` too.
+#[test]
+fn a_one_sample_film_of_values_gives_the_image_of_sums() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scenes = Vec::new();
+    let whitted = || {
+        let mut s = builtin::load("whitted").unwrap();
+        s.settings.width = 64;
+        s.settings.height = 48;
+        s.settings.filter = PixelFilter::Gaussian { stddev: 0.5 };
+        s
+    };
+    let mut adaptive = whitted();
+    adaptive.settings.adaptive_threshold = Some(0.05);
+    scenes.push(("whitted adaptive", adaptive));
+    let mut whitted = whitted();
+    whitted.settings.crop = Some(CropWindow {
+        x: 5,
+        y: 3,
+        width: 40,
+        height: 31,
+    });
+    scenes.push(("whitted crop", whitted));
+    let mut cornell = builtin::load("cornell").unwrap();
+    cornell.settings.width = 40;
+    cornell.settings.height = 30;
+    cornell.settings.filter = PixelFilter::Tent { radius: 1.0 };
+    assert_eq!(cornell.settings.integrator, Method::Path);
+    scenes.push(("cornell", cornell));
+    for (what, mut scene) in scenes {
+        scene.settings.spp = 1;
+        let options = RenderOptions {
+            tile_size: 16,
+            ..RenderOptions::default()
+        };
+        let values = render(&scene, &options).unwrap();
+        let sums = render(
+            &scene,
+            &RenderOptions {
+                checkpoint: Some(dir.path().join(format!("{what}.film"))),
+                ..options
+            },
+        )
+        .unwrap();
+        assert_eq!(values.samples, 1);
+        assert_eq!(sums.samples, 1);
+        assert!(values.relative_error.is_infinite() && sums.relative_error.is_infinite());
+        let bits = |im: &irradia_core::Image| {
+            im.pixels()
+                .iter()
+                .flat_map(|p| [p.r.to_bits(), p.g.to_bits(), p.b.to_bits()])
+                .collect::<Vec<_>>()
+        };
+        let (a, b) = (bits(&values.image), bits(&sums.image));
+        let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+        assert_eq!(differ, 0, "{what}: {differ} of {} channels differ", a.len());
+        assert!(values.image.pixels().iter().any(|p| p.r > 0.0), "{what}");
+    }
+}
+
+#[test]
+fn a_film_of_values_keeps_no_sums() {
+    use irradia_render::Film;
+    let w = CropWindow {
+        x: 0,
+        y: 0,
+        width: 3,
+        height: 2,
+    };
+    let film = Film::for_one_sample(w).unwrap();
+    assert_eq!(film.len(), 6);
+    assert!(film.sums().is_none());
+    assert!(film.relative_error().is_infinite());
+    assert!(film.variance_of_mean().iter().all(|v| v.is_infinite()));
+    let dir = tempfile::tempdir().unwrap();
+    assert!(film.save_checkpoint(&dir.path().join("f"), 0).is_err());
+    assert_eq!(film.into_image().pixels(), Film::for_window(w).unwrap().image().pixels());
 }
 
 #[test]
