@@ -327,7 +327,10 @@ fn a_film_of_values_keeps_no_sums() {
     assert!(film.variance_of_mean().iter().all(|v| v.is_infinite()));
     let dir = tempfile::tempdir().unwrap();
     assert!(film.save_checkpoint(&dir.path().join("f"), 0).is_err());
-    assert_eq!(film.into_image().pixels(), Film::for_window(w).unwrap().image().pixels());
+    assert_eq!(
+        film.into_image().pixels(),
+        Film::for_window(w).unwrap().image().pixels()
+    );
 }
 
 #[test]
