@@ -99,30 +99,9 @@ impl Bvh {
             sp: 0,
             stack: [const { MaybeUninit::uninit() }; STACK],
         });
-        let live_n = LANES.min(rays.len());
-        for (k, w) in walks.iter_mut().enumerate().take(live_n) {
-            begin(w, k);
-        }
-        let mut live: u32 = (1u32 << live_n) - 1;
-        let mut next = live_n;
-        while live != 0 {
-            let mut m = live;
-            while m != 0 {
-                let k = m.trailing_zeros() as usize;
-                m &= m - 1;
-                let w = &mut walks[k];
-                if self.step::<AVX, P, F>(w, &prefetch, &mut hit) {
-                    continue;
-                }
-                // This ray is done: the next one takes its turn.
-                if next < rays.len() {
-                    begin(w, next);
-                    next += 1;
-                } else {
-                    live &= !(1 << k);
-                }
-            }
-        }
+        take_turns(&mut walks, rays.len(), begin, |w| {
+            self.step::<AVX, P, F>(w, &prefetch, &mut hit)
+        });
     }
 
     /// One step of `w`'s walk (a leaf, or a node and the descent into its nearest
@@ -164,6 +143,42 @@ impl Bvh {
             if e.t_near <= w.t_max {
                 w.current = e.node;
                 return true;
+            }
+        }
+    }
+}
+
+/// Walks `count` rays [`LANES`] at a time in turns: `begin(walk, i)` sets a slot to
+/// ray `i`'s start, `step(walk)` takes one step of it and says whether it goes on;
+/// a slot whose ray is done takes the next ray.
+#[inline(always)]
+fn take_turns<W>(
+    walks: &mut [W; LANES],
+    count: usize,
+    begin: impl Fn(&mut W, usize),
+    mut step: impl FnMut(&mut W) -> bool,
+) {
+    let live_n = LANES.min(count);
+    for (k, w) in walks.iter_mut().enumerate().take(live_n) {
+        begin(w, k);
+    }
+    let mut live: u32 = (1u32 << live_n) - 1;
+    let mut next = live_n;
+    while live != 0 {
+        let mut m = live;
+        while m != 0 {
+            let k = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let w = &mut walks[k];
+            if step(w) {
+                continue;
+            }
+            // This ray is done: the next one takes its turn.
+            if next < count {
+                begin(w, next);
+                next += 1;
+            } else {
+                live &= !(1 << k);
             }
         }
     }
@@ -241,30 +256,15 @@ impl Bvh {
             sp: 0,
             stack: [const { MaybeUninit::uninit() }; STACK],
         });
-        let live_n = LANES.min(rays.len());
-        for (k, w) in walks.iter_mut().enumerate().take(live_n) {
-            begin(w, k);
-        }
-        let mut live: u32 = (1u32 << live_n) - 1;
-        let mut next = live_n;
-        while live != 0 {
-            let mut m = live;
-            while m != 0 {
-                let k = m.trailing_zeros() as usize;
-                m &= m - 1;
-                let w = &mut walks[k];
-                match self.any_step::<AVX, F>(w, &mut hit) {
-                    None => continue,
-                    Some(blocked) => out[w.index] = blocked,
-                }
-                if next < rays.len() {
-                    begin(w, next);
-                    next += 1;
-                } else {
-                    live &= !(1 << k);
+        take_turns(&mut walks, rays.len(), begin, |w| {
+            match self.any_step::<AVX, F>(w, &mut hit) {
+                None => true,
+                Some(blocked) => {
+                    out[w.index] = blocked;
+                    false
                 }
             }
-        }
+        });
     }
 
     /// One step of `w`'s any-hit walk (the loop body of `Bvh::any`): `None` while it
