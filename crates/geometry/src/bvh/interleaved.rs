@@ -15,10 +15,9 @@
 //! changes.
 
 use super::node::{ChildRef, NodeRay};
-use super::traverse::{Entry, STACK};
+use super::traverse::{Entry, Walk};
 use super::Bvh;
 use irradia_core::Ray;
-use std::mem::MaybeUninit;
 
 /// Rays in flight at once (at most 32). Measured on the 2.25M-triangle gyroid (one
 /// thread, CPU seconds, each against the step before): 4 rays in turns within each group
@@ -26,17 +25,6 @@ use std::mem::MaybeUninit;
 /// stream 0.76, 16 in flight 0.92: about half the single-ray time in all.
 pub const LANES: usize = 16;
 const _: () = assert!(LANES <= 32);
-
-/// One ray's walk in progress.
-struct Walk {
-    ray: NodeRay,
-    /// Which of the caller's rays.
-    index: usize,
-    t_max: f32,
-    current: ChildRef,
-    sp: usize,
-    stack: [MaybeUninit<Entry>; STACK],
-}
 
 impl Bvh {
     /// The nearest hit of each of `rays` (each bounded by `t_max`), walked
@@ -81,70 +69,22 @@ impl Bvh {
         F: FnMut(usize, ChildRef, f32) -> Option<f32>,
     {
         let root = ChildRef { index: 0, count: 0 };
-        let begin = |w: &mut Walk, index: usize| {
-            w.ray = NodeRay::new(rays[index].origin, rays[index].dir);
-            w.index = index;
-            w.t_max = t_max;
-            w.current = root;
-            w.sp = 0;
+        let begin = |w: &mut Walk<Entry>, index: usize| {
+            w.restart(
+                NodeRay::new(rays[index].origin, rays[index].dir),
+                index,
+                root,
+                t_max,
+            );
         };
-        // The walks are set up once and reused in place (a new one would copy its
-        // stack). Stacks are left uninitialised as in the single-ray walk: only slots
-        // below `sp` are read.
-        let mut walks: [Walk; LANES] = std::array::from_fn(|_| Walk {
-            ray: NodeRay::new(rays[0].origin, rays[0].dir),
-            index: 0,
-            t_max,
-            current: root,
-            sp: 0,
-            stack: [const { MaybeUninit::uninit() }; STACK],
+        // The walks are set up once and restarted in place (a new one would copy its
+        // stack).
+        let mut walks: [Walk<Entry>; LANES] = std::array::from_fn(|_| {
+            Walk::new(NodeRay::new(rays[0].origin, rays[0].dir), 0, root, t_max)
         });
         take_turns(&mut walks, rays.len(), begin, |w| {
-            self.step::<AVX, P, F>(w, &prefetch, &mut hit)
+            self.closest_step::<AVX, P, F>(w, &prefetch, &mut hit)
         });
-    }
-
-    /// One step of `w`'s walk (a leaf, or a node and the descent into its nearest
-    /// child, or pops up to the next node worth opening): the loop body of
-    /// `Bvh::closest_from`. Returns whether the walk goes on.
-    #[inline(always)]
-    fn step<const AVX: bool, P, F>(&self, w: &mut Walk, prefetch: &P, hit: &mut F) -> bool
-    where
-        P: Fn(ChildRef),
-        F: FnMut(usize, ChildRef, f32) -> Option<f32>,
-    {
-        let current = w.current;
-        if current.is_leaf() {
-            if let Some(t) = hit(w.index, current, w.t_max) {
-                if t < w.t_max {
-                    w.t_max = t;
-                }
-            }
-        } else {
-            let node = &self.nodes[current.index as usize];
-            let (mask, t_near) = node.intersect_with::<AVX>(&w.ray, w.t_max);
-            if mask != 0 {
-                let (hits, n) = self.entered_far_to_near(node, mask, &t_near, prefetch);
-                for e in &hits[..n - 1] {
-                    w.stack[w.sp] = MaybeUninit::new(*e);
-                    w.sp += 1;
-                }
-                w.current = hits[n - 1].node;
-                return true;
-            }
-        }
-        loop {
-            if w.sp == 0 {
-                return false;
-            }
-            w.sp -= 1;
-            // SAFETY: every slot below the stack pointer was written by a push.
-            let e = unsafe { w.stack[w.sp].assume_init() };
-            if e.t_near <= w.t_max {
-                w.current = e.node;
-                return true;
-            }
-        }
     }
 }
 
@@ -182,16 +122,6 @@ fn take_turns<W>(
             }
         }
     }
-}
-
-/// One shadow ray's any-hit walk in progress.
-struct AnyWalk {
-    ray: NodeRay,
-    index: usize,
-    t_max: f32,
-    current: ChildRef,
-    sp: usize,
-    stack: [MaybeUninit<ChildRef>; STACK],
 }
 
 impl Bvh {
@@ -241,20 +171,16 @@ impl Bvh {
         F: FnMut(usize, ChildRef, f32) -> bool,
     {
         let root = ChildRef { index: 0, count: 0 };
-        let begin = |w: &mut AnyWalk, index: usize| {
-            w.ray = NodeRay::new(rays[index].origin, rays[index].dir);
-            w.index = index;
-            w.t_max = t_max[index];
-            w.current = root;
-            w.sp = 0;
+        let begin = |w: &mut Walk<ChildRef>, index: usize| {
+            w.restart(
+                NodeRay::new(rays[index].origin, rays[index].dir),
+                index,
+                root,
+                t_max[index],
+            );
         };
-        let mut walks: [AnyWalk; LANES] = std::array::from_fn(|_| AnyWalk {
-            ray: NodeRay::new(rays[0].origin, rays[0].dir),
-            index: 0,
-            t_max: 0.0,
-            current: root,
-            sp: 0,
-            stack: [const { MaybeUninit::uninit() }; STACK],
+        let mut walks: [Walk<ChildRef>; LANES] = std::array::from_fn(|_| {
+            Walk::new(NodeRay::new(rays[0].origin, rays[0].dir), 0, root, 0.0)
         });
         take_turns(&mut walks, rays.len(), begin, |w| {
             match self.any_step::<AVX, F>(w, &mut hit) {
@@ -265,42 +191,5 @@ impl Bvh {
                 }
             }
         });
-    }
-
-    /// One step of `w`'s any-hit walk (the loop body of `Bvh::any`): `None` while it
-    /// goes on, else whether the ray is blocked.
-    #[inline(always)]
-    fn any_step<const AVX: bool, F>(&self, w: &mut AnyWalk, hit: &mut F) -> Option<bool>
-    where
-        F: FnMut(usize, ChildRef, f32) -> bool,
-    {
-        let current = w.current;
-        if current.is_leaf() {
-            if hit(w.index, current, w.t_max) {
-                return Some(true);
-            }
-        } else {
-            let node = &self.nodes[current.index as usize];
-            let (mut mask, _) = node.intersect_with::<AVX>(&w.ray, w.t_max);
-            if mask != 0 {
-                let first = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                while mask != 0 {
-                    let i = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    w.stack[w.sp] = MaybeUninit::new(node.child_ref(i));
-                    w.sp += 1;
-                }
-                w.current = node.child_ref(first);
-                return None;
-            }
-        }
-        if w.sp == 0 {
-            return Some(false);
-        }
-        w.sp -= 1;
-        // SAFETY: every slot below the stack pointer was written by a push.
-        w.current = unsafe { w.stack[w.sp].assume_init() };
-        None
     }
 }

@@ -19,6 +19,44 @@ pub(super) struct Entry {
     pub(super) t_near: f32,
 }
 
+/// One ray's walk in progress: its ray, its bound, the node it is at and its stack
+/// (of [`Entry`] for the nearest-hit walk, of bare [`ChildRef`]s for the any-hit walk).
+pub(super) struct Walk<E> {
+    pub(super) ray: NodeRay,
+    /// Which of the caller's rays (for walks taken in turns).
+    pub(super) index: usize,
+    pub(super) t_max: f32,
+    pub(super) current: ChildRef,
+    pub(super) sp: usize,
+    /// Left uninitialised: zeroing 3 KiB per query cost more than many whole
+    /// traversals of small scenes. Only slots below `sp` are ever read.
+    pub(super) stack: [MaybeUninit<E>; STACK],
+}
+
+impl<E: Copy> Walk<E> {
+    #[inline(always)]
+    pub(super) fn new(ray: NodeRay, index: usize, start: ChildRef, t_max: f32) -> Self {
+        Walk {
+            ray,
+            index,
+            t_max,
+            current: start,
+            sp: 0,
+            stack: [const { MaybeUninit::uninit() }; STACK],
+        }
+    }
+
+    /// Starts this walk again for another ray (the stack is reused in place, not copied).
+    #[inline(always)]
+    pub(super) fn restart(&mut self, ray: NodeRay, index: usize, start: ChildRef, t_max: f32) {
+        self.ray = ray;
+        self.index = index;
+        self.t_max = t_max;
+        self.current = start;
+        self.sp = 0;
+    }
+}
+
 impl Bvh {
     /// The children of `node` that `mask` says a ray enters (at distances `t_near`),
     /// each prefetched (a leaf by `leaf_prefetch`, a node by [`Bvh::prefetch`]), sorted
@@ -180,48 +218,63 @@ impl Bvh {
         P: Fn(ChildRef),
         F: FnMut(ChildRef, f32) -> Option<f32>,
     {
-        let mut t_max = t_max;
-        let mut found = false;
-        // Left uninitialised: zeroing 3 KiB per query cost more than many whole
-        // traversals of small scenes. Only slots below `sp` are ever read.
-        let mut stack: [MaybeUninit<Entry>; STACK] = [const { MaybeUninit::uninit() }; STACK];
-        let mut sp = 0usize;
-        let mut current = start;
-        loop {
-            if current.is_leaf() {
-                if let Some(t) = hit(current, t_max) {
-                    if t < t_max {
-                        t_max = t;
-                        found = true;
-                    }
-                }
-            } else {
-                let node = &self.nodes[current.index as usize];
-                let (mask, t_near) = node.intersect_with::<AVX>(nray, t_max);
-                if mask != 0 {
-                    // Collect the entered children, sort them near to far, push all
-                    // but the nearest (farthest pushed first) and descend into it.
-                    let (hits, n) = self.entered_far_to_near(node, mask, &t_near, &prefetch);
-                    for e in &hits[..n - 1] {
-                        stack[sp] = MaybeUninit::new(*e);
-                        sp += 1;
-                    }
-                    current = hits[n - 1].node;
-                    continue;
+        let mut w = Walk::new(*nray, 0, start, t_max);
+        let mut leaf = |_: usize, c: ChildRef, t_max: f32| hit(c, t_max);
+        while self.closest_step::<AVX, P, _>(&mut w, &prefetch, &mut leaf) {}
+        // The bound only ever shrinks, to a nearer hit.
+        (w.t_max < t_max).then_some(w.t_max)
+    }
+
+    /// One step of `w`'s nearest-hit walk: a leaf (`hit(w.index, leaf, t_max)`, and the
+    /// bound shrinks to a nearer hit), or a node and the descent into its nearest entered
+    /// child (the others pushed far to near), or pops up to the next node that may still
+    /// hold a nearer hit. Returns whether the walk goes on. The single-ray walk
+    /// (`Bvh::closest_from`) and the walks taken in turns (`interleaved.rs`) are loops
+    /// over this step.
+    #[inline(always)]
+    pub(super) fn closest_step<const AVX: bool, P, F>(
+        &self,
+        w: &mut Walk<Entry>,
+        prefetch: &P,
+        hit: &mut F,
+    ) -> bool
+    where
+        P: Fn(ChildRef),
+        F: FnMut(usize, ChildRef, f32) -> Option<f32>,
+    {
+        let current = w.current;
+        if current.is_leaf() {
+            if let Some(t) = hit(w.index, current, w.t_max) {
+                if t < w.t_max {
+                    w.t_max = t;
                 }
             }
-            // Pop the next node that may still hold a nearer hit.
-            loop {
-                if sp == 0 {
-                    return found.then_some(t_max);
+        } else {
+            let node = &self.nodes[current.index as usize];
+            let (mask, t_near) = node.intersect_with::<AVX>(&w.ray, w.t_max);
+            if mask != 0 {
+                // Collect the entered children, sort them near to far, push all
+                // but the nearest (farthest pushed first) and descend into it.
+                let (hits, n) = self.entered_far_to_near(node, mask, &t_near, prefetch);
+                for e in &hits[..n - 1] {
+                    w.stack[w.sp] = MaybeUninit::new(*e);
+                    w.sp += 1;
                 }
-                sp -= 1;
-                // SAFETY: every slot below the stack pointer was written by a push.
-                let e = unsafe { stack[sp].assume_init() };
-                if e.t_near <= t_max {
-                    current = e.node;
-                    break;
-                }
+                w.current = hits[n - 1].node;
+                return true;
+            }
+        }
+        // Pop the next node that may still hold a nearer hit.
+        loop {
+            if w.sp == 0 {
+                return false;
+            }
+            w.sp -= 1;
+            // SAFETY: every slot below the stack pointer was written by a push.
+            let e = unsafe { w.stack[w.sp].assume_init() };
+            if e.t_near <= w.t_max {
+                w.current = e.node;
+                return true;
             }
         }
     }
@@ -267,37 +320,57 @@ impl Bvh {
     where
         F: FnMut(ChildRef, f32) -> bool,
     {
-        let nray = NodeRay::new(ray.origin, ray.dir);
-        let mut stack: [MaybeUninit<ChildRef>; STACK] = [const { MaybeUninit::uninit() }; STACK];
-        let mut sp = 0usize;
-        let mut current = ChildRef { index: 0, count: 0 };
+        let root = ChildRef { index: 0, count: 0 };
+        let mut w = Walk::new(NodeRay::new(ray.origin, ray.dir), 0, root, t_max);
+        let mut leaf = |_: usize, c: ChildRef, t_max: f32| hit(c, t_max);
         loop {
-            if current.is_leaf() {
-                if hit(current, t_max) {
-                    return true;
-                }
-            } else {
-                let node = &self.nodes[current.index as usize];
-                let (mut mask, _) = node.intersect_with::<AVX>(&nray, t_max);
-                if mask != 0 {
-                    let first = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    while mask != 0 {
-                        let i = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        stack[sp] = MaybeUninit::new(node.child_ref(i));
-                        sp += 1;
-                    }
-                    current = node.child_ref(first);
-                    continue;
-                }
+            if let Some(blocked) = self.any_step::<AVX, _>(&mut w, &mut leaf) {
+                return blocked;
             }
-            if sp == 0 {
-                return false;
-            }
-            sp -= 1;
-            // SAFETY: every slot below the stack pointer was written by a push.
-            current = unsafe { stack[sp].assume_init() };
         }
+    }
+
+    /// One step of `w`'s any-hit walk: a leaf (`hit(w.index, leaf, t_max)` says whether
+    /// it blocks the ray), or a node and the descent into its first entered child (the
+    /// others pushed, in no order that matters), or a pop. `None` while the walk goes
+    /// on, else whether the ray is blocked. `Bvh::any` and the shadow walks taken in
+    /// turns (`interleaved.rs`) are loops over this step.
+    #[inline(always)]
+    pub(super) fn any_step<const AVX: bool, F>(
+        &self,
+        w: &mut Walk<ChildRef>,
+        hit: &mut F,
+    ) -> Option<bool>
+    where
+        F: FnMut(usize, ChildRef, f32) -> bool,
+    {
+        let current = w.current;
+        if current.is_leaf() {
+            if hit(w.index, current, w.t_max) {
+                return Some(true);
+            }
+        } else {
+            let node = &self.nodes[current.index as usize];
+            let (mut mask, _) = node.intersect_with::<AVX>(&w.ray, w.t_max);
+            if mask != 0 {
+                let first = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                while mask != 0 {
+                    let i = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    w.stack[w.sp] = MaybeUninit::new(node.child_ref(i));
+                    w.sp += 1;
+                }
+                w.current = node.child_ref(first);
+                return None;
+            }
+        }
+        if w.sp == 0 {
+            return Some(false);
+        }
+        w.sp -= 1;
+        // SAFETY: every slot below the stack pointer was written by a push.
+        w.current = unsafe { w.stack[w.sp].assume_init() };
+        None
     }
 }
