@@ -17,20 +17,19 @@ use super::background::Background;
 use super::bsdf::{conductor_fresnel, cosine_hemisphere, dielectric};
 use super::gather::{checked, field, field3};
 use super::glossy::glossy;
+use super::lane_queries::{nearest_in_turns, occluded_in_turns};
 use super::light_pick::pick_lights;
 use super::sphere_hit8::SphereHits;
 use super::sphere_light::{self, LightPoint};
+use super::starts::{Ahead, Starts};
 use super::{facet, mat, smooth, tri, WideScene};
-use crate::camera_batch::{CameraBatch, Cursor, Starts8};
-use crate::path::flat_scene::prefetch_bytes;
 use crate::path::integrator::{PathCounters, PathParams};
 use crate::path::lights::KernelLight;
 use crate::path::tracer::Tracer;
 use glam::Vec3;
-use irradia_core::{Ray, Rgb, Rng};
+use irradia_core::{Rgb, Rng};
 use irradia_geometry::bvh::node::gamma;
 use irradia_geometry::packet::lanes::{offset_ray_origin, F8, M8, V3, W};
-use irradia_geometry::packet::ray8::LaneHits;
 use irradia_geometry::triangle::TriangleHit;
 use std::f32::consts::FRAC_1_PI;
 
@@ -54,66 +53,6 @@ struct Paths {
     /// The product of the relative indices of refraction crossed (Russian roulette
     /// judges `max(beta) eta²`, as the scalar estimator does).
     eta: F8,
-}
-
-/// Where the kernel's paths start: a camera sample per sample index.
-pub(crate) enum Starts<'a, 'c> {
-    /// Sample `k` from a call (tests; cameras and filters the lanes do not make):
-    /// its camera ray and its stream, already past the pixel jitter. Called through a
-    /// `dyn` reference, so the kernel is compiled once, in this crate.
-    Each(&'a mut dyn FnMut(usize) -> (Ray, Rng)),
-    /// A tile's camera samples, made eight at once in the kernel's own vector width.
-    Camera(&'a CameraBatch<'c>),
-}
-
-/// Camera samples made ahead of the lanes that take them, up to eight at once: the
-/// rays in lanes and the streams.
-struct Ahead {
-    /// The batch's cursor at the next sample to make ([`Starts::Camera`]).
-    cursor: Option<Cursor>,
-    starts: Starts8,
-    /// How many are made, and how many of them lanes have taken.
-    made: usize,
-    taken: usize,
-}
-
-impl Ahead {
-    fn new(starts: &Starts<'_, '_>) -> Self {
-        Self {
-            cursor: match starts {
-                Starts::Camera(batch) => Some(batch.cursor()),
-                Starts::Each(_) => None,
-            },
-            starts: Starts8 {
-                origin: V3::ZERO,
-                dir: V3::ZERO,
-                rng: std::array::from_fn(|_| Rng::new(0, 0)),
-            },
-            made: 0,
-            taken: 0,
-        }
-    }
-
-    /// Makes samples `next..next + n` (`n <= 8`, `next` the first not yet made).
-    #[inline(always)]
-    fn make(&mut self, starts: &mut Starts<'_, '_>, next: usize, n: usize) {
-        match starts {
-            Starts::Camera(batch) => {
-                let cursor = self.cursor.as_mut().expect("a camera batch's cursor");
-                self.starts = batch.eight(cursor, n);
-            }
-            Starts::Each(start) => {
-                for i in 0..n {
-                    let (ray, rng) = (*start)(next + i);
-                    self.starts.origin.set_lane(i, ray.origin);
-                    self.starts.dir.set_lane(i, ray.dir);
-                    self.starts.rng[i] = rng;
-                }
-            }
-        }
-        self.made = n;
-        self.taken = 0;
-    }
 }
 
 /// What the per-lane stage hands to the vector stage, per bounce: indices into the
@@ -516,11 +455,7 @@ fn run<const FMA: bool>(
                     continue;
                 }
                 // The next camera sample, made with up to seven more.
-                if ahead.taken == ahead.made {
-                    ahead.make(starts, next, (out.len() - next).min(W));
-                }
-                let i = ahead.taken;
-                ahead.taken += 1;
+                let i = ahead.take(starts, next, out.len());
                 paths.sample[lane] = next;
                 next += 1;
                 paths.rng[lane] = ahead.starts.rng[i].clone();
@@ -542,45 +477,7 @@ fn run<const FMA: bool>(
         // The nearest hits: eight rays at once, or lane by lane.
         let hits = match &ws.rays {
             Some(rays) => rays.nearest::<FMA>(paths.origin, paths.dir, live),
-            None => {
-                let mut h = LaneHits {
-                    hit: M8::FALSE,
-                    triangle: [0; W],
-                    t: F8::ZERO,
-                    b1: F8::ZERO,
-                    b2: F8::ZERO,
-                };
-                // The live lanes' rays walk the BVH in turns (one's cache misses
-                // overlap the others' work); each answer is its single ray's.
-                let mut which = [0usize; W];
-                let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
-                let mut n = 0;
-                for lane in (0..W).filter(|&l| live.get(l)) {
-                    which[n] = lane;
-                    rays[n] = Ray::new(paths.origin.lane(lane), paths.dir.lane(lane));
-                    n += 1;
-                }
-                let mut found = [None; W];
-                ps.tracer.nearest_triangles(&rays[..n], &mut found[..n]);
-                for (&lane, found) in which[..n].iter().zip(found) {
-                    if let Some((t, ph)) = found {
-                        // Start loading what the next stages read of the triangle
-                        // while the other lanes are traced (large scenes: not in cache).
-                        let t_ = t as usize;
-                        prefetch_bytes(&ws.triangle_owner[t_], 8);
-                        prefetch_bytes(&ws.triangles[t_], 4 * tri::LEN);
-                        if let Some(table) = &ws.smooth {
-                            prefetch_bytes(&table[t_], 4 * smooth::LEN);
-                        }
-                        h.hit.set(lane, true);
-                        h.triangle[lane] = t;
-                        h.t.0[lane] = ph.t;
-                        h.b1.0[lane] = ph.b1;
-                        h.b2.0[lane] = ph.b2;
-                    }
-                }
-                h
-            }
+            None => nearest_in_turns(ws, &paths.origin, &paths.dir, live),
         };
         // Lanes whose ray may meet a sphere before its triangle (the 8-wide cull):
         // only they run the exact sphere test below.
@@ -736,27 +633,7 @@ fn run<const FMA: bool>(
             Some(rays) => {
                 rays.occluded::<FMA>(s.shadow_origin, s.shadow_dir, s.shadow_t_max, s.nee)
             }
-            None => {
-                // Walked in turns, as the nearest hits above.
-                let mut which = [0usize; W];
-                let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
-                let mut t_max = [0.0f32; W];
-                let mut n = 0;
-                for lane in (0..W).filter(|&l| s.nee.get(l)) {
-                    which[n] = lane;
-                    rays[n] = Ray::new(s.shadow_origin.lane(lane), s.shadow_dir.lane(lane));
-                    t_max[n] = s.shadow_t_max.0[lane];
-                    n += 1;
-                }
-                let mut hit = [false; W];
-                ps.tracer
-                    .occluded_baked_many(&rays[..n], &t_max[..n], &mut hit[..n]);
-                let mut blocked = M8::FALSE;
-                for (&lane, &h) in which[..n].iter().zip(&hit[..n]) {
-                    blocked.set(lane, h);
-                }
-                blocked
-            }
+            None => occluded_in_turns(ws, &s.shadow_origin, &s.shadow_dir, &s.shadow_t_max, s.nee),
         };
         // And the objects with their own tests (spheres), for shadow rays the
         // triangles leave through.

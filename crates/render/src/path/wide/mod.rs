@@ -97,12 +97,14 @@ mod gather;
 pub mod ggx;
 mod glossy;
 pub mod kernel;
+mod lane_queries;
 mod light_pick;
 mod rough_dielectric;
 mod rough_plastic;
 pub(crate) mod sphere8;
 pub(crate) mod sphere_hit8;
 pub mod sphere_light;
+mod starts;
 
 use super::flat_scene::FlatScene;
 use super::integrator::{PathCounters, PathParams, PathScene};
@@ -113,9 +115,9 @@ use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::packet::RayLaneTriangles;
 use irradia_scatter::microfacet::MicrofacetType;
 use irradia_scatter::{bsdfs::LectureLobe, Bsdf};
-use kernel::Starts;
 use light_pick::LightPick;
 use sphere_light::sph;
+use starts::Starts;
 
 /// The agreement the kernel is held to: the fraction of samples (same index in `a` and
 /// `b`, e.g. the scalar estimator's and the kernel's) whose three channels agree to

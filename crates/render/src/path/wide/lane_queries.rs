@@ -1,0 +1,88 @@
+//! The 8-wide kernel's ray queries on scenes too large for eight rays against every
+//! triangle (see [`super`]): the live lanes' rays walk the [`FlatScene`](crate::path::flat_scene::FlatScene)'s
+//! hierarchy in turns, one node or leaf each (geometry's `bvh::interleaved`), so one
+//! ray's cache misses overlap the others' work; each answer is exactly its single
+//! ray's. Nearest hits, and any hit for shadow rays with a bound per ray.
+
+use super::{smooth, tri, WideScene};
+use crate::path::flat_scene::prefetch_bytes;
+use glam::Vec3;
+use irradia_core::Ray;
+use irradia_geometry::packet::lanes::{F8, M8, V3, W};
+use irradia_geometry::packet::ray8::LaneHits;
+
+/// The nearest triangle hits of the rays `(origin, dir)` of the `live` lanes.
+#[inline(always)]
+pub(super) fn nearest_in_turns(
+    ws: &WideScene<'_, '_>,
+    origin: &V3,
+    dir: &V3,
+    live: M8,
+) -> LaneHits {
+    let mut h = LaneHits {
+        hit: M8::FALSE,
+        triangle: [0; W],
+        t: F8::ZERO,
+        b1: F8::ZERO,
+        b2: F8::ZERO,
+    };
+    let mut which = [0usize; W];
+    let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
+    let mut n = 0;
+    for lane in (0..W).filter(|&l| live.get(l)) {
+        which[n] = lane;
+        rays[n] = Ray::new(origin.lane(lane), dir.lane(lane));
+        n += 1;
+    }
+    let mut found = [None; W];
+    ws.ps.tracer.nearest_triangles(&rays[..n], &mut found[..n]);
+    for (&lane, found) in which[..n].iter().zip(found) {
+        if let Some((t, ph)) = found {
+            // Start loading what the next stages read of the triangle
+            // while the other lanes are traced (large scenes: not in cache).
+            let t_ = t as usize;
+            prefetch_bytes(&ws.triangle_owner[t_], 8);
+            prefetch_bytes(&ws.triangles[t_], 4 * tri::LEN);
+            if let Some(table) = &ws.smooth {
+                prefetch_bytes(&table[t_], 4 * smooth::LEN);
+            }
+            h.hit.set(lane, true);
+            h.triangle[lane] = t;
+            h.t.0[lane] = ph.t;
+            h.b1.0[lane] = ph.b1;
+            h.b2.0[lane] = ph.b2;
+        }
+    }
+    h
+}
+
+/// Which of the shadow rays `(origin, dir)` of the lanes in `active`, up to `t_max`,
+/// are blocked by a triangle.
+#[inline(always)]
+pub(super) fn occluded_in_turns(
+    ws: &WideScene<'_, '_>,
+    origin: &V3,
+    dir: &V3,
+    t_max: &F8,
+    active: M8,
+) -> M8 {
+    let mut which = [0usize; W];
+    let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
+    let mut bound = [0.0f32; W];
+    let mut n = 0;
+    for lane in (0..W).filter(|&l| active.get(l)) {
+        which[n] = lane;
+        rays[n] = Ray::new(origin.lane(lane), dir.lane(lane));
+        bound[n] = t_max.0[lane];
+        n += 1;
+    }
+    let mut hit = [false; W];
+    ws.ps
+        .tracer
+        .occluded_baked_many(&rays[..n], &bound[..n], &mut hit[..n]);
+    let mut blocked = M8::FALSE;
+    for (&lane, &h) in which[..n].iter().zip(&hit[..n]) {
+        blocked.set(lane, h);
+    }
+    blocked
+}
