@@ -3,13 +3,16 @@
 //!
 //! The driver asks for samples `first..first + m` of every pixel of a tile, pixel-major
 //! ([`Cursor`]). One by one, each is [`camera_sample`]: the sampler's point and stream,
-//! the pixel filter's warp, the camera's ray. Where the filter leaves the point where
-//! the sampler put it (the default box of one pixel, weight 1) and the camera is a
-//! pinhole, [`CameraBatch::eight`] makes eight samples at once: the eight streams and
-//! points side by side ([`Sampler::pixel_samples8`]: eight independent chains of
-//! integer hashing, instead of one chain between two bounces of the kernel), then the
-//! perspective projection and the normalisation of the eight directions in lanes
-//! ([`CameraRays::pinhole_rays8`]), inlined into the kernel's AVX2 loop. Every sample
+//! the pixel filter's warp, the camera's ray. [`CameraBatch::eight`] makes eight samples
+//! at once, for every camera and filter: the eight streams and points side by side
+//! ([`Sampler::pixel_samples8`]: eight independent chains of integer hashing, instead of
+//! one chain between two bounces of the kernel); the filter's warp (none for the default
+//! box of one pixel, else lane by lane); for a pinhole camera the perspective projection
+//! and the normalisation of the eight directions in lanes
+//! ([`CameraRays::pinhole_rays8`]), inlined into the kernel's AVX2 loop, for the others
+//! (thin lens, orthographic) each lane's ray as [`camera_sample`] makes it. The filter's
+//! weights ([`Starts8::weight`]: 1 for every box and tent, `f / density` for the
+//! Gaussian, Mitsuba's default filter) go back to the driver, which applies them. Every sample
 //! is the one [`camera_sample`] makes, bit for bit (tests below), so the image does not
 //! change; this is the wavefront path tracer's batched camera-ray generation (Laine,
 //! Karras, Aila, "Megakernels Considered Harmful: Wavefront Path Tracing on GPUs", HPG
@@ -22,13 +25,13 @@
 use crate::driver::Tile;
 use crate::filter::FilterSampler;
 use crate::sampler::{camera_sample, Sampler};
+use glam::Vec2;
 use irradia_core::{Ray, Rng};
 use irradia_geometry::packet::lanes::{F8, V3, W};
 use irradia_scene::camera::CameraRays;
 
-/// The samples `first..first + m` of every pixel of a tile whose camera rays can be
-/// made in lanes: sample `k` of the batch is sample `first + k % m` of pixel `k / m`
-/// (row-major in the tile).
+/// The samples `first..first + m` of every pixel of a tile, made in lanes: sample `k`
+/// of the batch is sample `first + k % m` of pixel `k / m` (row-major in the tile).
 #[derive(Clone, Copy, Debug)]
 pub struct CameraBatch<'a> {
     cam: &'a CameraRays,
@@ -39,19 +42,18 @@ pub struct CameraBatch<'a> {
     m: u32,
 }
 
-/// Up to eight camera samples in lanes: ray origins and unit directions, and each
-/// sample's stream (already past its pixel jitter).
+/// Up to eight camera samples in lanes: ray origins and unit directions, each
+/// sample's stream (already past its pixel jitter) and its filter weight.
 #[derive(Clone, Debug)]
 pub struct Starts8 {
     pub origin: V3,
     pub dir: V3,
     pub rng: [Rng; W],
+    pub weight: [f32; W],
 }
 
 impl<'a> CameraBatch<'a> {
-    /// The batch, when its samples qualify for lanes: a pinhole camera and the unit
-    /// box filter (samples unmoved, weight 1); `None` otherwise (thin lens,
-    /// orthographic, other filters), and the driver asks for samples one by one.
+    /// The batch of `m` samples a pixel from `first` (any camera, any filter).
     pub fn new(
         cam: &'a CameraRays,
         filter: &'a FilterSampler,
@@ -59,15 +61,21 @@ impl<'a> CameraBatch<'a> {
         tile: Tile,
         first: u32,
         m: u32,
-    ) -> Option<Self> {
-        (cam.is_pinhole() && filter.is_unit_box() && m > 0).then_some(Self {
+    ) -> Self {
+        Self {
             cam,
             filter,
             sampler,
             tile,
             first,
             m,
-        })
+        }
+    }
+
+    /// Whether every sample's filter weight is 1 (every box and tent filter; not the
+    /// Gaussian), so the caller need not keep [`Starts8::weight`].
+    pub fn unit_weights(&self) -> bool {
+        self.filter.unit_weights()
     }
 
     /// The number of samples: `m` for every pixel of the tile.
@@ -84,7 +92,7 @@ impl<'a> CameraBatch<'a> {
         Cursor::new(self.tile, self.m as usize)
     }
 
-    /// Sample `k` one by one, as [`camera_sample`] makes it (its filter weight is 1).
+    /// Sample `k` one by one, as [`camera_sample`] makes it (but for its filter weight).
     pub fn sample(&self, k: usize) -> (Ray, Rng) {
         let (x, y, s) = self.cursor().at(k);
         let cs = camera_sample(self.cam, self.filter, self.sampler, x, y, self.first + s);
@@ -96,6 +104,54 @@ impl<'a> CameraBatch<'a> {
     /// [`Self::sample`] bit for bit.
     #[inline(always)]
     pub fn eight(&self, cursor: &mut Cursor, n: usize) -> Starts8 {
+        let (px, py, s) = self.lanes(cursor, n);
+        // The streams and points: eight independent hash chains side by side.
+        let (mut rng, u) = self.sampler.pixel_samples8(&px, &py, &s);
+        // `camera_sample`: the filter's warp (the unit box leaves `u` as it is).
+        let (mut ox, mut oy) = (F8(u[0]), F8(u[1]));
+        let mut weight = [1.0f32; W];
+        if !self.filter.is_unit_box() {
+            for i in 0..W {
+                let (o, w) = self.filter.warp(Vec2::new(u[0][i], u[1][i]));
+                (ox.0[i], oy.0[i], weight[i]) = (o.x, o.y, w);
+            }
+        }
+        let x = F8(std::array::from_fn(|i| px[i] as f32)) + ox;
+        let y = F8(std::array::from_fn(|i| py[i] as f32)) + oy;
+        if self.cam.is_pinhole() {
+            let (origin, dir) = self.cam.pinhole_rays8(x, y);
+            return Starts8 {
+                origin,
+                dir,
+                rng,
+                weight,
+            };
+        }
+        // Thin lens (its aperture point drawn next from the sample's stream) and
+        // orthographic cameras: lane by lane.
+        let (mut origin, mut dir) = (V3::ZERO, V3::ZERO);
+        for i in 0..W {
+            let ray = if self.cam.needs_lens_sample() {
+                let lens = rng[i].next_2d();
+                self.cam.ray_lens(x.0[i], y.0[i], lens)
+            } else {
+                self.cam.ray(x.0[i], y.0[i])
+            };
+            origin.set_lane(i, ray.origin);
+            dir.set_lane(i, ray.dir);
+        }
+        Starts8 {
+            origin,
+            dir,
+            rng,
+            weight,
+        }
+    }
+
+    /// The pixels and sample indices of samples `k..k + n` (`0 < n <= 8`), `k` being
+    /// where `cursor` stands (it moves on by `n`); lanes `n..` repeat lane 0.
+    #[inline(always)]
+    fn lanes(&self, cursor: &mut Cursor, n: usize) -> ([u32; W], [u32; W], [u32; W]) {
         debug_assert!(n > 0 && n <= W);
         let (mut px, mut py, mut s) = ([0u32; W], [0u32; W], [0u32; W]);
         let k = cursor.k;
@@ -103,17 +159,10 @@ impl<'a> CameraBatch<'a> {
             let (x, y, j) = cursor.at(k + i);
             (px[i], py[i], s[i]) = (x, y, self.first + j);
         }
-        // (Lanes `n..` repeat lane 0.)
         for i in n..W {
             (px[i], py[i], s[i]) = (px[0], py[0], s[0]);
         }
-        // The streams and points: eight independent hash chains side by side.
-        let (rng, u) = self.sampler.pixel_samples8(&px, &py, &s);
-        // `camera_sample`: the unit box leaves `u` as it is.
-        let x = F8(std::array::from_fn(|i| px[i] as f32)) + F8(u[0]);
-        let y = F8(std::array::from_fn(|i| py[i] as f32)) + F8(u[1]);
-        let (origin, dir) = self.cam.pinhole_rays8(x, y);
-        Starts8 { origin, dir, rng }
+        (px, py, s)
     }
 }
 
@@ -173,105 +222,141 @@ mod tests {
     use irradia_scene::camera::{Camera, FovAxis, Projection};
     use irradia_scene::PixelFilter;
 
-    fn camera(near_clip: f32) -> CameraRays {
+    fn camera(projection: Projection, near_clip: f32) -> CameraRays {
         let mut c = Camera::new(
             Vec3::new(0.3, 1.1, 4.0),
             Vec3::new(-0.2, 0.4, 0.0),
             Vec3::Y,
-            Projection::Perspective {
-                fov_degrees: 39.3,
-                axis: FovAxis::Horizontal,
-            },
+            projection,
         );
         c.near_clip = near_clip;
         c.rays(97, 61)
     }
 
-    /// Every lane of `eight` is the one-by-one sample bit for bit: ray, and stream
-    /// (its next numbers), over tiles, batch sizes, first samples, samplers, partial
-    /// groups and near clips.
+    const PINHOLE: Projection = Projection::Perspective {
+        fov_degrees: 39.3,
+        axis: FovAxis::Horizontal,
+    };
+
+    /// Every lane of `eight` is the one-by-one sample bit for bit (ray, stream: its
+    /// next numbers, and filter weight), for each camera
+    /// (pinhole with and without a near clip, thin lens, orthographic) and filter (the
+    /// unit box, a wider box, tent, Gaussian), over tiles, batch sizes, first samples,
+    /// samplers and partial groups. (A thin lens whose lanes skip the aperture draw, a
+    /// warp left out of the lanes, or weights of another sample fail it: tried.)
     #[test]
     fn lanes_are_the_one_by_one_samples() {
-        let filter = FilterSampler::new(PixelFilter::Box { radius: 0.5 });
+        let cameras = [
+            camera(PINHOLE, 0.0),
+            camera(PINHOLE, 0.05),
+            camera(
+                Projection::ThinLens {
+                    fov_degrees: 39.3,
+                    axis: FovAxis::Horizontal,
+                    aperture_radius: 0.1,
+                    focus_distance: 3.5,
+                },
+                0.0,
+            ),
+            camera(Projection::Orthographic { height: 2.0 }, 0.0),
+        ];
+        let filters = [
+            PixelFilter::Box { radius: 0.5 },
+            PixelFilter::Box { radius: 0.75 },
+            PixelFilter::Tent { radius: 1.0 },
+            PixelFilter::Gaussian { stddev: 0.5 },
+        ];
         let mut checked = 0;
-        for (case, near) in [0.0f32, 0.05].into_iter().enumerate() {
-            let cam = camera(near);
-            for (tile, first, m, sampler) in [
-                (
-                    Tile {
-                        x0: 0,
-                        y0: 0,
-                        w: 5,
-                        h: 3,
-                    },
-                    0,
-                    1,
-                    Sampler::Independent { seed: 0 },
-                ),
-                (
-                    Tile {
-                        x0: 32,
-                        y0: 17,
-                        w: 7,
-                        h: 4,
-                    },
-                    3,
-                    2,
-                    Sampler::Independent { seed: 9 },
-                ),
-                (
-                    Tile {
-                        x0: 90,
-                        y0: 60,
-                        w: 7,
-                        h: 1,
-                    },
-                    7,
-                    16,
-                    Sampler::Independent { seed: 1 },
-                ),
-                (
-                    Tile {
-                        x0: 11,
-                        y0: 2,
-                        w: 3,
-                        h: 3,
-                    },
-                    1,
-                    5,
-                    Sampler::Stratified { spp: 16 },
-                ),
-            ] {
-                let batch = CameraBatch::new(&cam, &filter, sampler, tile, first, m).unwrap();
-                let mut cursor = batch.cursor();
-                let mut k = 0;
-                while k < batch.len() {
-                    let n = (batch.len() - k).min(W);
-                    let got = batch.eight(&mut cursor, n);
-                    for lane in 0..n {
-                        let (ray, mut rng) = batch.sample(k + lane);
-                        let cs = {
-                            let mut c = batch.cursor();
-                            let (x, y, s) = c.at(k + lane);
-                            camera_sample(&cam, &filter, sampler, x, y, first + s)
-                        };
-                        assert_eq!(cs.weight, 1.0);
-                        assert_eq!(ray.origin, cs.ray.origin);
-                        assert_eq!(ray.dir, cs.ray.dir);
-                        let what = format!("case {case} {tile:?} k {}", k + lane);
-                        assert_eq!(got.origin.lane(lane), ray.origin, "{what}");
-                        assert_eq!(got.dir.lane(lane), ray.dir, "{what}");
-                        let mut lane_rng = got.rng[lane].clone();
-                        for _ in 0..4 {
-                            assert_eq!(lane_rng.next_u32(), rng.next_u32(), "{what}");
+        let mut weighted = 0;
+        for (case, cam) in cameras.iter().enumerate() {
+            for pf in filters {
+                let filter = FilterSampler::new(pf);
+                for (tile, first, m, sampler) in [
+                    (
+                        Tile {
+                            x0: 0,
+                            y0: 0,
+                            w: 5,
+                            h: 3,
+                        },
+                        0,
+                        1,
+                        Sampler::Independent { seed: 0 },
+                    ),
+                    (
+                        Tile {
+                            x0: 32,
+                            y0: 17,
+                            w: 7,
+                            h: 4,
+                        },
+                        3,
+                        2,
+                        Sampler::Independent { seed: 9 },
+                    ),
+                    (
+                        Tile {
+                            x0: 90,
+                            y0: 60,
+                            w: 7,
+                            h: 1,
+                        },
+                        7,
+                        16,
+                        Sampler::Independent { seed: 1 },
+                    ),
+                    (
+                        Tile {
+                            x0: 11,
+                            y0: 2,
+                            w: 3,
+                            h: 3,
+                        },
+                        1,
+                        5,
+                        Sampler::Stratified { spp: 16 },
+                    ),
+                ] {
+                    let batch = CameraBatch::new(cam, &filter, sampler, tile, first, m);
+                    let mut cursor = batch.cursor();
+                    let mut k = 0;
+                    while k < batch.len() {
+                        let n = (batch.len() - k).min(W);
+                        let got = batch.eight(&mut cursor, n);
+                        for lane in 0..n {
+                            let (ray, mut rng) = batch.sample(k + lane);
+                            let cs = {
+                                let mut c = batch.cursor();
+                                let (x, y, s) = c.at(k + lane);
+                                camera_sample(cam, &filter, sampler, x, y, first + s)
+                            };
+                            let what = format!("camera {case} {pf:?} {tile:?} k {}", k + lane);
+                            assert_eq!(got.weight[lane].to_bits(), cs.weight.to_bits(), "{what}");
+                            assert_eq!(
+                                batch.unit_weights(),
+                                !matches!(pf, PixelFilter::Gaussian { .. })
+                            );
+                            if batch.unit_weights() {
+                                assert_eq!(cs.weight, 1.0, "{what}");
+                            } else if cs.weight != 1.0 {
+                                weighted += 1;
+                            }
+                            assert_eq!(ray.origin, cs.ray.origin);
+                            assert_eq!(ray.dir, cs.ray.dir);
+                            assert_eq!(got.origin.lane(lane), ray.origin, "{what}");
+                            assert_eq!(got.dir.lane(lane), ray.dir, "{what}");
+                            let mut lane_rng = got.rng[lane].clone();
+                            for _ in 0..4 {
+                                assert_eq!(lane_rng.next_u32(), rng.next_u32(), "{what}");
+                            }
+                            checked += 1;
                         }
-                        checked += 1;
+                        k += n;
                     }
-                    k += n;
                 }
             }
         }
-        assert!(checked > 300);
+        assert!(checked > 3000 && weighted > 500, "{checked} {weighted}");
     }
 
     /// The cursor stepping in order agrees with division.
@@ -290,30 +375,5 @@ mod tests {
             assert_eq!(stepping.at(k), want);
             assert_eq!(Cursor::new(t, 5).at(k), want);
         }
-    }
-
-    /// Only the pinhole camera with the unit box filter qualifies.
-    #[test]
-    fn other_cameras_and_filters_go_one_by_one() {
-        let cam = camera(0.0);
-        let t = Tile {
-            x0: 0,
-            y0: 0,
-            w: 2,
-            h: 2,
-        };
-        let s = Sampler::Independent { seed: 0 };
-        let tent = FilterSampler::new(PixelFilter::Tent { radius: 1.0 });
-        assert!(CameraBatch::new(&cam, &tent, s, t, 0, 4).is_none());
-        let ortho = Camera::new(
-            Vec3::Z,
-            Vec3::ZERO,
-            Vec3::Y,
-            Projection::Orthographic { height: 2.0 },
-        )
-        .rays(8, 8);
-        let unit = FilterSampler::new(PixelFilter::Box { radius: 0.5 });
-        assert!(CameraBatch::new(&ortho, &unit, s, t, 0, 4).is_none());
-        assert!(CameraBatch::new(&cam, &unit, s, t, 0, 4).is_some());
     }
 }

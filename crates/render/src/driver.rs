@@ -540,17 +540,15 @@ fn render_tile<I: Integrator>(
     let m = end.saturating_sub(rest) as usize;
     if m > 0 {
         let mut out = vec![Rgb::BLACK; count * m];
-        // A pinhole camera and the unit box filter: the integrator may make the camera
-        // samples eight at once ([`CameraBatch`]); every weight is then 1.
+        // The integrator may make the camera samples eight at once ([`CameraBatch`]),
+        // with their filter weights. No weights: every one is 1.
         let batch = CameraBatch::new(cx.cam, cx.filter, cx.sampler, t, rest, m as u32);
-        if batch.is_some_and(|b| integrator.sample_camera_batch(&b, &mut out, &mut stats)) {
-            for (px, l) in pixels.iter_mut().zip(out.chunks_exact(m)) {
-                for &l in l {
-                    px.add(l, 1.0);
-                }
-            }
-        } else {
-            let mut weights = vec![0.0f32; count * m];
+        let mut weights = match batch.unit_weights() {
+            true => Vec::new(),
+            false => vec![0.0f32; count * m],
+        };
+        if !integrator.sample_camera_batch(&batch, &mut out, &mut weights, &mut stats) {
+            weights = vec![0.0f32; count * m];
             let mut cursor = Cursor::new(t, m);
             integrator.sample_batch(
                 |k| {
@@ -562,10 +560,10 @@ fn render_tile<I: Integrator>(
                 &mut out,
                 &mut stats,
             );
-            for (p, px) in pixels.iter_mut().enumerate() {
-                for k in p * m..(p + 1) * m {
-                    px.add(out[k], weights[k]);
-                }
+        }
+        for (p, px) in pixels.iter_mut().enumerate() {
+            for k in p * m..(p + 1) * m {
+                px.add(out[k], weights.get(k).copied().unwrap_or(1.0));
             }
         }
     }

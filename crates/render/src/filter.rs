@@ -60,6 +60,12 @@ impl FilterSampler {
         self.filter == PixelFilter::Box { radius: 0.5 }
     }
 
+    /// Whether [`Self::warp`]'s weight is 1 for every sample: the box and tent filters,
+    /// sampled exactly by their densities; not the Gaussian (tabulated: `f / density`).
+    pub fn unit_weights(&self) -> bool {
+        !matches!(self.filter, PixelFilter::Gaussian { .. })
+    }
+
     /// The 1D filter `f(x)` (Mitsuba's definition, not normalised).
     pub fn eval(&self, x: f32) -> f32 {
         eval(self.filter, x)

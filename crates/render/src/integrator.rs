@@ -56,8 +56,9 @@ pub trait Integrator: Sync {
         }
     }
 
-    /// [`Integrator::sample_batch`] over a tile's camera samples that can be made in
-    /// lanes ([`CameraBatch`]: sample `k` is `batch.sample(k)`, filter weight 1), for
+    /// [`Integrator::sample_batch`] over a tile's camera samples made in lanes
+    /// ([`CameraBatch`]: sample `k` is `batch.sample(k)`; its filter weight goes to
+    /// `weights[k]`, unless `weights` is empty: [`CameraBatch::unit_weights`]), for
     /// integrators that make them so (the path tracer's 8-wide kernel); returns false,
     /// having done nothing, when this one does not (then the driver calls
     /// `sample_batch`).
@@ -65,9 +66,10 @@ pub trait Integrator: Sync {
         &self,
         batch: &CameraBatch<'_>,
         out: &mut [Rgb],
+        weights: &mut [f32],
         stats: &mut Stats,
     ) -> bool {
-        let _ = (batch, out, stats);
+        let _ = (batch, out, weights, stats);
         false
     }
 }

@@ -20,10 +20,10 @@ use irradia_render::path::lights::LightSampler;
 use irradia_render::path::wide::{samples_agreeing, WideScene};
 use irradia_render::path::Kernel;
 use irradia_render::path::{self, PathCounters, PathParams};
-use irradia_render::sampler::Sampler;
+use irradia_render::sampler::{camera_sample, Sampler};
 use irradia_render::Film;
 use irradia_scene::bsdf::{BsdfDesc, Conductor, Dielectric, Diffuse};
-use irradia_scene::{Material, Object, Scene, Texture};
+use irradia_scene::{Material, Object, PixelFilter, Scene, Texture};
 use path_common::{uv_sphere_mesh, SphereNormals};
 use std::sync::Arc;
 use std::time::Duration;
@@ -489,8 +489,10 @@ fn a_wrong_fresnel_reflectance_is_caught() {
 /// the estimates that the same samples made one by one give, bit for bit: both
 /// builds of the kernel, tiles of several shapes and sample counts (groups of eight
 /// that straddle pixels and rows, and a last group of fewer than eight), a near clip,
-/// the Cornell box with spheres. (Batches whose samples forget the pass's first
-/// sample index fail it: tried.)
+/// the Cornell box with spheres; with the default box filter and with a Gaussian one,
+/// whose weights the kernel hands back (each `camera_sample`'s weight bit for bit).
+/// (Batches whose samples forget the pass's first sample index fail it, and so do
+/// weights written one slot off: tried.)
 #[test]
 fn camera_batches_give_the_one_by_one_estimates_bit_for_bit() {
     let mut scene = cornell_with_spheres(40, 30, &[Ball::Glass, Ball::Mirror]);
@@ -499,7 +501,10 @@ fn camera_batches_give_the_one_by_one_estimates_bit_for_bit() {
     let ps = PathScene::new(&scene, FlatScene::new(&scene), &lights);
     let wide = WideScene::new(&ps).expect("the scene qualifies for the wide kernel");
     let cam = scene.camera.rays(40, 30);
-    let filter = FilterSampler::new(Default::default());
+    let filters = [
+        FilterSampler::new(Default::default()),
+        FilterSampler::new(PixelFilter::Gaussian { stddev: 0.5 }),
+    ];
     let params = PathParams::default();
     let bits = |v: &[Rgb]| -> Vec<[u32; 3]> {
         v.iter()
@@ -543,32 +548,56 @@ fn camera_batches_give_the_one_by_one_estimates_bit_for_bit() {
         ),
     ] {
         let sampler = Sampler::Independent { seed };
-        let batch = CameraBatch::new(&cam, &filter, sampler, tile, first, m).unwrap();
-        // (The portable build rounds its triangle tests without FMA: it is compared
-        // with itself.)
-        for portable in [false, true] {
-            let mut one_by_one = vec![Rgb::BLACK; batch.len()];
-            let mut c1 = PathCounters::default();
-            let start = |k| batch.sample(k);
-            let mut made = vec![Rgb::splat(f32::NAN); batch.len()];
-            let mut c2 = PathCounters::default();
-            if portable {
-                wide.radiance_batch_portable(&params, start, &mut one_by_one, &mut c1);
-                wide.radiance_camera_batch_portable(&params, &batch, &mut made, &mut c2);
-            } else {
-                wide.radiance_batch(&params, start, &mut one_by_one, &mut c1);
-                wide.radiance_camera_batch(&params, &batch, &mut made, &mut c2);
+        for filter in &filters {
+            let batch = CameraBatch::new(&cam, filter, sampler, tile, first, m);
+            let want_weights: Vec<u32> = (0..batch.len())
+                .map(|k| {
+                    let (x, y, s) = batch.cursor().at(k);
+                    camera_sample(&cam, filter, sampler, x, y, first + s)
+                        .weight
+                        .to_bits()
+                })
+                .collect();
+            // (The portable build rounds its triangle tests without FMA: it is compared
+            // with itself.)
+            for portable in [false, true] {
+                let mut one_by_one = vec![Rgb::BLACK; batch.len()];
+                let mut c1 = PathCounters::default();
+                let start = |k| batch.sample(k);
+                let mut made = vec![Rgb::splat(f32::NAN); batch.len()];
+                let mut weights = match batch.unit_weights() {
+                    true => Vec::new(),
+                    false => vec![f32::NAN; batch.len()],
+                };
+                let mut c2 = PathCounters::default();
+                if portable {
+                    wide.radiance_batch_portable(&params, start, &mut one_by_one, &mut c1);
+                    wide.radiance_camera_batch_portable(
+                        &params,
+                        &batch,
+                        &mut made,
+                        &mut weights,
+                        &mut c2,
+                    );
+                } else {
+                    wide.radiance_batch(&params, start, &mut one_by_one, &mut c1);
+                    wide.radiance_camera_batch(&params, &batch, &mut made, &mut weights, &mut c2);
+                }
+                let what = format!("{tile:?}, portable {portable}");
+                assert_eq!(bits(&made), bits(&one_by_one), "{what}");
+                assert_eq!((c2.paths, c2.rays), (c1.paths, c1.rays));
+                if !batch.unit_weights() {
+                    let got: Vec<u32> = weights.iter().map(|w| w.to_bits()).collect();
+                    assert_eq!(got, want_weights, "{what}");
+                }
+                lit += one_by_one
+                    .iter()
+                    .filter(|c| c.max_component() > 0.0)
+                    .count();
             }
-            let what = format!("{tile:?}, portable {portable}");
-            assert_eq!(bits(&made), bits(&one_by_one), "{what}");
-            assert_eq!((c2.paths, c2.rays), (c1.paths, c1.rays));
-            lit += one_by_one
-                .iter()
-                .filter(|c| c.max_component() > 0.0)
-                .count();
         }
     }
-    assert!(lit > 2000, "only {lit} samples see light");
+    assert!(lit > 4000, "only {lit} samples see light");
 }
 
 fn render(scene: &Scene, spp: u32, seed: u32, scalar_only: bool) -> Film {

@@ -139,13 +139,14 @@ impl Integrator for PathIntegrator<'_, '_> {
         &self,
         batch: &CameraBatch<'_>,
         out: &mut [Rgb],
+        weights: &mut [f32],
         stats: &mut Stats,
     ) -> bool {
         let Some(ws) = &self.wide else {
             return false;
         };
         let mut c = PathCounters::default();
-        ws.radiance_camera_batch(&self.params, batch, out, &mut c);
+        ws.radiance_camera_batch(&self.params, batch, out, weights, &mut c);
         count(stats, &c);
         true
     }

@@ -632,18 +632,27 @@ impl<'s, 'a> WideScene<'s, 'a> {
     }
 
     /// The radiance of a tile's camera samples ([`CameraBatch`]): sample `k` is
-    /// `batch.sample(k)`, its estimate goes to `out[k]` (`out.len() == batch.len()`).
-    /// The same as [`Self::radiance_batch`] over `batch.sample`, but the kernel makes
-    /// the camera samples eight at once, in its own vector width.
+    /// `batch.sample(k)`, its estimate goes to `out[k]` (`out.len() == batch.len()`) and
+    /// its filter weight to `weights[k]` (`weights` is `batch.len()` long, or empty when
+    /// the caller needs none: [`CameraBatch::unit_weights`]). The same as
+    /// [`Self::radiance_batch`] over `batch.sample`, but the kernel makes the camera
+    /// samples eight at once, in its own vector width.
     pub fn radiance_camera_batch(
         &self,
         params: &PathParams,
         batch: &CameraBatch<'_>,
         out: &mut [Rgb],
+        weights: &mut [f32],
         counters: &mut PathCounters,
     ) {
         assert_eq!(out.len(), batch.len());
-        self.run(params, &mut Starts::Camera(batch), out, counters);
+        assert!(weights.is_empty() || weights.len() == batch.len());
+        self.run(
+            params,
+            &mut Starts::Camera { batch, weights },
+            out,
+            counters,
+        );
     }
 
     /// [`Self::radiance_camera_batch`] with the portable build of the kernel; for
@@ -654,10 +663,13 @@ impl<'s, 'a> WideScene<'s, 'a> {
         params: &PathParams,
         batch: &CameraBatch<'_>,
         out: &mut [Rgb],
+        weights: &mut [f32],
         counters: &mut PathCounters,
     ) {
         assert_eq!(out.len(), batch.len());
-        kernel::run_portable(self, params, &mut Starts::Camera(batch), out, counters);
+        assert!(weights.is_empty() || weights.len() == batch.len());
+        let mut starts = Starts::Camera { batch, weights };
+        kernel::run_portable(self, params, &mut starts, out, counters);
     }
 
     fn run(

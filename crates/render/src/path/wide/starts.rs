@@ -14,8 +14,13 @@ pub(crate) enum Starts<'a, 'c> {
     /// its camera ray and its stream, already past the pixel jitter. Called through a
     /// `dyn` reference, so the kernel is compiled once, in this crate.
     Each(&'a mut dyn FnMut(usize) -> (Ray, Rng)),
-    /// A tile's camera samples, made eight at once in the kernel's own vector width.
-    Camera(&'a CameraBatch<'c>),
+    /// A tile's camera samples, made eight at once in the kernel's own vector width,
+    /// and where their filter weights go (`weights[k]` for sample `k`; empty when the
+    /// caller needs none: [`CameraBatch::unit_weights`]).
+    Camera {
+        batch: &'a CameraBatch<'c>,
+        weights: &'a mut [f32],
+    },
 }
 
 /// Camera samples made ahead of the lanes that take them, up to eight at once: the
@@ -33,13 +38,14 @@ impl Ahead {
     pub(super) fn new(starts: &Starts<'_, '_>) -> Self {
         Self {
             cursor: match starts {
-                Starts::Camera(batch) => Some(batch.cursor()),
+                Starts::Camera { batch, .. } => Some(batch.cursor()),
                 Starts::Each(_) => None,
             },
             starts: Starts8 {
                 origin: V3::ZERO,
                 dir: V3::ZERO,
                 rng: std::array::from_fn(|_| Rng::new(0, 0)),
+                weight: [1.0; W],
             },
             made: 0,
             taken: 0,
@@ -62,9 +68,12 @@ impl Ahead {
     #[inline(always)]
     fn make(&mut self, starts: &mut Starts<'_, '_>, next: usize, n: usize) {
         match starts {
-            Starts::Camera(batch) => {
+            Starts::Camera { batch, weights } => {
                 let cursor = self.cursor.as_mut().expect("a camera batch's cursor");
                 self.starts = batch.eight(cursor, n);
+                if !weights.is_empty() {
+                    weights[next..next + n].copy_from_slice(&self.starts.weight[..n]);
+                }
             }
             Starts::Each(start) => {
                 for i in 0..n {
