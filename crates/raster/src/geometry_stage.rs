@@ -216,9 +216,8 @@ impl<'a> GeometryStage<'a> {
         }
         let mut s = pos.map(|c| self.project_with(c, [0.0; VARYINGS]));
         // As `prepare` stores and `Prepared::snapped` reads them.
-        let q = s
-            .each_ref()
-            .map(|v| (snap(v.x) as i32 as i64, snap(v.y) as i32 as i64));
+        let on_grid = |v: &ScreenVertex| (snap(v.x) as i32 as i64, snap(v.y) as i32 as i64);
+        let q = [on_grid(&s[0]), on_grid(&s[1]), on_grid(&s[2])];
         let Some(k) = candidate_of_snapped(q, self.cull, &self.screen) else {
             return;
         };
