@@ -189,14 +189,16 @@ impl<'a> GeometryStage<'a> {
     #[inline(always)]
     fn lit_late(
         &self,
-        p: [Vec3; 3],
+        p: impl Fn(usize) -> Vec3,
         var: impl Fn(usize) -> [f32; VARYINGS],
         id: (u32, u32),
         hiz: Option<&DepthBounds>,
         probe: &mut Probe,
         out: &mut Batch,
     ) {
-        let pos = p.map(|q| self.clip_position(q));
+        // Corner by corner from the caller's arrays: an array of `Vec3`s built here and
+        // read back in 16-byte pieces stalled on store forwarding (twice a triangle).
+        let pos: [Vec4; 3] = std::array::from_fn(|j| self.clip_position(p(j)));
         let codes = pos.map(|c| self.planes.outcode(c));
         if codes[0] & codes[1] & codes[2] != 0 {
             return; // all outside one plane
@@ -209,14 +211,13 @@ impl<'a> GeometryStage<'a> {
                     var: var(j),
                 })
             });
-            self.assemble([&v[0], &v[1], &v[2]], |j| p[j], id, out);
+            self.assemble([&v[0], &v[1], &v[2]], p, id, out);
             return;
         }
         let mut s = pos.map(|c| self.project_with(c, [0.0; VARYINGS]));
         // As `prepare` stores and `Prepared::snapped` reads them.
-        let q = s
-            .each_ref()
-            .map(|v| (snap(v.x) as i32 as i64, snap(v.y) as i32 as i64));
+        let on_grid = |v: &ScreenVertex| (snap(v.x) as i32 as i64, snap(v.y) as i32 as i64);
+        let q = [on_grid(&s[0]), on_grid(&s[1]), on_grid(&s[2])];
         let Some(k) = candidate_of_snapped(q, self.cull, &self.screen) else {
             return;
         };
@@ -415,7 +416,7 @@ impl<'a> GeometryStage<'a> {
                         let v = &t.v[j];
                         self.varyings(v.position, v.normal, v.color, v.uv, t.material)
                     };
-                    let p = t.v.each_ref().map(|v| v.position);
+                    let p = |j: usize| t.v[j].position;
                     self.lit_late(p, var, (t.id, t.material), hiz, &mut probe, &mut out);
                 }
                 probe.report(hiz.is_some(), paying);
@@ -509,9 +510,9 @@ impl<'a> GeometryStage<'a> {
                         let mut out = self.new_batch(chunk.len());
                         let mut probe = Probe::default();
                         for (k, idx) in chunk.iter().enumerate() {
-                            let p = idx.map(|i| mesh.positions[i as usize]);
+                            let p = |j: usize| mesh.positions[idx[j] as usize];
                             let face = if flat {
-                                (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero()
+                                (p(1) - p(0)).cross(p(2) - p(0)).normalize_or_zero()
                             } else {
                                 Vec3::ZERO
                             };
@@ -520,7 +521,7 @@ impl<'a> GeometryStage<'a> {
                             let var = |j: usize| {
                                 let i = idx[j] as usize;
                                 let n = if flat { face } else { mesh.normals[i] };
-                                self.varyings(p[j], n, color(i), uv(i), material)
+                                self.varyings(p(j), n, color(i), uv(i), material)
                             };
                             let id = (mesh.id(t), material);
                             self.lit_late(p, var, id, hiz_ref, &mut probe, &mut out);

@@ -73,7 +73,14 @@ fn pixel_bounds(p: &[(i64, i64); 3]) -> (i64, i64, i64, i64) {
 
 #[inline(always)]
 fn snapped(t: &ScreenTriangle) -> [(i64, i64); 3] {
-    [0, 1, 2].map(|k| (snap(t.v[k].x), snap(t.v[k].y)))
+    // Written out: `[0, 1, 2].map(..)` was left as an out-of-line call (`try_map`) on
+    // the bands' path, with bounds checks on `k`.
+    let [a, b, c] = &t.v;
+    [
+        (snap(a.x), snap(a.y)),
+        (snap(b.x), snap(b.y)),
+        (snap(c.x), snap(c.y)),
+    ]
 }
 
 /// True when the triangle survives culling, has non-zero snapped area and its bounding
