@@ -92,17 +92,17 @@ fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
 }
 
 /// `∫ term(m) dP(m)` over the visible normals of `wo`, by `n²` Gauss-Legendre nodes on
-/// the sampling's unit square (Mitsuba's `eval_reflectance` / `eval_transmittance`).
+/// the sampling's unit square (Mitsuba's `eval_reflectance` / `eval_transmittance`),
+/// `gl` being [`gauss_legendre`]`(n)` (computed once per table, not per direction).
 fn visible_normal_integral(
     distr: &Microfacet,
     wo: Vec3,
-    n: usize,
+    gl: &[(f64, f64)],
     term: impl Fn(Vec3) -> f64,
 ) -> f64 {
-    let gl = gauss_legendre(n);
     let mut sum = 0.0;
-    for &(x, wx) in &gl {
-        for &(y, wy) in &gl {
+    for &(x, wx) in gl {
+        for &(y, wy) in gl {
             let u = Vec2::new((0.5 * x + 0.5) as f32, (0.5 * y + 0.5) as f32);
             let (m, pdf) = distr.sample(wo, u);
             if pdf > 0.0 {
@@ -126,10 +126,12 @@ impl RoughPlasticTables {
             .collect();
         let wo_of = |mu: f32| Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
         let res = |eta: f32| if eta > 1.0 { 32 } else { 128 };
+        let inv_eta = 1.0 / eta;
+        let (gl_t, gl_r) = (gauss_legendre(res(eta)), gauss_legendre(res(inv_eta)));
         let mut external_transmittance = [0.0; TRANSMITTANCE_RES];
         for (t, &mu) in external_transmittance.iter_mut().zip(&mus) {
             let wo = wo_of(mu);
-            *t = visible_normal_integral(&distr, wo, res(eta), |m| {
+            *t = visible_normal_integral(&distr, wo, &gl_t, |m| {
                 let f = fresnel_dielectric(wo.dot(m), eta);
                 let wt = refract_about(wo, m, f.cos_theta_t, f.eta_ti);
                 if wt.z * wo.z >= 0.0 {
@@ -139,12 +141,11 @@ impl RoughPlasticTables {
                 }
             }) as f32;
         }
-        let inv_eta = 1.0 / eta;
         let mean: f64 = mus
             .iter()
             .map(|&mu| {
                 let wo = wo_of(mu);
-                let r = visible_normal_integral(&distr, wo, res(inv_eta), |m| {
+                let r = visible_normal_integral(&distr, wo, &gl_r, |m| {
                     let wr = reflect_about(wo, m);
                     if wr.z <= 0.0 {
                         0.0

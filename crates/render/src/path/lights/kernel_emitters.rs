@@ -159,6 +159,14 @@ impl LightSampler {
     #[inline]
     pub(crate) fn pick_kernel(&self, u_pick: f32, u: Vec2) -> Option<KernelLight> {
         let (idx, pick) = self.pick(u_pick)?;
+        self.kernel_light(idx, pick, u)
+    }
+
+    /// [`Self::pick_kernel`]'s light once emitter `idx` is chosen with probability
+    /// `pick` (the kernel's vector light choice makes the choice for eight lanes at
+    /// once, then the lanes at infinity ask this: [`crate::path::wide`]).
+    #[inline]
+    pub(crate) fn kernel_light(&self, idx: usize, pick: f32, u: Vec2) -> Option<KernelLight> {
         match &self.emitters[idx] {
             Emitter::Object { world: Some(w), .. } => {
                 let (i, u) = w.pick(u)?;

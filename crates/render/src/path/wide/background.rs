@@ -11,7 +11,9 @@
 //!   [`envmap8`](super::envmap8); the weight and the sum in
 //!   [`Background::add_escaped`]);
 //! - next-event estimation chooses an emitter at infinity with its probability and
-//!   samples a direction from it (per lane with `LightSampler::pick_kernel`: the
+//!   samples a direction from it (the choice eight lanes at once with the other
+//!   emitters' in scenes of few emitters, [`super::light_pick`], else per lane with
+//!   `LightSampler::pick_kernel`; the sample per lane: the
 //!   constant environment's uniform direction with the scalar `sample`'s arithmetic,
 //!   [`Background::light`]; an environment map's importance sample for all the lanes
 //!   that chose it at once, [`Background::sample_maps`]); the vector stage then

@@ -18,7 +18,7 @@ use super::bsdf::{conductor_fresnel, cosine_hemisphere, dielectric};
 use super::gather::{checked, field, field3};
 use super::glossy::glossy;
 use super::lane_queries::{nearest_in_turns, occluded_in_turns};
-use super::light_pick::pick_lights;
+use super::light_pick::{at_infinity, far_lights, pick_lights};
 use super::sphere_hit8::SphereHits;
 use super::sphere_light::{self, LightPoint};
 use super::starts::{Ahead, Starts};
@@ -89,7 +89,10 @@ struct Bounce {
     /// The chosen emitter (a sphere warps `u_light` itself: [`sphere_light`]).
     emitter: [u32; W],
     pick: F8,
+    /// The numbers as drawn (a sphere's), and the point of the square to warp into
+    /// the chosen facet (the facet choice's).
     u_light: [F8; 2],
+    u_facet: [F8; 2],
     /// The number that chooses the emitter (when the vector stage chooses).
     u_pick: F8,
     /// Escaped rays and light samples of emitters at infinity.
@@ -176,10 +179,8 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     // The hit: `TriangleHit::point_and_error` on the gathered corners.
     checked(&ws.triangles, &b.triangle);
     checked(&ws.shading, &b.material);
-    let (light, facet_index, pick, u_light, emitter) = match &ws.pick {
-        Some(lp) => pick_lights(lp, b.u_pick, b.u_light, b.scatter),
-        None => (b.light, b.facet, b.pick, b.u_light, b.emitter),
-    };
+    let (light, facet_index, pick, u_light, emitter) =
+        (b.light, b.facet, b.pick, b.u_facet, b.emitter);
     checked(&ws.facets, &facet_index);
     let t = &ws.triangles;
     let (p0, p1, p2) = (
@@ -608,8 +609,26 @@ fn run<const FMA: bool>(
                     b.pick.0[lane] = pick;
                     b.u_light[0].0[lane] = u.x;
                     b.u_light[1].0[lane] = u.y;
+                    b.u_facet[0].0[lane] = u.x;
+                    b.u_facet[1].0[lane] = u.y;
                 }
                 None => b.light.set(lane, false),
+            }
+        }
+
+        // The light choice of all lanes at once (scenes of few emitters): the lanes
+        // that chose an emitter at infinity sample it lane by lane.
+        if let Some(lp) = &ws.pick {
+            let (light, facet, pick, u, emitter) = pick_lights(lp, b.u_pick, b.u_light, b.scatter);
+            let far = at_infinity(lp, &emitter, light);
+            b.light = light & !far;
+            b.facet = facet;
+            b.pick = pick;
+            b.u_facet = u;
+            b.emitter = emitter;
+            if far.any() {
+                let (u, scale) = (b.u_light, ws.background_scale);
+                far_lights(ps.lights, far, &emitter, pick, u, &mut b.bg, scale);
             }
         }
 

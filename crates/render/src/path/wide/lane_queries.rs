@@ -1,8 +1,9 @@
 //! The 8-wide kernel's ray queries on scenes too large for eight rays against every
-//! triangle (see [`super`]): the live lanes' rays walk the [`FlatScene`](crate::path::flat_scene::FlatScene)'s
-//! hierarchy in turns, one node or leaf each (geometry's `bvh::interleaved`), so one
-//! ray's cache misses overlap the others' work; each answer is exactly its single
-//! ray's. Nearest hits, and any hit for shadow rays with a bound per ray.
+//! triangle (see [`super`]): the live lanes' rays walk the
+//! [`FlatScene`](crate::path::flat_scene::FlatScene)'s hierarchy in turns, one node or
+//! leaf each (geometry's `bvh::interleaved`), so one ray's cache misses overlap the
+//! others' work; each answer is exactly its single ray's. Nearest hits, and any hit
+//! for shadow rays with a bound per ray.
 
 use super::{smooth, tri, WideScene};
 use crate::path::flat_scene::prefetch_bytes;

@@ -1,9 +1,15 @@
 //! The light choice of the wide kernel's vector stage: `LightSampler::pick_kernel`'s
 //! choice of emitter and facet made for eight lanes at once, by counting the entries of
 //! the sorted cumulative tables that are `<= x` (which equals the scalar code's binary
-//! search), for scenes of at most `VECTOR_PICK_MAX` facet emitters of as many facets.
+//! search), for scenes of at most `VECTOR_PICK_MAX` emitters of as many facets each.
+//! An emitter at infinity (and a sphere) stands in the tables as one placeholder facet
+//! of the whole area; the lanes that choose one at infinity get its sample lane by lane
+//! from `LightSampler::kernel_light` with the numbers as drawn ([`far_lights`]).
 
+use super::background::Background;
 use super::gather::{checked, field, lookup};
+use crate::path::lights::{KernelLight, LightSampler};
+use glam::Vec2;
 use irradia_geometry::packet::lanes::{F8, M8, W};
 
 /// What choosing a light facet reads (`LightSampler::pick_kernel`, lane by lane): the
@@ -23,6 +29,46 @@ pub(crate) struct LightPick {
     pub facet_cdf: Vec<[f32; 1]>,
     /// The most facets of one emitter.
     pub max_len: usize,
+    /// Per emitter: 1 for an emitter at infinity (the constant environment, an
+    /// environment map), else 0; and whether any is.
+    pub far: Vec<[f32; 1]>,
+    pub any_far: bool,
+}
+
+/// The lanes of `active` whose chosen `emitter` (as [`pick_lights`] gives it) is at
+/// infinity.
+#[inline(always)]
+pub(super) fn at_infinity(lp: &LightPick, emitter: &[u32; W], active: M8) -> M8 {
+    if !lp.any_far {
+        return M8::FALSE;
+    }
+    checked(&lp.far, emitter);
+    active & field(&lp.far, emitter, 0).ne(0.0)
+}
+
+/// The light samples of the lanes of `far`, which chose the emitter at infinity
+/// `emitter` with probability `pick`, with the numbers `u` as drawn (not the facet
+/// choice's): lane by lane, what `LightSampler::pick_kernel` gives for them (the
+/// constant environment's whole sample, or the map to sample in lanes), recorded in
+/// `bg` as the per-lane choice records it.
+#[inline(always)]
+pub(super) fn far_lights(
+    lights: &LightSampler,
+    far: M8,
+    emitter: &[u32; W],
+    pick: F8,
+    u: [F8; 2],
+    bg: &mut Background,
+    scale: f32,
+) {
+    for lane in (0..W).filter(|&l| far.get(l)) {
+        let u = Vec2::new(u[0].0[lane], u[1].0[lane]);
+        match lights.kernel_light(emitter[lane] as usize, pick.0[lane], u) {
+            Some(KernelLight::AtInfinity(ls)) => bg.light(lane, &ls, scale),
+            Some(KernelLight::Envmap(map, p)) => bg.pick_map(lane, map, p, u),
+            _ => {}
+        }
+    }
 }
 
 /// `LightSampler::pick_kernel` in every lane of `active`: the lanes that got a facet,
@@ -83,6 +129,94 @@ mod tests {
     use crate::path::lights::KernelLight;
     use crate::path::wide::WideScene;
     use irradia_core::Rng;
+
+    /// With emitters at infinity (an environment map and the constant environment
+    /// beside the Cornell box's light) the vector choice plus [`far_lights`] give every
+    /// lane exactly `pick_kernel`'s light: the facet, or the constant environment's
+    /// whole sample, or the map with the numbers as drawn.
+    #[test]
+    fn vector_choice_with_emitters_at_infinity_equals_the_scalar_one() {
+        use crate::path::flat_scene::FlatScene;
+        use crate::path::integrator::PathScene;
+        use crate::path::lights::LightSampler;
+        use irradia_core::{Image, Rgb};
+        use irradia_scene::{EnvMap, Light, Scene};
+        use std::sync::Arc;
+        let mut scene = irradia_scene::builtin::load("cornell").unwrap();
+        let mut image = Image::filled(16, 8, Rgb::splat(0.2)).unwrap();
+        image.set(5, 2, Rgb::new(8.0, 4.0, 1.0));
+        let map = EnvMap {
+            image: Arc::new(image),
+            scale: 1.5,
+            to_world: glam::Mat3::from_rotation_x(0.4),
+            path: Default::default(),
+        };
+        scene.lights.push(Light::Envmap(Arc::new(map)));
+        scene.lights.push(Light::Constant {
+            radiance: Rgb::new(0.1, 0.2, 0.3),
+        });
+        let scene = Scene::new(
+            scene.camera,
+            scene.settings.clone(),
+            scene.materials.clone(),
+            scene.lights.clone(),
+            scene.objects.clone(),
+            scene.accel.instances().to_vec(),
+        );
+        let lights = LightSampler::new(&scene);
+        let ps = PathScene::new(&scene, FlatScene::new(&scene), &lights);
+        let ws = WideScene::new(&ps).unwrap();
+        let lp = ws
+            .pick
+            .as_ref()
+            .expect("the vector choice covers the sky too");
+        let mut rng = Rng::new(5, 6);
+        let (mut facets, mut constant, mut maps) = (0, 0, 0);
+        for _ in 0..400 {
+            let (mut up, mut u) = (F8::ZERO, [F8::ZERO; 2]);
+            for l in 0..W {
+                up.0[l] = rng.next_f32();
+                u[0].0[l] = rng.next_f32();
+                u[1].0[l] = rng.next_f32();
+            }
+            let (m, facet, pick, uu, emitter) = pick_lights(lp, up, u, M8::TRUE);
+            let far = at_infinity(lp, &emitter, m);
+            let mut bg = Background::default();
+            far_lights(&lights, far, &emitter, pick, u, &mut bg, 1.0);
+            for l in 0..W {
+                let v = Vec2::new(u[0].0[l], u[1].0[l]);
+                match lights.pick_kernel(up.0[l], v) {
+                    Some(KernelLight::Surface(e, p, Some((t, w)))) => {
+                        facets += 1;
+                        assert!(m.get(l) && !far.get(l));
+                        assert!(!bg.light.get(l) && !bg.map_light.get(l));
+                        assert_eq!(facet[l], ws.facet_start[e] + t as u32);
+                        assert_eq!(pick.0[l], p);
+                        assert_eq!((uu[0].0[l], uu[1].0[l]), (w.x, w.y));
+                    }
+                    Some(KernelLight::AtInfinity(ls)) => {
+                        constant += 1;
+                        assert!(far.get(l) && bg.light.get(l) && !bg.map_light.get(l));
+                        assert_eq!(bg.wi.lane(l), ls.wi);
+                        assert_eq!(bg.li.lane(l), glam::Vec3::new(ls.li.r, ls.li.g, ls.li.b));
+                        assert_eq!(bg.light_pdf.0[l], ls.pdf);
+                    }
+                    Some(KernelLight::Envmap(k, p)) => {
+                        maps += 1;
+                        assert!(far.get(l) && bg.map_light.get(l) && !bg.light.get(l));
+                        assert_eq!((bg.map[l], bg.map_pick.0[l]), (k as u32, p));
+                        assert_eq!((bg.map_u[0].0[l], bg.map_u[1].0[l]), (v.x, v.y));
+                    }
+                    None => assert!(!m.get(l) && !bg.light.get(l) && !bg.map_light.get(l)),
+                    other => panic!("no such light here: {other:?}"),
+                }
+            }
+        }
+        assert!(
+            facets > 100 && constant > 100 && maps > 100,
+            "{facets} {constant} {maps}"
+        );
+    }
 
     #[test]
     fn vector_light_choice_equals_the_scalar_one() {

@@ -66,9 +66,10 @@
 //! choice falls on a sphere warp their numbers onto it), or an emitter at infinity: the
 //! constant environment (a background colour and Mitsuba's `constant` emitters) and
 //! Mitsuba's `envmap` ([`background`]: escaped rays gather them with MIS, light samples
-//! choose them with their probability lane by lane, then shade with an unbounded shadow
-//! ray in the vector stage; the maps' lookups, densities and importance samples run for
-//! all lanes at once, [`envmap8`]); no point,
+//! choose them with their probability (with the other emitters, eight lanes at once,
+//! [`light_pick`], in scenes of few emitters) and sample them lane by lane, then
+//! shade with an unbounded shadow ray in the vector stage; the maps' lookups,
+//! densities and importance samples run for all lanes at once, [`envmap8`]); no point,
 //! spot, directional or rectangle *lights*. The Cornell box qualifies, and so do diffuse
 //! scenes under an environment map. Every object must be baked into the [`FlatScene`]'s
 //! triangles (polygons, rectangles, boxes, polyhedra, and triangle meshes of any size,
@@ -486,10 +487,9 @@ impl<'s, 'a> WideScene<'s, 'a> {
             }
         }
         let emitter_cdf = ps.lights.emitter_cdf();
-        // The vector light choice knows facets only: with emitters at infinity each
-        // lane chooses with `LightSampler::pick_kernel`.
-        let small = !at_infinity
-            && emitters.len() <= VECTOR_PICK_MAX
+        // The vector light choice: emitters at infinity by their placeholder facet, then
+        // those lanes sample them lane by lane (`light_pick::far_lights`).
+        let small = emitters.len() <= VECTOR_PICK_MAX
             && emitters
                 .iter()
                 .all(|e| !e.cdf.is_empty() && e.cdf.len() <= VECTOR_PICK_MAX);
@@ -506,6 +506,11 @@ impl<'s, 'a> WideScene<'s, 'a> {
                         .flat_map(|e| e.cdf.iter().map(|&c| [c]))
                         .collect(),
                     max_len: emitters.iter().map(|e| e.cdf.len()).max().unwrap_or(0),
+                    far: kernel_emitters
+                        .iter()
+                        .map(|e| [f32::from(matches!(e, KernelEmitter::AtInfinity(_)) as u8)])
+                        .collect(),
+                    any_far: at_infinity,
                 }
             });
         if facets.is_empty() {
