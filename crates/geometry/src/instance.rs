@@ -178,10 +178,22 @@ impl Instance {
         self.normal_to_world.mul_vec3a(n.into()).normalize().into()
     }
 
+    #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         if self.identity {
             return self.shape.occluded(ray, t_max);
         }
+        self.occluded_transformed(ray, t_max)
+    }
+
+    /// [`Self::occluded`] of a placed shape, kept out of line. Inlined into a caller's
+    /// loop over objects (the Whitted tracer's shadow scan), the ray's carry into object
+    /// space was hoisted in front of the loop: the ray's six lanes were reloaded there
+    /// as 16-byte loads straddling the separate stores that had just written the shadow
+    /// ray, a store-forwarding stall on every shadow ray (~10% of `Whitted::trace`'s
+    /// samples, `perf annotate`), even in scenes where no object is transformed.
+    #[inline(never)]
+    fn occluded_transformed(&self, ray: &Ray, t_max: f32) -> bool {
         self.shape.occluded(&self.object_ray(ray), t_max)
     }
 

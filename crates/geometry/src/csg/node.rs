@@ -165,6 +165,8 @@ impl Csg {
     }
 
     /// The operand's spans that overlap `[lo, hi]`, leaves renumbered, into `out`.
+    /// `bounds_known` says the caller has already found the operand's bounds to
+    /// overlap `[lo, hi]` (the same test, so it is not repeated).
     ///
     /// With `SURFACES` false only the parameters are computed ([`Shape::spans_t`]), and
     /// each boundary is named so that its surface can be found afterwards
@@ -173,6 +175,7 @@ impl Csg {
     /// renumbering) and the normal `+x`, which `combine` negates wherever it would
     /// negate the real normal, so that its sign says whether to.
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     fn operand_spans<const SURFACES: bool>(
         &self,
         c: &Child,
@@ -180,31 +183,34 @@ impl Csg {
         slab: &SlabRay,
         lo: f32,
         hi: f32,
+        bounds_known: bool,
         out: &mut Vec<Span>,
     ) {
         out.clear();
-        if !slab.overlaps(&c.bounds, lo, hi) {
+        if !bounds_known && !slab.overlaps(&c.bounds, lo, hi) {
             return;
         }
+        // A leaf's parameter-only boundaries are named by their place in its own list
+        // (before any is dropped), for `resolve`.
+        let name = !SURFACES && c.node.is_none();
         if SURFACES {
             c.instance.spans(ray, out);
         } else {
             c.instance.spans_t(ray, out);
-            if c.node.is_none() {
-                for (i, s) in out.iter_mut().enumerate() {
+        }
+        // Keep the spans that overlap the window, named and with leaves renumbered,
+        // in place (one pass).
+        let mut kept = 0;
+        for i in 0..out.len() {
+            let mut s = out[i];
+            if s.exit.t >= lo && s.enter.t <= hi {
+                if name {
                     for (k, b) in [&mut s.enter, &mut s.exit].into_iter().enumerate() {
                         b.prim = (2 * i + k) as u32;
                         b.leaf = 0;
                         b.normal = Vec3::X;
                     }
                 }
-            }
-        }
-        // Keep the spans that overlap the window, renumbering leaves, in place.
-        let mut kept = 0;
-        for i in 0..out.len() {
-            let mut s = out[i];
-            if s.exit.t >= lo && s.enter.t <= hi {
                 s.enter.leaf += c.leaf_offset;
                 s.exit.leaf += c.leaf_offset;
                 out[kept] = s;
@@ -220,7 +226,10 @@ impl Csg {
         b.acc.clear();
         let slab = SlabRay::new(ray);
         let narrowing = matches!(self.op, CsgOp::Intersection | CsgOp::Difference);
-        if self.op == CsgOp::Intersection
+        // An intersection tests every operand's bounds first (over the whole window,
+        // so the first operand's test need not be repeated).
+        let first_known = self.op == CsgOp::Intersection;
+        if first_known
             && !self
                 .children
                 .iter()
@@ -231,7 +240,7 @@ impl Csg {
         let (mut lo, mut hi) = (lo, hi);
         let mut children = self.children.iter();
         let first = children.next().expect("a CSG node has operands");
-        self.operand_spans::<SURFACES>(first, ray, &slab, lo, hi, &mut b.acc);
+        self.operand_spans::<SURFACES>(first, ray, &slab, lo, hi, first_known, &mut b.acc);
         for c in children {
             if narrowing {
                 // Nothing outside the current result can come back in.
@@ -243,7 +252,7 @@ impl Csg {
                     _ => return,
                 }
             }
-            self.operand_spans::<SURFACES>(c, ray, &slab, lo, hi, &mut b.operand);
+            self.operand_spans::<SURFACES>(c, ray, &slab, lo, hi, false, &mut b.operand);
             if b.operand.is_empty() {
                 if self.op == CsgOp::Intersection {
                     b.acc.clear();

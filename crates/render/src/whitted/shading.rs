@@ -13,7 +13,7 @@
 
 use super::{Ctx, RayQuery, Whitted};
 use crate::raytree::Recorder;
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use irradia_core::{offset_ray_origin, Ray, Rgb};
 use irradia_geometry::Hit;
 use irradia_scatter::optics::reflect_about;
@@ -48,11 +48,10 @@ impl<G: RayQuery> Whitted<'_, G> {
         if (kd <= 0.0 && mat.specular <= 0.0) || self.lights.is_empty() {
             return c;
         }
-        // The feeler's origin is written into the ray once per hit, in place, and only
-        // its direction per light sample: built per sample from the origin's three
-        // lanes, the ray was assembled through a stack copy whose 8-byte reload of two
-        // 4-byte stores stalled on store forwarding (perf annotate, `whitted`).
-        let mut feeler = Ray::new(offset_ray_origin(hit.point, ng, hit.error), Vec3::ZERO);
+        // The feeler ray is written per light sample as two 16-byte stores
+        // ([`FeelerRay`]); the origin is computed once per hit.
+        let origin = offset_ray_origin(hit.point, ng, hit.error);
+        let mut feeler = FeelerRay::new();
         for light in &self.lights {
             for i in 0..light.samples() {
                 let Some(s) = light.sample(hit.point, i, !pov, cx.rng) else {
@@ -62,8 +61,7 @@ impl<G: RayQuery> Whitted<'_, G> {
                 if cos <= 0.0 || ng.dot(s.dir) <= 0.0 {
                     continue;
                 }
-                feeler.dir = s.dir;
-                let tr = self.shadow_transmittance(&feeler, s.dist, depth, cx);
+                let tr = self.shadow_transmittance(feeler.set(origin, s.dir), s.dist, depth, cx);
                 if tr.is_black() {
                     continue;
                 }
@@ -80,6 +78,58 @@ impl<G: RayQuery> Whitted<'_, G> {
             }
         }
         c
+    }
+}
+
+/// The shadow feeler's [`Ray`] in a 32-byte block, written as two 16-byte stores:
+/// `(o.x, o.y, o.z, 0)` at byte 0, then `(d.x, d.y, d.z, 0)` at byte 12.
+///
+/// A load can take its bytes from a store still in the store buffer only when one
+/// store wrote all of them (store forwarding); otherwise it waits for the stores to
+/// reach the cache (a store-forwarding stall). The scan over the objects and the
+/// shapes' `occluded` read the ray right after it is written, in pieces of 4, 8 and 16
+/// bytes that straddle the lanes (`Query::occluded` loads `(d.x, d.y)` as one 8-byte
+/// value, `Plane::occluded` `(o.y, o.z)` and `(d.y, d.z)`). Written field by field (the
+/// origin as three 4-byte stores, the direction as 8 + 4 bytes), such loads stalled:
+/// `perf annotate` put ~10% of `Whitted::trace`'s samples, then ~35% of
+/// `Plane::occluded`'s, on one. With one store per vector only a load across byte 12
+/// (`Sphere`'s quadratic reads `(o.x, o.y, o.z, d.x)` at once) still waits. The block
+/// is 32-byte aligned so that the store at byte 12 never splits across cache lines.
+#[repr(C, align(32))]
+struct FeelerRay {
+    ray: Ray,
+    _pad: [f32; 2],
+}
+
+// `set` writes the ray's bytes by offset.
+const _: () = assert!(
+    std::mem::offset_of!(Ray, origin) == 0
+        && std::mem::offset_of!(Ray, dir) == 12
+        && std::mem::size_of::<Ray>() == 24
+        && std::mem::size_of::<FeelerRay>() == 32
+);
+
+impl FeelerRay {
+    #[inline(always)]
+    fn new() -> Self {
+        Self {
+            ray: Ray::new(Vec3::ZERO, Vec3::ZERO),
+            _pad: [0.0; 2],
+        }
+    }
+
+    /// The ray from `origin` along `dir`, written as two 16-byte stores.
+    #[inline(always)]
+    fn set(&mut self, origin: Vec3, dir: Vec3) -> &Ray {
+        let p = (self as *mut Self).cast::<u8>();
+        // SAFETY: `self` is 32 bytes of plain f32s (asserted above); the writes cover
+        // bytes 0..16 and 12..28, inside it, and bytes 0..24 are `ray`'s origin then
+        // direction, so afterwards `ray` is (origin, dir).
+        unsafe {
+            p.cast::<Vec4>().write_unaligned(origin.extend(0.0));
+            p.add(12).cast::<Vec4>().write_unaligned(dir.extend(0.0));
+        }
+        &self.ray
     }
 }
 
