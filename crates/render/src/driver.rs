@@ -561,9 +561,9 @@ fn render_tile<I: Integrator>(
                 &mut stats,
             );
         }
-        for (p, px) in pixels.iter_mut().enumerate() {
-            for k in p * m..(p + 1) * m {
-                px.add(out[k], weights.get(k).copied().unwrap_or(1.0));
+        for (p, (px, ls)) in pixels.iter_mut().zip(out.chunks_exact(m)).enumerate() {
+            for (j, &l) in ls.iter().enumerate() {
+                px.add(l, weights.get(p * m + j).copied().unwrap_or(1.0));
             }
         }
     }

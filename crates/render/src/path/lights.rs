@@ -644,6 +644,8 @@ impl LightSampler {
 }
 
 mod kernel_emitters;
+#[cfg(test)]
+pub(crate) use kernel_emitters::cornell_with_skies;
 mod surface;
 #[cfg(test)]
 mod tests;

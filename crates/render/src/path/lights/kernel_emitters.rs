@@ -189,40 +189,49 @@ impl LightSampler {
     }
 }
 
+/// The Cornell box with an environment map and the constant environment beside its
+/// light: emitters of all three kinds (for the light-choice tests here and in
+/// `wide/light_pick.rs`).
+#[cfg(test)]
+pub(crate) fn cornell_with_skies() -> Scene {
+    use irradia_core::{Image, Rgb};
+    use irradia_scene::{EnvMap, Light};
+    use std::sync::Arc;
+    let mut scene = irradia_scene::builtin::load("cornell").unwrap();
+    let mut image = Image::filled(16, 8, Rgb::splat(0.2)).unwrap();
+    image.set(5, 2, Rgb::new(8.0, 4.0, 1.0));
+    image.set(11, 6, Rgb::new(0.5, 3.0, 6.0));
+    let map = EnvMap {
+        image: Arc::new(image),
+        scale: 1.5,
+        to_world: glam::Mat3::from_rotation_x(0.4),
+        path: Default::default(),
+    };
+    scene.lights.push(Light::Envmap(Arc::new(map)));
+    scene.lights.push(Light::Constant {
+        radiance: Rgb::new(0.1, 0.2, 0.3),
+    });
+    Scene::new(
+        scene.camera,
+        scene.settings.clone(),
+        scene.materials.clone(),
+        scene.lights.clone(),
+        scene.objects.clone(),
+        scene.accel.instances().to_vec(),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use glam::Vec3;
-    use irradia_core::{Image, Rgb, Rng};
-    use irradia_scene::{EnvMap, Light, Scene};
-    use std::sync::Arc;
+    use irradia_core::Rng;
 
     /// `pick_kernel` gives exactly `sample`'s light samples for emitters at infinity,
     /// and `sample`'s choice of emitter and facet for facets, in a scene with both.
     #[test]
     fn wide_choice_equals_the_scalar_sample() {
-        let mut scene = irradia_scene::builtin::load("cornell").unwrap();
-        let mut image = Image::filled(16, 8, Rgb::splat(0.2)).unwrap();
-        image.set(5, 2, Rgb::new(8.0, 4.0, 1.0));
-        image.set(11, 6, Rgb::new(0.5, 3.0, 6.0));
-        let map = EnvMap {
-            image: Arc::new(image),
-            scale: 1.5,
-            to_world: glam::Mat3::from_rotation_x(0.4),
-            path: Default::default(),
-        };
-        scene.lights.push(Light::Envmap(Arc::new(map)));
-        scene.lights.push(Light::Constant {
-            radiance: Rgb::new(0.1, 0.2, 0.3),
-        });
-        let scene = Scene::new(
-            scene.camera,
-            scene.settings.clone(),
-            scene.materials.clone(),
-            scene.lights.clone(),
-            scene.objects.clone(),
-            scene.accel.instances().to_vec(),
-        );
+        let scene = cornell_with_skies();
         let lights = LightSampler::new(&scene);
         let kinds = lights
             .kernel_emitters(&scene)

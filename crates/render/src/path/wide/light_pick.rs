@@ -139,30 +139,7 @@ mod tests {
         use crate::path::flat_scene::FlatScene;
         use crate::path::integrator::PathScene;
         use crate::path::lights::LightSampler;
-        use irradia_core::{Image, Rgb};
-        use irradia_scene::{EnvMap, Light, Scene};
-        use std::sync::Arc;
-        let mut scene = irradia_scene::builtin::load("cornell").unwrap();
-        let mut image = Image::filled(16, 8, Rgb::splat(0.2)).unwrap();
-        image.set(5, 2, Rgb::new(8.0, 4.0, 1.0));
-        let map = EnvMap {
-            image: Arc::new(image),
-            scale: 1.5,
-            to_world: glam::Mat3::from_rotation_x(0.4),
-            path: Default::default(),
-        };
-        scene.lights.push(Light::Envmap(Arc::new(map)));
-        scene.lights.push(Light::Constant {
-            radiance: Rgb::new(0.1, 0.2, 0.3),
-        });
-        let scene = Scene::new(
-            scene.camera,
-            scene.settings.clone(),
-            scene.materials.clone(),
-            scene.lights.clone(),
-            scene.objects.clone(),
-            scene.accel.instances().to_vec(),
-        );
+        let scene = crate::path::lights::cornell_with_skies();
         let lights = LightSampler::new(&scene);
         let ps = PathScene::new(&scene, FlatScene::new(&scene), &lights);
         let ws = WideScene::new(&ps).unwrap();
