@@ -548,7 +548,7 @@ fn render_tile<I: Integrator>(
             false => vec![0.0f32; count * m],
         };
         if !integrator.sample_camera_batch(&batch, &mut out, &mut weights, &mut stats) {
-            weights = vec![0.0f32; count * m];
+            weights.resize(count * m, 0.0);
             let mut cursor = Cursor::new(t, m);
             integrator.sample_batch(
                 |k| {
