@@ -38,6 +38,17 @@ pub struct LaneHits {
     pub b2: F8,
 }
 
+impl LaneHits {
+    /// No lane hits anything.
+    pub const NONE: LaneHits = LaneHits {
+        hit: M8::FALSE,
+        triangle: [0; W],
+        t: F8::ZERO,
+        b1: F8::ZERO,
+        b2: F8::ZERO,
+    };
+}
+
 #[inline(always)]
 fn fmadd<const FMA: bool>(a: F8, b: F8, c: F8) -> F8 {
     if FMA {
@@ -129,13 +140,7 @@ impl RayLaneTriangles {
     pub fn nearest_within<const FMA: bool>(&self, o: V3, d: V3, t_max: F8, active: M8) -> LaneHits {
         // Inactive lanes get t_max = -inf: nothing is accepted.
         let mut best = active.select(t_max, F8::splat(f32::NEG_INFINITY));
-        let mut h = LaneHits {
-            hit: M8::FALSE,
-            triangle: [0; W],
-            t: F8::ZERO,
-            b1: F8::ZERO,
-            b2: F8::ZERO,
-        };
+        let mut h = LaneHits::NONE;
         for (r, &id) in self.records.iter().zip(&self.ids) {
             let (ok, u, v, t, abs_den) = test::<FMA>(r, o, d, best);
             if !ok.any() {

@@ -20,13 +20,7 @@ pub(super) fn nearest_in_turns(
     dir: &V3,
     live: M8,
 ) -> LaneHits {
-    let mut h = LaneHits {
-        hit: M8::FALSE,
-        triangle: [0; W],
-        t: F8::ZERO,
-        b1: F8::ZERO,
-        b2: F8::ZERO,
-    };
+    let mut h = LaneHits::NONE;
     let mut which = [0usize; W];
     let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
     let mut n = 0;
