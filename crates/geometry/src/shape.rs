@@ -251,6 +251,19 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         self.spans(ray, out)
     }
 
+    /// Boundary `index` of the list [`Shape::spans`] appends along `ray` (the enter of
+    /// span `index / 2` when `index` is even, else its exit), bit for bit, or `None`
+    /// when the list is shorter. CSG asks it for the one boundary a ray reports, after
+    /// combining spans by their parameters alone (`csg::resolve`). The default computes
+    /// the whole list into `scratch`; shapes whose surface costs more than their roots
+    /// (a normal, an `atan2` for uv) override it to compute that boundary's alone.
+    fn span_boundary(&self, ray: &Ray, index: u32, scratch: &mut Vec<Span>) -> Option<Boundary> {
+        scratch.clear();
+        self.spans(ray, scratch);
+        let s = scratch.get((index / 2) as usize)?;
+        Some(if index % 2 == 0 { s.enter } else { s.exit })
+    }
+
     /// The surface as planar polygons. `detail` sets how finely curved surfaces are cut
     /// (about `detail` segments around a full turn); flat shapes ignore it. `None` for
     /// shapes that cannot be faceted (unbounded ones).

@@ -9,8 +9,10 @@
 //! - [`resolve`]: the surface at the one boundary a ray reports, after combining
 //!   spans by their parameters alone.
 //! - [`window`]: the bounds test that skips operands a ray cannot meet.
+//! - [`ball`]: the bounding ball of a union of spheres, tested before their boxes.
 //! - [`scratch`]: per-thread span buffers (no allocation per ray).
 
+pub mod ball;
 pub mod combine;
 pub mod node;
 pub mod op;

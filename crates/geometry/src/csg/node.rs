@@ -8,6 +8,7 @@
 //! scene can give each leaf its own material; [`Csg::leaf_paths`] says which operand
 //! (by index at each level) each leaf is.
 
+use super::ball::Ball;
 use super::combine::combine;
 use super::op::CsgOp;
 use super::scratch::{with_buffers, Buffers};
@@ -70,6 +71,9 @@ pub struct Csg {
     pub(super) children: Vec<Child>,
     leaf_paths: Vec<Vec<u32>>,
     bounds: Aabb,
+    /// A union's or merge's bounding ball, when its operands are spheres placed by
+    /// translations ([`Ball`]): tested before their boxes.
+    ball: Option<Ball>,
 }
 
 impl Csg {
@@ -127,11 +131,25 @@ impl Csg {
                 .fold(Aabb::INFINITE, |b, c| b.intersection(c.bounds)),
             CsgOp::Difference => children[0].bounds,
         };
+        let ball = match op {
+            CsgOp::Union | CsgOp::Merge if bounds.is_finite() => Ball::around(
+                bounds.center(),
+                children.iter().map(|c| {
+                    let sphere = match c.node {
+                        None => c.instance.shape.as_sphere().map(|s| (s.center, s.radius)),
+                        Some(_) => None,
+                    };
+                    (sphere, c.instance.to_world())
+                }),
+            ),
+            _ => None,
+        };
         Ok(Self {
             op,
             children,
             leaf_paths,
             bounds,
+            ball,
         })
     }
 
@@ -366,6 +384,9 @@ impl Shape for Csg {
     }
 
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        if self.ball.is_some_and(|b| !b.may_meet(ray)) {
+            return None;
+        }
         if self.op == CsgOp::Union {
             return self.nearest_operand_hit(ray, t_max);
         }
@@ -374,6 +395,9 @@ impl Shape for Csg {
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        if self.ball.is_some_and(|b| !b.may_meet(ray)) {
+            return false;
+        }
         if self.op == CsgOp::Union {
             let slab = SlabRay::new(ray);
             return self

@@ -6,8 +6,9 @@
 //! and for none when a shadow ray only asks whether anything is hit. So `Csg` combines
 //! parameter-only spans ([`crate::Shape::spans_t`]) whose boundaries are named by leaf
 //! and by place in that leaf's own span list (`Csg::operand_spans`), and then computes
-//! the winner's surface here: the leaf's full spans, along the same ray carried through
-//! the same transforms, and that boundary of them. Every step is the one the full
+//! the winner's surface here: that boundary of the leaf's own spans
+//! ([`crate::Shape::span_boundary`]), along the same ray carried through the same
+//! transforms. Every step is the one the full
 //! combination takes (the same shape call, the same normal transforms), and `combine`'s
 //! negation of subtracted faces, carried as the sign of the stand-in normal, is exact and
 //! commutes with the transforms and the normalisation; so the result is the boundary the
@@ -41,16 +42,10 @@ impl Csg {
         let i = self.children.partition_point(|c| c.leaf_offset <= leaf) - 1;
         let c = &self.children[i];
         let mut b = match &c.node {
-            None => {
-                buf.clear();
-                c.instance.spans(ray, buf);
-                let s = &buf[(index / 2) as usize];
-                if index % 2 == 0 {
-                    s.enter
-                } else {
-                    s.exit
-                }
-            }
+            None => c
+                .instance
+                .span_boundary(ray, index, buf)
+                .expect("a boundary of the leaf's own spans"),
             Some(node) => {
                 let r = c.instance.ray_to_object(ray);
                 let mut b = node.boundary_of_leaf(&r, leaf - c.leaf_offset, index, buf);

@@ -236,6 +236,18 @@ impl Shape for Sphere {
         }
     }
 
+    /// One boundary of [`Self::spans`]: the same root and the same surface there,
+    /// without the other end's (two `atan2`s and a normal).
+    fn span_boundary(&self, ray: &Ray, index: u32, _: &mut Vec<Span>) -> Option<Boundary> {
+        if self.flipped || index > 1 {
+            return None;
+        }
+        let (t0, t1) = self.roots(ray)?;
+        let t = if index == 0 { t0 } else { t1 };
+        let (_, n, uv) = self.surface(ray, t, true);
+        Some(Boundary::new(t as f32, n, uv))
+    }
+
     /// [`Self::spans`]' roots without the surfaces (normal, uv) at them.
     fn spans_t(&self, ray: &Ray, out: &mut Vec<Span>) {
         if self.flipped {

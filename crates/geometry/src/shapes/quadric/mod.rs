@@ -384,6 +384,19 @@ impl Shape for Quadric {
         }
     }
 
+    /// One boundary of [`Self::spans`]: the same ends, and the surface (normal, uv) at
+    /// the one asked for alone.
+    fn span_boundary(&self, ray: &Ray, index: u32, _: &mut Vec<Span>) -> Option<Boundary> {
+        if !self.solid {
+            return None;
+        }
+        let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+        let mut spans = [(End { t: 0.0, side: 0 }, End { t: 0.0, side: 0 }); 2];
+        let n = self.solid_spans(o, d, &mut spans);
+        let &(a, b) = spans[..n].get((index / 2) as usize)?;
+        Some(self.boundary(o, d, if index % 2 == 0 { a } else { b }))
+    }
+
     /// [`Self::spans`]' ends without their normals and uv (no gradient, no `atan2`).
     fn spans_t(&self, ray: &Ray, out: &mut Vec<Span>) {
         if !self.solid {
