@@ -29,5 +29,5 @@ pub mod watertight4;
 
 pub use bounds8::PacketBounds;
 pub use ray8::RayLaneTriangles;
-pub use triangle8::{has_avx2, PacketHit, TrianglePacket, LANES};
+pub use triangle8::{has_avx2, has_avx512, PacketHit, TrianglePacket, LANES};
 pub use watertight4::Triangle4;

@@ -53,6 +53,27 @@ pub struct PacketHit {
 /// `|den|`.
 type Lanes = [[f32; LANES]; 4];
 
+/// Whether the AVX-512 (F, VL, DQ, BW) path of the path kernel can run (checked once):
+/// the same eight-lane code, compiled with mask registers, 64-bit lane multiplies and
+/// one 8-lane `f64` register (Zen 4, Ice Lake and later).
+#[inline(always)]
+pub fn has_avx512() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::sync::OnceLock;
+        static AVX512: OnceLock<bool> = OnceLock::new();
+        *AVX512.get_or_init(|| {
+            has_avx2()
+                && is_x86_feature_detected!("avx512f")
+                && is_x86_feature_detected!("avx512vl")
+                && is_x86_feature_detected!("avx512dq")
+                && is_x86_feature_detected!("avx512bw")
+        })
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    false
+}
+
 /// Whether the AVX2 + FMA path can run (checked once).
 #[inline(always)]
 pub fn has_avx2() -> bool {

@@ -7,7 +7,7 @@ use irradia_render::filter::FilterSampler;
 use irradia_render::path::flat_scene::FlatScene;
 use irradia_render::path::integrator::{radiance_in, PathScene};
 use irradia_render::path::lights::LightSampler;
-use irradia_render::path::wide::WideScene;
+use irradia_render::path::wide::{KernelBuild, WideScene};
 use irradia_render::path::{PathCounters, PathParams};
 use irradia_render::sampler::{camera_sample, Sampler};
 use irradia_scene::camera::CameraRays;
@@ -22,6 +22,8 @@ pub enum Variant {
     LaneByLane,
     /// The portable build (no AVX2).
     Portable,
+    /// The AVX2 build, on a CPU whose best build is AVX-512 too.
+    Avx2,
     /// The default build with the smooth conductor's and dielectric's Fresnel
     /// reflectance multiplied by this factor (a wrong kernel).
     WrongFresnel(f32),
@@ -60,7 +62,9 @@ pub fn both_estimates_counted(
         Variant::WrongAlpha(s) => wide.with_alpha_scale(s),
         Variant::WrongBackground(s) => wide.with_background_scale(s),
         Variant::NoSphereCull => wide.without_sphere_cull(),
-        Variant::Default | Variant::Portable => wide,
+        Variant::Portable => wide.with_build(KernelBuild::Portable),
+        Variant::Avx2 => wide.with_build(KernelBuild::Avx2),
+        Variant::Default => wide,
     };
     let (w, h) = (scene.settings.width, scene.settings.height);
     let cam = scene.camera.rays(w, h);
@@ -83,11 +87,7 @@ pub fn both_estimates_counted(
         let (x, y, i) = task(k);
         pixel_sample(&cam, x, y, i, 0)
     };
-    if variant == Variant::Portable {
-        wide.radiance_batch_portable(params, start, &mut out, &mut c_wide);
-    } else {
-        wide.radiance_batch(params, start, &mut out, &mut c_wide);
-    }
+    wide.radiance_batch(params, start, &mut out, &mut c_wide);
     assert_eq!(c_wide.paths, c_scalar.paths);
     (scalar, out, c_scalar, c_wide)
 }
@@ -102,4 +102,44 @@ pub fn both_estimates(
 ) -> (Vec<Rgb>, Vec<Rgb>) {
     let (scalar, wide, _, _) = both_estimates_counted(scene, spp, params, scalar_seed, variant);
     (scalar, wide)
+}
+
+/// The wide kernel's estimates of every pixel's `spp` samples of `scene` in each
+/// build this CPU runs, against the AVX2 build's, bit for bit: the AVX-512 build
+/// differs only in the instructions chosen for the same IEEE operations. (The
+/// portable build rounds its triangle tests without FMA; it is checked against the
+/// scalar estimator instead.) Returns how many builds were compared with AVX2 (0 on a
+/// CPU without AVX-512).
+pub fn assert_builds_agree(name: &str, scene: &Scene, spp: u32) -> usize {
+    if !KernelBuild::Avx2.available() {
+        return 0;
+    }
+    let params = PathParams::default();
+    let run = |build: KernelBuild| {
+        let (_, wide, _, _) = both_estimates_counted(
+            scene,
+            spp,
+            &params,
+            0,
+            match build {
+                KernelBuild::Avx2 => Variant::Avx2,
+                _ => Variant::Default,
+            },
+        );
+        wide.iter()
+            .map(|c| [c.r.to_bits(), c.g.to_bits(), c.b.to_bits()])
+            .collect::<Vec<_>>()
+    };
+    let avx2 = run(KernelBuild::Avx2);
+    let mut compared = 0;
+    if KernelBuild::best() == KernelBuild::Avx512 {
+        let avx512 = run(KernelBuild::Avx512);
+        let differ = avx2.iter().zip(&avx512).filter(|(a, b)| a != b).count();
+        assert_eq!(
+            differ, 0,
+            "{name}: {differ} samples of the AVX-512 build differ from AVX2's"
+        );
+        compared += 1;
+    }
+    compared
 }

@@ -721,6 +721,25 @@ pub(super) unsafe fn run_avx2(
     run::<true>(ws, params, starts, out, counters)
 }
 
+/// The loop with AVX-512 (F, VL, DQ, BW) as well: the same eight lanes, with mask
+/// registers for the selects and the `f64` lanes of [`super::d8`] in one register. The
+/// same IEEE operations in the same order as [`run_avx2`] (no fast-math), so the same
+/// results bit for bit.
+///
+/// # Safety
+/// The CPU must support AVX2, FMA and those AVX-512 subsets.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")]
+pub(super) unsafe fn run_avx512(
+    ws: &WideScene<'_, '_>,
+    params: &PathParams,
+    starts: &mut Starts<'_, '_>,
+    out: &mut [Rgb],
+    counters: &mut PathCounters,
+) {
+    run::<true>(ws, params, starts, out, counters)
+}
+
 /// The loop for any CPU (SSE2 on x86_64).
 pub(super) fn run_portable(
     ws: &WideScene<'_, '_>,

@@ -275,6 +275,47 @@ pub struct WideScene<'s, 'a> {
     /// Per emitter: its sphere record ([`sph`]) when some emitter is an emissive
     /// sphere sampled by its own sampler; `None` when every emitter is facets.
     pub(crate) sphere_lights: Option<Vec<[f32; sph::LEN]>>,
+    /// The build of the kernel that runs: the widest this CPU has
+    /// ([`KernelBuild::best`]) unless a test asks for another.
+    pub(crate) build: KernelBuild,
+}
+
+/// The builds of the kernel's loop: the same source compiled for three instruction
+/// sets, chosen at run time (the results are the same bit for bit between AVX2 and
+/// AVX-512, which differ only in the instructions LLVM picks for the same IEEE
+/// operations; the portable build rounds its triangle tests without FMA).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KernelBuild {
+    /// SSE2 (any x86_64 CPU) or the target's baseline elsewhere.
+    Portable,
+    /// AVX2 + FMA: the eight lanes in one 256-bit register.
+    Avx2,
+    /// AVX2 + FMA + AVX-512 F/VL/DQ/BW: the same eight lanes with mask registers for
+    /// the selects, 64-bit lane multiplies and the eight `f64` lanes in one
+    /// register (Zen 4, Ice Lake and later).
+    Avx512,
+}
+
+impl KernelBuild {
+    /// The widest build this CPU runs.
+    pub fn best() -> Self {
+        if irradia_geometry::packet::has_avx512() {
+            KernelBuild::Avx512
+        } else if irradia_geometry::packet::has_avx2() {
+            KernelBuild::Avx2
+        } else {
+            KernelBuild::Portable
+        }
+    }
+
+    /// Whether this CPU runs the build.
+    pub fn available(self) -> bool {
+        match self {
+            KernelBuild::Portable => true,
+            KernelBuild::Avx2 => irradia_geometry::packet::has_avx2(),
+            KernelBuild::Avx512 => irradia_geometry::packet::has_avx512(),
+        }
+    }
 }
 
 /// At most this many emitters, and facets per emitter, for the vector light choice.
@@ -552,7 +593,19 @@ impl<'s, 'a> WideScene<'s, 'a> {
             alpha_scale: 1.0,
             transmittance,
             sphere_lights,
+            build: KernelBuild::best(),
         })
+    }
+
+    /// The same kernel in another build (for tests: the builds agree bit for bit).
+    ///
+    /// # Panics
+    /// If this CPU cannot run `build` ([`KernelBuild::available`]).
+    #[doc(hidden)]
+    pub fn with_build(mut self, build: KernelBuild) -> Self {
+        assert!(build.available(), "this CPU cannot run the {build:?} build");
+        self.build = build;
+        self
     }
 
     /// The same kernel with its per-lane variants only: each lane walks the flat
@@ -607,19 +660,6 @@ impl<'s, 'a> WideScene<'s, 'a> {
         self.rays.is_some()
     }
 
-    /// [`Self::radiance_batch`] with the portable build of the kernel (no AVX2, no
-    /// FMA), whatever the CPU; for tests.
-    #[doc(hidden)]
-    pub fn radiance_batch_portable(
-        &self,
-        params: &PathParams,
-        mut start: impl FnMut(usize) -> (Ray, Rng),
-        out: &mut [Rgb],
-        counters: &mut PathCounters,
-    ) {
-        kernel::run_portable(self, params, &mut Starts::Each(&mut start), out, counters);
-    }
-
     /// Radiance samples `0..out.len()`: sample `k` starts from `start(k)` (its camera
     /// ray and its random stream, already advanced past the pixel jitter) and its
     /// estimate is written to `out[k]`. Equivalent to calling `radiance_in` on each.
@@ -660,23 +700,6 @@ impl<'s, 'a> WideScene<'s, 'a> {
         );
     }
 
-    /// [`Self::radiance_camera_batch`] with the portable build of the kernel; for
-    /// tests.
-    #[doc(hidden)]
-    pub fn radiance_camera_batch_portable(
-        &self,
-        params: &PathParams,
-        batch: &CameraBatch<'_>,
-        out: &mut [Rgb],
-        weights: &mut [f32],
-        counters: &mut PathCounters,
-    ) {
-        assert_eq!(out.len(), batch.len());
-        assert!(weights.is_empty() || weights.len() == batch.len());
-        let mut starts = Starts::Camera { batch, weights };
-        kernel::run_portable(self, params, &mut starts, out, counters);
-    }
-
     fn run(
         &self,
         params: &PathParams,
@@ -684,12 +707,16 @@ impl<'s, 'a> WideScene<'s, 'a> {
         out: &mut [Rgb],
         counters: &mut PathCounters,
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if irradia_geometry::packet::has_avx2() {
-            // SAFETY: the CPU supports AVX2 and FMA.
-            unsafe { kernel::run_avx2(self, params, starts, out, counters) };
-            return;
+        match self.build {
+            // SAFETY: `build` is only ever a build this CPU runs (`best`, or
+            // `with_build`'s check).
+            #[cfg(target_arch = "x86_64")]
+            KernelBuild::Avx512 => unsafe {
+                kernel::run_avx512(self, params, starts, out, counters)
+            },
+            #[cfg(target_arch = "x86_64")]
+            KernelBuild::Avx2 => unsafe { kernel::run_avx2(self, params, starts, out, counters) },
+            _ => kernel::run_portable(self, params, starts, out, counters),
         }
-        kernel::run_portable(self, params, starts, out, counters);
     }
 }
