@@ -444,13 +444,55 @@ impl<'a> GeometryStage<'a> {
         &self,
         tris: &[Triangle],
         group: usize,
-        mut sink: impl FnMut(Vec<Batch>, bool) -> Option<DepthBounds>,
+        mut sink: impl FnMut(Vec<Batch>, bool) -> Option<DepthBounds> + Send,
     ) {
-        let mut hiz = None;
-        for (g, part) in tris.chunks(group.max(1) * BATCH).enumerate() {
+        let parts: Vec<&[Triangle]> = tris.chunks(group.max(1) * BATCH).collect();
+        self.overlapped(
+            parts.len(),
+            |g, hiz, paying| self.triangles_probed(parts[g], hiz, paying),
+            &mut sink,
+        );
+    }
+
+    /// Makes the batches of groups `0..groups` (`geometry(g, snapshot, paying)`) and
+    /// hands each group's to `sink` in order, with more than one thread drawing group
+    /// `g` while group `g + 1` is made (software pipelining of the two stages, so
+    /// that no thread waits at the end of one stage for the other thread's last
+    /// task: the stages' tasks are stolen from one pool, as in the lecture's
+    /// sort-middle pipelines). Group `g + 1` is then tested against the depth
+    /// snapshot taken after group `g - 1` (one group older than with one thread:
+    /// still an overestimate of the depths when it is drawn, since stored depths only
+    /// decrease, so the image is the same; [`Self::with_occlusion`]).
+    fn overlapped(
+        &self,
+        groups: usize,
+        geometry: impl Fn(usize, Option<&DepthBounds>, &AtomicBool) -> Vec<Batch> + Sync,
+        sink: &mut (impl FnMut(Vec<Batch>, bool) -> Option<DepthBounds> + Send),
+    ) {
+        let make = |g: usize, hiz: Option<&DepthBounds>| {
             let paying = AtomicBool::new(false);
-            let batches = self.triangles_probed(part, hiz.as_ref(), &paying);
-            hiz = sink(batches, self.wants_snapshot(g, hiz.is_some(), &paying));
+            let batches = geometry(g, hiz, &paying);
+            let snapshot = self.wants_snapshot(g, hiz.is_some(), &paying);
+            (batches, snapshot)
+        };
+        let mut hiz: Option<DepthBounds> = None;
+        if rayon::current_num_threads() <= 1 {
+            for g in 0..groups {
+                let (batches, snapshot) = make(g, hiz.as_ref());
+                hiz = sink(batches, snapshot);
+            }
+            return;
+        }
+        let mut made: Option<(Vec<Batch>, bool)> = None;
+        for g in 0..=groups {
+            let drawn = made.take();
+            let older = hiz.as_ref();
+            let (snap, next) = rayon::join(
+                || drawn.and_then(|(batches, snapshot)| sink(batches, snapshot)),
+                || (g < groups).then(|| make(g, older)),
+            );
+            hiz = snap;
+            made = next;
         }
     }
 
@@ -473,7 +515,7 @@ impl<'a> GeometryStage<'a> {
         &self,
         mesh: &Mesh,
         group: usize,
-        mut sink: impl FnMut(Vec<Batch>, bool) -> Option<DepthBounds>,
+        mut sink: impl FnMut(Vec<Batch>, bool) -> Option<DepthBounds> + Send,
     ) {
         let group = group.max(1);
         let color = |i: usize| {
@@ -496,13 +538,10 @@ impl<'a> GeometryStage<'a> {
         // are lit once per material of the faces around them.
         let flat = mesh.normals.is_empty();
         let per_face_lighting = !mesh.materials.is_empty() && self.shading == Shading::Gouraud;
-        let groups = mesh.indices.chunks(group.saturating_mul(BATCH)).enumerate();
+        let parts: Vec<&[[u32; 3]]> = mesh.indices.chunks(group.saturating_mul(BATCH)).collect();
         if flat || per_face_lighting || mesh.positions.len() >= 2 * mesh.indices.len() {
-            let mut hiz: Option<DepthBounds> = None;
-            for (g, part) in groups {
-                let hiz_ref = hiz.as_ref();
-                let paying = AtomicBool::new(false);
-                let batches = part
+            let geometry = |g: usize, hiz_ref: Option<&DepthBounds>, paying: &AtomicBool| {
+                parts[g]
                     .par_chunks(BATCH)
                     .enumerate()
                     .map(|(c, chunk)| {
@@ -526,12 +565,12 @@ impl<'a> GeometryStage<'a> {
                             let id = (mesh.id(t), material);
                             self.lit_late(p, var, id, hiz_ref, &mut probe, &mut out);
                         }
-                        probe.report(hiz_ref.is_some(), &paying);
+                        probe.report(hiz_ref.is_some(), paying);
                         out
                     })
-                    .collect();
-                hiz = sink(batches, self.wants_snapshot(g, hiz.is_some(), &paying));
-            }
+                    .collect()
+            };
+            self.overlapped(parts.len(), geometry, &mut sink);
             return;
         }
         let mut verts: Vec<Prepared> = self
@@ -548,8 +587,8 @@ impl<'a> GeometryStage<'a> {
                     self.prepare(self.vertex(mesh.positions[i], n, color(i), uv(i), 0))
                 }),
         );
-        for (g, part) in groups {
-            let batches = part
+        let geometry = |g: usize, _: Option<&DepthBounds>, _: &AtomicBool| {
+            parts[g]
                 .par_chunks(BATCH)
                 .enumerate()
                 .map(|(c, chunk)| {
@@ -570,9 +609,11 @@ impl<'a> GeometryStage<'a> {
                     }
                     out
                 })
-                .collect();
-            sink(batches, false);
-        }
+                .collect()
+        };
+        // No snapshots: this path tests no triangle against one.
+        let mut sink = |batches, _| sink(batches, false);
+        self.overlapped(parts.len(), geometry, &mut sink);
         if let Some(pool) = self.pool {
             if let Ok(mut v) = pool.1.lock() {
                 *v = verts;
