@@ -6,6 +6,7 @@
 use crate::binning::{band_count, push_to_bands};
 use crate::clip::{ClipPlanes, ClipVertex};
 use crate::depth_bounds::DepthBounds;
+use crate::depth_snapshot::DepthSnapshot;
 use crate::fragment::DepthFunc;
 use crate::lighting::{EyeLights, Shading};
 use crate::mesh::{Mesh, Triangle};
@@ -84,12 +85,12 @@ impl<'a> GeometryStage<'a> {
     }
 
     /// Lets the grouped paths that light each triangle's corners themselves (soups,
-    /// flat meshes, per-face materials, independent triangles) ask their sink for a
-    /// snapshot of the depth buffer after each group ([`DepthBounds::snapshot`]) and
-    /// drop, before lighting them, the triangles of the next group that cannot pass
+    /// flat meshes, per-face materials, independent triangles) ask their sink to
+    /// refresh a snapshot of the depth buffer ([`DepthSnapshot`]) when it draws a group
+    /// and drop, before lighting them, the triangles of later groups that cannot pass
     /// `func` anywhere (hierarchical-z occlusion culling, Greene, Kass and Miller 1993).
     /// Exact: the test is the rasterizer's own depth-bound test
-    /// ([`DepthBounds::hides`]) on the same depth plane, against bounds that only
+    /// ([`DepthSnapshot::hides`]) on the same depth plane, against bounds that only
     /// overestimate the depths stored when the triangle is drawn, so images are
     /// unchanged. Only for `Less` and `LessEqual`, and only when every fragment drawn
     /// is depth tested first (no blending pass).
@@ -192,7 +193,7 @@ impl<'a> GeometryStage<'a> {
         p: impl Fn(usize) -> Vec3,
         var: impl Fn(usize) -> [f32; VARYINGS],
         id: (u32, u32),
-        hiz: Option<&DepthBounds>,
+        hiz: Option<&DepthSnapshot>,
         probe: &mut Probe,
         out: &mut Batch,
     ) {
@@ -395,7 +396,7 @@ impl<'a> GeometryStage<'a> {
     }
 
     /// [`Self::triangles`], dropping those `hiz` hides ([`Self::with_occlusion`]).
-    fn triangles_behind(&self, tris: &[Triangle], hiz: Option<&DepthBounds>) -> Vec<Batch> {
+    fn triangles_behind(&self, tris: &[Triangle], hiz: Option<&DepthSnapshot>) -> Vec<Batch> {
         self.triangles_probed(tris, hiz, &AtomicBool::new(false))
     }
 
@@ -404,7 +405,7 @@ impl<'a> GeometryStage<'a> {
     fn triangles_probed(
         &self,
         tris: &[Triangle],
-        hiz: Option<&DepthBounds>,
+        hiz: Option<&DepthSnapshot>,
         paying: &AtomicBool,
     ) -> Vec<Batch> {
         tris.par_chunks(BATCH)
@@ -438,17 +439,19 @@ impl<'a> GeometryStage<'a> {
     /// [`GeometryStage::triangles`] a group of `group` batches at a time: `sink` gets
     /// each group's batches (in order) while they are still in the cache, and can hand
     /// them back to the pool for the next group. Its second argument says whether the
-    /// stage wants a depth snapshot of the framebuffer after the group is drawn
-    /// ([`Self::with_occlusion`]), which the sink then returns.
+    /// stage wants the depth snapshot `hiz` refreshed as the group is drawn
+    /// ([`Self::with_occlusion`]); it returns whether it did.
     pub fn triangles_grouped(
         &self,
         tris: &[Triangle],
         group: usize,
-        mut sink: impl FnMut(Vec<Batch>, bool) -> Option<DepthBounds> + Send,
+        hiz: Option<&DepthSnapshot>,
+        mut sink: impl FnMut(Vec<Batch>, bool) -> bool + Send,
     ) {
         let parts: Vec<&[Triangle]> = tris.chunks(group.max(1) * BATCH).collect();
         self.overlapped(
             parts.len(),
+            hiz,
             |g, hiz, paying| self.triangles_probed(parts[g], hiz, paying),
             &mut sink,
         );
@@ -460,38 +463,43 @@ impl<'a> GeometryStage<'a> {
     /// that no thread waits at the end of one stage for the other thread's last
     /// task: the stages' tasks are stolen from one pool, as in the lecture's
     /// sort-middle pipelines). Group `g + 1` is then tested against the depth
-    /// snapshot taken after group `g - 1` (one group older than with one thread:
-    /// still an overestimate of the depths when it is drawn, since stored depths only
-    /// decrease, so the image is the same; [`Self::with_occlusion`]).
+    /// snapshot `hiz` as refreshed after group `g - 1` and by the bands that have
+    /// finished group `g` so far (with one thread: after group `g`). Either bound is
+    /// an overestimate of the depths when group `g + 1` is drawn, since stored depths
+    /// only decrease, so the image is the same ([`crate::depth_snapshot`]).
     fn overlapped(
         &self,
         groups: usize,
-        geometry: impl Fn(usize, Option<&DepthBounds>, &AtomicBool) -> Vec<Batch> + Sync,
-        sink: &mut (impl FnMut(Vec<Batch>, bool) -> Option<DepthBounds> + Send),
+        hiz: Option<&DepthSnapshot>,
+        geometry: impl Fn(usize, Option<&DepthSnapshot>, &AtomicBool) -> Vec<Batch> + Sync,
+        sink: &mut (impl FnMut(Vec<Batch>, bool) -> bool + Send),
     ) {
-        let make = |g: usize, hiz: Option<&DepthBounds>| {
+        // The group's batches, and whether to refresh the snapshot as they are drawn.
+        let make = |g: usize, tested: Option<&DepthSnapshot>| {
             let paying = AtomicBool::new(false);
-            let batches = geometry(g, hiz, &paying);
-            let snapshot = self.wants_snapshot(g, hiz.is_some(), &paying);
-            (batches, snapshot)
+            let batches = geometry(g, tested, &paying);
+            let refresh = hiz.is_some() && self.wants_snapshot(g, tested.is_some(), &paying);
+            (batches, refresh)
         };
-        let mut hiz: Option<DepthBounds> = None;
+        // Whether the last group drawn refreshed the snapshot (then the next group made
+        // tests against it).
+        let mut refreshed = false;
         if rayon::current_num_threads() <= 1 {
             for g in 0..groups {
-                let (batches, snapshot) = make(g, hiz.as_ref());
-                hiz = sink(batches, snapshot);
+                let (batches, refresh) = make(g, hiz.filter(|_| refreshed));
+                refreshed = sink(batches, refresh);
             }
             return;
         }
         let mut made: Option<(Vec<Batch>, bool)> = None;
         for g in 0..=groups {
             let drawn = made.take();
-            let older = hiz.as_ref();
+            let older = hiz.filter(|_| refreshed);
             let (snap, next) = rayon::join(
-                || drawn.and_then(|(batches, snapshot)| sink(batches, snapshot)),
+                || drawn.map(|(batches, refresh)| sink(batches, refresh)),
                 || (g < groups).then(|| make(g, older)),
             );
-            hiz = snap;
+            refreshed = snap.unwrap_or(false);
             made = next;
         }
     }
@@ -501,9 +509,9 @@ impl<'a> GeometryStage<'a> {
     /// face normal.
     pub fn mesh(&self, mesh: &Mesh) -> Vec<Batch> {
         let mut all = Vec::new();
-        self.mesh_grouped(mesh, usize::MAX, |b, _| {
+        self.mesh_grouped(mesh, usize::MAX, None, |b, _| {
             all.extend(b);
-            None
+            false
         });
         all
     }
@@ -515,7 +523,8 @@ impl<'a> GeometryStage<'a> {
         &self,
         mesh: &Mesh,
         group: usize,
-        mut sink: impl FnMut(Vec<Batch>, bool) -> Option<DepthBounds> + Send,
+        hiz: Option<&DepthSnapshot>,
+        mut sink: impl FnMut(Vec<Batch>, bool) -> bool + Send,
     ) {
         let group = group.max(1);
         let color = |i: usize| {
@@ -540,7 +549,7 @@ impl<'a> GeometryStage<'a> {
         let per_face_lighting = !mesh.materials.is_empty() && self.shading == Shading::Gouraud;
         let parts: Vec<&[[u32; 3]]> = mesh.indices.chunks(group.saturating_mul(BATCH)).collect();
         if flat || per_face_lighting || mesh.positions.len() >= 2 * mesh.indices.len() {
-            let geometry = |g: usize, hiz_ref: Option<&DepthBounds>, paying: &AtomicBool| {
+            let geometry = |g: usize, hiz_ref: Option<&DepthSnapshot>, paying: &AtomicBool| {
                 parts[g]
                     .par_chunks(BATCH)
                     .enumerate()
@@ -570,7 +579,7 @@ impl<'a> GeometryStage<'a> {
                     })
                     .collect()
             };
-            self.overlapped(parts.len(), geometry, &mut sink);
+            self.overlapped(parts.len(), hiz, geometry, &mut sink);
             return;
         }
         let mut verts: Vec<Prepared> = self
@@ -587,7 +596,7 @@ impl<'a> GeometryStage<'a> {
                     self.prepare(self.vertex(mesh.positions[i], n, color(i), uv(i), 0))
                 }),
         );
-        let geometry = |g: usize, _: Option<&DepthBounds>, _: &AtomicBool| {
+        let geometry = |g: usize, _: Option<&DepthSnapshot>, _: &AtomicBool| {
             parts[g]
                 .par_chunks(BATCH)
                 .enumerate()
@@ -613,7 +622,7 @@ impl<'a> GeometryStage<'a> {
         };
         // No snapshots: this path tests no triangle against one.
         let mut sink = |batches, _| sink(batches, false);
-        self.overlapped(parts.len(), geometry, &mut sink);
+        self.overlapped(parts.len(), None, geometry, &mut sink);
         if let Some(pool) = self.pool {
             if let Ok(mut v) = pool.1.lock() {
                 *v = verts;
