@@ -5,15 +5,14 @@
 //! them ([`crate::geometry_stage::GeometryStage::with_occlusion`]).
 //!
 //! A band writes its own tiles ([`DepthSnapshot::refresh_band`]) right after drawing
-//! its triangles of a group, while its depth rows are still in the cache, and the
-//! geometry stage may read the snapshot at the same time (with more than one thread it
-//! makes the next group while the bands draw this one). Every tile is one atomic value
-//! (relaxed loads and stores: plain moves on x86), so a reader sees for each tile
-//! either the bound computed after an earlier group or the one after this group. Both
-//! are exact overestimates of the depths stored when the tested triangle is drawn
-//! (with `Less` and `LessEqual` stored depths only decrease, and that triangle is
-//! drawn after both groups), so the test drops only triangles that the rasterizer
-//! would not draw: the image does not depend on which value a reader saw.
+//! its triangles of a group, while its depth rows are still in the cache, instead of a
+//! pass of its own over the whole depth buffer between the groups (which read it back
+//! from memory, and was one more point where the threads waited for each other). The
+//! bands share the snapshot, each writing only its own rows of tiles, so every tile is
+//! an atomic value (relaxed loads and stores: plain moves on x86). The bounds are exact
+//! overestimates of the depths stored when a later group's triangle is drawn (with
+//! `Less` and `LessEqual` stored depths only decrease), so the test drops only
+//! triangles that the rasterizer would not draw.
 
 use crate::depth_bounds::{DepthBounds, TILE};
 use crate::fragment::DepthFunc;

@@ -446,10 +446,10 @@ impl<'a> GeometryStage<'a> {
         tris: &[Triangle],
         group: usize,
         hiz: Option<&DepthSnapshot>,
-        mut sink: impl FnMut(Vec<Batch>, bool) -> bool + Send,
+        mut sink: impl FnMut(Vec<Batch>, bool) -> bool,
     ) {
         let parts: Vec<&[Triangle]> = tris.chunks(group.max(1) * BATCH).collect();
-        self.overlapped(
+        self.grouped(
             parts.len(),
             hiz,
             |g, hiz, paying| self.triangles_probed(parts[g], hiz, paying),
@@ -457,50 +457,26 @@ impl<'a> GeometryStage<'a> {
         );
     }
 
-    /// Makes the batches of groups `0..groups` (`geometry(g, snapshot, paying)`) and
-    /// hands each group's to `sink` in order, with more than one thread drawing group
-    /// `g` while group `g + 1` is made (software pipelining of the two stages, so
-    /// that no thread waits at the end of one stage for the other thread's last
-    /// task: the stages' tasks are stolen from one pool, as in the lecture's
-    /// sort-middle pipelines). Group `g + 1` is then tested against the depth
-    /// snapshot `hiz` as refreshed after group `g - 1` and by the bands that have
-    /// finished group `g` so far (with one thread: after group `g`). Either bound is
-    /// an overestimate of the depths when group `g + 1` is drawn, since stored depths
-    /// only decrease, so the image is the same ([`crate::depth_snapshot`]).
-    fn overlapped(
+    /// Makes the batches of groups `0..groups` (`geometry(g, snapshot, paying)`, the
+    /// group's batches in parallel) and hands each group's to `sink` in order. Group
+    /// `g + 1` is tested against the depth snapshot `hiz` when drawing group `g`
+    /// refreshed it ([`crate::depth_snapshot`]; the bands refresh their tiles as they
+    /// finish, so no pass of its own reads the depth buffer between the groups).
+    fn grouped(
         &self,
         groups: usize,
         hiz: Option<&DepthSnapshot>,
         geometry: impl Fn(usize, Option<&DepthSnapshot>, &AtomicBool) -> Vec<Batch> + Sync,
-        sink: &mut (impl FnMut(Vec<Batch>, bool) -> bool + Send),
+        sink: &mut impl FnMut(Vec<Batch>, bool) -> bool,
     ) {
-        // The group's batches, and whether to refresh the snapshot as they are drawn.
-        let make = |g: usize, tested: Option<&DepthSnapshot>| {
+        // Whether the last group drawn refreshed the snapshot.
+        let mut refreshed = false;
+        for g in 0..groups {
+            let tested = hiz.filter(|_| refreshed);
             let paying = AtomicBool::new(false);
             let batches = geometry(g, tested, &paying);
             let refresh = hiz.is_some() && self.wants_snapshot(g, tested.is_some(), &paying);
-            (batches, refresh)
-        };
-        // Whether the last group drawn refreshed the snapshot (then the next group made
-        // tests against it).
-        let mut refreshed = false;
-        if rayon::current_num_threads() <= 1 {
-            for g in 0..groups {
-                let (batches, refresh) = make(g, hiz.filter(|_| refreshed));
-                refreshed = sink(batches, refresh);
-            }
-            return;
-        }
-        let mut made: Option<(Vec<Batch>, bool)> = None;
-        for g in 0..=groups {
-            let drawn = made.take();
-            let older = hiz.filter(|_| refreshed);
-            let (snap, next) = rayon::join(
-                || drawn.map(|(batches, refresh)| sink(batches, refresh)),
-                || (g < groups).then(|| make(g, older)),
-            );
-            refreshed = snap.unwrap_or(false);
-            made = next;
+            refreshed = sink(batches, refresh);
         }
     }
 
@@ -524,7 +500,7 @@ impl<'a> GeometryStage<'a> {
         mesh: &Mesh,
         group: usize,
         hiz: Option<&DepthSnapshot>,
-        mut sink: impl FnMut(Vec<Batch>, bool) -> bool + Send,
+        mut sink: impl FnMut(Vec<Batch>, bool) -> bool,
     ) {
         let group = group.max(1);
         let color = |i: usize| {
@@ -579,7 +555,7 @@ impl<'a> GeometryStage<'a> {
                     })
                     .collect()
             };
-            self.overlapped(parts.len(), hiz, geometry, &mut sink);
+            self.grouped(parts.len(), hiz, geometry, &mut sink);
             return;
         }
         let mut verts: Vec<Prepared> = self
@@ -622,7 +598,7 @@ impl<'a> GeometryStage<'a> {
         };
         // No snapshots: this path tests no triangle against one.
         let mut sink = |batches, _| sink(batches, false);
-        self.overlapped(parts.len(), None, geometry, &mut sink);
+        self.grouped(parts.len(), None, geometry, &mut sink);
         if let Some(pool) = self.pool {
             if let Ok(mut v) = pool.1.lock() {
                 *v = verts;

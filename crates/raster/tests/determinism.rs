@@ -50,15 +50,15 @@ fn one_two_and_three_threads_give_identical_framebuffers() {
     }
 }
 
-/// The fused paths draw one group of batches while the next is made when there is
-/// more than one thread (and test the next group against an older depth snapshot):
+/// The fused paths make and draw the triangles a group of batches at a time, testing
+/// each group against the depth snapshot the bands refreshed while drawing the last:
 /// scenes of several groups (a group is two batches of 8192 triangles per thread) give
 /// the one-thread image and the image of the unfused stages, for a soup (occlusion
 /// culling on: many layers on a small screen) drawn twice, the same soup as
 /// independent triangles, and a mesh of shared vertices (the gyroid), under `Less` and
 /// `LessEqual` (the later copy shows).
 #[test]
-fn groups_drawn_while_the_next_is_made_give_the_one_thread_image() {
+fn scenes_of_several_groups_give_the_one_thread_image() {
     // Every triangle twice, the copies in the last groups: which copy shows depends on
     // the order in which the groups are drawn.
     let (mut p, soup) = random_scene(
