@@ -52,7 +52,7 @@ fn one_two_and_three_threads_give_identical_framebuffers() {
 
 /// The fused paths make and draw the triangles a group of batches at a time, testing
 /// each group against the depth snapshot the bands refreshed while drawing the last:
-/// scenes of several groups (a group is two batches of 8192 triangles per thread) give
+/// scenes of several groups (a group is at least eight batches of 8192 triangles) give
 /// the one-thread image and the image of the unfused stages, for a soup (occlusion
 /// culling on: many layers on a small screen) drawn twice, the same soup as
 /// independent triangles, and a mesh of shared vertices (the gyroid), under `Less` and
@@ -62,7 +62,7 @@ fn scenes_of_several_groups_give_the_one_thread_image() {
     // Every triangle twice, the copies in the last groups: which copy shows depends on
     // the order in which the groups are drawn.
     let (mut p, soup) = random_scene(
-        60_000,
+        80_000,
         SizeDistribution::Exponential { mean: 0.01 },
         5,
         Vec3::new(0.3, 0.2, 2.5),
@@ -71,7 +71,7 @@ fn scenes_of_several_groups_give_the_one_thread_image() {
             alpha: 1.0,
         }),
     );
-    let gyroid = Mesh::from_mesh_data(irradia_geometry::generators::gyroid::gyroid_mesh(80));
+    let gyroid = Mesh::from_mesh_data(irradia_geometry::generators::gyroid::gyroid_mesh(96));
     assert!(
         gyroid.positions.len() < gyroid.indices.len(),
         "shared vertices"
@@ -88,9 +88,9 @@ fn scenes_of_several_groups_give_the_one_thread_image() {
             ("soup", &soup, Vec3::new(0.3, 0.2, 2.5)),
             ("gyroid", &gyroid, Vec3::new(1.5, 1.1, 1.9)),
         ] {
-            // More than two groups of batches at 3 threads.
+            // More than two groups of batches.
             assert!(
-                mesh.indices.len() > 2 * (3 * 2 * 8192),
+                mesh.indices.len() > 2 * 8 * 8192,
                 "{name}: {}",
                 mesh.indices.len()
             );
