@@ -272,22 +272,14 @@ impl Pipeline {
     }
 }
 
-/// How many batches the fused render paths transform before drawing them: few enough
-/// that the screen triangles are drawn while they are still in the (last-level) cache
+/// How many batches the fused render paths transform before drawing them: a few per
+/// thread, so that the screen triangles are drawn while they are still in the cache
 /// (written by the geometry stage, read by every band they touch) instead of after the
-/// whole frame's triangles went out to memory, and enough to pay for what every band
-/// does once per group (its depth bounds computed when it starts testing, its tiles of
-/// the depth snapshot refreshed at its end, one more wait for the other threads): at
-/// least [`MIN_GROUP_BATCHES`], and two per thread. Results do not depend on it (the
+/// whole frame's triangles went out to memory. Results do not depend on it (the
 /// triangles are drawn in the same order).
 fn group_batches() -> usize {
-    (rayon::current_num_threads() * 2).max(MIN_GROUP_BATCHES)
+    rayon::current_num_threads() * 2
 }
-
-/// The fewest batches in a group: 8 (65,536 triangles, at most 10 MB of screen
-/// triangles) drew the random-triangle workload with 0.92 of the CPU time of 2 at one
-/// thread and 0.97 of that of 4 at two threads; 16 and 32 were slower again.
-const MIN_GROUP_BATCHES: usize = 8;
 
 fn concat(batches: Vec<Batch>) -> Vec<ScreenTriangle> {
     let mut out = Vec::with_capacity(batches.iter().map(|b| b.tris.len()).sum());

@@ -52,7 +52,8 @@ fn one_two_and_three_threads_give_identical_framebuffers() {
 
 /// The fused paths make and draw the triangles a group of batches at a time, testing
 /// each group against the depth snapshot the bands refreshed while drawing the last:
-/// scenes of several groups (a group is at least eight batches of 8192 triangles) give
+/// scenes of several groups (a group of a soup is at least eight batches of 8192
+/// triangles, of the shared-vertex path two per thread) give
 /// the one-thread image and the image of the unfused stages, for a soup (occlusion
 /// culling on: many layers on a small screen) drawn twice, the same soup as
 /// independent triangles, and a mesh of shared vertices (the gyroid), under `Less` and
