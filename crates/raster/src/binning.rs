@@ -9,6 +9,7 @@
 //! sort-middle inside one machine, as in the lecture's "Sorting Paradigm".
 
 use crate::depth_bounds::DepthBounds;
+use crate::depth_snapshot::DepthSnapshot;
 use crate::fragment::{
     draw, draw_blended, BlendTarget, ColorTarget, DepthFunc, InterpolatedColor, MaterialColor,
     PhongShader, PixelShader, Unproject,
@@ -60,7 +61,7 @@ pub(crate) fn rasterize_batches(
     let bins: Vec<Vec<Vec<u32>>> = pieces.par_iter().map(|p| bin(p, &region, bands)).collect();
     let bins: Vec<&[Vec<u32>]> = bins.iter().map(|b| b.as_slice()).collect();
     let frags: Vec<&[Fragment]> = vec![&[]; pieces.len()];
-    rasterize_binned(&pieces, &frags, &bins, fb, region, state);
+    rasterize_binned(&pieces, &frags, &bins, fb, region, state, None);
 }
 
 /// The number of bands of a screen `height` rows high.
@@ -82,7 +83,8 @@ pub(crate) fn push_to_bands(bins: &mut [Vec<u32>], i: u32, y0: i64, y1: i64) {
 
 /// Draws already binned triangles: `bins[p][band]` lists the triangles of `pieces[p]`
 /// that touch `band` inside `region`, and the fragments of `frags[p]` in it (entries
-/// with [`FRAGMENT_BIT`] set, made only for the interpolated-colour RGBA8 path).
+/// with [`FRAGMENT_BIT`] set, made only for the interpolated-colour RGBA8 path). With
+/// `snapshot`, each band refreshes its tiles of it when it has drawn its triangles.
 pub(crate) fn rasterize_binned(
     pieces: &[&[ScreenTriangle]],
     frags: &[&[Fragment]],
@@ -90,6 +92,7 @@ pub(crate) fn rasterize_binned(
     fb: &mut Framebuffer,
     region: Rect,
     state: &FragmentState,
+    snapshot: Option<&DepthSnapshot>,
 ) {
     let region = region.intersect(&Rect::full(fb.width(), fb.height()));
     if region.is_empty() {
@@ -102,6 +105,7 @@ pub(crate) fn rasterize_binned(
         region,
         width: fb.width() as usize,
         depth_func: state.depth_func,
+        snapshot,
     };
     let depth = &mut fb.depth;
     let phong = PhongShader {
@@ -188,6 +192,8 @@ struct Job<'a> {
     region: Rect,
     width: usize,
     depth_func: DepthFunc,
+    /// Refreshed band by band after drawing ([`DepthSnapshot::refresh_band`]).
+    snapshot: Option<&'a DepthSnapshot>,
 }
 
 impl Job<'_> {
@@ -288,6 +294,9 @@ impl Job<'_> {
                             draw_one(&mut band_state, &piece[i as usize], &clip, y0, d, c);
                         }
                     }
+                }
+                if let Some(s) = self.snapshot {
+                    s.refresh_band(y0, d);
                 }
             });
     }

@@ -24,7 +24,7 @@ use crate::fragment::DepthFunc;
 use crate::rasterizer::Setup;
 
 /// Tile edge in pixels.
-const TILE: usize = 8;
+pub(crate) const TILE: usize = 8;
 
 /// The largest stored depth of each 8x8 tile of one band of rows.
 pub(crate) struct DepthBounds {
@@ -70,10 +70,7 @@ impl DepthBounds {
     pub fn new(depth: &[f32], width: usize, band_y0: u32) -> Self {
         let tiles_x = width.div_ceil(TILE);
         let rows = depth.len() / width.max(1);
-        #[cfg(target_arch = "x86_64")]
-        let avx = std::is_x86_feature_detected!("avx") && width.is_multiple_of(TILE);
-        #[cfg(not(target_arch = "x86_64"))]
-        let avx = false;
+        let avx = Self::avx_for(width);
         Self {
             width,
             tiles_x,
@@ -86,48 +83,6 @@ impl DepthBounds {
             tested: 0,
             rejected: 0,
             avx,
-        }
-    }
-
-    /// The bounds of a whole depth buffer of rows `width` pixels wide, computed now: a
-    /// snapshot that stays valid (an overestimate) while `Less` and `LessEqual`
-    /// fragments are drawn, since stored depths only decrease. The geometry stage tests
-    /// triangles against it before lighting them ([`Self::hides`]). Rows of tiles are
-    /// computed in parallel (the same maxima: each tile is one thread's): the fused
-    /// paths take a snapshot between groups of batches, where the other threads
-    /// would otherwise wait.
-    pub fn snapshot(depth: &[f32], width: usize) -> Self {
-        use rayon::prelude::*;
-        let mut b = Self::new(depth, width, 0);
-        let mut max = std::mem::take(&mut b.max);
-        max.par_chunks_mut(b.tiles_x.max(1))
-            .enumerate()
-            .for_each(|(ty, row)| {
-                for (tx, m) in row.iter_mut().enumerate() {
-                    *m = b.tile(depth, tx, ty);
-                }
-            });
-        b.max = max;
-        b.drawn = 0;
-        b.ready = true;
-        b
-    }
-
-    /// Whether no pixel of the block `x0..=x1` x `y0..=y1` of `s` can pass `func`
-    /// against a depth buffer whose stored depths are at most those these bounds were
-    /// computed from: the test of [`Self::hidden`] without its warm-up, probation or
-    /// counters (read-only, so threads share one snapshot). `s` needs its depth plane.
-    #[inline]
-    #[allow(clippy::too_many_arguments)]
-    pub fn hides(&self, s: &Setup, func: DepthFunc, x0: i64, x1: i64, y0: i64, y1: i64) -> bool {
-        if !(self.ready && s.zc.is_finite() && s.zx.is_finite() && s.zy.is_finite()) {
-            return false;
-        }
-        let z = || Self::triangle_min_depth(s, x0, x1, y0, y1);
-        match func {
-            DepthFunc::Less => z() >= self.max_over(x0, x1, y0, y1),
-            DepthFunc::LessEqual => z() > self.max_over(x0, x1, y0, y1),
-            DepthFunc::Always => false,
         }
     }
 
@@ -147,22 +102,38 @@ impl DepthBounds {
         self.drawn = 0;
     }
 
+    /// Whether tiles of rows `width` pixels wide are computed eight pixels at a time
+    /// ([`Self::tile_max`]): the CPU has AVX and the width is a multiple of the tile.
+    pub(crate) fn avx_for(width: usize) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        return std::is_x86_feature_detected!("avx") && width.is_multiple_of(TILE);
+        #[cfg(not(target_arch = "x86_64"))]
+        false
+    }
+
     /// The largest stored depth of tile (`tx`, `ty`) of the band `depth`, ignoring NaN
     /// (a pixel no fragment can pass); negative infinity when all are NaN.
     fn tile(&self, depth: &[f32], tx: usize, ty: usize) -> f32 {
-        let rows = depth.len() / self.width;
+        Self::tile_max(depth, self.width, self.avx, tx, ty)
+    }
+
+    /// [`Self::tile`] of the band `depth` of rows `width` pixels wide, with AVX when
+    /// `avx` ([`Self::avx_for`]).
+    pub(crate) fn tile_max(depth: &[f32], width: usize, avx: bool, tx: usize, ty: usize) -> f32 {
+        let rows = depth.len() / width;
         let (r0, r1) = (ty * TILE, ((ty + 1) * TILE).min(rows));
-        let (c0, c1) = (tx * TILE, ((tx + 1) * TILE).min(self.width));
+        let (c0, c1) = (tx * TILE, ((tx + 1) * TILE).min(width));
         #[cfg(target_arch = "x86_64")]
-        if self.avx {
+        if avx {
             // SAFETY: `avx` says the CPU has AVX; the tile is a whole 8-pixel span of
             // rows r0..r1 (the width is a multiple of 8).
-            return unsafe { Self::tile_avx(depth, self.width, r0, r1, c0) };
+            return unsafe { Self::tile_avx(depth, width, r0, r1, c0) };
         }
+        let _ = avx;
         let mut m = f32::NEG_INFINITY;
         for y in r0..r1 {
             // `f32::max` ignores NaN.
-            m = depth[y * self.width + c0..y * self.width + c1]
+            m = depth[y * width + c0..y * width + c1]
                 .iter()
                 .fold(m, |a, &z| a.max(z));
         }

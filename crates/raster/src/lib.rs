@@ -25,6 +25,7 @@ pub mod area_lights;
 pub mod binning;
 pub mod clip;
 mod depth_bounds;
+mod depth_snapshot;
 pub mod fragment;
 pub mod framebuffer;
 pub mod geometry_stage;

@@ -3,7 +3,7 @@
 //! rendering run them on different ranks) or together.
 
 use crate::binning::{rasterize_batches, rasterize_binned, FragmentState};
-use crate::depth_bounds::DepthBounds;
+use crate::depth_snapshot::DepthSnapshot;
 use crate::fragment::{DepthFunc, Unproject};
 use crate::framebuffer::Framebuffer;
 use crate::geometry_stage::{Batch, BatchPool, GeometryStage};
@@ -189,14 +189,15 @@ impl Pipeline {
             return self.rasterize(&st, fb, None);
         }
         let lights = self.eye_lights();
+        let hiz = DepthSnapshot::new(self.width, self.height);
         self.stage(&lights, true)
             .with_fragments(self.fragments_for(&lights, fb))
             .with_pool(&self.scratch)
             .with_occlusion(self.depth_func)
-            .mesh_grouped(mesh, group_batches(), |batches, snapshot| {
-                self.draw_batches(&lights, &batches, fb);
+            .mesh_grouped(mesh, group_batches(), Some(&hiz), |batches, snapshot| {
+                self.draw_batches(&lights, &batches, fb, snapshot.then_some(&hiz));
                 self.scratch.give(batches);
-                snapshot.then(|| DepthBounds::snapshot(&fb.depth, self.width as usize))
+                snapshot
             });
         Ok(())
     }
@@ -213,19 +214,27 @@ impl Pipeline {
             return self.rasterize(&st, fb, None);
         }
         let lights = self.eye_lights();
+        let hiz = DepthSnapshot::new(self.width, self.height);
         self.stage(&lights, true)
             .with_fragments(self.fragments_for(&lights, fb))
             .with_pool(&self.scratch)
             .with_occlusion(self.depth_func)
-            .triangles_grouped(tris, group_batches(), |batches, snapshot| {
-                self.draw_batches(&lights, &batches, fb);
+            .triangles_grouped(tris, group_batches(), Some(&hiz), |batches, snapshot| {
+                self.draw_batches(&lights, &batches, fb, snapshot.then_some(&hiz));
                 self.scratch.give(batches);
-                snapshot.then(|| DepthBounds::snapshot(&fb.depth, self.width as usize))
+                snapshot
             });
         Ok(())
     }
 
-    fn draw_batches(&self, lights: &EyeLights, batches: &[Batch], fb: &mut Framebuffer) {
+    /// Draws a group of batches, refreshing `snapshot` band by band when given.
+    fn draw_batches(
+        &self,
+        lights: &EyeLights,
+        batches: &[Batch],
+        fb: &mut Framebuffer,
+        snapshot: Option<&DepthSnapshot>,
+    ) {
         let pieces: Vec<&[ScreenTriangle]> = batches.iter().map(|b| b.tris.as_slice()).collect();
         let frags: Vec<&[_]> = batches.iter().map(|b| b.frags.as_slice()).collect();
         let bins: Vec<&[Vec<u32>]> = batches.iter().map(|b| b.bins.as_slice()).collect();
@@ -236,6 +245,7 @@ impl Pipeline {
             fb,
             Rect::full(self.width, self.height),
             &self.fragment_state(lights),
+            snapshot,
         );
     }
 

@@ -6,8 +6,8 @@ mod scenes;
 
 use glam::Vec3;
 use irradia_geometry::generators::random_triangles::SizeDistribution;
-use irradia_raster::{ColorFormat, Framebuffer, Mesh, Pipeline, Rect, Shading};
-use scenes::{pool, random_scene};
+use irradia_raster::{ColorFormat, DepthFunc, Framebuffer, Mesh, Pipeline, Rect, Shading};
+use scenes::{pool, random_scene, Copies};
 
 fn scene() -> (Pipeline, Mesh) {
     random_scene(
@@ -45,6 +45,86 @@ fn one_two_and_three_threads_give_identical_framebuffers() {
             assert!(
                 one == many,
                 "{shading:?} {format:?}: {t} threads differ from 1"
+            );
+        }
+    }
+}
+
+/// The fused paths make and draw the triangles a group of batches at a time, testing
+/// each group against the depth snapshot the bands refreshed while drawing the last:
+/// scenes of several groups (a group of a soup is at least eight batches of 8192
+/// triangles, of the shared-vertex path two per thread) give
+/// the one-thread image and the image of the unfused stages, for a soup (occlusion
+/// culling on: many layers on a small screen) drawn twice, the same soup as
+/// independent triangles, and a mesh of shared vertices (the gyroid), under `Less` and
+/// `LessEqual` (the later copy shows).
+#[test]
+fn scenes_of_several_groups_give_the_one_thread_image() {
+    // Every triangle twice, the copies in the last groups: which copy shows depends on
+    // the order in which the groups are drawn.
+    let (mut p, soup) = random_scene(
+        80_000,
+        SizeDistribution::Exponential { mean: 0.01 },
+        5,
+        Vec3::new(0.3, 0.2, 2.5),
+        Some(Copies {
+            period: 7,
+            alpha: 1.0,
+        }),
+    );
+    let gyroid = Mesh::from_mesh_data(irradia_geometry::generators::gyroid::gyroid_mesh(96));
+    assert!(
+        gyroid.positions.len() < gyroid.indices.len(),
+        "shared vertices"
+    );
+    let triangles = soup.to_triangles();
+    for (shading, format, func) in [
+        (Shading::Gouraud, ColorFormat::Rgba8, DepthFunc::Less),
+        (Shading::Gouraud, ColorFormat::Rgba8, DepthFunc::LessEqual),
+        (Shading::Phong, ColorFormat::Rgba32F, DepthFunc::LessEqual),
+    ] {
+        p.shading = shading;
+        p.depth_func = func;
+        for (name, mesh, eye) in [
+            ("soup", &soup, Vec3::new(0.3, 0.2, 2.5)),
+            ("gyroid", &gyroid, Vec3::new(1.5, 1.1, 1.9)),
+        ] {
+            // More than two groups of batches.
+            assert!(
+                mesh.indices.len() > 2 * 8 * 8192,
+                "{name}: {}",
+                mesh.indices.len()
+            );
+            p.view.view = glam::Mat4::look_at_rh(eye, Vec3::ZERO, Vec3::Y);
+            let one = render(1, &p, mesh, format);
+            let unfused = {
+                let tris = p.transform_mesh(mesh).unwrap();
+                let mut fb = Framebuffer::new(p.width, p.height, format).unwrap();
+                p.rasterize(&tris, &mut fb, None).unwrap();
+                fb
+            };
+            assert!(
+                one == unfused,
+                "{name} {shading:?} {func:?}: fused and unfused"
+            );
+            for t in [2, 3] {
+                let many = render(t, &p, mesh, format);
+                assert!(one == many, "{name} {shading:?} {func:?}: {t} threads");
+            }
+        }
+        p.view.view = glam::Mat4::look_at_rh(Vec3::new(0.3, 0.2, 2.5), Vec3::ZERO, Vec3::Y);
+        let independent = |t: usize| {
+            let mut fb = Framebuffer::new(p.width, p.height, format).unwrap();
+            pool(t)
+                .install(|| p.render_triangles(&triangles, &mut fb))
+                .unwrap();
+            fb
+        };
+        let one = independent(1);
+        for t in [2, 3] {
+            assert!(
+                one == independent(t),
+                "triangles {shading:?} {func:?}: {t} threads"
             );
         }
     }

@@ -17,11 +17,12 @@ use irradia_geometry::generators::random_triangles::SizeDistribution;
 use irradia_raster::{ColorFormat, DepthFunc, Framebuffer, Mesh, Pipeline, Shading, ViewParams};
 use scenes::{pool, random_scene, Copies};
 
-/// 24,000 triangles of about 40 pixels each on a 96 x 64 screen (about 150 layers),
-/// then the same triangles again with other colours.
+/// 80,000 triangles of about 40 pixels each on a 96 x 64 screen (about 500 layers),
+/// then the same triangles again with other colours: more than two groups of batches
+/// (a group is at least 65,536 triangles).
 fn scene() -> (Pipeline, Mesh) {
     random_scene(
-        24_000,
+        80_000,
         SizeDistribution::Constant(0.02),
         5,
         Vec3::new(0.2, 0.3, 2.2),
@@ -70,7 +71,7 @@ fn culling_hidden_triangles_before_lighting_changes_no_pixel() {
     }
 }
 
-/// A quad facing the camera (one depth at every pixel), 20,000 small triangles behind
+/// A quad facing the camera (one depth at every pixel), 70,000 small triangles behind
 /// it, then the quad again in another colour, groups later: under `LessEqual` the copy
 /// passes everywhere at exactly the stored depth, which the tile bounds then equal, so
 /// a test that took "not nearer than every stored depth" for hidden would drop it.
@@ -91,7 +92,7 @@ fn a_copy_at_equal_depth_is_drawn_under_less_equal() {
         add([a, b, Vec3::new(a.x, b.y, 0.0)], c);
     };
     quad(&mut add, [0.9, 0.2, 0.1, 1.0]);
-    for i in 0..20_000 {
+    for i in 0..70_000 {
         let x = (i % 100) as f32 * 0.03 - 1.5;
         let y = (i / 100 % 100) as f32 * 0.02 - 1.0;
         let p = Vec3::new(x, y, -0.5);
