@@ -419,7 +419,8 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     }
 }
 
-/// The whole loop, compiled twice (AVX2 + FMA and portable) by the callers below.
+/// The whole loop, compiled three times (AVX-512, AVX2 + FMA, portable: [`super::KernelBuild`])
+/// by the callers below.
 #[inline(always)]
 fn run<const FMA: bool>(
     ws: &WideScene<'_, '_>,

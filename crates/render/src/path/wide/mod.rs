@@ -10,7 +10,8 @@
 //!    samples are made eight at a time ahead of the lanes that take them: a tile's
 //!    pinhole rays in lanes, [`crate::camera_batch`]) and draw the bounce's random
 //!    numbers from the lane's own stream;
-//! 2. all lanes at once ([`kernel`], 8-wide AVX2 + FMA chosen at run time, or the same
+//! 2. all lanes at once ([`kernel`], 8-wide AVX-512 or AVX2 + FMA chosen at run time
+//!    ([`KernelBuild`]), or the same
 //!    code in SSE): the nearest hits ([`ray8`](irradia_geometry::packet::ray8): eight rays against every triangle of
 //!    a small scene; larger scenes walk the [`FlatScene`]'s hierarchy lane by lane,
 //!    with Wald et al.'s SIMD triangle packets), the hit points (triangle, material,
