@@ -22,8 +22,10 @@ pub enum Variant {
     LaneByLane,
     /// The portable build (no AVX2).
     Portable,
-    /// The AVX2 build, on a CPU whose best build is AVX-512 too.
+    /// The AVX2 build (on a CPU that has it).
     Avx2,
+    /// The AVX-512 build (on a CPU that has it).
+    Avx512,
     /// The default build with the smooth conductor's and dielectric's Fresnel
     /// reflectance multiplied by this factor (a wrong kernel).
     WrongFresnel(f32),
@@ -55,7 +57,39 @@ pub fn both_estimates_counted(
 ) -> (Vec<Rgb>, Vec<Rgb>, PathCounters, PathCounters) {
     let lights = LightSampler::new(scene);
     let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
-    let mut wide = WideScene::new(&ps).expect("the scene qualifies for the wide kernel");
+    let (w, h) = (scene.settings.width, scene.settings.height);
+    let cam = scene.camera.rays(w, h);
+    let n = (w * h * spp) as usize;
+    let mut c_scalar = PathCounters::default();
+    let scalar: Vec<Rgb> = (0..n)
+        .map(|k| {
+            let (x, y, i) = task(k, spp, w);
+            let (ray, mut rng) = pixel_sample(&cam, x, y, i, scalar_seed);
+            radiance_in(&ps, params, ray, &mut rng, &mut c_scalar)
+        })
+        .collect();
+    let (out, c_wide) = wide_estimates(&ps, spp, params, variant);
+    assert_eq!(c_wide.paths, c_scalar.paths);
+    (scalar, out, c_scalar, c_wide)
+}
+
+/// Pixel `(x, y)` and sample `i` of task `k` (pixel-major, `spp` per pixel, rows `w`
+/// wide).
+fn task(k: usize, spp: u32, w: u32) -> (u32, u32, u32) {
+    let (pixel, i) = (k as u32 / spp, k as u32 % spp);
+    (pixel % w, pixel / w, i)
+}
+
+/// Every pixel's `spp` samples by the wide kernel in `variant` (stream family 0), with
+/// its counters.
+pub fn wide_estimates(
+    ps: &PathScene<'_, FlatScene>,
+    spp: u32,
+    params: &PathParams,
+    variant: Variant,
+) -> (Vec<Rgb>, PathCounters) {
+    let scene = ps.scene;
+    let mut wide = WideScene::new(ps).expect("the scene qualifies for the wide kernel");
     wide = match variant {
         Variant::LaneByLane => wide.lane_by_lane(),
         Variant::WrongFresnel(s) => wide.with_fresnel_scale(s),
@@ -64,32 +98,19 @@ pub fn both_estimates_counted(
         Variant::NoSphereCull => wide.without_sphere_cull(),
         Variant::Portable => wide.with_build(KernelBuild::Portable),
         Variant::Avx2 => wide.with_build(KernelBuild::Avx2),
+        Variant::Avx512 => wide.with_build(KernelBuild::Avx512),
         Variant::Default => wide,
     };
     let (w, h) = (scene.settings.width, scene.settings.height);
     let cam = scene.camera.rays(w, h);
-    let n = (w * h * spp) as usize;
-    let task = |k: usize| {
-        let (pixel, i) = (k as u32 / spp, k as u32 % spp);
-        (pixel % w, pixel / w, i)
-    };
-    let mut c_scalar = PathCounters::default();
-    let scalar: Vec<Rgb> = (0..n)
-        .map(|k| {
-            let (x, y, i) = task(k);
-            let (ray, mut rng) = pixel_sample(&cam, x, y, i, scalar_seed);
-            radiance_in(&ps, params, ray, &mut rng, &mut c_scalar)
-        })
-        .collect();
-    let mut out = vec![Rgb::splat(f32::NAN); n];
+    let mut out = vec![Rgb::splat(f32::NAN); (w * h * spp) as usize];
     let mut c_wide = PathCounters::default();
     let start = |k| {
-        let (x, y, i) = task(k);
+        let (x, y, i) = task(k, spp, w);
         pixel_sample(&cam, x, y, i, 0)
     };
     wide.radiance_batch(params, start, &mut out, &mut c_wide);
-    assert_eq!(c_wide.paths, c_scalar.paths);
-    (scalar, out, c_scalar, c_wide)
+    (out, c_wide)
 }
 
 /// [`both_estimates_counted`] without the counters.
@@ -104,42 +125,29 @@ pub fn both_estimates(
     (scalar, wide)
 }
 
-/// The wide kernel's estimates of every pixel's `spp` samples of `scene` in each
-/// build this CPU runs, against the AVX2 build's, bit for bit: the AVX-512 build
-/// differs only in the instructions chosen for the same IEEE operations. (The
-/// portable build rounds its triangle tests without FMA; it is checked against the
-/// scalar estimator instead.) Returns how many builds were compared with AVX2 (0 on a
-/// CPU without AVX-512).
+/// The AVX-512 build's estimates of every pixel's `spp` samples of `scene` against the
+/// AVX2 build's, bit for bit: the two differ only in the instructions chosen for the
+/// same IEEE operations. (The portable build rounds its triangle tests without FMA; it
+/// is checked against the scalar estimator instead.) Returns how many builds were
+/// compared with AVX2: 1, or 0 on a CPU without AVX-512.
 pub fn assert_builds_agree(name: &str, scene: &Scene, spp: u32) -> usize {
-    if !KernelBuild::Avx2.available() {
+    if !KernelBuild::Avx512.available() {
         return 0;
     }
+    let lights = LightSampler::new(scene);
+    let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
     let params = PathParams::default();
-    let run = |build: KernelBuild| {
-        let (_, wide, _, _) = both_estimates_counted(
-            scene,
-            spp,
-            &params,
-            0,
-            match build {
-                KernelBuild::Avx2 => Variant::Avx2,
-                _ => Variant::Default,
-            },
-        );
-        wide.iter()
+    let bits = |variant| {
+        let (out, _) = wide_estimates(&ps, spp, &params, variant);
+        out.iter()
             .map(|c| [c.r.to_bits(), c.g.to_bits(), c.b.to_bits()])
             .collect::<Vec<_>>()
     };
-    let avx2 = run(KernelBuild::Avx2);
-    let mut compared = 0;
-    if KernelBuild::best() == KernelBuild::Avx512 {
-        let avx512 = run(KernelBuild::Avx512);
-        let differ = avx2.iter().zip(&avx512).filter(|(a, b)| a != b).count();
-        assert_eq!(
-            differ, 0,
-            "{name}: {differ} samples of the AVX-512 build differ from AVX2's"
-        );
-        compared += 1;
-    }
-    compared
+    let (avx2, avx512) = (bits(Variant::Avx2), bits(Variant::Avx512));
+    let differ = avx2.iter().zip(&avx512).filter(|(a, b)| a != b).count();
+    assert_eq!(
+        differ, 0,
+        "{name}: {differ} samples of the AVX-512 build differ from AVX2's"
+    );
+    1
 }

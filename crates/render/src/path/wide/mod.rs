@@ -300,13 +300,10 @@ pub enum KernelBuild {
 impl KernelBuild {
     /// The widest build this CPU runs.
     pub fn best() -> Self {
-        if irradia_geometry::packet::has_avx512() {
-            KernelBuild::Avx512
-        } else if irradia_geometry::packet::has_avx2() {
-            KernelBuild::Avx2
-        } else {
-            KernelBuild::Portable
-        }
+        [KernelBuild::Avx512, KernelBuild::Avx2]
+            .into_iter()
+            .find(|b| b.available())
+            .unwrap_or(KernelBuild::Portable)
     }
 
     /// Whether this CPU runs the build.
