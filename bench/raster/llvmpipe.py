@@ -7,7 +7,8 @@ moderngl, drawing the workload file written by `raster_bench write`.
 Same triangles, view, light and per-vertex (Gouraud, two-sided) lighting as Irradia.
 The vertex and index buffers are uploaded once; after one untimed warm-up frame,
 a timed frame is `fbo.clear(); vao.render(); fbo.read(); ctx.finish()` (read back the 1280x720 RGBA8 image, which
-waits for llvmpipe to finish the frame). Prints one JSON line.
+waits for llvmpipe to finish the frame). Prints one JSON line: wall time per frame
+(median_s) and process CPU time per frame, all threads (cpu_median_s).
 """
 import json
 import os
@@ -111,15 +112,18 @@ def main():
     fbo.use()
     ctx.enable(moderngl.DEPTH_TEST)
     times = []
+    cpus = []  # process CPU time per frame, all threads (llvmpipe's and this one's)
     data = None
     for frame in range(frames + 1):  # one untimed warm-up frame (shader JIT, first touch)
         t0 = time.perf_counter()
+        c0 = time.process_time()
         fbo.clear(0.0, 0.0, 0.0, 1.0, depth=1.0)
         vao.render(moderngl.TRIANGLES)
         data = fbo.read(components=4)
         ctx.finish()
         if frame > 0:
             times.append(time.perf_counter() - t0)
+            cpus.append(time.process_time() - c0)
     if png:
         from PIL import Image
 
@@ -127,7 +131,8 @@ def main():
         Image.fromarray(img, "RGBA").save(png)
     s = sorted(times)
     print(json.dumps({"renderer": "llvmpipe", "threads": int(os.environ.get("LP_NUM_THREADS", "0")),
-                      "frames": frames, "median_s": s[len(s) // 2], "min_s": s[0], "times": times}))
+                      "frames": frames, "median_s": s[len(s) // 2], "min_s": s[0],
+                      "cpu_median_s": sorted(cpus)[len(cpus) // 2], "times": times, "cpus": cpus}))
 
 
 if __name__ == "__main__":
