@@ -19,6 +19,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use crate::binning::BATCH;
 use crate::prefetch;
 use crate::tiny::{self, Fragment, FRAGMENT_BIT};
+use crate::widest::Build;
 
 /// A configured geometry unit for one frame.
 pub(crate) struct GeometryStage<'a> {
@@ -44,6 +45,8 @@ pub(crate) struct GeometryStage<'a> {
     /// triangles lit one by one may be tested against a snapshot of its depth before
     /// they are lit ([`GeometryStage::with_occlusion`]).
     occlusion: Option<DepthFunc>,
+    /// The instruction set the per-batch loops are compiled for ([`crate::widest`]).
+    build: Build,
 }
 
 impl<'a> GeometryStage<'a> {
@@ -74,6 +77,7 @@ impl<'a> GeometryStage<'a> {
             fragments: false,
             pool: None,
             occlusion: None,
+            build: Build::best(),
         }
     }
 
@@ -99,6 +103,14 @@ impl<'a> GeometryStage<'a> {
             DepthFunc::Less | DepthFunc::LessEqual if self.bin => Some(func),
             _ => None,
         };
+        self
+    }
+
+    /// Compiles the per-batch loops for `build` instead of the widest one the CPU runs
+    /// (tests compare the builds).
+    #[cfg(test)]
+    pub(crate) fn with_build(mut self, build: Build) -> Self {
+        self.build = build;
         self
     }
 
@@ -412,14 +424,27 @@ impl<'a> GeometryStage<'a> {
             .map(|chunk| {
                 let mut out = self.new_batch(chunk.len());
                 let mut probe = Probe::default();
-                for t in chunk {
-                    let var = |j: usize| {
-                        let v = &t.v[j];
-                        self.varyings(v.position, v.normal, v.color, v.uv, t.material)
-                    };
-                    let p = |j: usize| t.v[j].position;
-                    self.lit_late(p, var, (t.id, t.material), hiz, &mut probe, &mut out);
-                }
+                self.build.run(
+                    #[inline(always)]
+                    || {
+                        for t in chunk {
+                            let p = |j: usize| t.v[j].position;
+                            self.lit_late(
+                                p,
+                                // Inlined into the build's loop (widest.rs) with its lighting.
+                                #[inline(always)]
+                                |j: usize| {
+                                    let v = &t.v[j];
+                                    self.varyings(v.position, v.normal, v.color, v.uv, t.material)
+                                },
+                                (t.id, t.material),
+                                hiz,
+                                &mut probe,
+                                &mut out,
+                            );
+                        }
+                    },
+                );
                 probe.report(hiz.is_some(), paying);
                 out
             })
@@ -546,23 +571,37 @@ impl<'a> GeometryStage<'a> {
                         let c = g * group + c;
                         let mut out = self.new_batch(chunk.len());
                         let mut probe = Probe::default();
-                        for (k, idx) in chunk.iter().enumerate() {
-                            let p = |j: usize| mesh.positions[idx[j] as usize];
-                            let face = if flat {
-                                (p(1) - p(0)).cross(p(2) - p(0)).normalize_or_zero()
-                            } else {
-                                Vec3::ZERO
-                            };
-                            let t = c * BATCH + k;
-                            let material = mesh.material(t);
-                            let var = |j: usize| {
-                                let i = idx[j] as usize;
-                                let n = if flat { face } else { mesh.normals[i] };
-                                self.varyings(p(j), n, color(i), uv(i), material)
-                            };
-                            let id = (mesh.id(t), material);
-                            self.lit_late(p, var, id, hiz_ref, &mut probe, &mut out);
-                        }
+                        self.build.run(
+                            #[inline(always)]
+                            || {
+                                for (k, idx) in chunk.iter().enumerate() {
+                                    let p = |j: usize| mesh.positions[idx[j] as usize];
+                                    let face = if flat {
+                                        (p(1) - p(0)).cross(p(2) - p(0)).normalize_or_zero()
+                                    } else {
+                                        Vec3::ZERO
+                                    };
+                                    let t = c * BATCH + k;
+                                    let material = mesh.material(t);
+                                    let id = (mesh.id(t), material);
+                                    self.lit_late(
+                                        p,
+                                        // Inlined into the build's loop (widest.rs) with
+                                        // its lighting.
+                                        #[inline(always)]
+                                        |j: usize| {
+                                            let i = idx[j] as usize;
+                                            let n = if flat { face } else { mesh.normals[i] };
+                                            self.varyings(p(j), n, color(i), uv(i), material)
+                                        },
+                                        id,
+                                        hiz_ref,
+                                        &mut probe,
+                                        &mut out,
+                                    );
+                                }
+                            },
+                        );
                         probe.report(hiz_ref.is_some(), paying);
                         out
                     })
@@ -575,16 +614,24 @@ impl<'a> GeometryStage<'a> {
             .pool
             .and_then(|p| p.1.lock().ok().map(|mut v| std::mem::take(&mut *v)))
             .unwrap_or_default();
-        verts.clear();
-        verts.par_extend(
-            (0..mesh.positions.len())
-                .into_par_iter()
-                .with_min_len(4096)
-                .map(|i| {
-                    let n = mesh.normals[i];
-                    self.prepare(self.vertex(mesh.positions[i], n, color(i), uv(i), 0))
-                }),
-        );
+        // Every record is overwritten below: only a change of size writes filler.
+        verts.resize(mesh.positions.len(), Prepared::default());
+        verts
+            .par_chunks_mut(VERTEX_CHUNK)
+            .enumerate()
+            .for_each(|(c, out)| {
+                self.build.run(
+                    #[inline(always)]
+                    || {
+                        for (k, r) in out.iter_mut().enumerate() {
+                            let i = c * VERTEX_CHUNK + k;
+                            let n = mesh.normals[i];
+                            *r =
+                                self.prepare(self.vertex(mesh.positions[i], n, color(i), uv(i), 0));
+                        }
+                    },
+                )
+            });
         let geometry = |g: usize, _: Option<&DepthSnapshot>, _: &AtomicBool| {
             parts[g]
                 .par_chunks(BATCH)
@@ -592,19 +639,29 @@ impl<'a> GeometryStage<'a> {
                 .map(|(c, chunk)| {
                     let c = g * group + c;
                     let mut out = self.new_batch(chunk.len());
-                    for (k, idx) in chunk.iter().enumerate() {
-                        if let Some(ahead) = chunk.get(k + prefetch::VERTEX_AHEAD) {
-                            for &i in ahead {
-                                if let Some(r) = verts.get(i as usize) {
-                                    prefetch::record(r);
+                    self.build.run(
+                        #[inline(always)]
+                        || {
+                            for (k, idx) in chunk.iter().enumerate() {
+                                if let Some(ahead) = chunk.get(k + prefetch::VERTEX_AHEAD) {
+                                    for &i in ahead {
+                                        if let Some(r) = verts.get(i as usize) {
+                                            prefetch::record(r);
+                                        }
+                                    }
                                 }
+                                let v = idx.map(|i| &verts[i as usize]);
+                                let t = c * BATCH + k;
+                                let position = |j: usize| mesh.positions[idx[j] as usize];
+                                self.assemble(
+                                    v,
+                                    position,
+                                    (mesh.id(t), mesh.material(t)),
+                                    &mut out,
+                                );
                             }
-                        }
-                        let v = idx.map(|i| &verts[i as usize]);
-                        let t = c * BATCH + k;
-                        let position = |j: usize| mesh.positions[idx[j] as usize];
-                        self.assemble(v, position, (mesh.id(t), mesh.material(t)), &mut out);
-                    }
+                        },
+                    );
                     out
                 })
                 .collect()
@@ -640,6 +697,9 @@ struct Probe {
 /// again). The shared-vertex path keeps the caller's smaller groups (the gyroid
 /// workload took 1.03-1.04 of the time with 8).
 const LIT_LATE_GROUP_BATCHES: usize = 8;
+
+/// Vertices of a shared-vertex mesh transformed and lit by one task.
+const VERTEX_CHUNK: usize = 4096;
 
 /// Groups after which a depth snapshot is asked for again though the last one did
 /// not pay ([`GeometryStage::wants_snapshot`]).
@@ -678,7 +738,7 @@ impl Probe {
 /// `z`, `inv_w`). `screen.var` always holds the attributes. 52 bytes instead of the 80
 /// with a separate clip position: the per-vertex pass of a large mesh writes these
 /// records and the triangle pass reads them back through memory.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct Prepared {
     screen: ScreenVertex,
     code: u8,

@@ -41,6 +41,7 @@ pub mod texture;
 mod tiny;
 pub mod transparency;
 pub mod view;
+mod widest;
 
 pub use fragment::DepthFunc;
 pub use framebuffer::{ColorBuffer, ColorFormat, Framebuffer, NO_ID};
