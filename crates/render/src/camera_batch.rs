@@ -106,7 +106,7 @@ impl<'a> CameraBatch<'a> {
     pub fn eight(&self, cursor: &mut Cursor, n: usize) -> Starts8 {
         let (px, py, s) = self.lanes(cursor, n);
         // The streams and points: eight independent hash chains side by side.
-        let (mut rng, u) = self.sampler.pixel_samples8(&px, &py, &s);
+        let (mut rng, u) = self.sampler.pixel_samples_lanes(&px, &py, &s);
         // `camera_sample`: the filter's warp (the unit box leaves `u` as it is).
         let (mut ox, mut oy) = (F8(u[0]), F8(u[1]));
         let mut weight = [1.0f32; W];

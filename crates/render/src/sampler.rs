@@ -19,6 +19,7 @@ use crate::filter::FilterSampler;
 use glam::Vec2;
 use irradia_core::sampling::hash64;
 use irradia_core::{Ray, Rng};
+use irradia_geometry::packet::lanes::W;
 use irradia_scene::camera::CameraRays;
 
 /// Stream tag of the independent sampler's samples.
@@ -74,6 +75,33 @@ impl Sampler {
                 (rngs, u)
             }
         }
+    }
+
+    /// [`Sampler::pixel_samples8`] over the path kernel's `W` lanes, eight at a time.
+    #[inline(always)]
+    pub fn pixel_samples_lanes(
+        &self,
+        x: &[u32; W],
+        y: &[u32; W],
+        i: &[u32; W],
+    ) -> ([Rng; W], [[f32; W]; 2]) {
+        const { assert!(W.is_multiple_of(8)) };
+        let mut u = [[0.0; W]; 2];
+        let mut rngs: [Rng; W] = std::array::from_fn(|_| Rng::new(0, 0));
+        for h in 0..W / 8 {
+            let r = h * 8..h * 8 + 8;
+            let (rr, uu) = self.pixel_samples8(
+                x[r.clone()].try_into().unwrap(),
+                y[r.clone()].try_into().unwrap(),
+                i[r.clone()].try_into().unwrap(),
+            );
+            for (k, g) in rr.into_iter().enumerate() {
+                rngs[h * 8 + k] = g;
+                u[0][h * 8 + k] = uu[0][k];
+                u[1][h * 8 + k] = uu[1][k];
+            }
+        }
+        (rngs, u)
     }
 }
 

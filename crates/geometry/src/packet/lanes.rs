@@ -20,17 +20,34 @@
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 /// Lanes of the kernel.
-pub const W: usize = 8;
+pub const W: usize = 16;
 
 /// Eight `f32` lanes.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[repr(C, align(32))]
+#[repr(C, align(64))]
 pub struct F8(pub [f32; W]);
 
 /// Eight lane masks (`-1` true, `0` false).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[repr(C, align(32))]
+#[repr(C, align(64))]
 pub struct M8(pub [i32; W]);
+
+/// The indices of a mask's true lanes, lowest first ([`M8::lanes`]).
+#[derive(Clone, Copy, Debug)]
+pub struct SetLanes(u32);
+
+impl Iterator for SetLanes {
+    type Item = usize;
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.0 == 0 {
+            return None;
+        }
+        let lane = self.0.trailing_zeros() as usize;
+        self.0 &= self.0 - 1;
+        Some(lane)
+    }
+}
 
 macro_rules! lanewise {
     ($trait:ident, $f:ident, $op:tt) => {
@@ -196,6 +213,13 @@ impl M8 {
     #[inline(always)]
     pub fn set(&mut self, lane: usize, v: bool) {
         self.0[lane] = -(v as i32);
+    }
+    /// The true lanes' indices in order, from [`Self::bits`]: a lane loop that skips
+    /// lanes by this integer does not reload one lane of a just-stored vector mask (a
+    /// 4-byte load from a wide store, which the store buffer does not always forward).
+    #[inline(always)]
+    pub fn lanes(self) -> SetLanes {
+        SetLanes(self.bits())
     }
     /// Lane `i` in bit `i`.
     #[inline(always)]

@@ -419,7 +419,7 @@ impl Baked {
                 prefetch_bytes(first, std::mem::size_of::<TrianglePacket>());
             }
         };
-        let mut best = [None; 8];
+        let mut best = [None; W];
         let best = &mut best[..rays.len()];
         bvh.closest_hit_leaves_interleaved(rays, f32::INFINITY, prefetch, |i, leaf, t| {
             let r = &rays[i];
@@ -601,11 +601,11 @@ impl FlatScene {
         })
     }
 
-    /// The nearest baked triangle along each of `rays` (at most eight; `t > 0`,
-    /// unbounded), into `out`: its index (as in [`Self::all_triangles`]) and the hit,
+    /// The nearest baked triangle along each of `rays` (at most `W`, the path kernel's
+    /// lanes; `t > 0`, unbounded), into `out`: its index (as in [`Self::all_triangles`]) and the hit,
     /// as the single ray's `closest_hit` finds it; the rays walk the BVH in turns.
     pub(crate) fn nearest_triangles(&self, rays: &[Ray], out: &mut [Option<(u32, PacketHit)>]) {
-        assert!(rays.len() <= 8 && out.len() == rays.len());
+        assert!(rays.len() <= W && out.len() == rays.len());
         match &self.baked {
             Some(b) => b.intersect_many(rays, out),
             None => out.fill(None),

@@ -56,10 +56,7 @@ pub(crate) fn conductor_fresnel(
     let mut eta = [D8::splat(1.0); 3];
     let mut k = [D8::ZERO; 3];
     let mut some = M8::FALSE;
-    for lane in 0..W {
-        if !active.get(lane) {
-            continue;
-        }
+    for lane in active.lanes() {
         if let Some((e, kk)) = ws.materials[material[lane] as usize].conductor {
             some.set(lane, true);
             for (ch, (ev, kv)) in [(e.r, kk.r), (e.g, kk.g), (e.b, kk.b)].iter().enumerate() {

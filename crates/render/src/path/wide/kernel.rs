@@ -499,14 +499,13 @@ fn run<const FMA: bool>(
             }
             _ => SphereHits::default(),
         };
-        for lane in 0..W {
-            if !live.get(lane) {
-                continue;
-            }
+        // (Lane tests on integers: see `M8::lanes`.)
+        let (hit_bits, prev_bits) = (hits.hit.bits(), paths.has_prev.bits());
+        for lane in live.lanes() {
             counters.rays += 1;
             let other = spheres.scene_hit(lane);
             b.other.set(lane, other.is_some());
-            if !hits.hit.get(lane) && other.is_none() {
+            if hit_bits >> lane & 1 == 0 && other.is_none() {
                 // The path ends with what it has and, under emitters at infinity, what
                 // it sees of them.
                 // (What it sees: below, all lanes at once.)
@@ -536,7 +535,7 @@ fn run<const FMA: bool>(
             };
             let m = &ws.materials[material as usize];
             b.material[lane] = material;
-            if m.emissive && paths.has_prev.get(lane) {
+            if m.emissive && prev_bits >> lane & 1 != 0 {
                 // Rare (emitter hits after a bounce): the point as the vector stage
                 // and the flat scene compute it.
                 let (point, n) = match &other {
@@ -674,18 +673,19 @@ fn run<const FMA: bool>(
             }
             None => blocked,
         };
+        let (nee, blocked, go_on) = (s.nee.bits(), blocked.bits(), s.go_on.bits());
         for lane in 0..W {
             if paths.sample[lane] == IDLE {
                 continue;
             }
-            if s.nee.get(lane) {
+            if nee >> lane & 1 != 0 {
                 counters.shadow_rays += 1;
-                if !blocked.get(lane) {
+                if blocked >> lane & 1 == 0 {
                     let l = paths.radiance.lane(lane) + s.nee_value.lane(lane);
                     paths.radiance.set_lane(lane, l);
                 }
             }
-            let mut alive = s.go_on.get(lane);
+            let mut alive = go_on >> lane & 1 != 0;
             if alive && paths.depth[lane] + 1 >= params.rr_depth {
                 if paths.rng[lane].next_f32() >= s.q.0[lane] {
                     alive = false;

@@ -24,7 +24,7 @@ pub(super) fn nearest_in_turns(
     let mut which = [0usize; W];
     let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
     let mut n = 0;
-    for lane in (0..W).filter(|&l| live.get(l)) {
+    for lane in live.lanes() {
         which[n] = lane;
         rays[n] = Ray::new(origin.lane(lane), dir.lane(lane));
         n += 1;
@@ -65,7 +65,7 @@ pub(super) fn occluded_in_turns(
     let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
     let mut bound = [0.0f32; W];
     let mut n = 0;
-    for lane in (0..W).filter(|&l| active.get(l)) {
+    for lane in active.lanes() {
         which[n] = lane;
         rays[n] = Ray::new(origin.lane(lane), dir.lane(lane));
         bound[n] = t_max.0[lane];

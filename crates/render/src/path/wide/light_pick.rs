@@ -61,7 +61,7 @@ pub(super) fn far_lights(
     bg: &mut Background,
     scale: f32,
 ) {
-    for lane in (0..W).filter(|&l| far.get(l)) {
+    for lane in far.lanes() {
         let u = Vec2::new(u[0].0[lane], u[1].0[lane]);
         match lights.kernel_light(emitter[lane] as usize, pick.0[lane], u) {
             Some(KernelLight::AtInfinity(ls)) => bg.light(lane, &ls, scale),

@@ -306,6 +306,19 @@ impl KernelBuild {
             .unwrap_or(KernelBuild::Portable)
     }
 
+    /// The build the kernel runs: [`Self::best`], unless `IRRADIA_PATH_KERNEL` in the
+    /// environment names another one this CPU runs (`avx512`, `avx2` or `portable`: for
+    /// A/B timings of the builds; the samples are the same).
+    pub fn chosen() -> Self {
+        let named = match std::env::var("IRRADIA_PATH_KERNEL").as_deref() {
+            Ok("avx512") => Some(KernelBuild::Avx512),
+            Ok("avx2") => Some(KernelBuild::Avx2),
+            Ok("portable") => Some(KernelBuild::Portable),
+            _ => None,
+        };
+        named.filter(|b| b.available()).unwrap_or_else(Self::best)
+    }
+
     /// Whether this CPU runs the build.
     pub fn available(self) -> bool {
         match self {
@@ -591,7 +604,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             alpha_scale: 1.0,
             transmittance,
             sphere_lights,
-            build: KernelBuild::best(),
+            build: KernelBuild::chosen(),
         })
     }
 

@@ -220,10 +220,8 @@ impl Spheres8 {
             }
             best = take.select(t.narrow(), best);
             best_t = select(take, t, best_t);
-            for lane in 0..W {
-                if take.get(lane) {
-                    which[lane] = k;
-                }
+            for lane in take.lanes() {
+                which[lane] = k;
             }
             out.hit = out.hit | take;
         }
@@ -240,10 +238,8 @@ impl Spheres8 {
             if !mine.any() {
                 continue;
             }
-            for lane in 0..W {
-                if mine.get(lane) {
-                    out.instance[lane] = s.instance;
-                }
+            for lane in mine.lanes() {
+                out.instance[lane] = s.instance;
             }
             let (oo, dd) = s.object_ray(o, d);
             // `Sphere::surface`: the offset from the centre in f64, rounded once, made
