@@ -165,6 +165,9 @@ SCENES = {
 
 
 def irradia_binary():
+    """The release binary, built first; or `IRRADIA_BIN` (a copy of another build), as is."""
+    if os.environ.get("IRRADIA_BIN"):
+        return os.environ["IRRADIA_BIN"]
     subprocess.run(["cargo", "build", "--release", "-q", "-p", "irradia"], cwd=ROOT, check=True)
     target = os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target"))
     return os.path.join(target, "release", "irradia")

@@ -30,6 +30,7 @@ and the ratios Irradia / Mitsuba: speed (the peer's time over Irradia's) and eff
 Usage: python3 bench/pathtrace/suite.py [--scenes cornell bunny ...] [--spp 64]
        [--res 512] [--seeds 3] [--threads 2] [--variants scalar_rgb llvm_ad_rgb]
        [--json OUT]
+(IRRADIA_BIN=PATH times that binary, e.g. a copy of another build, instead of building.)
 Installs Mitsuba with pip when it is missing; skips cleanly (exit 0) when it cannot or
 when Mitsuba's test data (../shared/mitsuba-data/common) is not there.
 """
