@@ -27,7 +27,7 @@ use crate::filter::FilterSampler;
 use crate::sampler::{camera_sample, Sampler};
 use glam::Vec2;
 use irradia_core::{Ray, Rng};
-use irradia_geometry::packet::lanes::{F8, V3, W};
+use irradia_geometry::packet::lanes::{Fw, V3, W};
 use irradia_scene::camera::CameraRays;
 
 /// The samples `first..first + m` of every pixel of a tile, made in lanes: sample `k`
@@ -108,7 +108,7 @@ impl<'a> CameraBatch<'a> {
         // The streams and points: eight independent hash chains side by side.
         let (mut rng, u) = self.sampler.pixel_samples_lanes(&px, &py, &s);
         // `camera_sample`: the filter's warp (the unit box leaves `u` as it is).
-        let (mut ox, mut oy) = (F8(u[0]), F8(u[1]));
+        let (mut ox, mut oy) = (Fw(u[0]), Fw(u[1]));
         let mut weight = [1.0f32; W];
         if !self.filter.is_unit_box() {
             for i in 0..W {
@@ -116,8 +116,8 @@ impl<'a> CameraBatch<'a> {
                 (ox.0[i], oy.0[i], weight[i]) = (o.x, o.y, w);
             }
         }
-        let x = F8(std::array::from_fn(|i| px[i] as f32)) + ox;
-        let y = F8(std::array::from_fn(|i| py[i] as f32)) + oy;
+        let x = Fw(std::array::from_fn(|i| px[i] as f32)) + ox;
+        let y = Fw(std::array::from_fn(|i| py[i] as f32)) + oy;
         if self.cam.is_pinhole() {
             let (origin, dir) = self.cam.pinhole_rays8(x, y);
             return Starts8 {

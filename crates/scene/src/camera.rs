@@ -8,7 +8,7 @@
 
 use glam::{Vec2, Vec3};
 use irradia_core::{sampling, Ray};
-use irradia_geometry::packet::lanes::{F8, V3};
+use irradia_geometry::packet::lanes::{Fw, V3};
 
 /// Which image axis the field of view spans (Mitsuba's `fov_axis`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -233,11 +233,11 @@ impl CameraRays {
     /// ([`Self::is_pinhole`]). `#[inline(always)]` so that it runs in the vector
     /// width of the kernel that calls it (the 8-wide path kernel's AVX2).
     #[inline(always)]
-    pub fn pinhole_rays8(&self, x: F8, y: F8) -> (V3, V3) {
+    pub fn pinhole_rays8(&self, x: Fw, y: Fw) -> (V3, V3) {
         debug_assert!(self.is_pinhole());
         let sx = (2.0 * x / self.width - 1.0) * self.half.x;
         let sy = (1.0 - 2.0 * y / self.height) * self.half.y;
-        let v = |a: Vec3| V3::new(F8::splat(a.x), F8::splat(a.y), F8::splat(a.z));
+        let v = |a: Vec3| V3::new(Fw::splat(a.x), Fw::splat(a.y), Fw::splat(a.z));
         // `forward + right * sx + up * sy`, component by component as glam sums it.
         let dir = v(self.forward)
             .add(v(self.right).scale(sx))
@@ -289,7 +289,7 @@ mod tests {
             let (w, h) = (317 + case as u32, 211);
             let r = c.rays(w, h);
             assert!(r.is_pinhole());
-            let (mut x, mut y) = (F8::ZERO, F8::ZERO);
+            let (mut x, mut y) = (Fw::ZERO, Fw::ZERO);
             for lane in 0..8 {
                 x.0[lane] = rng.next_f32() * w as f32;
                 y.0[lane] = rng.next_f32() * h as f32;

@@ -40,7 +40,7 @@ use irradia_geometry::bvh::{Bvh, ChildRef};
 use irradia_geometry::mesh::TriangleMesh;
 #[cfg(target_arch = "x86_64")]
 use irradia_geometry::packet::bounds8::{any_culled_avx2, nearest_culled_avx2};
-use irradia_geometry::packet::lanes::{F8, M8, V3, W};
+use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 use irradia_geometry::packet::ray8::LaneHits;
 use irradia_geometry::packet::triangle8 as packet;
 use irradia_geometry::packet::{PacketBounds, PacketHit, RayLaneTriangles, TrianglePacket, LANES};
@@ -667,9 +667,9 @@ impl FlatScene {
 }
 
 /// Up to eight segments in the ray lanes (origins, directions, ends, active lanes).
-fn lanes_of(segments: &[RaySegment]) -> (V3, V3, F8, M8) {
-    let zero = || V3::new(F8::ZERO, F8::ZERO, F8::ZERO);
-    let (mut o, mut d, mut t_max, mut active) = (zero(), zero(), F8::ZERO, M8::FALSE);
+fn lanes_of(segments: &[RaySegment]) -> (V3, V3, Fw, Mw) {
+    let zero = || V3::new(Fw::ZERO, Fw::ZERO, Fw::ZERO);
+    let (mut o, mut d, mut t_max, mut active) = (zero(), zero(), Fw::ZERO, Mw::FALSE);
     for (lane, s) in segments.iter().enumerate() {
         (o.x.0[lane], o.y.0[lane], o.z.0[lane]) = s.ray.origin.into();
         (d.x.0[lane], d.y.0[lane], d.z.0[lane]) = s.ray.dir.into();
@@ -762,11 +762,11 @@ impl RayQuery for FlatScene {
 
 /// The ray-lane kernel with the arithmetic of the packet test the single-ray form
 /// runs: fused (AVX2 + FMA) when the CPU has it, unfused (SSE) otherwise.
-fn ray_lanes_nearest(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: F8, active: M8) -> LaneHits {
+fn ray_lanes_nearest(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: Fw, active: Mw) -> LaneHits {
     #[cfg(target_arch = "x86_64")]
     if packet::has_avx2() {
         #[target_feature(enable = "avx2,fma")]
-        unsafe fn fused(l: &RayLaneTriangles, o: V3, d: V3, t: F8, a: M8) -> LaneHits {
+        unsafe fn fused(l: &RayLaneTriangles, o: V3, d: V3, t: Fw, a: Mw) -> LaneHits {
             l.nearest_within::<true>(o, d, t, a)
         }
         // SAFETY: the CPU supports AVX2 and FMA.
@@ -776,11 +776,11 @@ fn ray_lanes_nearest(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: F8, active: 
 }
 
 /// As [`ray_lanes_nearest`], for shadow rays.
-fn ray_lanes_occluded(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: F8, active: M8) -> M8 {
+fn ray_lanes_occluded(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: Fw, active: Mw) -> Mw {
     #[cfg(target_arch = "x86_64")]
     if packet::has_avx2() {
         #[target_feature(enable = "avx2,fma")]
-        unsafe fn fused(l: &RayLaneTriangles, o: V3, d: V3, t: F8, a: M8) -> M8 {
+        unsafe fn fused(l: &RayLaneTriangles, o: V3, d: V3, t: Fw, a: Mw) -> Mw {
             l.occluded::<true>(o, d, t, a)
         }
         // SAFETY: the CPU supports AVX2 and FMA.

@@ -27,7 +27,7 @@
 use super::envmap8::Environment8;
 use crate::path::lights::LightSample;
 use glam::{Vec2, Vec3};
-use irradia_geometry::packet::lanes::{F8, M8, V3, W};
+use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 
 /// What the per-lane stage records of the emitters at infinity, per bounce.
 #[derive(Default)]
@@ -35,32 +35,32 @@ pub(crate) struct Background {
     /// Lanes whose ray left the scene, with the environment's radiance along it (times
     /// the test scale) and the light sample's density of its direction (0 after a
     /// delta bounce or from the camera, where it is not used).
-    pub escaped: M8,
+    pub escaped: Mw,
     pub le: V3,
-    pub pdf: F8,
+    pub pdf: Fw,
     /// Lanes whose light sample is a direction towards an emitter at infinity, with
     /// the direction, the radiance (times the test scale) and the solid-angle density
     /// (choice included).
-    pub light: M8,
+    pub light: Mw,
     pub wi: V3,
     pub li: V3,
-    pub light_pdf: F8,
+    pub light_pdf: Fw,
     /// Lanes whose light choice fell on an environment map, with the map (its place in
     /// [`Environment8`]), the probability of choosing it and the numbers to sample it
     /// with; [`Background::sample_maps`] turns them into `light` lanes.
-    pub map_light: M8,
+    pub map_light: Mw,
     pub map: [u32; W],
-    pub map_pick: F8,
-    pub map_u: [F8; 2],
+    pub map_pick: Fw,
+    pub map_u: [Fw; 2],
 }
 
 impl Background {
     /// Clears the lanes' records at the start of a bounce.
     #[inline(always)]
     pub fn clear(&mut self) {
-        self.escaped = M8::FALSE;
-        self.light = M8::FALSE;
-        self.map_light = M8::FALSE;
+        self.escaped = Mw::FALSE;
+        self.light = Mw::FALSE;
+        self.map_light = Mw::FALSE;
     }
 
     /// The rays of the `escaped` lanes (directions `dir`) left the scene: the
@@ -68,9 +68,9 @@ impl Background {
     /// (`has_prev`), the density with which light sampling gives `dir` (else 0), all
     /// lanes at once, bit for bit `LightSampler::environment_radiance_pdf`'s.
     #[inline(always)]
-    pub fn escaped_radiance(&mut self, env: &Environment8, dir: V3, has_prev: M8, scale: f32) {
+    pub fn escaped_radiance(&mut self, env: &Environment8, dir: V3, has_prev: Mw, scale: f32) {
         let (le, pdf) = env.radiance_pdf(dir);
-        self.le = le.scale(F8::splat(scale));
+        self.le = le.scale(Fw::splat(scale));
         self.pdf = has_prev.keep(pdf);
     }
 
@@ -92,7 +92,7 @@ impl Background {
     #[inline(always)]
     pub fn sample_maps(&mut self, env: &Environment8, scale: f32) {
         for (k, m) in env.maps().iter().enumerate() {
-            let lanes = self.map_light & M8::from_fn(|l| self.map[l] == k as u32);
+            let lanes = self.map_light & Mw::from_fn(|l| self.map[l] == k as u32);
             if !lanes.any() {
                 continue;
             }
@@ -100,7 +100,7 @@ impl Background {
             let ok = lanes & ok;
             self.light = self.light | ok;
             self.wi = V3::select(ok, wi, self.wi);
-            self.li = V3::select(ok, li.scale(F8::splat(scale)), self.li);
+            self.li = V3::select(ok, li.scale(Fw::splat(scale)), self.li);
             self.light_pdf = ok.select(self.map_pick * pdf, self.light_pdf);
         }
     }
@@ -123,11 +123,11 @@ impl Background {
         &self,
         radiance: V3,
         beta: V3,
-        has_prev: M8,
-        prev_pdf: F8,
-        mis: impl Fn(F8, F8) -> F8,
+        has_prev: Mw,
+        prev_pdf: Fw,
+        mis: impl Fn(Fw, Fw) -> Fw,
     ) -> V3 {
-        let w = has_prev.select(mis(prev_pdf, self.pdf), F8::splat(1.0));
+        let w = has_prev.select(mis(prev_pdf, self.pdf), Fw::splat(1.0));
         let added = radiance.add(beta.mul(self.le).scale(w));
         V3::select(self.escaped, added, radiance)
     }

@@ -29,7 +29,7 @@ use crate::path::tracer::Tracer;
 use glam::Vec3;
 use irradia_core::{Rgb, Rng};
 use irradia_geometry::bvh::node::gamma;
-use irradia_geometry::packet::lanes::{offset_ray_origin, F8, M8, V3, W};
+use irradia_geometry::packet::lanes::{offset_ray_origin, Fw, Mw, V3, W};
 use irradia_geometry::triangle::TriangleHit;
 use std::f32::consts::FRAC_1_PI;
 
@@ -48,11 +48,11 @@ struct Paths {
     /// The previous scattering vertex and its BSDF density (MIS on emitter hits);
     /// `has_prev` is false for camera rays.
     prev_p: V3,
-    prev_pdf: F8,
-    has_prev: M8,
+    prev_pdf: Fw,
+    has_prev: Mw,
     /// The product of the relative indices of refraction crossed (Russian roulette
     /// judges `max(beta) eta²`, as the scalar estimator does).
-    eta: F8,
+    eta: Fw,
 }
 
 /// What the per-lane stage hands to the vector stage, per bounce: indices into the
@@ -60,41 +60,41 @@ struct Paths {
 #[derive(Default)]
 struct Bounce {
     /// Lanes that hit a surface.
-    hit: M8,
+    hit: Mw,
     /// Lanes that go on scattering at this hit (random numbers drawn).
-    scatter: M8,
+    scatter: Mw,
     /// The triangle hit, its barycentrics `b1`, `b2` and its material.
     triangle: [u32; W],
-    b1: F8,
-    b2: F8,
+    b1: Fw,
+    b2: Fw,
     material: [u32; W],
     /// Lanes whose hit is on an object left to its own shape's test (a sphere), with
     /// the hit as that test reports it: point, geometric and shading normals, error
     /// bound (`triangle` is then 0, a valid index whose record is not used).
-    other: M8,
+    other: Mw,
     point: V3,
     normal: V3,
     shading: V3,
-    error: F8,
+    error: Fw,
     /// `pdf_object` of the hit as seen from the previous vertex (emissive hits).
-    light_pdf: F8,
+    light_pdf: Fw,
     /// Uniform numbers of the BSDF sample: the lobe choice (the dielectric's
     /// reflection or refraction) and the direction.
-    u_lobe: F8,
-    u_bsdf: [F8; 2],
+    u_lobe: Fw,
+    u_bsdf: [Fw; 2],
     /// The light sample: a facet was chosen (`light`), which one, the probability of
     /// choosing its emitter and the point of the square to warp into the triangle.
-    light: M8,
+    light: Mw,
     facet: [u32; W],
     /// The chosen emitter (a sphere warps `u_light` itself: [`sphere_light`]).
     emitter: [u32; W],
-    pick: F8,
+    pick: Fw,
     /// The numbers as drawn (a sphere's), and the point of the square to warp into
     /// the chosen facet (the facet choice's).
-    u_light: [F8; 2],
-    u_facet: [F8; 2],
+    u_light: [Fw; 2],
+    u_facet: [Fw; 2],
     /// The number that chooses the emitter (when the vector stage chooses).
-    u_pick: F8,
+    u_pick: Fw,
     /// Escaped rays and light samples of emitters at infinity.
     bg: Background,
 }
@@ -103,23 +103,23 @@ struct Bounce {
 struct Scattered {
     /// Lanes whose light sample passed every test but the shadow ray, with the
     /// shadow ray (`t_max = 1`) and the contribution if it is unblocked.
-    nee: M8,
+    nee: Mw,
     shadow_origin: V3,
     shadow_dir: V3,
     nee_value: V3,
     /// The shadow ray's `t_max`: 1 towards a point, infinite towards an emitter at
     /// infinity.
-    shadow_t_max: F8,
+    shadow_t_max: Fw,
     /// Lanes that continue (a valid BSDF sample, throughput not black).
-    go_on: M8,
+    go_on: Mw,
     /// Russian roulette: survival probability and the throughput divided by it.
-    q: F8,
+    q: Fw,
     beta_rr: V3,
 }
 
 /// Power heuristic with β = 2, per lane (as `integrator::mis`).
 #[inline(always)]
-fn mis(a: F8, b: F8) -> F8 {
+fn mis(a: Fw, b: Fw) -> Fw {
     let (a2, b2) = (a * a, b * b);
     let s = a2 + b2;
     s.gt(0.0).keep(a2 / s)
@@ -145,7 +145,7 @@ fn frame(n: V3) -> (V3, V3) {
 fn smooth_normals(
     table: &[[f32; smooth::LEN]],
     triangle: &[u32; W],
-    (b0, b1, b2): (F8, F8, F8),
+    (b0, b1, b2): (Fw, Fw, Fw),
     n: V3,
 ) -> (V3, V3) {
     checked(table, triangle);
@@ -241,7 +241,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let lit = b.hit & !emission.is_zero() & (emission_two_sided | facing);
     let w = paths
         .has_prev
-        .select(mis(paths.prev_pdf, b.light_pdf), F8::splat(1.0));
+        .select(mis(paths.prev_pdf, b.light_pdf), Fw::splat(1.0));
     let emitted = paths.beta.mul(emission).scale(w);
     paths.radiance = V3::select(lit, paths.radiance.add(emitted), paths.radiance);
     // Rays that left the scene: the environment, weighted likewise.
@@ -263,7 +263,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     // A one-sided BSDF seen from behind scatters nothing (Mitsuba's `diffuse`: its
     // eval, pdf and sample are zero unless cos(wo) > 0).
     let sc = sc & !(front_only & wo.z.le(0.0));
-    let f = albedo.scale(F8::splat(FRAC_1_PI));
+    let f = albedo.scale(Fw::splat(FRAC_1_PI));
 
     // Next-event estimation: a point on the chosen facet.
     let s = u_light[0].sqrt();
@@ -292,7 +292,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     // No light sample on delta lobes (the scalar code draws its numbers, unused).
     let light_ok = sc & !(mirror | glass) & light & cos_l.gt(0.0) & pdf_area.gt(0.0);
     let l_side = V3::select(l_facing.gt(0.0), ln, ln.neg());
-    let target = offset_ray_origin(q, l_side, F8::ZERO);
+    let target = offset_ray_origin(q, l_side, Fw::ZERO);
     let l_pdf = pick * pdf_area * dist2 / cos_l;
     // Lanes whose light is at infinity: the direction, radiance and density they
     // sampled (lane by lane, as the scalar `sample`), and an unbounded shadow ray.
@@ -379,7 +379,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
             V3::select(refracts, spec_t.scale(g.eta_ti * g.eta_ti), spec_r),
         ),
     );
-    let eta_s = refracts.select(g.eta_it, F8::splat(1.0));
+    let eta_s = refracts.select(g.eta_it, Fw::splat(1.0));
     let sampled = lambert_ok | (mirror & wo.z.gt(0.0)) | glass;
     let (wi_s, weight, sampled, pdf_b, eta_s) = match &r {
         Some(r) => (
@@ -412,7 +412,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
         shadow_origin,
         shadow_dir: V3::select(far, wi, target.sub(shadow_origin)),
         nee_value,
-        shadow_t_max: far.select(F8::splat(f32::INFINITY), F8::splat(1.0)),
+        shadow_t_max: far.select(Fw::splat(f32::INFINITY), Fw::splat(1.0)),
         go_on,
         q,
         beta_rr: paths.beta.scale(1.0 / q),
@@ -440,15 +440,15 @@ fn run<const FMA: bool>(
         beta: V3::ZERO,
         radiance: V3::ZERO,
         prev_p: V3::ZERO,
-        prev_pdf: F8::ZERO,
-        has_prev: M8::FALSE,
-        eta: F8::splat(1.0),
+        prev_pdf: Fw::ZERO,
+        has_prev: Mw::FALSE,
+        eta: Fw::splat(1.0),
     };
     let mut next = 0usize;
     let mut b = Bounce::default();
     loop {
         // Stage 1, per lane: refill; then the nearest hits; then per lane the draws.
-        let mut live = M8::FALSE;
+        let mut live = Mw::FALSE;
         for lane in 0..W {
             if paths.sample[lane] == IDLE {
                 if next == out.len() {
@@ -485,7 +485,7 @@ fn run<const FMA: bool>(
         // only they run the exact sphere test below.
         let near_sphere = match &ws.cull {
             Some(c) => {
-                let t_max = hits.hit.select(hits.t, F8::splat(f32::INFINITY));
+                let t_max = hits.hit.select(hits.t, Fw::splat(f32::INFINITY));
                 c.may_hit(paths.origin, paths.dir, t_max, live)
             }
             None => live,
@@ -494,12 +494,12 @@ fn run<const FMA: bool>(
         // the flat scene's `closest_hit` asks them: eight rays at once ([`sphere_hit8`]).
         let spheres = match &ws.spheres {
             Some(s) if near_sphere.any() => {
-                let t_max = hits.hit.select(hits.t, F8::splat(f32::INFINITY));
+                let t_max = hits.hit.select(hits.t, Fw::splat(f32::INFINITY));
                 s.nearest(paths.origin, paths.dir, t_max, near_sphere)
             }
             _ => SphereHits::default(),
         };
-        // (Lane tests on integers: see `M8::lanes`.)
+        // (Lane tests on integers: see `Mw::lanes`.)
         let (hit_bits, prev_bits) = (hits.hit.bits(), paths.has_prev.bits());
         for lane in live.lanes() {
             counters.rays += 1;
