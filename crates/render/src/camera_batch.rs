@@ -9,9 +9,9 @@
 //! one chain between two bounces of the kernel); the filter's warp (none for the default
 //! box of one pixel, else lane by lane); for a pinhole camera the perspective projection
 //! and the normalisation of the eight directions in lanes
-//! ([`CameraRays::pinhole_rays8`]), inlined into the kernel's AVX2 loop, for the others
+//! ([`CameraRays::pinhole_rays_lanes`]), inlined into the kernel's AVX2 loop, for the others
 //! (thin lens, orthographic) each lane's ray as [`camera_sample`] makes it. The filter's
-//! weights ([`Starts8::weight`]: 1 for every box and tent, `f / density` for the
+//! weights ([`StartsW::weight`]: 1 for every box and tent, `f / density` for the
 //! Gaussian, Mitsuba's default filter) go back to the driver, which applies them. Every sample
 //! is the one [`camera_sample`] makes, bit for bit (tests below), so the image does not
 //! change; this is the wavefront path tracer's batched camera-ray generation (Laine,
@@ -45,7 +45,7 @@ pub struct CameraBatch<'a> {
 /// Up to eight camera samples in lanes: ray origins and unit directions, each
 /// sample's stream (already past its pixel jitter) and its filter weight.
 #[derive(Clone, Debug)]
-pub struct Starts8 {
+pub struct StartsW {
     pub origin: V3,
     pub dir: V3,
     pub rng: [Rng; W],
@@ -73,7 +73,7 @@ impl<'a> CameraBatch<'a> {
     }
 
     /// Whether every sample's filter weight is 1 (every box and tent filter; not the
-    /// Gaussian), so the caller need not keep [`Starts8::weight`].
+    /// Gaussian), so the caller need not keep [`StartsW::weight`].
     pub fn unit_weights(&self) -> bool {
         self.filter.unit_weights()
     }
@@ -103,8 +103,8 @@ impl<'a> CameraBatch<'a> {
     /// stands (it moves on by `n`); lanes `n..` repeat lane 0. Each lane is
     /// [`Self::sample`] bit for bit.
     #[inline(always)]
-    pub fn eight(&self, cursor: &mut Cursor, n: usize) -> Starts8 {
-        let (px, py, s) = self.lanes(cursor, n);
+    pub fn lanes(&self, cursor: &mut Cursor, n: usize) -> StartsW {
+        let (px, py, s) = self.lane_pixels(cursor, n);
         // The streams and points: eight independent hash chains side by side.
         let (mut rng, u) = self.sampler.pixel_samples_lanes(&px, &py, &s);
         // `camera_sample`: the filter's warp (the unit box leaves `u` as it is).
@@ -119,8 +119,8 @@ impl<'a> CameraBatch<'a> {
         let x = Fw(std::array::from_fn(|i| px[i] as f32)) + ox;
         let y = Fw(std::array::from_fn(|i| py[i] as f32)) + oy;
         if self.cam.is_pinhole() {
-            let (origin, dir) = self.cam.pinhole_rays8(x, y);
-            return Starts8 {
+            let (origin, dir) = self.cam.pinhole_rays_lanes(x, y);
+            return StartsW {
                 origin,
                 dir,
                 rng,
@@ -140,7 +140,7 @@ impl<'a> CameraBatch<'a> {
             origin.set_lane(i, ray.origin);
             dir.set_lane(i, ray.dir);
         }
-        Starts8 {
+        StartsW {
             origin,
             dir,
             rng,
@@ -151,7 +151,7 @@ impl<'a> CameraBatch<'a> {
     /// The pixels and sample indices of samples `k..k + n` (`0 < n <= 8`), `k` being
     /// where `cursor` stands (it moves on by `n`); lanes `n..` repeat lane 0.
     #[inline(always)]
-    fn lanes(&self, cursor: &mut Cursor, n: usize) -> ([u32; W], [u32; W], [u32; W]) {
+    fn lane_pixels(&self, cursor: &mut Cursor, n: usize) -> ([u32; W], [u32; W], [u32; W]) {
         debug_assert!(n > 0 && n <= W);
         let (mut px, mut py, mut s) = ([0u32; W], [0u32; W], [0u32; W]);
         let k = cursor.k;
@@ -322,7 +322,7 @@ mod tests {
                     let mut k = 0;
                     while k < batch.len() {
                         let n = (batch.len() - k).min(W);
-                        let got = batch.eight(&mut cursor, n);
+                        let got = batch.lanes(&mut cursor, n);
                         for lane in 0..n {
                             let (ray, mut rng) = batch.sample(k + lane);
                             let cs = {

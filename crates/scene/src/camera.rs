@@ -219,7 +219,7 @@ impl CameraRays {
         Ray::new(origin, dir)
     }
 
-    /// Whether this is a pinhole (perspective) camera, the one [`Self::pinhole_rays8`]
+    /// Whether this is a pinhole (perspective) camera, the one [`Self::pinhole_rays_lanes`]
     /// makes rays for.
     #[inline]
     pub fn is_pinhole(&self) -> bool {
@@ -233,7 +233,7 @@ impl CameraRays {
     /// ([`Self::is_pinhole`]). `#[inline(always)]` so that it runs in the vector
     /// width of the kernel that calls it (the 8-wide path kernel's AVX2).
     #[inline(always)]
-    pub fn pinhole_rays8(&self, x: Fw, y: Fw) -> (V3, V3) {
+    pub fn pinhole_rays_lanes(&self, x: Fw, y: Fw) -> (V3, V3) {
         debug_assert!(self.is_pinhole());
         let sx = (2.0 * x / self.width - 1.0) * self.half.x;
         let sy = (1.0 - 2.0 * y / self.height) * self.half.y;
@@ -264,7 +264,7 @@ mod tests {
         Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, projection)
     }
 
-    /// Every lane of `pinhole_rays8` is the scalar `ray` bit for bit, with and
+    /// Every lane of `pinhole_rays_lanes` is the scalar `ray` bit for bit, with and
     /// without a near clip, over odd positions and camera frames. (Summing the
     /// direction in another order, `forward + (right * sx + up * sy)`, fails it:
     /// tried.)
@@ -294,7 +294,7 @@ mod tests {
                 x.0[lane] = rng.next_f32() * w as f32;
                 y.0[lane] = rng.next_f32() * h as f32;
             }
-            let (o, d) = r.pinhole_rays8(x, y);
+            let (o, d) = r.pinhole_rays_lanes(x, y);
             for lane in 0..8 {
                 let want = r.ray(x.0[lane], y.0[lane]);
                 assert_eq!(

@@ -41,7 +41,7 @@ use irradia_geometry::mesh::TriangleMesh;
 #[cfg(target_arch = "x86_64")]
 use irradia_geometry::packet::bounds8::{any_culled_avx2, nearest_culled_avx2};
 use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
-use irradia_geometry::packet::ray8::LaneHits;
+use irradia_geometry::packet::ray_lanes::LaneHits;
 use irradia_geometry::packet::triangle8 as packet;
 use irradia_geometry::packet::{PacketBounds, PacketHit, RayLaneTriangles, TrianglePacket, LANES};
 use irradia_geometry::triangle::TriangleHit;
@@ -164,7 +164,7 @@ pub struct FlatScene {
     /// Per scene object: whether its shape is a closed solid.
     solid: Vec<bool>,
     /// The baked triangles for answering eight rays at once, when the whole scene is
-    /// baked into at most [`MAX_TRIANGLES`](irradia_geometry::packet::ray8::MAX_TRIANGLES).
+    /// baked into at most [`MAX_TRIANGLES`](irradia_geometry::packet::ray_lanes::MAX_TRIANGLES).
     ray_lanes: Option<RayLaneTriangles>,
 }
 

@@ -6,7 +6,7 @@
 //! emitters at infinity (the constant environment: the background plus Mitsuba's
 //! `constant` emitters, and Mitsuba's `envmap`): the constant environment sampled lane
 //! by lane with the scalar code's arithmetic, an environment map chosen lane by lane and
-//! sampled by the kernel in lanes ([`crate::path::wide::envmap8`]), so that samples
+//! sampled by the kernel in lanes ([`crate::path::wide::envmap_lanes`]), so that samples
 //! agree with [`LightSampler::sample`]'s bit for bit.
 
 use super::{det3, Emitter, FacetEmitter, LightSample, LightSampler, SurfaceSampler};
@@ -128,7 +128,7 @@ impl LightSampler {
     }
 
     /// The emitters at infinity as the kernel's lanes evaluate them
-    /// ([`crate::path::wide::envmap8`]): the constant environment's radiance and its
+    /// ([`crate::path::wide::envmap_lanes`]): the constant environment's radiance and its
     /// share of the light density, `probability / 4π` (black and 0 without one), and
     /// every environment map with the probability of choosing it, in the order
     /// [`LightSampler::environment_radiance_pdf`] sums them.

@@ -8,7 +8,7 @@
 //!   power heuristic against the light sample's density of its direction when it was
 //!   sampled from a non-delta BSDF ([`Background::escaped_radiance`]: the maps' lookups
 //!   and densities, `LightSampler::environment_radiance_pdf`, for all lanes at once in
-//!   [`envmap8`](super::envmap8); the weight and the sum in
+//!   [`envmap_lanes`](super::envmap_lanes); the weight and the sum in
 //!   [`Background::add_escaped`]);
 //! - next-event estimation chooses an emitter at infinity with its probability and
 //!   samples a direction from it (the choice eight lanes at once with the other
@@ -24,7 +24,7 @@
 //! Both use the scalar estimator's numbers in its order, so samples agree with
 //! [`radiance_in`](crate::path::integrator::radiance_in)'s to rounding.
 
-use super::envmap8::Environment8;
+use super::envmap_lanes::EnvironmentW;
 use crate::path::lights::LightSample;
 use glam::{Vec2, Vec3};
 use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
@@ -46,7 +46,7 @@ pub(crate) struct Background {
     pub li: V3,
     pub light_pdf: Fw,
     /// Lanes whose light choice fell on an environment map, with the map (its place in
-    /// [`Environment8`]), the probability of choosing it and the numbers to sample it
+    /// [`EnvironmentW`]), the probability of choosing it and the numbers to sample it
     /// with; [`Background::sample_maps`] turns them into `light` lanes.
     pub map_light: Mw,
     pub map: [u32; W],
@@ -68,7 +68,7 @@ impl Background {
     /// (`has_prev`), the density with which light sampling gives `dir` (else 0), all
     /// lanes at once, bit for bit `LightSampler::environment_radiance_pdf`'s.
     #[inline(always)]
-    pub fn escaped_radiance(&mut self, env: &Environment8, dir: V3, has_prev: Mw, scale: f32) {
+    pub fn escaped_radiance(&mut self, env: &EnvironmentW, dir: V3, has_prev: Mw, scale: f32) {
         let (le, pdf) = env.radiance_pdf(dir);
         self.le = le.scale(Fw::splat(scale));
         self.pdf = has_prev.keep(pdf);
@@ -90,7 +90,7 @@ impl Background {
     /// radiance (times the test scale) and the density `pick` times the map's, as
     /// `LightSampler::sample` gives them.
     #[inline(always)]
-    pub fn sample_maps(&mut self, env: &Environment8, scale: f32) {
+    pub fn sample_maps(&mut self, env: &EnvironmentW, scale: f32) {
         for (k, m) in env.maps().iter().enumerate() {
             let lanes = self.map_light & Mw::from_fn(|l| self.map[l] == k as u32);
             if !lanes.any() {

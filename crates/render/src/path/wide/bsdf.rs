@@ -28,7 +28,7 @@ pub(super) fn cosine_hemisphere(u: [Fw; 2]) -> V3 {
 }
 
 /// The smooth conductor's Fresnel reflectance (`fresnel_conductor_rgb`, in `f64` as
-/// the scalar BSDF computes it, eight lanes at once: [`super::fresnel8`]) at cosine
+/// the scalar BSDF computes it, eight lanes at once: [`super::fresnel_lanes`]) at cosine
 /// `cos` in the lanes of `active`, zero elsewhere.
 #[inline(always)]
 pub(super) fn conductor_fresnel(
@@ -37,7 +37,7 @@ pub(super) fn conductor_fresnel(
     cos: Fw,
     active: Mw,
 ) -> V3 {
-    super::fresnel8::conductor_fresnel(ws, material, cos, active)
+    super::fresnel_lanes::conductor_fresnel(ws, material, cos, active)
 }
 
 /// The smooth dielectric's sample in every lane (`Dielectric::sample`, with

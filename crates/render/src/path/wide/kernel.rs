@@ -19,7 +19,7 @@ use super::gather::{checked, field, field3};
 use super::glossy::glossy;
 use super::lane_queries::{nearest_in_turns, occluded_in_turns};
 use super::light_pick::{at_infinity, far_lights, pick_lights};
-use super::sphere_hit8::SphereHits;
+use super::sphere_hits::SphereHits;
 use super::sphere_light::{self, LightPoint};
 use super::starts::{Ahead, Starts};
 use super::{facet, mat, smooth, tri, WideScene};
@@ -491,7 +491,7 @@ fn run<const FMA: bool>(
             None => live,
         };
         // Then the objects with their own tests (spheres), up to the triangle's `t`, as
-        // the flat scene's `closest_hit` asks them: eight rays at once ([`sphere_hit8`]).
+        // the flat scene's `closest_hit` asks them: eight rays at once ([`sphere_hits`]).
         let spheres = match &ws.spheres {
             Some(s) if near_sphere.any() => {
                 let t_max = hits.hit.select(hits.t, Fw::splat(f32::INFINITY));
@@ -656,7 +656,7 @@ fn run<const FMA: bool>(
         };
         // And the objects with their own tests (spheres), for shadow rays the
         // triangles leave through.
-        // (Eight at once: [`sphere_hit8`].)
+        // (Eight at once: [`sphere_hits`].)
         let blocked = match &ws.spheres {
             Some(spheres) => {
                 let open = s.nee & !blocked;
@@ -723,7 +723,7 @@ pub(super) unsafe fn run_avx2(
 }
 
 /// The loop with AVX-512 (F, VL, DQ, BW) as well: the same eight lanes, with mask
-/// registers for the selects and the `f64` lanes of [`super::d8`] in one register. The
+/// registers for the selects and the `f64` lanes of [`super::dw`] in one register. The
 /// same IEEE operations in the same order as [`run_avx2`] (no fast-math), so the same
 /// results bit for bit.
 ///

@@ -10,7 +10,7 @@ use crate::path::flat_scene::prefetch_bytes;
 use glam::Vec3;
 use irradia_core::Ray;
 use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
-use irradia_geometry::packet::ray8::LaneHits;
+use irradia_geometry::packet::ray_lanes::LaneHits;
 
 /// The nearest triangle hits of the rays `(origin, dir)` of the `live` lanes.
 #[inline(always)]

@@ -12,7 +12,7 @@
 //!    numbers from the lane's own stream;
 //! 2. all lanes at once ([`kernel`], 8-wide AVX-512 or AVX2 + FMA chosen at run time
 //!    ([`KernelBuild`]), or the same
-//!    code in SSE): the nearest hits ([`ray8`](irradia_geometry::packet::ray8): eight rays against every triangle of
+//!    code in SSE): the nearest hits ([`ray_lanes`](irradia_geometry::packet::ray_lanes): eight rays against every triangle of
 //!    a small scene; larger scenes walk the [`FlatScene`]'s hierarchy lane by lane,
 //!    with Wald et al.'s SIMD triangle packets), the hit points (triangle, material,
 //!    vertex normal and light data gathered by index), emission with MIS, the light choice and
@@ -36,14 +36,14 @@
 //!   constant `reflectance`;
 //! - Mitsuba's smooth `conductor` (one-sided; a delta reflection weighted by the exact
 //!   conductor Fresnel reflectance, in `f64` as the scalar BSDF computes it, eight
-//!   lanes at once as two 4-wide vectors: [`fresnel8`]) or smooth `dielectric` (delta reflection or refraction chosen by the
+//!   lanes at once as two 4-wide vectors: [`fresnel_lanes`]) or smooth `dielectric` (delta reflection or refraction chosen by the
 //!   lobe number against the exact dielectric Fresnel reflectance), with constant
 //!   parameters;
 //!
 //! - Mitsuba's `roughconductor` with isotropic GGX normals sampled by their visible
 //!   ones (Mitsuba's default; the speed suite's veach_mis plates), constant parameters
 //!   ([`ggx`]: value, density and sample in lanes, in `f32`, the Fresnel reflectance in
-//!   `f64` lanes, [`fresnel8`]); a glossy lobe as the scalar estimator treats it: a light sample
+//!   `f64` lanes, [`fresnel_lanes`]); a glossy lobe as the scalar estimator treats it: a light sample
 //!   weighted by the power heuristic against the BSDF's density, and emission hit
 //!   after it weighted against the light sample's density;
 //! - Mitsuba's `roughdielectric` with the same distribution ([`rough_dielectric`]:
@@ -70,16 +70,16 @@
 //! choose them with their probability (with the other emitters, eight lanes at once,
 //! [`light_pick`], in scenes of few emitters) and sample them lane by lane, then
 //! shade with an unbounded shadow ray in the vector stage; the maps' lookups,
-//! densities and importance samples run for all lanes at once, [`envmap8`]); no point,
+//! densities and importance samples run for all lanes at once, [`envmap_lanes`]); no point,
 //! spot, directional or rectangle *lights*. The Cornell box qualifies, and so do diffuse
 //! scenes under an environment map. Every object must be baked into the [`FlatScene`]'s
 //! triangles (polygons, rectangles, boxes, polyhedra, and triangle meshes of any size,
 //! whose materials are untextured) or be a sphere (possibly placed by a transform, as
 //! the Mitsuba importer builds them; no quadrics, CSG or implicit surfaces; a scene of
-//! spheres only qualifies). Spheres are culled eight rays at once ([`sphere8`]: a
+//! spheres only qualifies). Spheres are culled eight rays at once ([`sphere_cull`]: a
 //! conservative ray-ball test that only drops lanes that cannot hit one) and the lanes
 //! left are traced eight at once after the lanes' triangles, up to the triangle's
-//! distance ([`sphere_hit8`]: the scalar sphere test's `f64` quadratic, transform,
+//! distance ([`sphere_hits`]: the scalar sphere test's `f64` quadratic, transform,
 //! surface point, normal and error bound in lanes, the spheres in the loop, so the
 //! hits, normals and error bounds are the scalar ones bit for bit), and so are the
 //! shadow rays the triangles leave through. So the speed suite's
@@ -92,9 +92,9 @@
 
 pub(crate) mod background;
 pub mod bsdf;
-mod d8;
-pub(crate) mod envmap8;
-pub(crate) mod fresnel8;
+mod dw;
+pub(crate) mod envmap_lanes;
+pub(crate) mod fresnel_lanes;
 mod gather;
 pub mod ggx;
 mod glossy;
@@ -103,8 +103,8 @@ mod lane_queries;
 mod light_pick;
 mod rough_dielectric;
 mod rough_plastic;
-pub(crate) mod sphere8;
-pub(crate) mod sphere_hit8;
+pub(crate) mod sphere_cull;
+pub(crate) mod sphere_hits;
 pub mod sphere_light;
 mod starts;
 
@@ -246,11 +246,11 @@ pub struct WideScene<'s, 'a> {
     /// Whether some objects (spheres) are not baked: each lane then also asks the
     /// flat scene's own test of those after the triangles.
     pub(crate) has_rest: bool,
-    /// The spheres' 8-wide cull ([`sphere8`]): only lanes whose ray may meet one run
+    /// The spheres' 8-wide cull ([`sphere_cull`]): only lanes whose ray may meet one run
     /// the exact lane-by-lane test; `None` without spheres or when disabled (tests).
-    pub(crate) cull: Option<sphere8::SphereCull>,
-    /// The spheres' exact 8-wide test ([`sphere_hit8`]), when there are spheres.
-    pub(crate) spheres: Option<sphere_hit8::Spheres8>,
+    pub(crate) cull: Option<sphere_cull::SphereCull>,
+    /// The spheres' exact 8-wide test ([`sphere_hits`]), when there are spheres.
+    pub(crate) spheres: Option<sphere_hits::SpheresW>,
     /// A factor on the smooth conductor's and dielectric's Fresnel reflectance: 1
     /// (exact: the product is the reflectance itself) except in the test that shows
     /// a wrong reflectance is caught.
@@ -261,8 +261,8 @@ pub struct WideScene<'s, 'a> {
     /// A factor on the radiance of the emitters at infinity: 1 except in the test
     /// that shows a wrong environment is caught.
     pub(crate) background_scale: f32,
-    /// The emitters at infinity in the lanes' form ([`envmap8`]), when there are any.
-    pub(crate) environment: Option<envmap8::Environment8>,
+    /// The emitters at infinity in the lanes' form ([`envmap_lanes`]), when there are any.
+    pub(crate) environment: Option<envmap_lanes::EnvironmentW>,
     /// Whether some material is glossy (a rough conductor, dielectric or plastic: the
     /// vector stage skips their lobes otherwise).
     pub(crate) has_rough: bool,
@@ -448,7 +448,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
         }
         let has_rest = !ps.tracer.rest_objects().is_empty();
         let spheres = match has_rest {
-            true => Some(sphere_hit8::Spheres8::new(scene, ps.tracer.rest_objects())?),
+            true => Some(sphere_hits::SpheresW::new(scene, ps.tracer.rest_objects())?),
             false => None,
         };
         let mut triangles = Vec::new();
@@ -591,7 +591,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             pick,
             rays,
             has_rest,
-            cull: has_rest.then(|| sphere8::SphereCull::new(scene, ps.tracer.rest_objects())),
+            cull: has_rest.then(|| sphere_cull::SphereCull::new(scene, ps.tracer.rest_objects())),
             spheres,
             fresnel_scale: 1.0,
             background: ps.lights.has_environment(),
@@ -599,7 +599,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             environment: ps
                 .lights
                 .has_environment()
-                .then(|| envmap8::Environment8::new(ps.lights)),
+                .then(|| envmap_lanes::EnvironmentW::new(ps.lights)),
             has_rough,
             alpha_scale: 1.0,
             transmittance,

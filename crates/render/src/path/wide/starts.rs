@@ -4,7 +4,7 @@
 //! the next one (Laine, Karras, Aila, "Megakernels Considered Harmful", HPG 2013:
 //! regenerating paths in place of finished ones).
 
-use crate::camera_batch::{CameraBatch, Cursor, Starts8};
+use crate::camera_batch::{CameraBatch, Cursor, StartsW};
 use irradia_core::{Ray, Rng};
 use irradia_geometry::packet::lanes::{V3, W};
 
@@ -28,7 +28,7 @@ pub(crate) enum Starts<'a, 'c> {
 pub(super) struct Ahead {
     /// The batch's cursor at the next sample to make ([`Starts::Camera`]).
     cursor: Option<Cursor>,
-    pub(super) starts: Starts8,
+    pub(super) starts: StartsW,
     /// How many are made, and how many of them lanes have taken.
     made: usize,
     taken: usize,
@@ -41,7 +41,7 @@ impl Ahead {
                 Starts::Camera { batch, .. } => Some(batch.cursor()),
                 Starts::Each(_) => None,
             },
-            starts: Starts8 {
+            starts: StartsW {
                 origin: V3::ZERO,
                 dir: V3::ZERO,
                 rng: std::array::from_fn(|_| Rng::new(0, 0)),
@@ -70,7 +70,7 @@ impl Ahead {
         match starts {
             Starts::Camera { batch, weights } => {
                 let cursor = self.cursor.as_mut().expect("a camera batch's cursor");
-                self.starts = batch.eight(cursor, n);
+                self.starts = batch.lanes(cursor, n);
                 if !weights.is_empty() {
                     weights[next..next + n].copy_from_slice(&self.starts.weight[..n]);
                 }

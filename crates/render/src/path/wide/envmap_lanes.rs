@@ -35,7 +35,7 @@ mod vtx {
 }
 
 /// One environment map in the lanes' form.
-pub(crate) struct Envmap8 {
+pub(crate) struct EnvmapW {
     /// `(W + 1) x H` vertex records ([`vtx`]), row by row; column `W` repeats column 0.
     vertex: Vec<[f32; vtx::LEN]>,
     /// `W + 1`: records per row.
@@ -63,7 +63,7 @@ pub(crate) struct Envmap8 {
     to_world: Mat3,
 }
 
-impl Envmap8 {
+impl EnvmapW {
     pub(crate) fn new(sampler: &EnvmapSampler, probability: f32) -> Self {
         let map = &sampler.map;
         let (w, h) = (map.image.width(), map.image.height());
@@ -154,7 +154,7 @@ impl Envmap8 {
         (l, field(&self.vertex, idx, vtx::PDF))
     }
 
-    /// One colour channel `c` of [`Envmap8::bilinear`]: the corners `(i, j)`,
+    /// One colour channel `c` of [`EnvmapW::bilinear`]: the corners `(i, j)`,
     /// `(i + 1, j)`, `(i, j + 1)`, `(i + 1, j + 1)` weighted as `eval_uv` weighs them
     /// (`(fx, 1 - fx)`, `(fy, 1 - fy)`), times the scale.
     #[inline(always)]
@@ -270,15 +270,15 @@ fn sample_1d(cdf: &[[f32; 1]], start: &[u32; W], n: u32, u: Fw) -> (Fw, [u32; W]
 
 /// Every emitter at infinity of a scene in the lanes' form: the constant environment
 /// (the background and Mitsuba's `constant` emitters, one radiance) and the maps.
-pub(crate) struct Environment8 {
+pub(crate) struct EnvironmentW {
     /// The constant environment's radiance and its share of the light density,
     /// `probability / 4π` (zeros without one).
     constant: [f32; 3],
     constant_pdf: f32,
-    maps: Vec<Envmap8>,
+    maps: Vec<EnvmapW>,
 }
 
-impl Environment8 {
+impl EnvironmentW {
     pub(crate) fn new(lights: &LightSampler) -> Self {
         let (constant, constant_pdf, maps) = lights.environment_parts();
         Self {
@@ -286,13 +286,13 @@ impl Environment8 {
             constant_pdf,
             maps: maps
                 .into_iter()
-                .map(|(s, probability)| Envmap8::new(s, probability))
+                .map(|(s, probability)| EnvmapW::new(s, probability))
                 .collect(),
         }
     }
 
     /// The environment maps, in `LightSampler::environment_parts`' order.
-    pub(crate) fn maps(&self) -> &[Envmap8] {
+    pub(crate) fn maps(&self) -> &[EnvmapW] {
         &self.maps
     }
 
@@ -413,7 +413,7 @@ mod tests {
     #[test]
     fn lanes_equal_the_scalar_sample() {
         let s = sampler();
-        let m = Envmap8::new(&s, 1.0);
+        let m = EnvmapW::new(&s, 1.0);
         let mut rng = Rng::new(31, 32);
         let edge = [0.0, 0.5, 1.0 - f32::EPSILON / 2.0, 0.999_9, 1e-7];
         let (mut some, mut none) = (0, 0);
@@ -468,11 +468,11 @@ mod tests {
     fn lanes_equal_the_scalar_lookup_and_density() {
         let s = sampler();
         let probability = 0.7;
-        let m = Envmap8::new(&s, probability);
-        let env = Environment8 {
+        let m = EnvmapW::new(&s, probability);
+        let env = EnvironmentW {
             constant: [0.1, 0.2, 0.3],
             constant_pdf: 0.3 / (4.0 * PI),
-            maps: vec![Envmap8::new(&s, probability)],
+            maps: vec![EnvmapW::new(&s, probability)],
         };
         let dirs = directions(&s.map);
         for chunk in dirs.chunks(W) {

@@ -22,7 +22,7 @@
 // Lane loops index several arrays by the lane on purpose.
 #![allow(clippy::needless_range_loop)]
 
-use super::d8::{select, Dw, DV3};
+use super::dw::{select, Dw, DV3};
 use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 use irradia_geometry::shapes::Sphere;
 use irradia_geometry::{Hit, SceneHit};
@@ -52,7 +52,7 @@ struct Ball {
 
 /// The spheres of a scene, for eight rays at once.
 #[derive(Clone, Debug)]
-pub(crate) struct Spheres8 {
+pub(crate) struct SpheresW {
     balls: Vec<Ball>,
 }
 
@@ -154,7 +154,7 @@ impl Ball {
     }
 }
 
-impl Spheres8 {
+impl SpheresW {
     /// The spheres among scene objects `objects` (scene indices), or `None` when one
     /// of them is not a sphere.
     pub fn new(scene: &Scene, objects: &[u32]) -> Option<Self> {
@@ -356,7 +356,7 @@ mod tests {
         let n = instances.len();
         let scene = scene_of(instances);
         let objects: Vec<u32> = (0..n as u32).collect();
-        let spheres = Spheres8::new(&scene, &objects).unwrap();
+        let spheres = SpheresW::new(&scene, &objects).unwrap();
         let inst = scene.accel.instances();
         let mut rng = Rng::new(3, 4);
         let mut v = |s: f32| {
@@ -463,6 +463,6 @@ mod tests {
         let scene = scene_of(vec![Instance::untransformed(Arc::new(
             irradia_geometry::shapes::Cube::new(false),
         ))]);
-        assert!(Spheres8::new(&scene, &[0]).is_none());
+        assert!(SpheresW::new(&scene, &[0]).is_none());
     }
 }

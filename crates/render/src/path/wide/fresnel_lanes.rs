@@ -9,14 +9,14 @@
 // Lane loops index several arrays by the lane on purpose.
 #![allow(clippy::needless_range_loop)]
 
-use super::d8::Dw;
+use super::dw::Dw;
 use super::WideScene;
 use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 
 /// `fresnel_conductor(cos, eta, k)` in every lane (`cos` clamped to `[0, 1]` in `f32`
 /// as there, a NaN passing through).
 #[inline(always)]
-pub(crate) fn fresnel_conductor8(cos: Fw, eta: Dw, k: Dw) -> Fw {
+pub(crate) fn fresnel_conductor_lanes(cos: Fw, eta: Dw, k: Dw) -> Fw {
     let mut c = [0.0; W];
     for i in 0..W {
         c[i] = cos.0[i].clamp(0.0, 1.0) as f64;
@@ -70,9 +70,9 @@ pub(crate) fn conductor_fresnel(
     }
     let s = ws.fresnel_scale;
     V3::new(
-        some.keep(fresnel_conductor8(cos, eta[0], k[0]) * s),
-        some.keep(fresnel_conductor8(cos, eta[1], k[1]) * s),
-        some.keep(fresnel_conductor8(cos, eta[2], k[2]) * s),
+        some.keep(fresnel_conductor_lanes(cos, eta[0], k[0]) * s),
+        some.keep(fresnel_conductor_lanes(cos, eta[1], k[1]) * s),
+        some.keep(fresnel_conductor_lanes(cos, eta[2], k[2]) * s),
     )
 }
 
@@ -111,7 +111,8 @@ mod tests {
             for (e, kk) in [(eta.r, k.r), (eta.g, k.g), (eta.b, k.b)] {
                 for chunk in cosines.chunks(W) {
                     let cos = Fw(chunk.try_into().unwrap());
-                    let got = fresnel_conductor8(cos, Dw::splat(e as f64), Dw::splat(kk as f64));
+                    let got =
+                        fresnel_conductor_lanes(cos, Dw::splat(e as f64), Dw::splat(kk as f64));
                     for lane in 0..W {
                         let want = fresnel_conductor(chunk[lane], e, kk);
                         let g = got.0[lane];
