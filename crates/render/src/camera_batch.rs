@@ -1,15 +1,15 @@
-//! A tile's camera samples as one batch, made eight at a time in lanes for the 8-wide
+//! A tile's camera samples as one batch, made W at a time in lanes for the wide
 //! path kernel ([`crate::path::wide`]).
 //!
 //! The driver asks for samples `first..first + m` of every pixel of a tile, pixel-major
 //! ([`Cursor`]). One by one, each is [`camera_sample`]: the sampler's point and stream,
-//! the pixel filter's warp, the camera's ray. [`CameraBatch::eight`] makes eight samples
-//! at once, for every camera and filter: the eight streams and points side by side
-//! ([`Sampler::pixel_samples8`]: eight independent chains of integer hashing, instead of
+//! the pixel filter's warp, the camera's ray. [`CameraBatch::lanes`] makes W samples
+//! at once, for every camera and filter: the W streams and points side by side
+//! ([`Sampler::pixel_samples_lanes`]: W independent chains of integer hashing, instead of
 //! one chain between two bounces of the kernel); the filter's warp (none for the default
 //! box of one pixel, else lane by lane); for a pinhole camera the perspective projection
-//! and the normalisation of the eight directions in lanes
-//! ([`CameraRays::pinhole_rays_lanes`]), inlined into the kernel's AVX2 loop, for the others
+//! and the normalisation of the W directions in lanes
+//! ([`CameraRays::pinhole_rays_lanes`]), inlined into the kernel's vector loop, for the others
 //! (thin lens, orthographic) each lane's ray as [`camera_sample`] makes it. The filter's
 //! weights ([`StartsW::weight`]: 1 for every box and tent, `f / density` for the
 //! Gaussian, Mitsuba's default filter) go back to the driver, which applies them. Every sample
@@ -42,7 +42,7 @@ pub struct CameraBatch<'a> {
     m: u32,
 }
 
-/// Up to eight camera samples in lanes: ray origins and unit directions, each
+/// Up to W camera samples in lanes: ray origins and unit directions, each
 /// sample's stream (already past its pixel jitter) and its filter weight.
 #[derive(Clone, Debug)]
 pub struct StartsW {
@@ -99,13 +99,13 @@ impl<'a> CameraBatch<'a> {
         (cs.ray, cs.rng)
     }
 
-    /// Samples `k..k + n` in lanes `0..n` (`0 < n <= 8`), `k` being where `cursor`
+    /// Samples `k..k + n` in lanes `0..n` (`0 < n <= W`), `k` being where `cursor`
     /// stands (it moves on by `n`); lanes `n..` repeat lane 0. Each lane is
     /// [`Self::sample`] bit for bit.
     #[inline(always)]
     pub fn lanes(&self, cursor: &mut Cursor, n: usize) -> StartsW {
         let (px, py, s) = self.lane_pixels(cursor, n);
-        // The streams and points: eight independent hash chains side by side.
+        // The streams and points: W independent hash chains side by side.
         let (mut rng, u) = self.sampler.pixel_samples_lanes(&px, &py, &s);
         // `camera_sample`: the filter's warp (the unit box leaves `u` as it is).
         let (mut ox, mut oy) = (Fw(u[0]), Fw(u[1]));
@@ -148,7 +148,7 @@ impl<'a> CameraBatch<'a> {
         }
     }
 
-    /// The pixels and sample indices of samples `k..k + n` (`0 < n <= 8`), `k` being
+    /// The pixels and sample indices of samples `k..k + n` (`0 < n <= W`), `k` being
     /// where `cursor` stands (it moves on by `n`); lanes `n..` repeat lane 0.
     #[inline(always)]
     fn lane_pixels(&self, cursor: &mut Cursor, n: usize) -> ([u32; W], [u32; W], [u32; W]) {
@@ -238,7 +238,7 @@ mod tests {
         axis: FovAxis::Horizontal,
     };
 
-    /// Every lane of `eight` is the one-by-one sample bit for bit (ray, stream: its
+    /// Every lane of `lanes` is the one-by-one sample bit for bit (ray, stream: its
     /// next numbers, and filter weight), for each camera
     /// (pinhole with and without a near clip, thin lens, orthographic) and filter (the
     /// unit box, a wider box, tent, Gaussian), over tiles, batch sizes, first samples,

@@ -226,12 +226,12 @@ impl CameraRays {
         self.kind == Kind::Pinhole
     }
 
-    /// Eight pinhole rays at once, through image positions `(x, y)` in pixels (one
+    /// W pinhole rays at once, through image positions `(x, y)` in pixels (one
     /// per lane): origins and unit directions, each lane computed as [`Self::ray`]
     /// computes its ray, in the same operations and order (so bit for bit the same:
     /// `tests::pinhole_lanes_are_the_scalar_rays`). For a pinhole camera only
     /// ([`Self::is_pinhole`]). `#[inline(always)]` so that it runs in the vector
-    /// width of the kernel that calls it (the 8-wide path kernel's AVX2).
+    /// width of the kernel that calls it (the wide path kernel's AVX-512 or AVX2).
     #[inline(always)]
     pub fn pinhole_rays_lanes(&self, x: Fw, y: Fw) -> (V3, V3) {
         debug_assert!(self.is_pinhole());

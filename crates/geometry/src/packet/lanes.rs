@@ -280,7 +280,7 @@ impl Not for Mw {
     }
 }
 
-/// Eight 3-vectors, one per lane (structure of arrays).
+/// W 3-vectors, one per lane (structure of arrays).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct V3 {
     pub x: Fw,
@@ -396,8 +396,8 @@ pub unsafe fn gather<const N: usize>(table: &[[f32; N]], idx: &[u32; W], at: usi
 /// Sine and cosine of `a` for `|a| <= π/4`: the minimax polynomials of Cephes'
 /// `sinf`/`cosf` (Moshier, "Methods and Programs for Mathematical Functions", 1989),
 /// the kernel Dr.Jit and SLEEF also use; within 2 ulp of the correctly rounded value
-/// on that range, with no range reduction and no branch, so eight lanes cost a
-/// handful of vector multiplies instead of eight calls of `sinf` and `cosf`.
+/// on that range, with no range reduction and no branch, so W lanes cost a
+/// handful of vector multiplies instead of W calls of `sinf` and `cosf`.
 #[inline(always)]
 pub fn sin_cos_quarter_pi(a: Fw) -> (Fw, Fw) {
     let z = a * a;

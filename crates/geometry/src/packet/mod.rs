@@ -13,7 +13,7 @@
 //!   objects uses it, where a slip through an edge with a probability of the rounding
 //!   error changes no estimate measurably. [`bounds8`] culls up to eight of its
 //!   packets with one 8-wide slab test.
-//! - [`ray_lanes`]: eight rays against one triangle at a time (the lanes hold rays, not
+//! - [`ray_lanes`]: W (16) rays against one triangle at a time (the lanes hold rays, not
 //!   triangles: Wald, Slusallek, Benthin, Wagner 2001), the same Möller-Trumbore
 //!   arithmetic as [`triangle8`] in the lane types of [`lanes`], for tracing a batch of
 //!   rays over a small scene in one pass over its triangles.

@@ -1,9 +1,9 @@
-//! Eight rays against every triangle of a small flat scene at once: the SIMD lanes hold
+//! W rays against every triangle of a small flat scene at once: the SIMD lanes hold
 //! rays instead of triangles (the ray-packet layout of Wald, Slusallek, Benthin,
 //! Wagner, "Interactive Rendering with Coherent Ray Tracing", Eurographics 2001, here
 //! with incoherent rays: Mitsuba 3's `llvm` variants trace their lanes' rays the same
 //! way, a wavefront at a time). For the Cornell box (36 triangles) one pass over the
-//! triangles costs less than eight separate walks of the flat scene's packets, and the
+//! triangles costs less than a walk of the flat scene's packets per lane, and the
 //! per-lane calls disappear.
 //!
 //! The test is [`TrianglePacket`](super::triangle8::TrianglePacket)'s
@@ -16,7 +16,7 @@
 use super::lanes::{Fw, Mw, V3, W};
 use glam::Vec3;
 
-/// Scenes of at most this many triangles are traced eight rays at a time.
+/// Scenes of at most this many triangles are traced W rays at a time.
 pub const MAX_TRIANGLES: usize = 64;
 
 /// The triangles as the ray-lane test reads them.
@@ -28,7 +28,7 @@ pub struct RayLaneTriangles {
     ids: Vec<u32>,
 }
 
-/// The nearest hits of eight rays.
+/// The nearest hits of W rays.
 #[derive(Clone, Copy, Debug)]
 pub struct LaneHits {
     pub hit: Mw,
@@ -79,7 +79,7 @@ fn dot<const FMA: bool>(a: V3, r: &[f32; 12], k: usize) -> Fw {
     }
 }
 
-/// One triangle against eight rays: the hit mask (`0 < t < t_max`), the sign-corrected
+/// One triangle against W rays: the hit mask (`0 < t < t_max`), the sign-corrected
 /// numerators of `b1`, `b2`, `t` and `|den|`.
 #[inline(always)]
 fn test<const FMA: bool>(r: &[f32; 12], o: V3, d: V3, t_max: Fw) -> (Mw, Fw, Fw, Fw, Fw) {

@@ -72,7 +72,7 @@ impl EnvmapSampler {
         }
     }
 
-    /// The distribution of grid cells that `sample` draws from (for the 8-wide
+    /// The distribution of grid cells that `sample` draws from (for the wide
     /// kernel's lanes, [`crate::path::wide::envmap_lanes`]).
     pub(crate) fn distribution(&self) -> &Piecewise2D {
         &self.dist

@@ -62,7 +62,7 @@ struct FlatTriangle {
     smooth: Option<SmoothNormals>,
 }
 
-/// A baked triangle as the 8-wide kernel reads it: corners, unit normal, instance,
+/// A baked triangle as the wide kernel reads it: corners, unit normal, instance,
 /// material, vertex normals of a mesh triangle.
 pub(crate) type BakedTriangle = ([Vec3; 3], Vec3, u32, u32, Option<SmoothNormals>);
 
@@ -163,7 +163,7 @@ pub struct FlatScene {
     materials: Vec<(u32, Vec<u32>)>,
     /// Per scene object: whether its shape is a closed solid.
     solid: Vec<bool>,
-    /// The baked triangles for answering eight rays at once, when the whole scene is
+    /// The baked triangles for answering W rays at once, when the whole scene is
     /// baked into at most [`MAX_TRIANGLES`](irradia_geometry::packet::ray_lanes::MAX_TRIANGLES).
     ray_lanes: Option<RayLaneTriangles>,
 }
@@ -275,7 +275,7 @@ struct Baked {
 
 /// The size of the packets beyond which several rays walk the BVH in turns. Taking
 /// turns hides cache misses but costs bookkeeping, so it pays only where the walks
-/// miss the last-level cache: measured in the 8-wide path kernel (CPU, paired runs,
+/// miss the last-level cache: measured in the wide path kernel (CPU, paired runs,
 /// 16 spp, load 6), the 2.25M-triangle gyroid (~80 MB of packets) in the Cornell box
 /// 1.12x faster with it, the 69k-triangle bunny (~2.5 MB) 0.85x.
 const INTERLEAVE_BYTES: usize = 16 << 20;
@@ -556,7 +556,7 @@ impl FlatScene {
 
     /// Every baked triangle as (corners, unit normal, instance, material, vertex
     /// normals) when the whole scene is baked (no shape is left to its own test), for
-    /// the 8-wide kernel ([`super::wide`]); `None` otherwise.
+    /// the wide kernel ([`super::wide`]); `None` otherwise.
     pub(crate) fn all_triangles(&self) -> Option<Vec<BakedTriangle>> {
         if self.rest.is_some() {
             return None;
@@ -666,7 +666,7 @@ impl FlatScene {
     }
 }
 
-/// Up to eight segments in the ray lanes (origins, directions, ends, active lanes).
+/// Up to W segments in the ray lanes (origins, directions, ends, active lanes).
 fn lanes_of(segments: &[RaySegment]) -> (V3, V3, Fw, Mw) {
     let zero = || V3::new(Fw::ZERO, Fw::ZERO, Fw::ZERO);
     let (mut o, mut d, mut t_max, mut active) = (zero(), zero(), Fw::ZERO, Mw::FALSE);
@@ -718,7 +718,7 @@ impl RayQuery for FlatScene {
         self.solid[object as usize]
     }
 
-    /// Small fully baked scenes: eight rays against every triangle in one pass
+    /// Small fully baked scenes: W rays against every triangle in one pass
     /// ([`RayLaneTriangles`]), with the single-ray form's arithmetic and tie order.
     fn closest_hits(&self, set: ObjectSet, segments: &[RaySegment], out: &mut [Option<SceneHit>]) {
         assert_eq!(segments.len(), out.len(), "one answer per segment");

@@ -1,4 +1,4 @@
-//! The emitters as the 8-wide path kernel ([`crate::path::wide`]) samples them: emissive
+//! The emitters as the wide path kernel ([`crate::path::wide`]) samples them: emissive
 //! objects sampled by their world-space facets ([`FacetEmitter`]) and emissive spheres
 //! sampled uniformly by area with their own sampler ([`SphereEmitter`]: a point of the
 //! object-space sphere carried to world space by the instance's transform, its density
@@ -163,7 +163,7 @@ impl LightSampler {
     }
 
     /// [`Self::pick_kernel`]'s light once emitter `idx` is chosen with probability
-    /// `pick` (the kernel's vector light choice makes the choice for eight lanes at
+    /// `pick` (the kernel's vector light choice makes the choice for W lanes at
     /// once, then the lanes at infinity ask this: [`crate::path::wide`]).
     #[inline]
     pub(crate) fn kernel_light(&self, idx: usize, pick: f32, u: Vec2) -> Option<KernelLight> {

@@ -1,4 +1,4 @@
-//! Emitters at infinity in the 8-wide kernel: the constant environment (the background
+//! Emitters at infinity in the wide kernel: the constant environment (the background
 //! plus Mitsuba's `constant` emitters) and Mitsuba's `envmap`
 //! ([`EnvmapSampler`](crate::path::envmap::EnvmapSampler)).
 //!
@@ -11,7 +11,7 @@
 //!   [`envmap_lanes`](super::envmap_lanes); the weight and the sum in
 //!   [`Background::add_escaped`]);
 //! - next-event estimation chooses an emitter at infinity with its probability and
-//!   samples a direction from it (the choice eight lanes at once with the other
+//!   samples a direction from it (the choice W lanes at once with the other
 //!   emitters' in scenes of few emitters, [`super::light_pick`], else per lane with
 //!   `LightSampler::pick_kernel`; the sample per lane: the
 //!   constant environment's uniform direction with the scalar `sample`'s arithmetic,

@@ -1,4 +1,4 @@
-//! The BSDF samples of the 8-wide kernel's vector stage, each the scalar BSDF's
+//! The BSDF samples of the wide kernel's vector stage, each the scalar BSDF's
 //! arithmetic repeated lane by lane in the same order (see [`super`]): the cosine-weighted
 //! direction of the Lambertian lobes, the smooth conductor's Fresnel reflectance and the
 //! smooth dielectric's choice between reflection and refraction.
@@ -28,7 +28,7 @@ pub(super) fn cosine_hemisphere(u: [Fw; 2]) -> V3 {
 }
 
 /// The smooth conductor's Fresnel reflectance (`fresnel_conductor_rgb`, in `f64` as
-/// the scalar BSDF computes it, eight lanes at once: [`super::fresnel_lanes`]) at cosine
+/// the scalar BSDF computes it, W lanes at once: [`super::fresnel_lanes`]) at cosine
 /// `cos` in the lanes of `active`, zero elsewhere.
 #[inline(always)]
 pub(super) fn conductor_fresnel(

@@ -1,11 +1,11 @@
-//! Eight `f64` lanes as a plain array, for the parts of the 8-wide kernel that the
+//! W `f64` lanes as a plain array, for the parts of the wide kernel that the
 //! scalar code computes in `f64` (the sphere's quadratic, the conductor's Fresnel
 //! reflectance): the same "SIMD lanes as arrays" model as
 //! [`lanes`](irradia_geometry::packet::lanes) (Jakob et al., "Dr.Jit", SIGGRAPH 2022),
-//! which LLVM compiles to two 4-wide AVX2 instructions per operation (four SSE2 ones in
-//! the portable build). Every operation is the scalar one lane by lane (no contraction
-//! into FMA: Rust never fuses `a * b + c`), so results equal the scalar code's bit for
-//! bit.
+//! which LLVM compiles to two AVX-512 instructions per operation (four 4-wide AVX2
+//! ones, eight SSE2 ones in the portable build). Every operation is the scalar one
+//! lane by lane (no contraction into FMA: Rust never fuses `a * b + c`), so results
+//! equal the scalar code's bit for bit.
 
 // Lane loops index several arrays by the lane on purpose (LLVM vectorises them).
 #![allow(clippy::needless_range_loop)]
@@ -13,7 +13,7 @@
 use irradia_geometry::packet::lanes::{Fw, Mw, W};
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-/// Eight `f64` lanes.
+/// W `f64` lanes.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C, align(64))]
 pub(crate) struct Dw(pub [f64; W]);
@@ -163,7 +163,7 @@ pub(crate) fn select(m: Mw, a: Dw, b: Dw) -> Dw {
     Dw(r)
 }
 
-/// Eight 3-vectors of `f64`, one per lane.
+/// W 3-vectors of `f64`, one per lane.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct DV3 {
     pub x: Dw,

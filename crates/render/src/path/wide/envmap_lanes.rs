@@ -1,4 +1,4 @@
-//! The emitters at infinity for eight lanes at once: Mitsuba's `envmap`
+//! The emitters at infinity for the W lanes at once: Mitsuba's `envmap`
 //! ([`EnvmapSampler`]) looked up and importance sampled in SIMD lanes, and the constant
 //! environment beside it, as Mitsuba 3's `llvm_ad_rgb` variant runs its `envmap` emitter
 //! over vector lanes (Jakob et al., "Dr.Jit", SIGGRAPH 2022): the map's texels, cell

@@ -1,8 +1,8 @@
-//! The conductor's Fresnel reflectance for eight lanes at once (the smooth `conductor`
-//! and `roughconductor` of the 8-wide kernel): the scalar `fresnel_conductor`'s `f64`
+//! The conductor's Fresnel reflectance for the W lanes at once (the smooth `conductor`
+//! and `roughconductor` of the wide kernel): the scalar `fresnel_conductor`'s `f64`
 //! arithmetic (the exact reflectance of a complex index `η + ik`, Born and Wolf,
 //! "Principles of Optics", §14.2; the form of Mitsuba 3's `fresnel_conductor`) in the
-//! same order, with the eight lanes of a channel as two 4-wide AVX2 vectors ([`Dw`]),
+//! same order, with the W lanes of a channel as `f64` vectors ([`Dw`]),
 //! so the reflectance equals the scalar one bit for bit. (An `f32` form loses too much
 //! near grazing angles for the kernel's agreement bar.)
 
@@ -82,11 +82,11 @@ mod tests {
     use irradia_scatter::ior::conductor_ior;
     use irradia_scatter::optics::fresnel_conductor;
 
-    /// The 8-wide reflectance equals the scalar `f64` one bit for bit for the speed
+    /// The lanes' reflectance equals the scalar `f64` one bit for bit for the speed
     /// suite's metals (and a few others) over the whole range of angles, grazing and
     /// normal incidence, out-of-range cosines and NaN included.
     #[test]
-    fn eight_wide_reflectance_equals_the_scalar_one() {
+    fn lane_reflectance_equals_the_scalar_one() {
         let mut cosines: Vec<f32> = (0..=4000).map(|i| i as f32 / 4000.0).collect();
         cosines.extend([
             -0.5,

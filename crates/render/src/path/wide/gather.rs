@@ -1,5 +1,5 @@
 //! Reading records of the wide kernel's tables (triangles, materials, facets, light
-//! choice) in eight lanes at once: one field of the rows the lanes index, by an AVX2
+//! choice) in the W lanes at once: one field of the rows the lanes index, by an AVX2
 //! gather where the kernel is compiled for it ([`gather`]), after one bounds check of
 //! every index.
 

@@ -1,5 +1,5 @@
 //! Mitsuba 3's `roughconductor` with the isotropic GGX distribution in every lane of the
-//! 8-wide kernel's vector stage (see [`super`]): the scatter crate's `RoughConductor`
+//! wide kernel's vector stage (see [`super`]): the scatter crate's `RoughConductor`
 //! and `Microfacet` (Walter, Marschner, Li and Torrance 2007, "Microfacet Models for
 //! Refraction through Rough Surfaces", eqs. 20 and 33; Smith's separable masking,
 //! Heitz 2014, "Understanding the Masking-Shadowing Function", §5; visible normals

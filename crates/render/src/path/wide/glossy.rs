@@ -1,4 +1,4 @@
-//! The glossy lobes of the 8-wide kernel's vector stage in one call (see [`super`]):
+//! The glossy lobes of the wide kernel's vector stage in one call (see [`super`]):
 //! each lane's `roughconductor` ([`super::ggx`]), `roughdielectric`
 //! ([`super::rough_dielectric`]) or `roughplastic` ([`super::rough_plastic`]), chosen by
 //! its material's [`mat::KIND`], each BSDF run only when some lane needs it. The

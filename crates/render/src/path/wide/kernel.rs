@@ -1,4 +1,4 @@
-//! The bounce loop of the 8-wide path kernel (see [`super`] for the stages and the
+//! The bounce loop of the wide path kernel (see [`super`] for the stages and the
 //! sources). A lane holds one path; when it ends, its estimate is written to the
 //! output slot of its sample and the lane takes the next sample of the batch, so the
 //! vector stays full until the batch runs out (Laine, Karras, Aila 2013:
@@ -476,12 +476,12 @@ fn run<const FMA: bool>(
             break;
         }
         b.bg.clear();
-        // The nearest hits: eight rays at once, or lane by lane.
+        // The nearest hits: W rays at once, or lane by lane.
         let hits = match &ws.rays {
             Some(rays) => rays.nearest::<FMA>(paths.origin, paths.dir, live),
             None => nearest_in_turns(ws, &paths.origin, &paths.dir, live),
         };
-        // Lanes whose ray may meet a sphere before its triangle (the 8-wide cull):
+        // Lanes whose ray may meet a sphere before its triangle (the lane cull):
         // only they run the exact sphere test below.
         let near_sphere = match &ws.cull {
             Some(c) => {
@@ -491,7 +491,7 @@ fn run<const FMA: bool>(
             None => live,
         };
         // Then the objects with their own tests (spheres), up to the triangle's `t`, as
-        // the flat scene's `closest_hit` asks them: eight rays at once ([`sphere_hits`]).
+        // the flat scene's `closest_hit` asks them: W rays at once ([`sphere_hits`]).
         let spheres = match &ws.spheres {
             Some(s) if near_sphere.any() => {
                 let t_max = hits.hit.select(hits.t, Fw::splat(f32::INFINITY));
@@ -656,7 +656,7 @@ fn run<const FMA: bool>(
         };
         // And the objects with their own tests (spheres), for shadow rays the
         // triangles leave through.
-        // (Eight at once: [`sphere_hits`].)
+        // (W at once: [`sphere_hits`].)
         let blocked = match &ws.spheres {
             Some(spheres) => {
                 let open = s.nee & !blocked;
@@ -705,8 +705,8 @@ fn run<const FMA: bool>(
     }
 }
 
-/// The loop with AVX2 and FMA enabled (LLVM turns the lane loops into 8-wide
-/// instructions).
+/// The loop with AVX2 and FMA enabled (LLVM turns the lane loops into pairs of
+/// 8-wide instructions: W = 16 lanes are two 256-bit registers).
 ///
 /// # Safety
 /// The CPU must support AVX2 and FMA.
@@ -722,8 +722,8 @@ pub(super) unsafe fn run_avx2(
     run::<true>(ws, params, starts, out, counters)
 }
 
-/// The loop with AVX-512 (F, VL, DQ, BW) as well: the same eight lanes, with mask
-/// registers for the selects and the `f64` lanes of [`super::dw`] in one register. The
+/// The loop with AVX-512 (F, VL, DQ, BW) as well: the same W lanes, with mask
+/// registers for the selects and the `f64` lanes of [`super::dw`] in two registers. The
 /// same IEEE operations in the same order as [`run_avx2`] (no fast-math), so the same
 /// results bit for bit.
 ///

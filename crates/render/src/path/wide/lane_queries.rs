@@ -1,4 +1,4 @@
-//! The 8-wide kernel's ray queries on scenes too large for eight rays against every
+//! The wide kernel's ray queries on scenes too large for W rays against every
 //! triangle (see [`super`]): the live lanes' rays walk the
 //! [`FlatScene`](crate::path::flat_scene::FlatScene)'s hierarchy in turns, one node or
 //! leaf each (geometry's `bvh::interleaved`), so one ray's cache misses overlap the

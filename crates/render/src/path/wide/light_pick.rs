@@ -1,5 +1,5 @@
 //! The light choice of the wide kernel's vector stage: `LightSampler::pick_kernel`'s
-//! choice of emitter and facet made for eight lanes at once, by counting the entries of
+//! choice of emitter and facet made for the W lanes at once, by counting the entries of
 //! the sorted cumulative tables that are `<= x` (which equals the scalar code's binary
 //! search), for scenes of at most `VECTOR_PICK_MAX` emitters of as many facets each.
 //! An emitter at infinity (and a sphere) stands in the tables as one placeholder facet

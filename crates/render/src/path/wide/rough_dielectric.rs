@@ -1,5 +1,5 @@
 //! Mitsuba 3's `roughdielectric` with the isotropic GGX distribution and visible-normal
-//! sampling in every lane of the 8-wide kernel's vector stage (see [`super`]): the
+//! sampling in every lane of the wide kernel's vector stage (see [`super`]): the
 //! scatter crate's `RoughDielectric` (Walter, Marschner, Li and Torrance 2007,
 //! "Microfacet Models for Refraction through Rough Surfaces": reflection about the half
 //! vector, eq. 20; refraction about the generalised half vector `-(wo + η wi)`, eqs. 16
@@ -292,7 +292,7 @@ mod tests {
         eta: f32,
     }
 
-    /// The lane code on one material in every lane (the same case in all eight).
+    /// The lane code on one material in every lane (the same case in all W).
     fn lanes_of(
         b: &irradia_scatter::bsdfs::RoughDielectric,
         wo: Vec3,

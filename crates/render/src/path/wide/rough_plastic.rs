@@ -1,5 +1,5 @@
 //! Mitsuba 3's `roughplastic` with the isotropic GGX distribution and visible-normal
-//! sampling in every lane of the 8-wide kernel's vector stage (see [`super`]): the
+//! sampling in every lane of the wide kernel's vector stage (see [`super`]): the
 //! scatter crate's `RoughPlastic` (Weidlich and Wilkie 2007, "Arbitrarily layered
 //! micro-facet surfaces", as Mitsuba's plugin: a GGX dielectric coating, Walter et al.
 //! 2007 eq. 20, over a Lambertian base seen through it,

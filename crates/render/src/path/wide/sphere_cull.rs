@@ -1,10 +1,10 @@
-//! Eight rays against the scene's spheres at once: a conservative 8-wide cull in front
+//! W rays against the scene's spheres at once: a conservative lane cull in front
 //! of the exact lane-by-lane sphere pass of the kernel.
 //!
 //! The kernel traces spheres (the objects the flat scene leaves to their own shapes'
 //! tests) lane by lane with the scalar `closest_hit`'s second half, so that hits, normals
 //! and error bounds are the scalar ones bit for bit. Most rays miss every sphere; this
-//! test finds, for eight rays at once, the lanes whose ray may come near a sphere
+//! test finds, for W rays at once, the lanes whose ray may come near a sphere
 //! within `(0, t_max)`, and only those lanes run the exact pass (the others cannot hit:
 //! their answer is "no sphere", which is the exact answer). The hits themselves are
 //! unchanged, so the kernel's samples are too.

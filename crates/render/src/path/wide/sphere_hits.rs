@@ -1,4 +1,4 @@
-//! Eight rays against the scene's spheres at once, exactly: the scalar sphere test's
+//! W rays against the scene's spheres at once, exactly: the scalar sphere test's
 //! arithmetic ([`Sphere`]'s `intersect` and `occluded` under
 //! [`Instance`](irradia_geometry::Instance)'s transform, as the flat scene's
 //! `nearest_rest` and `occluded_rest` ask them) with the lanes in the vector and the
@@ -8,7 +8,7 @@
 //! The quadratic is the scalar one in `f64` (lecture: "Ray Casting a Sphere"; the stable
 //! pair of roots `q / a`, `c / q`, Press et al., Numerical Recipes §5.6; the
 //! discriminant of Haines et al., "Precision Improvements for Ray/Sphere Intersection",
-//! Ray Tracing Gems, ch. 7), eight lanes as two 4-wide AVX2 vectors ([`Dw`]). A ray under
+//! Ray Tracing Gems, ch. 7), the W lanes as `f64` vectors ([`Dw`]). A ray under
 //! a transform is carried to object space in `f32` with `glam`'s order of sums; the hit
 //! is the nearest root in `(0, t_max)` with `t_max` shrinking to each hit's `f32` `t`
 //! as the scalar traversal shrinks it. Then, per sphere hit by some lane: the point
@@ -50,13 +50,13 @@ struct Ball {
     placement: Option<Placement>,
 }
 
-/// The spheres of a scene, for eight rays at once.
+/// The spheres of a scene, for W rays at once.
 #[derive(Clone, Debug)]
 pub(crate) struct SpheresW {
     balls: Vec<Ball>,
 }
 
-/// The nearest sphere hits of eight rays: in the lanes of `hit`, the scene index of
+/// The nearest sphere hits of W rays: in the lanes of `hit`, the scene index of
 /// the sphere, `t`, the world point, the (geometric and shading) normal and the error
 /// bound.
 #[derive(Clone, Copy, Debug, Default)]
@@ -329,7 +329,7 @@ mod tests {
     /// afar, from the surfaces (inside and out), grazing ones and short segments,
     /// against plain, flipped, transformed and far-off spheres.
     #[test]
-    fn eight_wide_hits_equal_the_scalar_sphere_tests_bit_for_bit() {
+    fn lane_hits_equal_the_scalar_sphere_tests_bit_for_bit() {
         let instances = vec![
             Instance::untransformed(Arc::new(Sphere::new(Vec3::new(0.4, -0.6, 0.3), 0.4))),
             Instance::untransformed(Arc::new(
@@ -448,7 +448,7 @@ mod tests {
                         assert_eq!(h.error.to_bits(), w.error.to_bits());
                     }
                     (w, g) => {
-                        panic!("round {round} lane {lane}: {ray:?}: scalar {w:?}, 8-wide {g:?}")
+                        panic!("round {round} lane {lane}: {ray:?}: scalar {w:?}, lanes {g:?}")
                     }
                 }
             }

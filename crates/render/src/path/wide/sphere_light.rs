@@ -1,4 +1,4 @@
-//! Emissive spheres as lights of the 8-wide kernel's vector stage (see [`super`]): the
+//! Emissive spheres as lights of the wide kernel's vector stage (see [`super`]): the
 //! light choice picks the emitter (its one placeholder facet keeps the facet tables
 //! aligned), then every lane whose emitter is a sphere warps its two numbers to a
 //! uniform point of the object-space sphere (`sampling::uniform_sphere`, with the

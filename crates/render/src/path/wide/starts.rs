@@ -1,5 +1,5 @@
-//! Where the 8-wide kernel's paths start (see [`super`]): a camera sample per sample
-//! index, either from a caller's closure or made eight at a time from a tile's
+//! Where the wide kernel's paths start (see [`super`]): a camera sample per sample
+//! index, either from a caller's closure or made W at a time from a tile's
 //! [`CameraBatch`] ahead of the lanes that take them. A lane whose path has ended takes
 //! the next one (Laine, Karras, Aila, "Megakernels Considered Harmful", HPG 2013:
 //! regenerating paths in place of finished ones).
@@ -14,7 +14,7 @@ pub(crate) enum Starts<'a, 'c> {
     /// its camera ray and its stream, already past the pixel jitter. Called through a
     /// `dyn` reference, so the kernel is compiled once, in this crate.
     Each(&'a mut dyn FnMut(usize) -> (Ray, Rng)),
-    /// A tile's camera samples, made eight at once in the kernel's own vector width,
+    /// A tile's camera samples, made W at once in the kernel's own vector width,
     /// and where their filter weights go (`weights[k]` for sample `k`; empty when the
     /// caller needs none: [`CameraBatch::unit_weights`]).
     Camera {
@@ -23,7 +23,7 @@ pub(crate) enum Starts<'a, 'c> {
     },
 }
 
-/// Camera samples made ahead of the lanes that take them, up to eight at once: the
+/// Camera samples made ahead of the lanes that take them, up to W at once: the
 /// rays in lanes and the streams.
 pub(super) struct Ahead {
     /// The batch's cursor at the next sample to make ([`Starts::Camera`]).
@@ -64,7 +64,7 @@ impl Ahead {
         i
     }
 
-    /// Makes samples `next..next + n` (`n <= 8`, `next` the first not yet made).
+    /// Makes samples `next..next + n` (`n <= W`, `next` the first not yet made).
     #[inline(always)]
     fn make(&mut self, starts: &mut Starts<'_, '_>, next: usize, n: usize) {
         match starts {
