@@ -198,7 +198,7 @@ mod tests {
             for lane in 0..W {
                 // The octant and quadrant ends, then random turns.
                 u.0[lane] = if k == 0 {
-                    [0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 1.0 - 1e-7][lane]
+                    [0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 1.0 - 1e-7][lane % 8]
                 } else {
                     rng.next_f32()
                 };
