@@ -15,7 +15,7 @@
 use std::f32::consts::{FRAC_PI_2, PI};
 
 /// Coefficients of `P`, constant term first (public so that lane versions, such as the
-/// 8-wide path kernel's, evaluate the same polynomial in the same order).
+/// wide path kernel's, evaluate the same polynomial in the same order).
 pub const COEFFS: [f32; 8] = [
     0.999_999_34,
     -0.333_298_6,

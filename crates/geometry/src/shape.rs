@@ -189,7 +189,7 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     }
 
     /// The shape as a sphere, when it is one (`None` for every other shape): lets the
-    /// path tracer's 8-wide kernel intersect eight rays with it at once, with the
+    /// path tracer's wide kernel intersect W rays with it at once, with the
     /// sphere's own centre, radius and arithmetic.
     fn as_sphere(&self) -> Option<&crate::shapes::Sphere> {
         None

@@ -1,4 +1,4 @@
-//! The speed suite's scenes that qualify for the 8-wide path kernel, imported from
+//! The speed suite's scenes that qualify for the wide path kernel, imported from
 //! Mitsuba XML, run in it sample for sample: the kernel's samples are the scalar
 //! estimator's (same random streams) up to rounding, as crates/render/tests/path_wide*.rs
 //! check for hand-built scenes. `suite/glass_mirror.xml`: the Cornell box with a smooth

@@ -1,17 +1,17 @@
-//! A tile's camera samples as one batch, made eight at a time in lanes for the 8-wide
+//! A tile's camera samples as one batch, made W at a time in lanes for the wide
 //! path kernel ([`crate::path::wide`]).
 //!
 //! The driver asks for samples `first..first + m` of every pixel of a tile, pixel-major
 //! ([`Cursor`]). One by one, each is [`camera_sample`]: the sampler's point and stream,
-//! the pixel filter's warp, the camera's ray. [`CameraBatch::eight`] makes eight samples
-//! at once, for every camera and filter: the eight streams and points side by side
-//! ([`Sampler::pixel_samples8`]: eight independent chains of integer hashing, instead of
+//! the pixel filter's warp, the camera's ray. [`CameraBatch::lanes`] makes W samples
+//! at once, for every camera and filter: the W streams and points side by side
+//! ([`Sampler::pixel_samples_lanes`]: W independent chains of integer hashing, instead of
 //! one chain between two bounces of the kernel); the filter's warp (none for the default
 //! box of one pixel, else lane by lane); for a pinhole camera the perspective projection
-//! and the normalisation of the eight directions in lanes
-//! ([`CameraRays::pinhole_rays8`]), inlined into the kernel's AVX2 loop, for the others
+//! and the normalisation of the W directions in lanes
+//! ([`CameraRays::pinhole_rays_lanes`]), inlined into the kernel's vector loop, for the others
 //! (thin lens, orthographic) each lane's ray as [`camera_sample`] makes it. The filter's
-//! weights ([`Starts8::weight`]: 1 for every box and tent, `f / density` for the
+//! weights ([`StartsW::weight`]: 1 for every box and tent, `f / density` for the
 //! Gaussian, Mitsuba's default filter) go back to the driver, which applies them. Every sample
 //! is the one [`camera_sample`] makes, bit for bit (tests below), so the image does not
 //! change; this is the wavefront path tracer's batched camera-ray generation (Laine,
@@ -27,7 +27,7 @@ use crate::filter::FilterSampler;
 use crate::sampler::{camera_sample, Sampler};
 use glam::Vec2;
 use irradia_core::{Ray, Rng};
-use irradia_geometry::packet::lanes::{F8, V3, W};
+use irradia_geometry::packet::lanes::{Fw, V3, W};
 use irradia_scene::camera::CameraRays;
 
 /// The samples `first..first + m` of every pixel of a tile, made in lanes: sample `k`
@@ -42,10 +42,10 @@ pub struct CameraBatch<'a> {
     m: u32,
 }
 
-/// Up to eight camera samples in lanes: ray origins and unit directions, each
+/// Up to W camera samples in lanes: ray origins and unit directions, each
 /// sample's stream (already past its pixel jitter) and its filter weight.
 #[derive(Clone, Debug)]
-pub struct Starts8 {
+pub struct StartsW {
     pub origin: V3,
     pub dir: V3,
     pub rng: [Rng; W],
@@ -73,7 +73,7 @@ impl<'a> CameraBatch<'a> {
     }
 
     /// Whether every sample's filter weight is 1 (every box and tent filter; not the
-    /// Gaussian), so the caller need not keep [`Starts8::weight`].
+    /// Gaussian), so the caller need not keep [`StartsW::weight`].
     pub fn unit_weights(&self) -> bool {
         self.filter.unit_weights()
     }
@@ -99,16 +99,16 @@ impl<'a> CameraBatch<'a> {
         (cs.ray, cs.rng)
     }
 
-    /// Samples `k..k + n` in lanes `0..n` (`0 < n <= 8`), `k` being where `cursor`
+    /// Samples `k..k + n` in lanes `0..n` (`0 < n <= W`), `k` being where `cursor`
     /// stands (it moves on by `n`); lanes `n..` repeat lane 0. Each lane is
     /// [`Self::sample`] bit for bit.
     #[inline(always)]
-    pub fn eight(&self, cursor: &mut Cursor, n: usize) -> Starts8 {
-        let (px, py, s) = self.lanes(cursor, n);
-        // The streams and points: eight independent hash chains side by side.
+    pub fn lanes(&self, cursor: &mut Cursor, n: usize) -> StartsW {
+        let (px, py, s) = self.lane_pixels(cursor, n);
+        // The streams and points: W independent hash chains side by side.
         let (mut rng, u) = self.sampler.pixel_samples_lanes(&px, &py, &s);
         // `camera_sample`: the filter's warp (the unit box leaves `u` as it is).
-        let (mut ox, mut oy) = (F8(u[0]), F8(u[1]));
+        let (mut ox, mut oy) = (Fw(u[0]), Fw(u[1]));
         let mut weight = [1.0f32; W];
         if !self.filter.is_unit_box() {
             for i in 0..W {
@@ -116,11 +116,11 @@ impl<'a> CameraBatch<'a> {
                 (ox.0[i], oy.0[i], weight[i]) = (o.x, o.y, w);
             }
         }
-        let x = F8(std::array::from_fn(|i| px[i] as f32)) + ox;
-        let y = F8(std::array::from_fn(|i| py[i] as f32)) + oy;
+        let x = Fw(std::array::from_fn(|i| px[i] as f32)) + ox;
+        let y = Fw(std::array::from_fn(|i| py[i] as f32)) + oy;
         if self.cam.is_pinhole() {
-            let (origin, dir) = self.cam.pinhole_rays8(x, y);
-            return Starts8 {
+            let (origin, dir) = self.cam.pinhole_rays_lanes(x, y);
+            return StartsW {
                 origin,
                 dir,
                 rng,
@@ -140,7 +140,7 @@ impl<'a> CameraBatch<'a> {
             origin.set_lane(i, ray.origin);
             dir.set_lane(i, ray.dir);
         }
-        Starts8 {
+        StartsW {
             origin,
             dir,
             rng,
@@ -148,10 +148,10 @@ impl<'a> CameraBatch<'a> {
         }
     }
 
-    /// The pixels and sample indices of samples `k..k + n` (`0 < n <= 8`), `k` being
+    /// The pixels and sample indices of samples `k..k + n` (`0 < n <= W`), `k` being
     /// where `cursor` stands (it moves on by `n`); lanes `n..` repeat lane 0.
     #[inline(always)]
-    fn lanes(&self, cursor: &mut Cursor, n: usize) -> ([u32; W], [u32; W], [u32; W]) {
+    fn lane_pixels(&self, cursor: &mut Cursor, n: usize) -> ([u32; W], [u32; W], [u32; W]) {
         debug_assert!(n > 0 && n <= W);
         let (mut px, mut py, mut s) = ([0u32; W], [0u32; W], [0u32; W]);
         let k = cursor.k;
@@ -238,7 +238,7 @@ mod tests {
         axis: FovAxis::Horizontal,
     };
 
-    /// Every lane of `eight` is the one-by-one sample bit for bit (ray, stream: its
+    /// Every lane of `lanes` is the one-by-one sample bit for bit (ray, stream: its
     /// next numbers, and filter weight), for each camera
     /// (pinhole with and without a near clip, thin lens, orthographic) and filter (the
     /// unit box, a wider box, tent, Gaussian), over tiles, batch sizes, first samples,
@@ -322,7 +322,7 @@ mod tests {
                     let mut k = 0;
                     while k < batch.len() {
                         let n = (batch.len() - k).min(W);
-                        let got = batch.eight(&mut cursor, n);
+                        let got = batch.lanes(&mut cursor, n);
                         for lane in 0..n {
                             let (ray, mut rng) = batch.sample(k + lane);
                             let cs = {

@@ -540,7 +540,7 @@ fn render_tile<I: Integrator>(
     let m = end.saturating_sub(rest) as usize;
     if m > 0 {
         let mut out = vec![Rgb::BLACK; count * m];
-        // The integrator may make the camera samples eight at once ([`CameraBatch`]),
+        // The integrator may make the camera samples W at once ([`CameraBatch`]),
         // with their filter weights. No weights: every one is 1.
         let batch = CameraBatch::new(cx.cam, cx.filter, cx.sampler, t, rest, m as u32);
         let mut weights = match batch.unit_weights() {

@@ -1,6 +1,6 @@
 //! What the driver ([`crate::driver`]) asks of an integrator: the radiance of one
 //! camera sample, plus the first hit's data for the AOVs; and, for integrators that
-//! run many samples at once faster (the path tracer's 8-wide kernel), a batch of
+//! run many samples at once faster (the path tracer's wide kernel), a batch of
 //! samples. The Whitted tracer ([`crate::Whitted`]) and the path tracer
 //! ([`crate::path::PathIntegrator`]) implement it; [`crate::render`] picks one.
 
@@ -59,7 +59,7 @@ pub trait Integrator: Sync {
     /// [`Integrator::sample_batch`] over a tile's camera samples made in lanes
     /// ([`CameraBatch`]: sample `k` is `batch.sample(k)`; its filter weight goes to
     /// `weights[k]`, unless `weights` is empty: [`CameraBatch::unit_weights`]), for
-    /// integrators that make them so (the path tracer's 8-wide kernel); returns false,
+    /// integrators that make them so (the path tracer's wide kernel); returns false,
     /// having done nothing, when this one does not (then the driver calls
     /// `sample_batch`).
     fn sample_camera_batch(

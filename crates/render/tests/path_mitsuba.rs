@@ -321,7 +321,7 @@ fn load_specular() -> Scene {
 #[test]
 fn cornell_box_agrees_with_mitsuba_per_surface_and_channel() {
     // The scalar estimator: under the test profile (opt-level 2, no LTO) it is faster
-    // than the 8-wide kernel, whose samples tests/path_wide.rs shows to be the scalar
+    // than the wide kernel, whose samples tests/path_wide.rs shows to be the scalar
     // estimator's.
     let scene = irradia_scene::builtin::load("cornell").unwrap();
     check_against_mitsuba("cornell", scene, 32, 16, Kernel::Scalar);

@@ -1,4 +1,4 @@
-//! The 8-wide path kernel against the scalar estimator: the same samples (same random
+//! The wide path kernel against the scalar estimator: the same samples (same random
 //! streams) give the same values up to rounding, which samples of another stream do
 //! not; independent renders of both converge to the same image; a closed Lambertian box
 //! converges to e / (1 − ρ); and scenes the kernel does not support are refused.
@@ -279,7 +279,7 @@ fn wide_samples_equal_scalar_samples_up_to_rounding() {
             Variant::Portable,
         ),
         // Smooth-shaded meshes: an octahedron's interpolated normals are far from its
-        // faces' (small: eight rays at once), a 12 x 8 sphere's (large: the hierarchy,
+        // faces' (small: W rays at once), a 12 x 8 sphere's (large: the hierarchy,
         // lane by lane) less so; given normals, outward or inward (they turn the
         // geometric normal), and computed ones.
         (
@@ -485,10 +485,10 @@ fn a_wrong_fresnel_reflectance_is_caught() {
     }
 }
 
-/// A tile's camera samples made eight at once by the kernel ([`CameraBatch`]) give
+/// A tile's camera samples made W at once by the kernel ([`CameraBatch`]) give
 /// the estimates that the same samples made one by one give, bit for bit: both
-/// builds of the kernel, tiles of several shapes and sample counts (groups of eight
-/// that straddle pixels and rows, and a last group of fewer than eight), a near clip,
+/// builds of the kernel, tiles of several shapes and sample counts (groups of W
+/// that straddle pixels and rows, and a last group of fewer than W), a near clip,
 /// the Cornell box with spheres; with the default box filter and with a Gaussian one,
 /// whose weights the kernel hands back (each `camera_sample`'s weight bit for bit).
 /// (Batches whose samples forget the pass's first sample index fail it, and so do
@@ -674,7 +674,7 @@ fn only_lambertian_scenes_with_facet_emitters_qualify() {
     let at_once = |scene: &Scene| {
         let lights = LightSampler::new(scene);
         let ps = PathScene::new(scene, FlatScene::new(scene), &lights);
-        WideScene::new(&ps).unwrap().traces_eight_at_once()
+        WideScene::new(&ps).unwrap().traces_all_lanes_at_once()
     };
     assert!(check(&cornell(8, 8)));
     assert!(check(&furnace_box(0.5, 1.0)));
@@ -691,7 +691,7 @@ fn only_lambertian_scenes_with_facet_emitters_qualify() {
         sphere(SphereNormals::Computed),
         true
     )));
-    // The octahedron's case traces eight rays at once, the sphere's walks the hierarchy.
+    // The octahedron's case traces W rays at once, the sphere's walks the hierarchy.
     assert!(at_once(&mesh_scene(
         true,
         octahedron(SphereNormals::Inward),

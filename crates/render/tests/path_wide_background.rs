@@ -1,4 +1,4 @@
-//! The 8-wide path kernel with emitters at infinity (the constant environment:
+//! The wide path kernel with emitters at infinity (the constant environment:
 //! background and Mitsuba's `constant`; Mitsuba's `envmap`) against the scalar
 //! estimator: the same samples (same random streams) agree to 1e-4 (escaped rays with
 //! MIS, light samples towards the environment with unbounded shadow rays), another
@@ -186,7 +186,7 @@ fn wide_samples_under_emitters_at_infinity_equal_scalar_samples() {
     }
 }
 
-/// The spheres' 8-wide cull changes no sample (bit for bit): it only spares the exact
+/// The spheres' lane cull changes no sample (bit for bit): it only spares the exact
 /// test the lanes that cannot hit a sphere.
 #[test]
 fn the_sphere_cull_changes_no_sample() {

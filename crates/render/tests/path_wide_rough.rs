@@ -1,4 +1,4 @@
-//! The 8-wide path kernel against the scalar estimator on glossy scenes: Mitsuba's
+//! The wide path kernel against the scalar estimator on glossy scenes: Mitsuba's
 //! `roughconductor` (GGX, isotropic, visible normals; light samples weighted against
 //! BSDF samples) and emissive spheres sampled by their own area sampler. As in
 //! tests/path_wide.rs, the same samples (same random streams) give the same values up

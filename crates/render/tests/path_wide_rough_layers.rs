@@ -1,4 +1,4 @@
-//! The 8-wide path kernel against the scalar estimator on Mitsuba's `roughdielectric`
+//! The wide path kernel against the scalar estimator on Mitsuba's `roughdielectric`
 //! and `roughplastic` (GGX, isotropic, visible normals; glossy lobes: light samples on
 //! either side of the rough glass weighted against BSDF samples, Russian roulette
 //! judging `max(beta) η²` inside it). As in tests/path_wide_rough.rs, the same samples

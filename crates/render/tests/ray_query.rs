@@ -1,7 +1,7 @@
 //! The one ray-query interface (`irradia_geometry::RayQuery`): its batched forms answer
 //! every ray exactly as the single-ray forms do, and an any-hit query agrees with the
 //! closest hit, for every implementation (the scene's `Accel`, the Whitted tracer's
-//! opaque / clear split, the path tracer's flat bake with its eight-rays-at-once
+//! opaque / clear split, the path tracer's flat bake with its W-rays-at-once
 //! kernel, the prepared scene) over mesh scenes and CSG / quadric scenes.
 
 use glam::Vec3;
@@ -88,7 +88,7 @@ fn check(name: &str, what: &str, q: &dyn RayQuery, segs: &[RaySegment]) -> usize
 
 /// Every implementation over `scene`; returns the hits of the flat bake.
 fn check_scene(name: &str, scene: &Scene) -> usize {
-    // Not a multiple of eight: the batches end with a partial group of lanes.
+    // Not a multiple of W (16) nor of eight: the batches end with a partial group of lanes.
     let segs = segments(scene, 1003);
     let flat = FlatScene::new(scene);
     let prepared = PreparedScene::new(scene);
@@ -111,7 +111,7 @@ fn check_scene(name: &str, scene: &Scene) -> usize {
 fn batched_and_single_ray_queries_agree_on_mesh_scenes() {
     // Two tetrahedra (OBJ and PLY) and the teapot, meshes through their own
     // hierarchies of watertight four-triangle packets; the Cornell box, baked whole by
-    // the path tracer and small enough for its eight-rays-at-once kernel.
+    // the path tracer and small enough for its W-rays-at-once kernel.
     let meshes =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../scene/tests/data/meshes/scene.toml");
     let scene = irradia_scene::load_file(&meshes).unwrap();

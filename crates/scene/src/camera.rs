@@ -8,7 +8,7 @@
 
 use glam::{Vec2, Vec3};
 use irradia_core::{sampling, Ray};
-use irradia_geometry::packet::lanes::{F8, V3};
+use irradia_geometry::packet::lanes::{Fw, V3};
 
 /// Which image axis the field of view spans (Mitsuba's `fov_axis`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -219,25 +219,25 @@ impl CameraRays {
         Ray::new(origin, dir)
     }
 
-    /// Whether this is a pinhole (perspective) camera, the one [`Self::pinhole_rays8`]
+    /// Whether this is a pinhole (perspective) camera, the one [`Self::pinhole_rays_lanes`]
     /// makes rays for.
     #[inline]
     pub fn is_pinhole(&self) -> bool {
         self.kind == Kind::Pinhole
     }
 
-    /// Eight pinhole rays at once, through image positions `(x, y)` in pixels (one
+    /// W pinhole rays at once, through image positions `(x, y)` in pixels (one
     /// per lane): origins and unit directions, each lane computed as [`Self::ray`]
     /// computes its ray, in the same operations and order (so bit for bit the same:
     /// `tests::pinhole_lanes_are_the_scalar_rays`). For a pinhole camera only
     /// ([`Self::is_pinhole`]). `#[inline(always)]` so that it runs in the vector
-    /// width of the kernel that calls it (the 8-wide path kernel's AVX2).
+    /// width of the kernel that calls it (the wide path kernel's AVX-512 or AVX2).
     #[inline(always)]
-    pub fn pinhole_rays8(&self, x: F8, y: F8) -> (V3, V3) {
+    pub fn pinhole_rays_lanes(&self, x: Fw, y: Fw) -> (V3, V3) {
         debug_assert!(self.is_pinhole());
         let sx = (2.0 * x / self.width - 1.0) * self.half.x;
         let sy = (1.0 - 2.0 * y / self.height) * self.half.y;
-        let v = |a: Vec3| V3::new(F8::splat(a.x), F8::splat(a.y), F8::splat(a.z));
+        let v = |a: Vec3| V3::new(Fw::splat(a.x), Fw::splat(a.y), Fw::splat(a.z));
         // `forward + right * sx + up * sy`, component by component as glam sums it.
         let dir = v(self.forward)
             .add(v(self.right).scale(sx))
@@ -264,7 +264,7 @@ mod tests {
         Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, projection)
     }
 
-    /// Every lane of `pinhole_rays8` is the scalar `ray` bit for bit, with and
+    /// Every lane of `pinhole_rays_lanes` is the scalar `ray` bit for bit, with and
     /// without a near clip, over odd positions and camera frames. (Summing the
     /// direction in another order, `forward + (right * sx + up * sy)`, fails it:
     /// tried.)
@@ -289,12 +289,12 @@ mod tests {
             let (w, h) = (317 + case as u32, 211);
             let r = c.rays(w, h);
             assert!(r.is_pinhole());
-            let (mut x, mut y) = (F8::ZERO, F8::ZERO);
+            let (mut x, mut y) = (Fw::ZERO, Fw::ZERO);
             for lane in 0..8 {
                 x.0[lane] = rng.next_f32() * w as f32;
                 y.0[lane] = rng.next_f32() * h as f32;
             }
-            let (o, d) = r.pinhole_rays8(x, y);
+            let (o, d) = r.pinhole_rays_lanes(x, y);
             for lane in 0..8 {
                 let want = r.ray(x.0[lane], y.0[lane]);
                 assert_eq!(

@@ -1,9 +1,12 @@
-//! Eight `f32` lanes as plain arrays, with the arithmetic, comparisons and selects the
-//! 8-wide path kernel is written in.
+//! `W` = 16 `f32` lanes as plain arrays, with the arithmetic, comparisons and selects the
+//! wide path kernel is written in. Sixteen `f32` fill one AVX-512 register (two AVX2
+//! registers); the `w` in the type names ([`Fw`], [`Mw`], and the render crate's `Dw`)
+//! means "W lanes".
 //!
-//! Every operation is a loop over the eight lanes, `#[inline(always)]`, so that inside a
-//! function compiled with `#[target_feature(enable = "avx2,fma")]` LLVM turns each one
-//! into a single AVX2 instruction (and into two SSE instructions in the portable build).
+//! Every operation is a loop over the W lanes, `#[inline(always)]`, so that inside a
+//! function compiled with `#[target_feature(enable = "avx512f,...")]` LLVM turns each one
+//! into a single AVX-512 instruction (two AVX2 instructions in the AVX2 build, four SSE
+//! instructions in the portable one).
 //! This is the "SIMD lanes as arrays" programming model of Dr.Jit's LLVM backend (Jakob,
 //! Speierer, Roussel, Nimier-David, Vicini, Zeltner, Nicolet, Crespo, Leroy, Zhang,
 //! "Dr.Jit: A Just-In-Time Compiler for Differentiable Rendering", SIGGRAPH 2022), written
@@ -19,20 +22,20 @@
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
-/// Lanes of the kernel.
+/// Lanes of the kernel: 16, one AVX-512 register of `f32` (two AVX2 registers).
 pub const W: usize = 16;
 
-/// Eight `f32` lanes.
+/// W `f32` lanes.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C, align(64))]
-pub struct F8(pub [f32; W]);
+pub struct Fw(pub [f32; W]);
 
-/// Eight lane masks (`-1` true, `0` false).
+/// W lane masks (`-1` true, `0` false).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[repr(C, align(64))]
-pub struct M8(pub [i32; W]);
+pub struct Mw(pub [i32; W]);
 
-/// The indices of a mask's true lanes, lowest first ([`M8::lanes`]).
+/// The indices of a mask's true lanes, lowest first ([`Mw::lanes`]).
 #[derive(Clone, Copy, Debug)]
 pub struct SetLanes(u32);
 
@@ -51,29 +54,29 @@ impl Iterator for SetLanes {
 
 macro_rules! lanewise {
     ($trait:ident, $f:ident, $op:tt) => {
-        impl $trait for F8 {
-            type Output = F8;
+        impl $trait for Fw {
+            type Output = Fw;
             #[inline(always)]
-            fn $f(self, o: F8) -> F8 {
+            fn $f(self, o: Fw) -> Fw {
                 let mut r = [0.0; W];
                 for i in 0..W {
                     r[i] = self.0[i] $op o.0[i];
                 }
-                F8(r)
+                Fw(r)
             }
         }
-        impl $trait<f32> for F8 {
-            type Output = F8;
+        impl $trait<f32> for Fw {
+            type Output = Fw;
             #[inline(always)]
-            fn $f(self, o: f32) -> F8 {
-                self $op F8::splat(o)
+            fn $f(self, o: f32) -> Fw {
+                self $op Fw::splat(o)
             }
         }
-        impl $trait<F8> for f32 {
-            type Output = F8;
+        impl $trait<Fw> for f32 {
+            type Output = Fw;
             #[inline(always)]
-            fn $f(self, o: F8) -> F8 {
-                F8::splat(self) $op o
+            fn $f(self, o: Fw) -> Fw {
+                Fw::splat(self) $op o
             }
         }
     };
@@ -83,10 +86,10 @@ lanewise!(Sub, sub, -);
 lanewise!(Mul, mul, *);
 lanewise!(Div, div, /);
 
-impl Neg for F8 {
-    type Output = F8;
+impl Neg for Fw {
+    type Output = Fw;
     #[inline(always)]
-    fn neg(self) -> F8 {
+    fn neg(self) -> Fw {
         self.map(|x| -x)
     }
 }
@@ -94,100 +97,100 @@ impl Neg for F8 {
 macro_rules! compare {
     ($name:ident, $op:tt) => {
         #[inline(always)]
-        pub fn $name(self, o: impl Into<F8>) -> M8 {
+        pub fn $name(self, o: impl Into<Fw>) -> Mw {
             let o = o.into();
             let mut r = [0; W];
             for i in 0..W {
                 r[i] = -((self.0[i] $op o.0[i]) as i32);
             }
-            M8(r)
+            Mw(r)
         }
     };
 }
 
-impl From<f32> for F8 {
+impl From<f32> for Fw {
     #[inline(always)]
-    fn from(x: f32) -> F8 {
-        F8::splat(x)
+    fn from(x: f32) -> Fw {
+        Fw::splat(x)
     }
 }
 
-impl F8 {
-    pub const ZERO: F8 = F8([0.0; W]);
+impl Fw {
+    pub const ZERO: Fw = Fw([0.0; W]);
 
     #[inline(always)]
-    pub fn splat(x: f32) -> F8 {
-        F8([x; W])
+    pub fn splat(x: f32) -> Fw {
+        Fw([x; W])
     }
 
     #[inline(always)]
-    pub fn map(self, f: impl Fn(f32) -> f32) -> F8 {
+    pub fn map(self, f: impl Fn(f32) -> f32) -> Fw {
         let mut r = [0.0; W];
         for i in 0..W {
             r[i] = f(self.0[i]);
         }
-        F8(r)
+        Fw(r)
     }
 
     #[inline(always)]
-    pub fn zip(self, o: F8, f: impl Fn(f32, f32) -> f32) -> F8 {
+    pub fn zip(self, o: Fw, f: impl Fn(f32, f32) -> f32) -> Fw {
         let mut r = [0.0; W];
         for i in 0..W {
             r[i] = f(self.0[i], o.0[i]);
         }
-        F8(r)
+        Fw(r)
     }
 
     #[inline(always)]
-    pub fn sqrt(self) -> F8 {
+    pub fn sqrt(self) -> Fw {
         self.map(f32::sqrt)
     }
     #[inline(always)]
-    pub fn abs(self) -> F8 {
+    pub fn abs(self) -> Fw {
         self.map(f32::abs)
     }
     /// `f32::max` in every lane (the non-NaN operand wins, as in the scalar code).
     #[inline(always)]
-    pub fn max(self, o: impl Into<F8>) -> F8 {
+    pub fn max(self, o: impl Into<Fw>) -> Fw {
         self.zip(o.into(), f32::max)
     }
     #[inline(always)]
-    pub fn min(self, o: impl Into<F8>) -> F8 {
+    pub fn min(self, o: impl Into<Fw>) -> Fw {
         self.zip(o.into(), f32::min)
     }
     /// `1.0f32.copysign(self)`: ±1 with the sign bit of each lane.
     #[inline(always)]
-    pub fn sign_one(self) -> F8 {
+    pub fn sign_one(self) -> Fw {
         self.map(|x| 1.0f32.copysign(x))
     }
     /// `self * b + c` with one rounding (`f32::mul_add`: one FMA instruction where
     /// the FMA feature is enabled).
     #[inline(always)]
-    pub fn mul_add(self, b: F8, c: F8) -> F8 {
+    pub fn mul_add(self, b: Fw, c: Fw) -> Fw {
         let mut r = [0.0; W];
         for i in 0..W {
             r[i] = self.0[i].mul_add(b.0[i], c.0[i]);
         }
-        F8(r)
+        Fw(r)
     }
     /// The sign bit of every lane (as the bits of an `f32`: `-0.0` or `0.0`).
     #[inline(always)]
-    pub fn sign_bit(self) -> F8 {
+    pub fn sign_bit(self) -> Fw {
         self.map(|x| f32::from_bits(x.to_bits() & 0x8000_0000))
     }
     /// The bits of `self` exclusive-or those of `m`.
     #[inline(always)]
-    pub fn xor_bits(self, m: F8) -> F8 {
+    pub fn xor_bits(self, m: Fw) -> Fw {
         self.zip(m, |x, y| f32::from_bits(x.to_bits() ^ y.to_bits()))
     }
     /// True in lanes holding neither an infinity nor a NaN.
     #[inline(always)]
-    pub fn finite(self) -> M8 {
+    pub fn finite(self) -> Mw {
         let mut r = [0; W];
         for i in 0..W {
             r[i] = -(self.0[i].is_finite() as i32);
         }
-        M8(r)
+        Mw(r)
     }
 
     compare!(lt, <);
@@ -198,13 +201,13 @@ impl F8 {
     compare!(ne, !=);
 }
 
-impl M8 {
-    pub const FALSE: M8 = M8([0; W]);
-    pub const TRUE: M8 = M8([-1; W]);
+impl Mw {
+    pub const FALSE: Mw = Mw([0; W]);
+    pub const TRUE: Mw = Mw([-1; W]);
 
     #[inline(always)]
-    pub fn from_fn(f: impl Fn(usize) -> bool) -> M8 {
-        M8(std::array::from_fn(|i| -(f(i) as i32)))
+    pub fn from_fn(f: impl Fn(usize) -> bool) -> Mw {
+        Mw(std::array::from_fn(|i| -(f(i) as i32)))
     }
     #[inline(always)]
     pub fn get(self, lane: usize) -> bool {
@@ -235,65 +238,65 @@ impl M8 {
         self.0.iter().fold(0, |a, &m| a | m) != 0
     }
     #[inline(always)]
-    pub fn and_not(self, o: M8) -> M8 {
+    pub fn and_not(self, o: Mw) -> Mw {
         self & !o
     }
     /// `a` in the lanes of the mask, `b` elsewhere.
     #[inline(always)]
-    pub fn select(self, a: F8, b: F8) -> F8 {
+    pub fn select(self, a: Fw, b: Fw) -> Fw {
         let mut r = [0.0; W];
         for i in 0..W {
             let m = self.0[i] as u32;
             r[i] = f32::from_bits((a.0[i].to_bits() & m) | (b.0[i].to_bits() & !m));
         }
-        F8(r)
+        Fw(r)
     }
     /// `a` in the lanes of the mask, zero elsewhere.
     #[inline(always)]
-    pub fn keep(self, a: F8) -> F8 {
-        self.select(a, F8::ZERO)
+    pub fn keep(self, a: Fw) -> Fw {
+        self.select(a, Fw::ZERO)
     }
 }
 
-impl BitAnd for M8 {
-    type Output = M8;
+impl BitAnd for Mw {
+    type Output = Mw;
     #[inline(always)]
-    fn bitand(self, o: M8) -> M8 {
-        M8(std::array::from_fn(|i| self.0[i] & o.0[i]))
+    fn bitand(self, o: Mw) -> Mw {
+        Mw(std::array::from_fn(|i| self.0[i] & o.0[i]))
     }
 }
-impl BitOr for M8 {
-    type Output = M8;
+impl BitOr for Mw {
+    type Output = Mw;
     #[inline(always)]
-    fn bitor(self, o: M8) -> M8 {
-        M8(std::array::from_fn(|i| self.0[i] | o.0[i]))
+    fn bitor(self, o: Mw) -> Mw {
+        Mw(std::array::from_fn(|i| self.0[i] | o.0[i]))
     }
 }
-impl Not for M8 {
-    type Output = M8;
+impl Not for Mw {
+    type Output = Mw;
     #[inline(always)]
-    fn not(self) -> M8 {
-        M8(std::array::from_fn(|i| !self.0[i]))
+    fn not(self) -> Mw {
+        Mw(std::array::from_fn(|i| !self.0[i]))
     }
 }
 
-/// Eight 3-vectors, one per lane (structure of arrays).
+/// W 3-vectors, one per lane (structure of arrays).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct V3 {
-    pub x: F8,
-    pub y: F8,
-    pub z: F8,
+    pub x: Fw,
+    pub y: Fw,
+    pub z: Fw,
 }
 
 impl V3 {
     pub const ZERO: V3 = V3 {
-        x: F8::ZERO,
-        y: F8::ZERO,
-        z: F8::ZERO,
+        x: Fw::ZERO,
+        y: Fw::ZERO,
+        z: Fw::ZERO,
     };
 
     #[inline(always)]
-    pub fn new(x: F8, y: F8, z: F8) -> V3 {
+    pub fn new(x: Fw, y: Fw, z: Fw) -> V3 {
         V3 { x, y, z }
     }
     /// Lane `i` as a `glam` vector.
@@ -315,16 +318,16 @@ impl V3 {
     }
     /// `x*x' + y*y' + z*z'`, summed in `glam`'s order.
     #[inline(always)]
-    pub fn dot(self, o: V3) -> F8 {
+    pub fn dot(self, o: V3) -> Fw {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
     #[inline(always)]
-    pub fn scale(self, s: F8) -> V3 {
+    pub fn scale(self, s: Fw) -> V3 {
         V3::new(self.x * s, self.y * s, self.z * s)
     }
     /// Every component divided by `s` (as `glam`'s `Vec3 / f32`).
     #[inline(always)]
-    pub fn div(self, s: F8) -> V3 {
+    pub fn div(self, s: Fw) -> V3 {
         V3::new(self.x / s, self.y / s, self.z / s)
     }
     #[inline(always)]
@@ -353,26 +356,26 @@ impl V3 {
         self.scale(1.0 / self.dot(self).sqrt())
     }
     #[inline(always)]
-    pub fn select(m: M8, a: V3, b: V3) -> V3 {
+    pub fn select(m: Mw, a: V3, b: V3) -> V3 {
         V3::new(m.select(a.x, b.x), m.select(a.y, b.y), m.select(a.z, b.z))
     }
     /// `a` in the lanes of `m`, zero elsewhere.
     #[inline(always)]
-    pub fn keep(self, m: M8) -> V3 {
+    pub fn keep(self, m: Mw) -> V3 {
         V3::new(m.keep(self.x), m.keep(self.y), m.keep(self.z))
     }
     /// `Rgb::max_component`: `r.max(g).max(b)`.
     #[inline(always)]
-    pub fn max_component(self) -> F8 {
+    pub fn max_component(self) -> Fw {
         self.x.max(self.y).max(self.z)
     }
     /// True where every component is zero (`Rgb::is_black`).
     #[inline(always)]
-    pub fn is_zero(self) -> M8 {
+    pub fn is_zero(self) -> Mw {
         self.x.eq(0.0) & self.y.eq(0.0) & self.z.eq(0.0)
     }
     #[inline(always)]
-    pub fn finite(self) -> M8 {
+    pub fn finite(self) -> Mw {
         self.x.finite() & self.y.finite() & self.z.finite()
     }
 }
@@ -382,10 +385,10 @@ impl V3 {
 /// # Safety
 /// Every index must address a row of `table` and `at < N`.
 #[inline(always)]
-pub unsafe fn gather<const N: usize>(table: &[[f32; N]], idx: &[u32; W], at: usize) -> F8 {
+pub unsafe fn gather<const N: usize>(table: &[[f32; N]], idx: &[u32; W], at: usize) -> Fw {
     let base = table.as_ptr() as *const f32;
     // SAFETY: in bounds by the caller's contract.
-    F8(std::array::from_fn(|i| unsafe {
+    Fw(std::array::from_fn(|i| unsafe {
         *base.add(idx[i] as usize * N + at)
     }))
 }
@@ -393,10 +396,10 @@ pub unsafe fn gather<const N: usize>(table: &[[f32; N]], idx: &[u32; W], at: usi
 /// Sine and cosine of `a` for `|a| <= π/4`: the minimax polynomials of Cephes'
 /// `sinf`/`cosf` (Moshier, "Methods and Programs for Mathematical Functions", 1989),
 /// the kernel Dr.Jit and SLEEF also use; within 2 ulp of the correctly rounded value
-/// on that range, with no range reduction and no branch, so eight lanes cost a
-/// handful of vector multiplies instead of eight calls of `sinf` and `cosf`.
+/// on that range, with no range reduction and no branch, so W lanes cost a
+/// handful of vector multiplies instead of W calls of `sinf` and `cosf`.
 #[inline(always)]
-pub fn sin_cos_quarter_pi(a: F8) -> (F8, F8) {
+pub fn sin_cos_quarter_pi(a: Fw) -> (Fw, Fw) {
     let z = a * a;
     let s = ((-1.951_529_6e-4 * z + 8.332_161e-3) * z - 1.666_665_5e-1) * z * a + a;
     let c = ((2.443_315_7e-5 * z - 1.388_731_6e-3) * z + 4.166_664_6e-2) * z * z - 0.5 * z + 1.0;
@@ -409,7 +412,7 @@ pub fn sin_cos_quarter_pi(a: F8) -> (F8, F8) {
 /// scalar result bit for bit (0 where both arguments are 0; NaN for a NaN argument
 /// where the scalar gives NaN).
 #[inline(always)]
-pub fn atan2(y: F8, x: F8) -> F8 {
+pub fn atan2(y: Fw, x: Fw) -> Fw {
     use irradia_core::atan::COEFFS as C;
     use std::f32::consts::{FRAC_PI_2, PI};
     let (ax, ay) = (x.abs(), y.abs());
@@ -417,7 +420,7 @@ pub fn atan2(y: F8, x: F8) -> F8 {
     let (lo, hi) = (swap.select(ax, ay), swap.select(ay, ax));
     let a = lo / hi;
     let s = a * a;
-    let p = F8::splat(C[7]);
+    let p = Fw::splat(C[7]);
     let p = p * s + C[6];
     let p = p * s + C[5];
     let p = p * s + C[4];
@@ -429,14 +432,14 @@ pub fn atan2(y: F8, x: F8) -> F8 {
     let r = swap.select(FRAC_PI_2 - r, r);
     let r = x.lt(0.0).select(PI - r, r);
     let r = y.lt(0.0).select(-r, r);
-    hi.eq(0.0).select(F8::ZERO, r)
+    hi.eq(0.0).select(Fw::ZERO, r)
 }
 
 /// [`irradia_core::offset_ray_origin`] in every lane: the point `p` moved off its
 /// surface along `n` by its error bound and a few ulps (Wächter and Binder, "A Fast and
 /// Robust Method for Avoiding Self-Intersection", Ray Tracing Gems, 2019), bit for bit.
 #[inline(always)]
-pub fn offset_ray_origin(p: V3, n: V3, extra_error: F8) -> V3 {
+pub fn offset_ray_origin(p: V3, n: V3, extra_error: Fw) -> V3 {
     let p = p.add(n.scale(extra_error));
     V3::new(
         offset_axis(p.x, n.x),
@@ -447,7 +450,7 @@ pub fn offset_ray_origin(p: V3, n: V3, extra_error: F8) -> V3 {
 
 /// One coordinate of [`offset_ray_origin`] (after the error offset).
 #[inline(always)]
-fn offset_axis(p: F8, n: F8) -> F8 {
+fn offset_axis(p: Fw, n: Fw) -> Fw {
     const ORIGIN: f32 = 1.0 / 32.0;
     const FLOAT_SCALE: f32 = 1.0 / 65536.0;
     const INT_SCALE: f32 = 256.0;
@@ -473,7 +476,7 @@ fn offset_axis(p: F8, n: F8) -> F8 {
             f32::from_bits(moved as u32)
         };
     }
-    F8(r)
+    Fw(r)
 }
 
 #[cfg(test)]
@@ -485,7 +488,7 @@ mod tests {
         let mut worst = 0f32;
         for k in 0..=2000 {
             let a = (k as f32 / 1000.0 - 1.0) * std::f32::consts::FRAC_PI_4;
-            let (s, c) = sin_cos_quarter_pi(F8::splat(a));
+            let (s, c) = sin_cos_quarter_pi(Fw::splat(a));
             worst = worst
                 .max((s.0[3] - (a as f64).sin() as f32).abs())
                 .max((c.0[5] - (a as f64).cos() as f32).abs());
@@ -526,8 +529,8 @@ mod tests {
             cases.push((-y, y));
         }
         for chunk in cases.chunks(W) {
-            let y = F8(std::array::from_fn(|i| chunk[i % chunk.len()].0));
-            let x = F8(std::array::from_fn(|i| chunk[i % chunk.len()].1));
+            let y = Fw(std::array::from_fn(|i| chunk[i % chunk.len()].0));
+            let x = Fw(std::array::from_fn(|i| chunk[i % chunk.len()].1));
             let got = atan2(y, x);
             for i in 0..W {
                 let want = irradia_core::atan2(y.0[i], x.0[i]);
@@ -563,7 +566,7 @@ mod tests {
                 pw.set_lane(i, p);
                 nw.set_lane(i, n);
             }
-            let o = offset_ray_origin(pw, nw, F8::splat(e));
+            let o = offset_ray_origin(pw, nw, Fw::splat(e));
             let s = irradia_core::offset_ray_origin(p, n, e);
             assert_eq!(
                 o.lane(6).to_array().map(f32::to_bits),
@@ -574,7 +577,7 @@ mod tests {
 
     #[test]
     fn selects_and_masks_follow_the_lanes() {
-        let a = F8(std::array::from_fn(|i| i as f32));
+        let a = Fw(std::array::from_fn(|i| i as f32));
         let m = a.lt(3.0) | a.eq(6.0);
         assert_eq!(m.bits(), 0b0100_0111);
         assert_eq!(m.select(a, -a).0[6], 6.0);

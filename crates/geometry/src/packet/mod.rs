@@ -13,7 +13,7 @@
 //!   objects uses it, where a slip through an edge with a probability of the rounding
 //!   error changes no estimate measurably. [`bounds8`] culls up to eight of its
 //!   packets with one 8-wide slab test.
-//! - [`ray8`]: eight rays against one triangle at a time (the lanes hold rays, not
+//! - [`ray_lanes`]: W (16) rays against one triangle at a time (the lanes hold rays, not
 //!   triangles: Wald, Slusallek, Benthin, Wagner 2001), the same Möller-Trumbore
 //!   arithmetic as [`triangle8`] in the lane types of [`lanes`], for tracing a batch of
 //!   rays over a small scene in one pass over its triangles.
@@ -23,11 +23,11 @@
 
 pub mod bounds8;
 pub mod lanes;
-pub mod ray8;
+pub mod ray_lanes;
 pub mod triangle8;
 pub mod watertight4;
 
 pub use bounds8::PacketBounds;
-pub use ray8::RayLaneTriangles;
+pub use ray_lanes::RayLaneTriangles;
 pub use triangle8::{has_avx2, has_avx512, PacketHit, TrianglePacket, LANES};
 pub use watertight4::Triangle4;

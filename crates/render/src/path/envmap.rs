@@ -72,8 +72,8 @@ impl EnvmapSampler {
         }
     }
 
-    /// The distribution of grid cells that `sample` draws from (for the 8-wide
-    /// kernel's lanes, [`crate::path::wide::envmap8`]).
+    /// The distribution of grid cells that `sample` draws from (for the wide
+    /// kernel's lanes, [`crate::path::wide::envmap_lanes`]).
     pub(crate) fn distribution(&self) -> &Piecewise2D {
         &self.dist
     }

@@ -40,8 +40,8 @@ use irradia_geometry::bvh::{Bvh, ChildRef};
 use irradia_geometry::mesh::TriangleMesh;
 #[cfg(target_arch = "x86_64")]
 use irradia_geometry::packet::bounds8::{any_culled_avx2, nearest_culled_avx2};
-use irradia_geometry::packet::lanes::{F8, M8, V3, W};
-use irradia_geometry::packet::ray8::LaneHits;
+use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
+use irradia_geometry::packet::ray_lanes::LaneHits;
 use irradia_geometry::packet::triangle8 as packet;
 use irradia_geometry::packet::{PacketBounds, PacketHit, RayLaneTriangles, TrianglePacket, LANES};
 use irradia_geometry::triangle::TriangleHit;
@@ -62,7 +62,7 @@ struct FlatTriangle {
     smooth: Option<SmoothNormals>,
 }
 
-/// A baked triangle as the 8-wide kernel reads it: corners, unit normal, instance,
+/// A baked triangle as the wide kernel reads it: corners, unit normal, instance,
 /// material, vertex normals of a mesh triangle.
 pub(crate) type BakedTriangle = ([Vec3; 3], Vec3, u32, u32, Option<SmoothNormals>);
 
@@ -163,8 +163,8 @@ pub struct FlatScene {
     materials: Vec<(u32, Vec<u32>)>,
     /// Per scene object: whether its shape is a closed solid.
     solid: Vec<bool>,
-    /// The baked triangles for answering eight rays at once, when the whole scene is
-    /// baked into at most [`MAX_TRIANGLES`](irradia_geometry::packet::ray8::MAX_TRIANGLES).
+    /// The baked triangles for answering W rays at once, when the whole scene is
+    /// baked into at most [`MAX_TRIANGLES`](irradia_geometry::packet::ray_lanes::MAX_TRIANGLES).
     ray_lanes: Option<RayLaneTriangles>,
 }
 
@@ -275,7 +275,7 @@ struct Baked {
 
 /// The size of the packets beyond which several rays walk the BVH in turns. Taking
 /// turns hides cache misses but costs bookkeeping, so it pays only where the walks
-/// miss the last-level cache: measured in the 8-wide path kernel (CPU, paired runs,
+/// miss the last-level cache: measured in the wide path kernel (CPU, paired runs,
 /// 16 spp, load 6), the 2.25M-triangle gyroid (~80 MB of packets) in the Cornell box
 /// 1.12x faster with it, the 69k-triangle bunny (~2.5 MB) 0.85x.
 const INTERLEAVE_BYTES: usize = 16 << 20;
@@ -556,7 +556,7 @@ impl FlatScene {
 
     /// Every baked triangle as (corners, unit normal, instance, material, vertex
     /// normals) when the whole scene is baked (no shape is left to its own test), for
-    /// the 8-wide kernel ([`super::wide`]); `None` otherwise.
+    /// the wide kernel ([`super::wide`]); `None` otherwise.
     pub(crate) fn all_triangles(&self) -> Option<Vec<BakedTriangle>> {
         if self.rest.is_some() {
             return None;
@@ -666,10 +666,10 @@ impl FlatScene {
     }
 }
 
-/// Up to eight segments in the ray lanes (origins, directions, ends, active lanes).
-fn lanes_of(segments: &[RaySegment]) -> (V3, V3, F8, M8) {
-    let zero = || V3::new(F8::ZERO, F8::ZERO, F8::ZERO);
-    let (mut o, mut d, mut t_max, mut active) = (zero(), zero(), F8::ZERO, M8::FALSE);
+/// Up to W segments in the ray lanes (origins, directions, ends, active lanes).
+fn lanes_of(segments: &[RaySegment]) -> (V3, V3, Fw, Mw) {
+    let zero = || V3::new(Fw::ZERO, Fw::ZERO, Fw::ZERO);
+    let (mut o, mut d, mut t_max, mut active) = (zero(), zero(), Fw::ZERO, Mw::FALSE);
     for (lane, s) in segments.iter().enumerate() {
         (o.x.0[lane], o.y.0[lane], o.z.0[lane]) = s.ray.origin.into();
         (d.x.0[lane], d.y.0[lane], d.z.0[lane]) = s.ray.dir.into();
@@ -718,7 +718,7 @@ impl RayQuery for FlatScene {
         self.solid[object as usize]
     }
 
-    /// Small fully baked scenes: eight rays against every triangle in one pass
+    /// Small fully baked scenes: W rays against every triangle in one pass
     /// ([`RayLaneTriangles`]), with the single-ray form's arithmetic and tie order.
     fn closest_hits(&self, set: ObjectSet, segments: &[RaySegment], out: &mut [Option<SceneHit>]) {
         assert_eq!(segments.len(), out.len(), "one answer per segment");
@@ -762,11 +762,11 @@ impl RayQuery for FlatScene {
 
 /// The ray-lane kernel with the arithmetic of the packet test the single-ray form
 /// runs: fused (AVX2 + FMA) when the CPU has it, unfused (SSE) otherwise.
-fn ray_lanes_nearest(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: F8, active: M8) -> LaneHits {
+fn ray_lanes_nearest(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: Fw, active: Mw) -> LaneHits {
     #[cfg(target_arch = "x86_64")]
     if packet::has_avx2() {
         #[target_feature(enable = "avx2,fma")]
-        unsafe fn fused(l: &RayLaneTriangles, o: V3, d: V3, t: F8, a: M8) -> LaneHits {
+        unsafe fn fused(l: &RayLaneTriangles, o: V3, d: V3, t: Fw, a: Mw) -> LaneHits {
             l.nearest_within::<true>(o, d, t, a)
         }
         // SAFETY: the CPU supports AVX2 and FMA.
@@ -776,11 +776,11 @@ fn ray_lanes_nearest(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: F8, active: 
 }
 
 /// As [`ray_lanes_nearest`], for shadow rays.
-fn ray_lanes_occluded(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: F8, active: M8) -> M8 {
+fn ray_lanes_occluded(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: Fw, active: Mw) -> Mw {
     #[cfg(target_arch = "x86_64")]
     if packet::has_avx2() {
         #[target_feature(enable = "avx2,fma")]
-        unsafe fn fused(l: &RayLaneTriangles, o: V3, d: V3, t: F8, a: M8) -> M8 {
+        unsafe fn fused(l: &RayLaneTriangles, o: V3, d: V3, t: Fw, a: Mw) -> Mw {
             l.occluded::<true>(o, d, t, a)
         }
         // SAFETY: the CPU supports AVX2 and FMA.

@@ -92,7 +92,7 @@ enum Emitter {
     },
 }
 
-/// An emissive object's world-space facets, as the 8-wide kernel reads them
+/// An emissive object's world-space facets, as the wide kernel reads them
 /// ([`LightSampler::kernel_emitters`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct FacetEmitter<'a> {

@@ -10,7 +10,7 @@
 //!   world-space triangle hierarchy;
 //! - [`integrator`]: next-event estimation + BSDF sampling with MIS, Russian roulette;
 //! - [`direct`]: direct illumination only, as Mitsuba's `direct` integrator;
-//! - [`wide`]: the same estimator over eight paths at once in SIMD lanes, for scenes
+//! - [`wide`]: the same estimator over W paths at once in SIMD lanes, for scenes
 //!   of Lambertian surfaces and facet emitters (the Cornell box);
 //! - [`path_integrator`]: the path tracer as an [`Integrator`](crate::Integrator) of the
 //!   one driver (tiles, passes, budgets, checkpoints: [`crate::driver`]);

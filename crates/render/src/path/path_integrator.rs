@@ -1,6 +1,6 @@
 //! The path tracer as an [`Integrator`] of the one driver ([`crate::driver`]): one
 //! camera sample is [`radiance_in`] over the scene's [`FlatScene`]; batches run on the
-//! 8-wide kernel ([`super::wide`]) where the scene qualifies. Its camera samples come
+//! wide kernel ([`super::wide`]) where the scene qualifies. Its camera samples come
 //! from the independent sampler (Mitsuba's default for the `path` integrator).
 
 use super::direct::{radiance_direct, DirectParams};
@@ -20,7 +20,7 @@ use irradia_scene::Scene;
 /// Which estimator code runs the samples (the same estimator either way).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Kernel {
-    /// The 8-wide kernel ([`super::wide`]) where the scene qualifies, otherwise the
+    /// The wide kernel ([`super::wide`]) where the scene qualifies, otherwise the
     /// scalar one; `IRRADIA_PATH_KERNEL=scalar` in the environment forces the scalar
     /// one (for A/B timings of the command-line tool).
     #[default]
@@ -134,7 +134,7 @@ impl Integrator for PathIntegrator<'_, '_> {
         count(stats, &c);
     }
 
-    /// On the 8-wide kernel, which makes the camera samples eight at once.
+    /// On the wide kernel, which makes the camera samples W at once.
     fn sample_camera_batch(
         &self,
         batch: &CameraBatch<'_>,

@@ -5,7 +5,7 @@
 //! The sample is drawn exactly as the renderer draws it (the same random stream, the
 //! same [`FlatScene`] queries, the scalar estimator [`radiance_recorded`]), so its value
 //! is what sample `i` of the pixel adds to the film in `irradia render` with the default
-//! seed. (Scenes that qualify for the 8-wide kernel render those samples with it; they
+//! seed. (Scenes that qualify for the wide kernel render those samples with it; they
 //! agree with the scalar estimator to rounding.)
 
 use super::flat_scene::FlatScene;

@@ -1,4 +1,4 @@
-//! The kernel-against-scalar harness of the 8-wide path kernel's agreement tests
+//! The kernel-against-scalar harness of the wide path kernel's agreement tests
 //! (tests/path_wide*.rs): every pixel's samples by the scalar estimator `radiance_in`
 //! and by the kernel, from the same per-sample random streams.
 
@@ -33,7 +33,7 @@ pub enum Variant {
     WrongAlpha(f32),
     /// The default build with the emitters at infinity this many times as bright.
     WrongBackground(f32),
-    /// The default build without the spheres' 8-wide cull.
+    /// The default build without the spheres' lane cull.
     NoSphereCull,
 }
 

@@ -1,4 +1,4 @@
-//! The emitters as the 8-wide path kernel ([`crate::path::wide`]) samples them: emissive
+//! The emitters as the wide path kernel ([`crate::path::wide`]) samples them: emissive
 //! objects sampled by their world-space facets ([`FacetEmitter`]) and emissive spheres
 //! sampled uniformly by area with their own sampler ([`SphereEmitter`]: a point of the
 //! object-space sphere carried to world space by the instance's transform, its density
@@ -6,7 +6,7 @@
 //! emitters at infinity (the constant environment: the background plus Mitsuba's
 //! `constant` emitters, and Mitsuba's `envmap`): the constant environment sampled lane
 //! by lane with the scalar code's arithmetic, an environment map chosen lane by lane and
-//! sampled by the kernel in lanes ([`crate::path::wide::envmap8`]), so that samples
+//! sampled by the kernel in lanes ([`crate::path::wide::envmap_lanes`]), so that samples
 //! agree with [`LightSampler::sample`]'s bit for bit.
 
 use super::{det3, Emitter, FacetEmitter, LightSample, LightSampler, SurfaceSampler};
@@ -128,7 +128,7 @@ impl LightSampler {
     }
 
     /// The emitters at infinity as the kernel's lanes evaluate them
-    /// ([`crate::path::wide::envmap8`]): the constant environment's radiance and its
+    /// ([`crate::path::wide::envmap_lanes`]): the constant environment's radiance and its
     /// share of the light density, `probability / 4π` (black and 0 without one), and
     /// every environment map with the probability of choosing it, in the order
     /// [`LightSampler::environment_radiance_pdf`] sums them.
@@ -163,7 +163,7 @@ impl LightSampler {
     }
 
     /// [`Self::pick_kernel`]'s light once emitter `idx` is chosen with probability
-    /// `pick` (the kernel's vector light choice makes the choice for eight lanes at
+    /// `pick` (the kernel's vector light choice makes the choice for W lanes at
     /// once, then the lanes at infinity ask this: [`crate::path::wide`]).
     #[inline]
     pub(crate) fn kernel_light(&self, idx: usize, pick: f32, u: Vec2) -> Option<KernelLight> {

@@ -93,7 +93,7 @@ impl SurfaceSampler {
     /// The sampler and the object-space area it samples. A shape whose facets are
     /// exactly its surface (rectangles, polygons, boxes) is sampled by its facets even
     /// when it has its own sampler: the same uniform density over the same surface,
-    /// and the 8-wide kernel samples facet emitters ([`super::wide`]).
+    /// and the wide kernel samples facet emitters ([`super::wide`]).
     pub(super) fn for_shape(shape: &dyn irradia_geometry::Shape) -> Option<(Self, f32)> {
         let exact = shape.sample_surface(Vec2::splat(0.5)).is_some();
         if let (Some(area), true, false) = (shape.area(), exact, shape.facets_exact()) {

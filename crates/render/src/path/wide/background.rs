@@ -1,4 +1,4 @@
-//! Emitters at infinity in the 8-wide kernel: the constant environment (the background
+//! Emitters at infinity in the wide kernel: the constant environment (the background
 //! plus Mitsuba's `constant` emitters) and Mitsuba's `envmap`
 //! ([`EnvmapSampler`](crate::path::envmap::EnvmapSampler)).
 //!
@@ -8,10 +8,10 @@
 //!   power heuristic against the light sample's density of its direction when it was
 //!   sampled from a non-delta BSDF ([`Background::escaped_radiance`]: the maps' lookups
 //!   and densities, `LightSampler::environment_radiance_pdf`, for all lanes at once in
-//!   [`envmap8`](super::envmap8); the weight and the sum in
+//!   [`envmap_lanes`](super::envmap_lanes); the weight and the sum in
 //!   [`Background::add_escaped`]);
 //! - next-event estimation chooses an emitter at infinity with its probability and
-//!   samples a direction from it (the choice eight lanes at once with the other
+//!   samples a direction from it (the choice W lanes at once with the other
 //!   emitters' in scenes of few emitters, [`super::light_pick`], else per lane with
 //!   `LightSampler::pick_kernel`; the sample per lane: the
 //!   constant environment's uniform direction with the scalar `sample`'s arithmetic,
@@ -24,10 +24,10 @@
 //! Both use the scalar estimator's numbers in its order, so samples agree with
 //! [`radiance_in`](crate::path::integrator::radiance_in)'s to rounding.
 
-use super::envmap8::Environment8;
+use super::envmap_lanes::EnvironmentW;
 use crate::path::lights::LightSample;
 use glam::{Vec2, Vec3};
-use irradia_geometry::packet::lanes::{F8, M8, V3, W};
+use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 
 /// What the per-lane stage records of the emitters at infinity, per bounce.
 #[derive(Default)]
@@ -35,32 +35,32 @@ pub(crate) struct Background {
     /// Lanes whose ray left the scene, with the environment's radiance along it (times
     /// the test scale) and the light sample's density of its direction (0 after a
     /// delta bounce or from the camera, where it is not used).
-    pub escaped: M8,
+    pub escaped: Mw,
     pub le: V3,
-    pub pdf: F8,
+    pub pdf: Fw,
     /// Lanes whose light sample is a direction towards an emitter at infinity, with
     /// the direction, the radiance (times the test scale) and the solid-angle density
     /// (choice included).
-    pub light: M8,
+    pub light: Mw,
     pub wi: V3,
     pub li: V3,
-    pub light_pdf: F8,
+    pub light_pdf: Fw,
     /// Lanes whose light choice fell on an environment map, with the map (its place in
-    /// [`Environment8`]), the probability of choosing it and the numbers to sample it
+    /// [`EnvironmentW`]), the probability of choosing it and the numbers to sample it
     /// with; [`Background::sample_maps`] turns them into `light` lanes.
-    pub map_light: M8,
+    pub map_light: Mw,
     pub map: [u32; W],
-    pub map_pick: F8,
-    pub map_u: [F8; 2],
+    pub map_pick: Fw,
+    pub map_u: [Fw; 2],
 }
 
 impl Background {
     /// Clears the lanes' records at the start of a bounce.
     #[inline(always)]
     pub fn clear(&mut self) {
-        self.escaped = M8::FALSE;
-        self.light = M8::FALSE;
-        self.map_light = M8::FALSE;
+        self.escaped = Mw::FALSE;
+        self.light = Mw::FALSE;
+        self.map_light = Mw::FALSE;
     }
 
     /// The rays of the `escaped` lanes (directions `dir`) left the scene: the
@@ -68,9 +68,9 @@ impl Background {
     /// (`has_prev`), the density with which light sampling gives `dir` (else 0), all
     /// lanes at once, bit for bit `LightSampler::environment_radiance_pdf`'s.
     #[inline(always)]
-    pub fn escaped_radiance(&mut self, env: &Environment8, dir: V3, has_prev: M8, scale: f32) {
+    pub fn escaped_radiance(&mut self, env: &EnvironmentW, dir: V3, has_prev: Mw, scale: f32) {
         let (le, pdf) = env.radiance_pdf(dir);
-        self.le = le.scale(F8::splat(scale));
+        self.le = le.scale(Fw::splat(scale));
         self.pdf = has_prev.keep(pdf);
     }
 
@@ -90,9 +90,9 @@ impl Background {
     /// radiance (times the test scale) and the density `pick` times the map's, as
     /// `LightSampler::sample` gives them.
     #[inline(always)]
-    pub fn sample_maps(&mut self, env: &Environment8, scale: f32) {
+    pub fn sample_maps(&mut self, env: &EnvironmentW, scale: f32) {
         for (k, m) in env.maps().iter().enumerate() {
-            let lanes = self.map_light & M8::from_fn(|l| self.map[l] == k as u32);
+            let lanes = self.map_light & Mw::from_fn(|l| self.map[l] == k as u32);
             if !lanes.any() {
                 continue;
             }
@@ -100,7 +100,7 @@ impl Background {
             let ok = lanes & ok;
             self.light = self.light | ok;
             self.wi = V3::select(ok, wi, self.wi);
-            self.li = V3::select(ok, li.scale(F8::splat(scale)), self.li);
+            self.li = V3::select(ok, li.scale(Fw::splat(scale)), self.li);
             self.light_pdf = ok.select(self.map_pick * pdf, self.light_pdf);
         }
     }
@@ -123,11 +123,11 @@ impl Background {
         &self,
         radiance: V3,
         beta: V3,
-        has_prev: M8,
-        prev_pdf: F8,
-        mis: impl Fn(F8, F8) -> F8,
+        has_prev: Mw,
+        prev_pdf: Fw,
+        mis: impl Fn(Fw, Fw) -> Fw,
     ) -> V3 {
-        let w = has_prev.select(mis(prev_pdf, self.pdf), F8::splat(1.0));
+        let w = has_prev.select(mis(prev_pdf, self.pdf), Fw::splat(1.0));
         let added = radiance.add(beta.mul(self.le).scale(w));
         V3::select(self.escaped, added, radiance)
     }

@@ -1,4 +1,4 @@
-//! The BSDF samples of the 8-wide kernel's vector stage, each the scalar BSDF's
+//! The BSDF samples of the wide kernel's vector stage, each the scalar BSDF's
 //! arithmetic repeated lane by lane in the same order (see [`super`]): the cosine-weighted
 //! direction of the Lambertian lobes, the smooth conductor's Fresnel reflectance and the
 //! smooth dielectric's choice between reflection and refraction.
@@ -7,14 +7,14 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::WideScene;
-use irradia_geometry::packet::lanes::{sin_cos_quarter_pi, F8, M8, V3, W};
+use irradia_geometry::packet::lanes::{sin_cos_quarter_pi, Fw, Mw, V3, W};
 use std::f32::consts::FRAC_PI_4;
 
 /// `cosine_hemisphere` (Shirley-Chiu concentric disk, lifted to the hemisphere) in
 /// every lane; the angle's sine and cosine come from [`sin_cos_quarter_pi`] (for the
 /// second wedge, `cos(π/2 - a) = sin a` and `sin(π/2 - a) = cos a`).
 #[inline(always)]
-pub(super) fn cosine_hemisphere(u: [F8; 2]) -> V3 {
+pub(super) fn cosine_hemisphere(u: [Fw; 2]) -> V3 {
     let (ox, oy) = (2.0 * u[0] - 1.0, 2.0 * u[1] - 1.0);
     let first = ox.abs().gt(oy.abs());
     let ratio = first.select(oy / ox, ox / oy);
@@ -28,16 +28,16 @@ pub(super) fn cosine_hemisphere(u: [F8; 2]) -> V3 {
 }
 
 /// The smooth conductor's Fresnel reflectance (`fresnel_conductor_rgb`, in `f64` as
-/// the scalar BSDF computes it, eight lanes at once: [`super::fresnel8`]) at cosine
+/// the scalar BSDF computes it, W lanes at once: [`super::fresnel_lanes`]) at cosine
 /// `cos` in the lanes of `active`, zero elsewhere.
 #[inline(always)]
 pub(super) fn conductor_fresnel(
     ws: &WideScene<'_, '_>,
     material: &[u32; W],
-    cos: F8,
-    active: M8,
+    cos: Fw,
+    active: Mw,
 ) -> V3 {
-    super::fresnel8::conductor_fresnel(ws, material, cos, active)
+    super::fresnel_lanes::conductor_fresnel(ws, material, cos, active)
 }
 
 /// The smooth dielectric's sample in every lane (`Dielectric::sample`, with
@@ -45,14 +45,14 @@ pub(super) fn conductor_fresnel(
 /// §1.5.2, as Mitsuba 3's `dielectric`): whether `u_lobe` chooses the reflection, the
 /// refracted direction and the relative indices `η_t/η_i`, `η_i/η_t`.
 pub(super) struct DielectricSample {
-    pub reflects: M8,
+    pub reflects: Mw,
     pub refracted: V3,
-    pub eta_it: F8,
-    pub eta_ti: F8,
+    pub eta_it: Fw,
+    pub eta_ti: Fw,
 }
 
 #[inline(always)]
-pub(super) fn dielectric(wo: V3, eta: F8, u_lobe: F8, scale: f32) -> DielectricSample {
+pub(super) fn dielectric(wo: V3, eta: Fw, u_lobe: Fw, scale: f32) -> DielectricSample {
     let c = wo.z;
     let outside = c.ge(0.0);
     let inv = 1.0 / eta;
@@ -66,8 +66,8 @@ pub(super) fn dielectric(wo: V3, eta: F8, u_lobe: F8, scale: f32) -> DielectricS
     let r_p = (eta_it * cos_i - cos_t) / (eta_it * cos_i + cos_t);
     // (`scale` is 1 but in a test: see `WideScene::with_fresnel_scale`.)
     let fr = 0.5 * (r_s * r_s + r_p * r_p) * scale;
-    let fr = (cos_i.eq(0.0) | cos2_t.le(0.0)).select(F8::splat(1.0), fr);
-    let fr = eta.eq(1.0).select(F8::ZERO, fr);
+    let fr = (cos_i.eq(0.0) | cos2_t.le(0.0)).select(Fw::splat(1.0), fr);
+    let fr = eta.eq(1.0).select(Fw::ZERO, fr);
     DielectricSample {
         reflects: u_lobe.le(fr),
         refracted: V3::new(
@@ -91,7 +91,7 @@ mod tests {
         let mut rng = Rng::new(11, 2);
         let mut worst = 0f32;
         for _ in 0..500 {
-            let mut us = [F8::ZERO; 2];
+            let mut us = [Fw::ZERO; 2];
             let mut want = [Vec3::ZERO; W];
             for lane in 0..W {
                 let v = rng.next_2d();

@@ -1,9 +1,9 @@
 //! Reading records of the wide kernel's tables (triangles, materials, facets, light
-//! choice) in eight lanes at once: one field of the rows the lanes index, by an AVX2
+//! choice) in the W lanes at once: one field of the rows the lanes index, by an AVX2
 //! gather where the kernel is compiled for it ([`gather`]), after one bounds check of
 //! every index.
 
-use irradia_geometry::packet::lanes::{gather, F8, V3, W};
+use irradia_geometry::packet::lanes::{gather, Fw, V3, W};
 
 /// `table[idx[i]]` in every lane (indices checked).
 #[inline(always)]
@@ -13,7 +13,7 @@ pub(super) fn lookup(table: &[u32], idx: &[u32; W]) -> [u32; W] {
 
 /// One record field of `table` in every lane, rows `idx` (checked by [`checked`]).
 #[inline(always)]
-pub(super) fn field<const N: usize>(table: &[[f32; N]], idx: &[u32; W], at: usize) -> F8 {
+pub(super) fn field<const N: usize>(table: &[[f32; N]], idx: &[u32; W], at: usize) -> Fw {
     assert!(at < N);
     // SAFETY: `checked` verified every index against this table before.
     unsafe { gather(table, idx, at) }

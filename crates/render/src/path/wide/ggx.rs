@@ -1,5 +1,5 @@
 //! Mitsuba 3's `roughconductor` with the isotropic GGX distribution in every lane of the
-//! 8-wide kernel's vector stage (see [`super`]): the scatter crate's `RoughConductor`
+//! wide kernel's vector stage (see [`super`]): the scatter crate's `RoughConductor`
 //! and `Microfacet` (Walter, Marschner, Li and Torrance 2007, "Microfacet Models for
 //! Refraction through Rough Surfaces", eqs. 20 and 33; Smith's separable masking,
 //! Heitz 2014, "Understanding the Masking-Shadowing Function", §5; visible normals
@@ -18,16 +18,16 @@
 
 use super::bsdf::conductor_fresnel;
 use super::{mat, WideScene};
-use irradia_geometry::packet::lanes::{gather, sin_cos_quarter_pi, F8, M8, V3, W};
+use irradia_geometry::packet::lanes::{gather, sin_cos_quarter_pi, Fw, Mw, V3, W};
 use std::f32::consts::{PI, TAU};
 
 /// `sin 2πu` and `cos 2πu` for `u` in `[0, 1)` (the azimuth of a warp): `u` is reduced
 /// exactly to the first octant (`u − q/4` and `1/4 − r` are exact by Sterbenz's lemma),
 /// where [`sin_cos_quarter_pi`] applies, and the quadrant's symmetries give the rest.
 #[inline(always)]
-pub(super) fn sin_cos_two_pi(u: F8) -> (F8, F8) {
+pub(super) fn sin_cos_two_pi(u: Fw) -> (Fw, Fw) {
     // The quadrant `⌊4u⌋` by comparisons (no call of `floorf`).
-    let one = F8::splat(1.0);
+    let one = Fw::splat(1.0);
     let q = u.ge(0.25).keep(one) + u.ge(0.5).keep(one) + u.ge(0.75).keep(one);
     let r = u - q * 0.25;
     let upper = r.gt(0.125);
@@ -48,7 +48,7 @@ pub(super) fn sin_cos_two_pi(u: F8) -> (F8, F8) {
 /// as Mitsuba does, `1 / (π α² (slope² + cos²θ)²)`), zero below the horizon and where
 /// `D cos θ ≤ 1e-20` (as the scalar code).
 #[inline(always)]
-pub(super) fn d(m: V3, alpha: F8) -> F8 {
+pub(super) fn d(m: V3, alpha: Fw) -> Fw {
     let a2 = alpha * alpha;
     let cos2 = m.z * m.z;
     let slope2 = (m.x * m.x + m.y * m.y) / a2;
@@ -59,18 +59,18 @@ pub(super) fn d(m: V3, alpha: F8) -> F8 {
 
 /// Smith's `G1(v, m) = χ⁺(v·m / v·n) / (1 + Λ(v))` with GGX's closed-form `Λ`.
 #[inline(always)]
-pub(super) fn g1(v: V3, m: V3, alpha: F8) -> F8 {
+pub(super) fn g1(v: V3, m: V3, alpha: Fw) -> Fw {
     let t2 = alpha * alpha * (v.x * v.x + v.y * v.y) / (v.z * v.z);
     let lambda = 0.5 * t2 / ((1.0 + t2).sqrt() + 1.0);
     let g = 1.0 / (1.0 + lambda);
     (v.dot(m) * v.z)
         .gt(0.0)
-        .keep(t2.finite().select(g, F8::ZERO))
+        .keep(t2.finite().select(g, Fw::ZERO))
 }
 
 /// The density of visible normals, `D(m) G1(wo, m) |wo·m| / cos θo` (`wo.z > 0`).
 #[inline(always)]
-pub(super) fn pdf_visible(wo: V3, m: V3, alpha: F8) -> F8 {
+pub(super) fn pdf_visible(wo: V3, m: V3, alpha: Fw) -> Fw {
     let p = d(m, alpha) * g1(wo, m, alpha) * wo.dot(m).abs() / wo.z;
     wo.z.gt(0.0).keep(p)
 }
@@ -78,15 +78,15 @@ pub(super) fn pdf_visible(wo: V3, m: V3, alpha: F8) -> F8 {
 /// Heitz 2018's visible-normal sample for `wo.z > 0`: stretch, sample the projected
 /// hemisphere, unstretch (`Microfacet::sample_visible_ggx`).
 #[inline(always)]
-pub(super) fn sample_visible(wo: V3, u: [F8; 2], alpha: F8) -> V3 {
+pub(super) fn sample_visible(wo: V3, u: [Fw; 2], alpha: Fw) -> V3 {
     let vh = V3::new(alpha * wo.x, alpha * wo.y, wo.z).normalize();
     let len2 = vh.x * vh.x + vh.y * vh.y;
     let inv = 1.0 / len2.sqrt();
     let tilted = len2.gt(0.0);
     let t1 = V3::new(
-        tilted.select(-vh.y * inv, F8::splat(1.0)),
+        tilted.select(-vh.y * inv, Fw::splat(1.0)),
         tilted.keep(vh.x * inv),
-        F8::ZERO,
+        Fw::ZERO,
     );
     // `vh × t1` in glam's order.
     let t2 = V3::new(
@@ -106,7 +106,7 @@ pub(super) fn sample_visible(wo: V3, u: [F8; 2], alpha: F8) -> V3 {
 
 /// Field `at` of the materials' shading records.
 #[inline(always)]
-pub(super) fn shading(ws: &WideScene<'_, '_>, material: &[u32; W], at: usize) -> F8 {
+pub(super) fn shading(ws: &WideScene<'_, '_>, material: &[u32; W], at: usize) -> Fw {
     assert!(at < mat::LEN);
     let top = material.iter().fold(0, |a, &i| a.max(i));
     assert!((top as usize) < ws.shading.len());
@@ -119,12 +119,12 @@ pub(super) fn shading(ws: &WideScene<'_, '_>, material: &[u32; W], at: usize) ->
 pub(super) struct RoughSample {
     /// `f(wo, wi)` and its density for the light direction `wi` (zero where not asked).
     pub f_light: V3,
-    pub pdf_light: F8,
+    pub pdf_light: Fw,
     /// A valid sample: its direction, weight `f cos θi / pdf` and density.
-    pub ok: M8,
+    pub ok: Mw,
     pub wi: V3,
     pub weight: V3,
-    pub pdf: F8,
+    pub pdf: Fw,
 }
 
 /// `RoughConductor::{eval, pdf}` for the light direction `wi` in the lanes of `light`,
@@ -138,9 +138,9 @@ pub(super) fn rough_conductor(
     material: &[u32; W],
     wo: V3,
     wi: V3,
-    u: [F8; 2],
-    light: M8,
-    active: M8,
+    u: [Fw; 2],
+    light: Mw,
+    active: Mw,
 ) -> RoughSample {
     let alpha = shading(ws, material, mat::ALPHA) * ws.alpha_scale;
     let spec_r = V3::new(
@@ -194,11 +194,11 @@ mod tests {
         let mut worst = 0f32;
         let mut rng = Rng::new(3, 4);
         for k in 0..4000 {
-            let mut u = F8::ZERO;
+            let mut u = Fw::ZERO;
             for lane in 0..W {
                 // The octant and quadrant ends, then random turns.
                 u.0[lane] = if k == 0 {
-                    [0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 1.0 - 1e-7][lane]
+                    [0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 1.0 - 1e-7][lane % 8]
                 } else {
                     rng.next_f32()
                 };
@@ -221,8 +221,8 @@ mod tests {
         for _ in 0..400 {
             let mut wo = V3::ZERO;
             let mut m = V3::ZERO;
-            let mut u = [F8::ZERO; 2];
-            let mut alpha = F8::ZERO;
+            let mut u = [Fw::ZERO; 2];
+            let mut alpha = Fw::ZERO;
             let mut want = Vec::new();
             for lane in 0..W {
                 let a = [0.005, 0.02, 0.1, 0.5][lane % 4];

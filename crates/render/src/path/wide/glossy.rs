@@ -1,4 +1,4 @@
-//! The glossy lobes of the 8-wide kernel's vector stage in one call (see [`super`]):
+//! The glossy lobes of the wide kernel's vector stage in one call (see [`super`]):
 //! each lane's `roughconductor` ([`super::ggx`]), `roughdielectric`
 //! ([`super::rough_dielectric`]) or `roughplastic` ([`super::rough_plastic`]), chosen by
 //! its material's [`mat::KIND`], each BSDF run only when some lane needs it. The
@@ -10,32 +10,32 @@ use super::ggx::{rough_conductor, shading, RoughSample};
 use super::rough_dielectric::{rough_dielectric, DielectricParams};
 use super::rough_plastic::{rough_plastic, PlasticParams};
 use super::{mat, WideScene};
-use irradia_geometry::packet::lanes::{F8, M8, V3, W};
+use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 
 /// The glossy lobes' value and density for the light sample's direction, and their own
 /// sample.
 pub(super) struct Glossy {
     /// `f(wo, wi)` and its density for the light direction `wi` (zero where not asked).
     pub f_light: V3,
-    pub pdf_light: F8,
+    pub pdf_light: Fw,
     /// Lanes whose BSDF also transmits (the rough dielectric): their light sample may
     /// lie on the other side of the surface.
-    pub transmits: M8,
+    pub transmits: Mw,
     /// A valid sample: its direction, weight `f |cos θi| / pdf`, density and the
     /// relative index of refraction crossed (1 but for a rough dielectric's
     /// refraction).
-    pub ok: M8,
+    pub ok: Mw,
     pub wi: V3,
     pub weight: V3,
-    pub pdf: F8,
-    pub eta: F8,
+    pub pdf: Fw,
+    pub eta: Fw,
 }
 
 impl Glossy {
     /// One BSDF's values and sample in the lanes of `kind` (its `ok` is already limited
     /// to those lanes).
     #[inline(always)]
-    fn take(&mut self, kind: M8, r: &RoughSample) {
+    fn take(&mut self, kind: Mw, r: &RoughSample) {
         self.f_light = V3::select(kind, r.f_light, self.f_light);
         self.pdf_light = kind.select(r.pdf_light, self.pdf_light);
         self.ok = self.ok | r.ok;
@@ -55,10 +55,10 @@ pub(super) fn glossy(
     material: &[u32; W],
     wo: V3,
     wi: V3,
-    u_lobe: F8,
-    u: [F8; 2],
-    light: M8,
-    active: M8,
+    u_lobe: Fw,
+    u: [Fw; 2],
+    light: Mw,
+    active: Mw,
 ) -> Glossy {
     let kind = shading(ws, material, mat::KIND);
     let conductor = kind.eq(mat::KIND_CONDUCTOR);
@@ -67,13 +67,13 @@ pub(super) fn glossy(
     let wanted = light | active;
     let mut g = Glossy {
         f_light: V3::ZERO,
-        pdf_light: F8::ZERO,
+        pdf_light: Fw::ZERO,
         transmits: dielectric,
-        ok: M8::FALSE,
+        ok: Mw::FALSE,
         wi: V3::ZERO,
         weight: V3::ZERO,
-        pdf: F8::ZERO,
-        eta: F8::splat(1.0),
+        pdf: Fw::ZERO,
+        eta: Fw::splat(1.0),
     };
     if (wanted & conductor).any() {
         let (l, a) = (light & conductor, active & conductor);

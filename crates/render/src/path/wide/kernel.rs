@@ -1,4 +1,4 @@
-//! The bounce loop of the 8-wide path kernel (see [`super`] for the stages and the
+//! The bounce loop of the wide path kernel (see [`super`] for the stages and the
 //! sources). A lane holds one path; when it ends, its estimate is written to the
 //! output slot of its sample and the lane takes the next sample of the batch, so the
 //! vector stays full until the batch runs out (Laine, Karras, Aila 2013:
@@ -19,7 +19,7 @@ use super::gather::{checked, field, field3};
 use super::glossy::glossy;
 use super::lane_queries::{nearest_in_turns, occluded_in_turns};
 use super::light_pick::{at_infinity, far_lights, pick_lights};
-use super::sphere_hit8::SphereHits;
+use super::sphere_hits::SphereHits;
 use super::sphere_light::{self, LightPoint};
 use super::starts::{Ahead, Starts};
 use super::{facet, mat, smooth, tri, WideScene};
@@ -29,7 +29,7 @@ use crate::path::tracer::Tracer;
 use glam::Vec3;
 use irradia_core::{Rgb, Rng};
 use irradia_geometry::bvh::node::gamma;
-use irradia_geometry::packet::lanes::{offset_ray_origin, F8, M8, V3, W};
+use irradia_geometry::packet::lanes::{offset_ray_origin, Fw, Mw, V3, W};
 use irradia_geometry::triangle::TriangleHit;
 use std::f32::consts::FRAC_1_PI;
 
@@ -48,11 +48,11 @@ struct Paths {
     /// The previous scattering vertex and its BSDF density (MIS on emitter hits);
     /// `has_prev` is false for camera rays.
     prev_p: V3,
-    prev_pdf: F8,
-    has_prev: M8,
+    prev_pdf: Fw,
+    has_prev: Mw,
     /// The product of the relative indices of refraction crossed (Russian roulette
     /// judges `max(beta) eta²`, as the scalar estimator does).
-    eta: F8,
+    eta: Fw,
 }
 
 /// What the per-lane stage hands to the vector stage, per bounce: indices into the
@@ -60,41 +60,41 @@ struct Paths {
 #[derive(Default)]
 struct Bounce {
     /// Lanes that hit a surface.
-    hit: M8,
+    hit: Mw,
     /// Lanes that go on scattering at this hit (random numbers drawn).
-    scatter: M8,
+    scatter: Mw,
     /// The triangle hit, its barycentrics `b1`, `b2` and its material.
     triangle: [u32; W],
-    b1: F8,
-    b2: F8,
+    b1: Fw,
+    b2: Fw,
     material: [u32; W],
     /// Lanes whose hit is on an object left to its own shape's test (a sphere), with
     /// the hit as that test reports it: point, geometric and shading normals, error
     /// bound (`triangle` is then 0, a valid index whose record is not used).
-    other: M8,
+    other: Mw,
     point: V3,
     normal: V3,
     shading: V3,
-    error: F8,
+    error: Fw,
     /// `pdf_object` of the hit as seen from the previous vertex (emissive hits).
-    light_pdf: F8,
+    light_pdf: Fw,
     /// Uniform numbers of the BSDF sample: the lobe choice (the dielectric's
     /// reflection or refraction) and the direction.
-    u_lobe: F8,
-    u_bsdf: [F8; 2],
+    u_lobe: Fw,
+    u_bsdf: [Fw; 2],
     /// The light sample: a facet was chosen (`light`), which one, the probability of
     /// choosing its emitter and the point of the square to warp into the triangle.
-    light: M8,
+    light: Mw,
     facet: [u32; W],
     /// The chosen emitter (a sphere warps `u_light` itself: [`sphere_light`]).
     emitter: [u32; W],
-    pick: F8,
+    pick: Fw,
     /// The numbers as drawn (a sphere's), and the point of the square to warp into
     /// the chosen facet (the facet choice's).
-    u_light: [F8; 2],
-    u_facet: [F8; 2],
+    u_light: [Fw; 2],
+    u_facet: [Fw; 2],
     /// The number that chooses the emitter (when the vector stage chooses).
-    u_pick: F8,
+    u_pick: Fw,
     /// Escaped rays and light samples of emitters at infinity.
     bg: Background,
 }
@@ -103,23 +103,23 @@ struct Bounce {
 struct Scattered {
     /// Lanes whose light sample passed every test but the shadow ray, with the
     /// shadow ray (`t_max = 1`) and the contribution if it is unblocked.
-    nee: M8,
+    nee: Mw,
     shadow_origin: V3,
     shadow_dir: V3,
     nee_value: V3,
     /// The shadow ray's `t_max`: 1 towards a point, infinite towards an emitter at
     /// infinity.
-    shadow_t_max: F8,
+    shadow_t_max: Fw,
     /// Lanes that continue (a valid BSDF sample, throughput not black).
-    go_on: M8,
+    go_on: Mw,
     /// Russian roulette: survival probability and the throughput divided by it.
-    q: F8,
+    q: Fw,
     beta_rr: V3,
 }
 
 /// Power heuristic with β = 2, per lane (as `integrator::mis`).
 #[inline(always)]
-fn mis(a: F8, b: F8) -> F8 {
+fn mis(a: Fw, b: Fw) -> Fw {
     let (a2, b2) = (a * a, b * b);
     let s = a2 + b2;
     s.gt(0.0).keep(a2 / s)
@@ -145,7 +145,7 @@ fn frame(n: V3) -> (V3, V3) {
 fn smooth_normals(
     table: &[[f32; smooth::LEN]],
     triangle: &[u32; W],
-    (b0, b1, b2): (F8, F8, F8),
+    (b0, b1, b2): (Fw, Fw, Fw),
     n: V3,
 ) -> (V3, V3) {
     checked(table, triangle);
@@ -241,7 +241,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let lit = b.hit & !emission.is_zero() & (emission_two_sided | facing);
     let w = paths
         .has_prev
-        .select(mis(paths.prev_pdf, b.light_pdf), F8::splat(1.0));
+        .select(mis(paths.prev_pdf, b.light_pdf), Fw::splat(1.0));
     let emitted = paths.beta.mul(emission).scale(w);
     paths.radiance = V3::select(lit, paths.radiance.add(emitted), paths.radiance);
     // Rays that left the scene: the environment, weighted likewise.
@@ -263,7 +263,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     // A one-sided BSDF seen from behind scatters nothing (Mitsuba's `diffuse`: its
     // eval, pdf and sample are zero unless cos(wo) > 0).
     let sc = sc & !(front_only & wo.z.le(0.0));
-    let f = albedo.scale(F8::splat(FRAC_1_PI));
+    let f = albedo.scale(Fw::splat(FRAC_1_PI));
 
     // Next-event estimation: a point on the chosen facet.
     let s = u_light[0].sqrt();
@@ -292,7 +292,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     // No light sample on delta lobes (the scalar code draws its numbers, unused).
     let light_ok = sc & !(mirror | glass) & light & cos_l.gt(0.0) & pdf_area.gt(0.0);
     let l_side = V3::select(l_facing.gt(0.0), ln, ln.neg());
-    let target = offset_ray_origin(q, l_side, F8::ZERO);
+    let target = offset_ray_origin(q, l_side, Fw::ZERO);
     let l_pdf = pick * pdf_area * dist2 / cos_l;
     // Lanes whose light is at infinity: the direction, radiance and density they
     // sampled (lane by lane, as the scalar `sample`), and an unbounded shadow ray.
@@ -379,7 +379,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
             V3::select(refracts, spec_t.scale(g.eta_ti * g.eta_ti), spec_r),
         ),
     );
-    let eta_s = refracts.select(g.eta_it, F8::splat(1.0));
+    let eta_s = refracts.select(g.eta_it, Fw::splat(1.0));
     let sampled = lambert_ok | (mirror & wo.z.gt(0.0)) | glass;
     let (wi_s, weight, sampled, pdf_b, eta_s) = match &r {
         Some(r) => (
@@ -412,7 +412,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
         shadow_origin,
         shadow_dir: V3::select(far, wi, target.sub(shadow_origin)),
         nee_value,
-        shadow_t_max: far.select(F8::splat(f32::INFINITY), F8::splat(1.0)),
+        shadow_t_max: far.select(Fw::splat(f32::INFINITY), Fw::splat(1.0)),
         go_on,
         q,
         beta_rr: paths.beta.scale(1.0 / q),
@@ -440,15 +440,15 @@ fn run<const FMA: bool>(
         beta: V3::ZERO,
         radiance: V3::ZERO,
         prev_p: V3::ZERO,
-        prev_pdf: F8::ZERO,
-        has_prev: M8::FALSE,
-        eta: F8::splat(1.0),
+        prev_pdf: Fw::ZERO,
+        has_prev: Mw::FALSE,
+        eta: Fw::splat(1.0),
     };
     let mut next = 0usize;
     let mut b = Bounce::default();
     loop {
         // Stage 1, per lane: refill; then the nearest hits; then per lane the draws.
-        let mut live = M8::FALSE;
+        let mut live = Mw::FALSE;
         for lane in 0..W {
             if paths.sample[lane] == IDLE {
                 if next == out.len() {
@@ -476,30 +476,30 @@ fn run<const FMA: bool>(
             break;
         }
         b.bg.clear();
-        // The nearest hits: eight rays at once, or lane by lane.
+        // The nearest hits: W rays at once, or lane by lane.
         let hits = match &ws.rays {
             Some(rays) => rays.nearest::<FMA>(paths.origin, paths.dir, live),
             None => nearest_in_turns(ws, &paths.origin, &paths.dir, live),
         };
-        // Lanes whose ray may meet a sphere before its triangle (the 8-wide cull):
+        // Lanes whose ray may meet a sphere before its triangle (the lane cull):
         // only they run the exact sphere test below.
         let near_sphere = match &ws.cull {
             Some(c) => {
-                let t_max = hits.hit.select(hits.t, F8::splat(f32::INFINITY));
+                let t_max = hits.hit.select(hits.t, Fw::splat(f32::INFINITY));
                 c.may_hit(paths.origin, paths.dir, t_max, live)
             }
             None => live,
         };
         // Then the objects with their own tests (spheres), up to the triangle's `t`, as
-        // the flat scene's `closest_hit` asks them: eight rays at once ([`sphere_hit8`]).
+        // the flat scene's `closest_hit` asks them: W rays at once ([`sphere_hits`]).
         let spheres = match &ws.spheres {
             Some(s) if near_sphere.any() => {
-                let t_max = hits.hit.select(hits.t, F8::splat(f32::INFINITY));
+                let t_max = hits.hit.select(hits.t, Fw::splat(f32::INFINITY));
                 s.nearest(paths.origin, paths.dir, t_max, near_sphere)
             }
             _ => SphereHits::default(),
         };
-        // (Lane tests on integers: see `M8::lanes`.)
+        // (Lane tests on integers: see `Mw::lanes`.)
         let (hit_bits, prev_bits) = (hits.hit.bits(), paths.has_prev.bits());
         for lane in live.lanes() {
             counters.rays += 1;
@@ -656,7 +656,7 @@ fn run<const FMA: bool>(
         };
         // And the objects with their own tests (spheres), for shadow rays the
         // triangles leave through.
-        // (Eight at once: [`sphere_hit8`].)
+        // (W at once: [`sphere_hits`].)
         let blocked = match &ws.spheres {
             Some(spheres) => {
                 let open = s.nee & !blocked;
@@ -705,8 +705,8 @@ fn run<const FMA: bool>(
     }
 }
 
-/// The loop with AVX2 and FMA enabled (LLVM turns the lane loops into 8-wide
-/// instructions).
+/// The loop with AVX2 and FMA enabled (LLVM turns the lane loops into pairs of
+/// 8-wide instructions: W = 16 lanes are two 256-bit registers).
 ///
 /// # Safety
 /// The CPU must support AVX2 and FMA.
@@ -722,8 +722,8 @@ pub(super) unsafe fn run_avx2(
     run::<true>(ws, params, starts, out, counters)
 }
 
-/// The loop with AVX-512 (F, VL, DQ, BW) as well: the same eight lanes, with mask
-/// registers for the selects and the `f64` lanes of [`super::d8`] in one register. The
+/// The loop with AVX-512 (F, VL, DQ, BW) as well: the same W lanes, with mask
+/// registers for the selects and the `f64` lanes of [`super::dw`] in two registers. The
 /// same IEEE operations in the same order as [`run_avx2`] (no fast-math), so the same
 /// results bit for bit.
 ///

@@ -1,4 +1,4 @@
-//! The 8-wide kernel's ray queries on scenes too large for eight rays against every
+//! The wide kernel's ray queries on scenes too large for W rays against every
 //! triangle (see [`super`]): the live lanes' rays walk the
 //! [`FlatScene`](crate::path::flat_scene::FlatScene)'s hierarchy in turns, one node or
 //! leaf each (geometry's `bvh::interleaved`), so one ray's cache misses overlap the
@@ -9,8 +9,8 @@ use super::{smooth, tri, WideScene};
 use crate::path::flat_scene::prefetch_bytes;
 use glam::Vec3;
 use irradia_core::Ray;
-use irradia_geometry::packet::lanes::{F8, M8, V3, W};
-use irradia_geometry::packet::ray8::LaneHits;
+use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
+use irradia_geometry::packet::ray_lanes::LaneHits;
 
 /// The nearest triangle hits of the rays `(origin, dir)` of the `live` lanes.
 #[inline(always)]
@@ -18,7 +18,7 @@ pub(super) fn nearest_in_turns(
     ws: &WideScene<'_, '_>,
     origin: &V3,
     dir: &V3,
-    live: M8,
+    live: Mw,
 ) -> LaneHits {
     let mut h = LaneHits::NONE;
     let mut which = [0usize; W];
@@ -58,9 +58,9 @@ pub(super) fn occluded_in_turns(
     ws: &WideScene<'_, '_>,
     origin: &V3,
     dir: &V3,
-    t_max: &F8,
-    active: M8,
-) -> M8 {
+    t_max: &Fw,
+    active: Mw,
+) -> Mw {
     let mut which = [0usize; W];
     let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
     let mut bound = [0.0f32; W];
@@ -75,7 +75,7 @@ pub(super) fn occluded_in_turns(
     ws.ps
         .tracer
         .occluded_baked_many(&rays[..n], &bound[..n], &mut hit[..n]);
-    let mut blocked = M8::FALSE;
+    let mut blocked = Mw::FALSE;
     for (&lane, &h) in which[..n].iter().zip(&hit[..n]) {
         blocked.set(lane, h);
     }

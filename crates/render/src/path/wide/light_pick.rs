@@ -1,5 +1,5 @@
 //! The light choice of the wide kernel's vector stage: `LightSampler::pick_kernel`'s
-//! choice of emitter and facet made for eight lanes at once, by counting the entries of
+//! choice of emitter and facet made for the W lanes at once, by counting the entries of
 //! the sorted cumulative tables that are `<= x` (which equals the scalar code's binary
 //! search), for scenes of at most `VECTOR_PICK_MAX` emitters of as many facets each.
 //! An emitter at infinity (and a sphere) stands in the tables as one placeholder facet
@@ -10,7 +10,7 @@ use super::background::Background;
 use super::gather::{checked, field, lookup};
 use crate::path::lights::{KernelLight, LightSampler};
 use glam::Vec2;
-use irradia_geometry::packet::lanes::{F8, M8, W};
+use irradia_geometry::packet::lanes::{Fw, Mw, W};
 
 /// What choosing a light facet reads (`LightSampler::pick_kernel`, lane by lane): the
 /// emitters' cumulative probabilities, then within the chosen emitter its facets'
@@ -38,9 +38,9 @@ pub(crate) struct LightPick {
 /// The lanes of `active` whose chosen `emitter` (as [`pick_lights`] gives it) is at
 /// infinity.
 #[inline(always)]
-pub(super) fn at_infinity(lp: &LightPick, emitter: &[u32; W], active: M8) -> M8 {
+pub(super) fn at_infinity(lp: &LightPick, emitter: &[u32; W], active: Mw) -> Mw {
     if !lp.any_far {
-        return M8::FALSE;
+        return Mw::FALSE;
     }
     checked(&lp.far, emitter);
     active & field(&lp.far, emitter, 0).ne(0.0)
@@ -54,10 +54,10 @@ pub(super) fn at_infinity(lp: &LightPick, emitter: &[u32; W], active: M8) -> M8 
 #[inline(always)]
 pub(super) fn far_lights(
     lights: &LightSampler,
-    far: M8,
+    far: Mw,
     emitter: &[u32; W],
-    pick: F8,
-    u: [F8; 2],
+    pick: Fw,
+    u: [Fw; 2],
     bg: &mut Background,
     scale: f32,
 ) {
@@ -77,11 +77,11 @@ pub(super) fn far_lights(
 #[inline(always)]
 pub(super) fn pick_lights(
     lp: &LightPick,
-    u_pick: F8,
-    u: [F8; 2],
-    active: M8,
-) -> (M8, [u32; W], F8, [F8; 2], [u32; W]) {
-    let count_le = |count: &mut [u32; W], m: M8| {
+    u_pick: Fw,
+    u: [Fw; 2],
+    active: Mw,
+) -> (Mw, [u32; W], Fw, [Fw; 2], [u32; W]) {
+    let count_le = |count: &mut [u32; W], m: Mw| {
         for i in 0..W {
             count[i] = count[i].wrapping_sub(m.0[i] as u32);
         }
@@ -90,7 +90,7 @@ pub(super) fn pick_lights(
     let x = u_pick * total;
     let mut emitter = [0u32; W];
     for &c in &lp.emitter_cdf {
-        count_le(&mut emitter, F8::splat(c).le(x));
+        count_le(&mut emitter, Fw::splat(c).le(x));
     }
     let last = lp.emitter_cdf.len() as u32 - 1;
     let emitter: [u32; W] = std::array::from_fn(|i| emitter[i].min(last));
@@ -103,7 +103,7 @@ pub(super) fn pick_lights(
     for j in 0..lp.max_len as u32 {
         let at: [u32; W] = std::array::from_fn(|i| start[i] + j.min(len[i] - 1));
         checked(&lp.facet_cdf, &at);
-        let inside = M8::from_fn(|i| j < len[i]);
+        let inside = Mw::from_fn(|i| j < len[i]);
         count_le(&mut k, inside & field(&lp.facet_cdf, &at, 0).le(x2));
     }
     let k: [u32; W] = std::array::from_fn(|i| k[i].min(len[i] - 1));
@@ -111,15 +111,15 @@ pub(super) fn pick_lights(
     let at_hi: [u32; W] = std::array::from_fn(|i| start[i] + k[i]);
     checked(&lp.facet_cdf, &at_lo);
     checked(&lp.facet_cdf, &at_hi);
-    let first = M8::from_fn(|i| k[i] == 0);
-    let lo = first.select(F8::ZERO, field(&lp.facet_cdf, &at_lo, 0));
+    let first = Mw::from_fn(|i| k[i] == 0);
+    let lo = first.select(Fw::ZERO, field(&lp.facet_cdf, &at_lo, 0));
     let hi = field(&lp.facet_cdf, &at_hi, 0);
     // `f32::clamp(0, 1 - ε)`.
     let r = (x2 - lo) / (hi - lo);
-    let r = r.lt(0.0).select(F8::ZERO, r);
+    let r = r.lt(0.0).select(Fw::ZERO, r);
     let r = r
         .gt(1.0 - f32::EPSILON)
-        .select(F8::splat(1.0 - f32::EPSILON), r);
+        .select(Fw::splat(1.0 - f32::EPSILON), r);
     (active & pick.gt(0.0), at_hi, pick, [r, u[1]], emitter)
 }
 
@@ -150,13 +150,13 @@ mod tests {
         let mut rng = Rng::new(5, 6);
         let (mut facets, mut constant, mut maps) = (0, 0, 0);
         for _ in 0..400 {
-            let (mut up, mut u) = (F8::ZERO, [F8::ZERO; 2]);
+            let (mut up, mut u) = (Fw::ZERO, [Fw::ZERO; 2]);
             for l in 0..W {
                 up.0[l] = rng.next_f32();
                 u[0].0[l] = rng.next_f32();
                 u[1].0[l] = rng.next_f32();
             }
-            let (m, facet, pick, uu, emitter) = pick_lights(lp, up, u, M8::TRUE);
+            let (m, facet, pick, uu, emitter) = pick_lights(lp, up, u, Mw::TRUE);
             let far = at_infinity(lp, &emitter, m);
             let mut bg = Background::default();
             far_lights(&lights, far, &emitter, pick, u, &mut bg, 1.0);
@@ -208,7 +208,7 @@ mod tests {
         let mut rng = Rng::new(1, 2);
         let edge = [0.0, 0.5, 1.0 - f32::EPSILON / 2.0];
         for round in 0..400 {
-            let (mut up, mut u) = (F8::ZERO, [F8::ZERO; 2]);
+            let (mut up, mut u) = (Fw::ZERO, [Fw::ZERO; 2]);
             for l in 0..W {
                 up.0[l] = rng.next_f32();
                 u[0].0[l] = if round < 3 {
@@ -218,7 +218,7 @@ mod tests {
                 };
                 u[1].0[l] = rng.next_f32();
             }
-            let (m, facet, pick, uu, emitter) = pick_lights(lp, up, u, M8::TRUE);
+            let (m, facet, pick, uu, emitter) = pick_lights(lp, up, u, Mw::TRUE);
             for l in 0..W {
                 let v = glam::Vec2::new(u[0].0[l], u[1].0[l]);
                 match lights.pick_kernel(up.0[l], v) {

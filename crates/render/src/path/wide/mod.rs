@@ -1,4 +1,4 @@
-//! The 8-wide path kernel: eight independent paths advanced in lockstep, one per SIMD
+//! The wide path kernel: W (16) independent paths advanced in lockstep, one per SIMD
 //! lane, in structure-of-arrays form, the way Mitsuba 3's `llvm_ad_rgb` variant runs
 //! its path integrator over vector lanes (Jakob et al., "Dr.Jit: A Just-In-Time
 //! Compiler for Differentiable Rendering", SIGGRAPH 2022; Mitsuba 3's `path`
@@ -7,13 +7,13 @@
 //! "Megakernels Considered Harmful: Wavefront Path Tracing on GPUs", HPG 2013):
 //!
 //! 1. per lane: refill a finished lane with the next sample of the batch (camera
-//!    samples are made eight at a time ahead of the lanes that take them: a tile's
+//!    samples are made W at a time ahead of the lanes that take them: a tile's
 //!    pinhole rays in lanes, [`crate::camera_batch`]) and draw the bounce's random
 //!    numbers from the lane's own stream;
-//! 2. all lanes at once ([`kernel`], 8-wide AVX-512 or AVX2 + FMA chosen at run time
-//!    ([`KernelBuild`]), or the same
-//!    code in SSE): the nearest hits ([`ray8`](irradia_geometry::packet::ray8): eight rays against every triangle of
-//!    a small scene; larger scenes walk the [`FlatScene`]'s hierarchy lane by lane,
+//! 2. all lanes at once ([`kernel`], AVX-512 (one register of 16 `f32`) or AVX2 + FMA
+//!    (two) chosen at run time ([`KernelBuild`]), or the same code in SSE): the nearest
+//!    hits ([`ray_lanes`](irradia_geometry::packet::ray_lanes): W rays against every
+//!    triangle of a small scene; larger scenes walk the [`FlatScene`]'s hierarchy lane by lane,
 //!    with Wald et al.'s SIMD triangle packets), the hit points (triangle, material,
 //!    vertex normal and light data gathered by index), emission with MIS, the light choice and
 //!    sample, the BSDF value and density, the cosine-weighted direction (with a
@@ -35,15 +35,15 @@
 //!   color`, possibly black, i.e. no lobe) or Mitsuba's one-sided `diffuse` with a
 //!   constant `reflectance`;
 //! - Mitsuba's smooth `conductor` (one-sided; a delta reflection weighted by the exact
-//!   conductor Fresnel reflectance, in `f64` as the scalar BSDF computes it, eight
-//!   lanes at once as two 4-wide vectors: [`fresnel8`]) or smooth `dielectric` (delta reflection or refraction chosen by the
+//!   conductor Fresnel reflectance, in `f64` as the scalar BSDF computes it, the W
+//!   lanes at once as `f64` vectors: [`fresnel_lanes`]) or smooth `dielectric` (delta reflection or refraction chosen by the
 //!   lobe number against the exact dielectric Fresnel reflectance), with constant
 //!   parameters;
 //!
 //! - Mitsuba's `roughconductor` with isotropic GGX normals sampled by their visible
 //!   ones (Mitsuba's default; the speed suite's veach_mis plates), constant parameters
 //!   ([`ggx`]: value, density and sample in lanes, in `f32`, the Fresnel reflectance in
-//!   `f64` lanes, [`fresnel8`]); a glossy lobe as the scalar estimator treats it: a light sample
+//!   `f64` lanes, [`fresnel_lanes`]); a glossy lobe as the scalar estimator treats it: a light sample
 //!   weighted by the power heuristic against the BSDF's density, and emission hit
 //!   after it weighted against the light sample's density;
 //! - Mitsuba's `roughdielectric` with the same distribution ([`rough_dielectric`]:
@@ -67,19 +67,19 @@
 //! choice falls on a sphere warp their numbers onto it), or an emitter at infinity: the
 //! constant environment (a background colour and Mitsuba's `constant` emitters) and
 //! Mitsuba's `envmap` ([`background`]: escaped rays gather them with MIS, light samples
-//! choose them with their probability (with the other emitters, eight lanes at once,
+//! choose them with their probability (with the other emitters, W lanes at once,
 //! [`light_pick`], in scenes of few emitters) and sample them lane by lane, then
 //! shade with an unbounded shadow ray in the vector stage; the maps' lookups,
-//! densities and importance samples run for all lanes at once, [`envmap8`]); no point,
+//! densities and importance samples run for all lanes at once, [`envmap_lanes`]); no point,
 //! spot, directional or rectangle *lights*. The Cornell box qualifies, and so do diffuse
 //! scenes under an environment map. Every object must be baked into the [`FlatScene`]'s
 //! triangles (polygons, rectangles, boxes, polyhedra, and triangle meshes of any size,
 //! whose materials are untextured) or be a sphere (possibly placed by a transform, as
 //! the Mitsuba importer builds them; no quadrics, CSG or implicit surfaces; a scene of
-//! spheres only qualifies). Spheres are culled eight rays at once ([`sphere8`]: a
+//! spheres only qualifies). Spheres are culled W rays at once ([`sphere_cull`]: a
 //! conservative ray-ball test that only drops lanes that cannot hit one) and the lanes
-//! left are traced eight at once after the lanes' triangles, up to the triangle's
-//! distance ([`sphere_hit8`]: the scalar sphere test's `f64` quadratic, transform,
+//! left are traced W at once after the lanes' triangles, up to the triangle's
+//! distance ([`sphere_hits`]: the scalar sphere test's `f64` quadratic, transform,
 //! surface point, normal and error bound in lanes, the spheres in the loop, so the
 //! hits, normals and error bounds are the scalar ones bit for bit), and so are the
 //! shadow rays the triangles leave through. So the speed suite's
@@ -92,9 +92,9 @@
 
 pub(crate) mod background;
 pub mod bsdf;
-mod d8;
-pub(crate) mod envmap8;
-pub(crate) mod fresnel8;
+mod dw;
+pub(crate) mod envmap_lanes;
+pub(crate) mod fresnel_lanes;
 mod gather;
 pub mod ggx;
 mod glossy;
@@ -103,8 +103,8 @@ mod lane_queries;
 mod light_pick;
 mod rough_dielectric;
 mod rough_plastic;
-pub(crate) mod sphere8;
-pub(crate) mod sphere_hit8;
+pub(crate) mod sphere_cull;
+pub(crate) mod sphere_hits;
 pub mod sphere_light;
 mod starts;
 
@@ -218,7 +218,7 @@ pub(crate) mod facet {
     pub const LEN: usize = 20;
 }
 
-/// A prepared scene that qualifies for the 8-wide kernel, with flat tables the vector
+/// A prepared scene that qualifies for the wide kernel, with flat tables the vector
 /// stage gathers from by index (one record per triangle, material and emitter facet).
 pub struct WideScene<'s, 'a> {
     pub(crate) ps: &'s PathScene<'a, FlatScene>,
@@ -240,17 +240,17 @@ pub struct WideScene<'s, 'a> {
     /// The light choice's tables, when it is small enough to make in the vector
     /// stage; otherwise each lane makes it with `LightSampler::pick_kernel`.
     pub(crate) pick: Option<LightPick>,
-    /// The triangles for tracing eight rays at once (small scenes); otherwise each
+    /// The triangles for tracing W rays at once (small scenes); otherwise each
     /// lane walks the flat scene's hierarchy.
     pub(crate) rays: Option<RayLaneTriangles>,
     /// Whether some objects (spheres) are not baked: each lane then also asks the
     /// flat scene's own test of those after the triangles.
     pub(crate) has_rest: bool,
-    /// The spheres' 8-wide cull ([`sphere8`]): only lanes whose ray may meet one run
+    /// The spheres' lane cull ([`sphere_cull`]): only lanes whose ray may meet one run
     /// the exact lane-by-lane test; `None` without spheres or when disabled (tests).
-    pub(crate) cull: Option<sphere8::SphereCull>,
-    /// The spheres' exact 8-wide test ([`sphere_hit8`]), when there are spheres.
-    pub(crate) spheres: Option<sphere_hit8::Spheres8>,
+    pub(crate) cull: Option<sphere_cull::SphereCull>,
+    /// The spheres' exact lane test ([`sphere_hits`]), when there are spheres.
+    pub(crate) spheres: Option<sphere_hits::SpheresW>,
     /// A factor on the smooth conductor's and dielectric's Fresnel reflectance: 1
     /// (exact: the product is the reflectance itself) except in the test that shows
     /// a wrong reflectance is caught.
@@ -261,8 +261,8 @@ pub struct WideScene<'s, 'a> {
     /// A factor on the radiance of the emitters at infinity: 1 except in the test
     /// that shows a wrong environment is caught.
     pub(crate) background_scale: f32,
-    /// The emitters at infinity in the lanes' form ([`envmap8`]), when there are any.
-    pub(crate) environment: Option<envmap8::Environment8>,
+    /// The emitters at infinity in the lanes' form ([`envmap_lanes`]), when there are any.
+    pub(crate) environment: Option<envmap_lanes::EnvironmentW>,
     /// Whether some material is glossy (a rough conductor, dielectric or plastic: the
     /// vector stage skips their lobes otherwise).
     pub(crate) has_rough: bool,
@@ -289,11 +289,11 @@ pub struct WideScene<'s, 'a> {
 pub enum KernelBuild {
     /// SSE2 (any x86_64 CPU) or the target's baseline elsewhere.
     Portable,
-    /// AVX2 + FMA: the eight lanes in one 256-bit register.
+    /// AVX2 + FMA: the W lanes in two 256-bit registers.
     Avx2,
-    /// AVX2 + FMA + AVX-512 F/VL/DQ/BW: the same eight lanes with mask registers for
-    /// the selects, 64-bit lane multiplies and the eight `f64` lanes in one
-    /// register (Zen 4, Ice Lake and later).
+    /// AVX2 + FMA + AVX-512 F/VL/DQ/BW: the same W lanes with mask registers for
+    /// the selects, 64-bit lane multiplies and the W lanes in one 512-bit register
+    /// (their `f64` lanes in two) (Zen 4, Ice Lake and later).
     Avx512,
 }
 
@@ -448,7 +448,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
         }
         let has_rest = !ps.tracer.rest_objects().is_empty();
         let spheres = match has_rest {
-            true => Some(sphere_hit8::Spheres8::new(scene, ps.tracer.rest_objects())?),
+            true => Some(sphere_hits::SpheresW::new(scene, ps.tracer.rest_objects())?),
             false => None,
         };
         let mut triangles = Vec::new();
@@ -591,7 +591,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             pick,
             rays,
             has_rest,
-            cull: has_rest.then(|| sphere8::SphereCull::new(scene, ps.tracer.rest_objects())),
+            cull: has_rest.then(|| sphere_cull::SphereCull::new(scene, ps.tracer.rest_objects())),
             spheres,
             fresnel_scale: 1.0,
             background: ps.lights.has_environment(),
@@ -599,7 +599,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             environment: ps
                 .lights
                 .has_environment()
-                .then(|| envmap8::Environment8::new(ps.lights)),
+                .then(|| envmap_lanes::EnvironmentW::new(ps.lights)),
             has_rough,
             alpha_scale: 1.0,
             transmittance,
@@ -638,7 +638,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
         self
     }
 
-    /// The same kernel without the spheres' 8-wide cull (every lane runs the exact
+    /// The same kernel without the spheres' lane cull (every lane runs the exact
     /// sphere test); for tests and measurements.
     #[doc(hidden)]
     pub fn without_sphere_cull(mut self) -> Self {
@@ -664,10 +664,10 @@ impl<'s, 'a> WideScene<'s, 'a> {
         self
     }
 
-    /// Whether the kernel traces its eight rays at once against every triangle (small
+    /// Whether the kernel traces its W rays at once against every triangle (small
     /// scenes) rather than lane by lane through the hierarchy; for tests.
     #[doc(hidden)]
-    pub fn traces_eight_at_once(&self) -> bool {
+    pub fn traces_all_lanes_at_once(&self) -> bool {
         self.rays.is_some()
     }
 
@@ -692,7 +692,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
     /// its filter weight to `weights[k]` (`weights` is `batch.len()` long, or empty when
     /// the caller needs none: [`CameraBatch::unit_weights`]). The same as
     /// [`Self::radiance_batch`] over `batch.sample`, but the kernel makes the camera
-    /// samples eight at once, in its own vector width.
+    /// samples W at once, in its own vector width.
     pub fn radiance_camera_batch(
         &self,
         params: &PathParams,

@@ -1,5 +1,5 @@
 //! Mitsuba 3's `roughplastic` with the isotropic GGX distribution and visible-normal
-//! sampling in every lane of the 8-wide kernel's vector stage (see [`super`]): the
+//! sampling in every lane of the wide kernel's vector stage (see [`super`]): the
 //! scatter crate's `RoughPlastic` (Weidlich and Wilkie 2007, "Arbitrarily layered
 //! micro-facet surfaces", as Mitsuba's plugin: a GGX dielectric coating, Walter et al.
 //! 2007 eq. 20, over a Lambertian base seen through it,
@@ -28,7 +28,7 @@ use super::ggx::{d, g1, pdf_visible, sample_visible, shading, RoughSample};
 use super::rough_dielectric::fresnel_dielectric;
 use super::{mat, WideScene};
 use irradia_core::Rgb;
-use irradia_geometry::packet::lanes::{F8, M8, V3, W};
+use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 use irradia_scatter::bsdfs::roughplastic::TRANSMITTANCE_RES;
 use irradia_scatter::bsdfs::RoughPlastic;
 use std::f32::consts::FRAC_1_PI;
@@ -65,14 +65,14 @@ pub(super) fn record(p: &RoughPlastic, row: &mut [f32; mat::LEN]) -> [f32; ROWS]
 
 /// A rough plastic's parameters in every lane.
 pub(super) struct PlasticParams<'t> {
-    pub alpha: F8,
+    pub alpha: Fw,
     /// `int_ior / ext_ior`.
-    pub eta: F8,
+    pub eta: Fw,
     pub spec_r: V3,
     /// `ρ / (1 − R_int) / η²`.
     pub coat: V3,
     /// The specular sampling weight `s`.
-    pub spec_weight: F8,
+    pub spec_weight: Fw,
     /// The transmittance tables and each lane's first row in them.
     pub table: &'t [[f32; 1]],
     pub first: [u32; W],
@@ -103,7 +103,7 @@ impl<'t> PlasticParams<'t> {
 
     /// `T(cos θ)`, interpolated linearly as `RoughPlasticTables::transmittance`.
     #[inline(always)]
-    fn transmittance(&self, cos_theta: F8) -> F8 {
+    fn transmittance(&self, cos_theta: Fw) -> Fw {
         let x = cos_theta * (ROWS - 1) as f32;
         // `x.max(0) as usize`, at most the last interval.
         let i = x.max(0.0).map(f32::trunc).min((ROWS - 2) as f32);
@@ -116,7 +116,7 @@ impl<'t> PlasticParams<'t> {
 
     /// `RoughPlastic::prob_specular` given `T(cos θo)`.
     #[inline(always)]
-    fn prob_specular(&self, t_o: F8) -> F8 {
+    fn prob_specular(&self, t_o: Fw) -> Fw {
         let sw = self.spec_weight;
         let (s, d) = ((1.0 - t_o) * sw, t_o * (1.0 - sw));
         (s + d).gt(0.0).keep(s / (s + d))
@@ -125,7 +125,7 @@ impl<'t> PlasticParams<'t> {
     /// `RoughPlastic::{eval, pdf}` for `wo`, `wi` (zero unless both are above the
     /// surface); `t_o` is `T(wo.z)`.
     #[inline(always)]
-    fn eval_pdf(&self, wo: V3, wi: V3, t_o: F8) -> (V3, F8) {
+    fn eval_pdf(&self, wo: V3, wi: V3, t_o: Fw) -> (V3, Fw) {
         let alpha = self.alpha;
         let both = wo.z.gt(0.0) & wi.z.gt(0.0);
         let h = wo.add(wi).normalize();
@@ -154,10 +154,10 @@ pub(super) fn rough_plastic(
     p: &PlasticParams<'_>,
     wo: V3,
     wi: V3,
-    u_lobe: F8,
-    u: [F8; 2],
-    light: M8,
-    active: M8,
+    u_lobe: Fw,
+    u: [Fw; 2],
+    light: Mw,
+    active: Mw,
 ) -> RoughSample {
     let t_o = p.transmittance(wo.z);
     let (f_light, pdf_light) = p.eval_pdf(wo, wi, t_o);
@@ -243,11 +243,11 @@ mod tests {
             wo.z = wo.z.abs();
             let (u_lobe, u) = (rng.next_f32(), Vec2::new(rng.next_f32(), rng.next_f32()));
             let p = PlasticParams {
-                alpha: F8::splat(row[mat::ALPHA]),
-                eta: F8::splat(row[mat::ETA]),
+                alpha: Fw::splat(row[mat::ALPHA]),
+                eta: Fw::splat(row[mat::ETA]),
                 spec_r: v(Vec3::from_slice(&row[mat::SPEC_R..])),
                 coat: v(Vec3::from_slice(&row[mat::COAT..])),
-                spec_weight: F8::splat(row[mat::SPEC_WEIGHT]),
+                spec_weight: Fw::splat(row[mat::SPEC_WEIGHT]),
                 table: &table,
                 first: [which as u32 * ROWS as u32; W],
             };
@@ -255,10 +255,10 @@ mod tests {
                 &p,
                 v(wo),
                 v(wi),
-                F8::splat(u_lobe),
-                [F8::splat(u.x), F8::splat(u.y)],
-                M8::TRUE,
-                M8::TRUE,
+                Fw::splat(u_lobe),
+                [Fw::splat(u.x), Fw::splat(u.y)],
+                Mw::TRUE,
+                Mw::TRUE,
             );
             let lane = 5;
             let (f, pdf) = (s.f_light.lane(lane), s.pdf_light.0[lane]);
@@ -302,17 +302,17 @@ mod tests {
             .map(|t| [t])
             .collect();
         let params = PlasticParams {
-            alpha: F8::splat(0.2),
-            eta: F8::splat(1.5),
+            alpha: Fw::splat(0.2),
+            eta: Fw::splat(1.5),
             spec_r: V3::ZERO,
             coat: V3::ZERO,
-            spec_weight: F8::ZERO,
+            spec_weight: Fw::ZERO,
             table: &table,
             first: [ROWS as u32; W],
         };
         for k in 0..=200 {
             let c = k as f32 / 200.0;
-            let got = params.transmittance(F8::splat(c)).0[0];
+            let got = params.transmittance(Fw::splat(c)).0[0];
             assert_eq!(got, p.tables.transmittance(c), "T({c})");
         }
     }

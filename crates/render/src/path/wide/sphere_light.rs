@@ -1,4 +1,4 @@
-//! Emissive spheres as lights of the 8-wide kernel's vector stage (see [`super`]): the
+//! Emissive spheres as lights of the wide kernel's vector stage (see [`super`]): the
 //! light choice picks the emitter (its one placeholder facet keeps the facet tables
 //! aligned), then every lane whose emitter is a sphere warps its two numbers to a
 //! uniform point of the object-space sphere (`sampling::uniform_sphere`, with the
@@ -10,7 +10,7 @@
 
 use super::ggx::sin_cos_two_pi;
 use crate::path::lights::SphereEmitter;
-use irradia_geometry::packet::lanes::{gather, F8, M8, V3, W};
+use irradia_geometry::packet::lanes::{gather, Fw, Mw, V3, W};
 
 /// Fields of a sphere-light record (one per emitter; all zero, `IS` included, for
 /// the facet emitters).
@@ -61,8 +61,8 @@ pub(super) struct LightPoint {
     pub q: V3,
     pub n: V3,
     pub radiance: V3,
-    pub pdf_area: F8,
-    pub two_sided: M8,
+    pub pdf_area: Fw,
+    pub two_sided: Mw,
 }
 
 /// `M v` with the columns of a 3×3 matrix at `at` (glam's column order of sums).
@@ -79,7 +79,7 @@ fn mat_vec(table: &[[f32; sph::LEN]], idx: &[u32; W], at: usize, v: V3) -> V3 {
 }
 
 #[inline(always)]
-fn field(table: &[[f32; sph::LEN]], idx: &[u32; W], at: usize) -> F8 {
+fn field(table: &[[f32; sph::LEN]], idx: &[u32; W], at: usize) -> Fw {
     assert!(at < sph::LEN);
     let top = idx.iter().fold(0, |a, &i| a.max(i));
     assert!((top as usize) < table.len());
@@ -102,7 +102,7 @@ fn field3(table: &[[f32; sph::LEN]], idx: &[u32; W], at: usize) -> V3 {
 pub(super) fn sample(
     table: &[[f32; sph::LEN]],
     emitter: &[u32; W],
-    u: [F8; 2],
+    u: [Fw; 2],
     facet: LightPoint,
 ) -> LightPoint {
     let is = field(table, emitter, sph::IS).ne(0.0);

@@ -1,10 +1,10 @@
-//! Where the 8-wide kernel's paths start (see [`super`]): a camera sample per sample
-//! index, either from a caller's closure or made eight at a time from a tile's
+//! Where the wide kernel's paths start (see [`super`]): a camera sample per sample
+//! index, either from a caller's closure or made W at a time from a tile's
 //! [`CameraBatch`] ahead of the lanes that take them. A lane whose path has ended takes
 //! the next one (Laine, Karras, Aila, "Megakernels Considered Harmful", HPG 2013:
 //! regenerating paths in place of finished ones).
 
-use crate::camera_batch::{CameraBatch, Cursor, Starts8};
+use crate::camera_batch::{CameraBatch, Cursor, StartsW};
 use irradia_core::{Ray, Rng};
 use irradia_geometry::packet::lanes::{V3, W};
 
@@ -14,7 +14,7 @@ pub(crate) enum Starts<'a, 'c> {
     /// its camera ray and its stream, already past the pixel jitter. Called through a
     /// `dyn` reference, so the kernel is compiled once, in this crate.
     Each(&'a mut dyn FnMut(usize) -> (Ray, Rng)),
-    /// A tile's camera samples, made eight at once in the kernel's own vector width,
+    /// A tile's camera samples, made W at once in the kernel's own vector width,
     /// and where their filter weights go (`weights[k]` for sample `k`; empty when the
     /// caller needs none: [`CameraBatch::unit_weights`]).
     Camera {
@@ -23,12 +23,12 @@ pub(crate) enum Starts<'a, 'c> {
     },
 }
 
-/// Camera samples made ahead of the lanes that take them, up to eight at once: the
+/// Camera samples made ahead of the lanes that take them, up to W at once: the
 /// rays in lanes and the streams.
 pub(super) struct Ahead {
     /// The batch's cursor at the next sample to make ([`Starts::Camera`]).
     cursor: Option<Cursor>,
-    pub(super) starts: Starts8,
+    pub(super) starts: StartsW,
     /// How many are made, and how many of them lanes have taken.
     made: usize,
     taken: usize,
@@ -41,7 +41,7 @@ impl Ahead {
                 Starts::Camera { batch, .. } => Some(batch.cursor()),
                 Starts::Each(_) => None,
             },
-            starts: Starts8 {
+            starts: StartsW {
                 origin: V3::ZERO,
                 dir: V3::ZERO,
                 rng: std::array::from_fn(|_| Rng::new(0, 0)),
@@ -64,13 +64,13 @@ impl Ahead {
         i
     }
 
-    /// Makes samples `next..next + n` (`n <= 8`, `next` the first not yet made).
+    /// Makes samples `next..next + n` (`n <= W`, `next` the first not yet made).
     #[inline(always)]
     fn make(&mut self, starts: &mut Starts<'_, '_>, next: usize, n: usize) {
         match starts {
             Starts::Camera { batch, weights } => {
                 let cursor = self.cursor.as_mut().expect("a camera batch's cursor");
-                self.starts = batch.eight(cursor, n);
+                self.starts = batch.lanes(cursor, n);
                 if !weights.is_empty() {
                     weights[next..next + n].copy_from_slice(&self.starts.weight[..n]);
                 }

@@ -1,4 +1,4 @@
-//! Eight rays against the scene's spheres at once, exactly: the scalar sphere test's
+//! W rays against the scene's spheres at once, exactly: the scalar sphere test's
 //! arithmetic ([`Sphere`]'s `intersect` and `occluded` under
 //! [`Instance`](irradia_geometry::Instance)'s transform, as the flat scene's
 //! `nearest_rest` and `occluded_rest` ask them) with the lanes in the vector and the
@@ -8,7 +8,7 @@
 //! The quadratic is the scalar one in `f64` (lecture: "Ray Casting a Sphere"; the stable
 //! pair of roots `q / a`, `c / q`, Press et al., Numerical Recipes §5.6; the
 //! discriminant of Haines et al., "Precision Improvements for Ray/Sphere Intersection",
-//! Ray Tracing Gems, ch. 7), eight lanes as two 4-wide AVX2 vectors ([`D8`]). A ray under
+//! Ray Tracing Gems, ch. 7), the W lanes as `f64` vectors ([`Dw`]). A ray under
 //! a transform is carried to object space in `f32` with `glam`'s order of sums; the hit
 //! is the nearest root in `(0, t_max)` with `t_max` shrinking to each hit's `f32` `t`
 //! as the scalar traversal shrinks it. Then, per sphere hit by some lane: the point
@@ -22,8 +22,8 @@
 // Lane loops index several arrays by the lane on purpose.
 #![allow(clippy::needless_range_loop)]
 
-use super::d8::{select, D8, DV3};
-use irradia_geometry::packet::lanes::{F8, M8, V3, W};
+use super::dw::{select, Dw, DV3};
+use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 use irradia_geometry::shapes::Sphere;
 use irradia_geometry::{Hit, SceneHit};
 use irradia_scene::Scene;
@@ -50,23 +50,23 @@ struct Ball {
     placement: Option<Placement>,
 }
 
-/// The spheres of a scene, for eight rays at once.
+/// The spheres of a scene, for W rays at once.
 #[derive(Clone, Debug)]
-pub(crate) struct Spheres8 {
+pub(crate) struct SpheresW {
     balls: Vec<Ball>,
 }
 
-/// The nearest sphere hits of eight rays: in the lanes of `hit`, the scene index of
+/// The nearest sphere hits of W rays: in the lanes of `hit`, the scene index of
 /// the sphere, `t`, the world point, the (geometric and shading) normal and the error
 /// bound.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct SphereHits {
-    pub hit: M8,
+    pub hit: Mw,
     pub instance: [u32; W],
-    pub t: F8,
+    pub t: Fw,
     pub point: V3,
     pub normal: V3,
-    pub error: F8,
+    pub error: Fw,
 }
 
 impl SphereHits {
@@ -101,21 +101,21 @@ fn mat_vec(m: &[[f32; 3]; 3], v: V3) -> V3 {
 
 #[inline(always)]
 fn splat3(c: [f32; 3]) -> V3 {
-    V3::new(F8::splat(c[0]), F8::splat(c[1]), F8::splat(c[2]))
+    V3::new(Fw::splat(c[0]), Fw::splat(c[1]), Fw::splat(c[2]))
 }
 
 #[inline(always)]
 fn widen(v: V3) -> DV3 {
     DV3 {
-        x: D8::widen(v.x),
-        y: D8::widen(v.y),
-        z: D8::widen(v.z),
+        x: Dw::widen(v.x),
+        y: Dw::widen(v.y),
+        z: Dw::widen(v.z),
     }
 }
 
 /// `glam`'s `Vec3::max_element` of `|v|` in every lane.
 #[inline(always)]
-fn max_abs(v: V3) -> F8 {
+fn max_abs(v: V3) -> Fw {
     v.x.abs().max(v.y.abs().max(v.z.abs()))
 }
 
@@ -135,16 +135,16 @@ impl Ball {
     /// `Sphere::quadratic` in every lane: `(a, c, q, miss)`, the roots being `q / a`
     /// and `c / q` where `miss` (a negative discriminant) is false.
     #[inline(always)]
-    fn quadratic(&self, o: V3, d: V3) -> (D8, D8, D8, M8) {
+    fn quadratic(&self, o: V3, d: V3) -> (Dw, Dw, Dw, Mw) {
         let c = self.center;
         let centre = DV3 {
-            x: D8::splat(c[0] as f64),
-            y: D8::splat(c[1] as f64),
-            z: D8::splat(c[2] as f64),
+            x: Dw::splat(c[0] as f64),
+            y: Dw::splat(c[1] as f64),
+            z: Dw::splat(c[2] as f64),
         };
         let o = widen(o).sub(centre);
         let d = widen(d);
-        let r = D8::splat(self.radius as f64);
+        let r = Dw::splat(self.radius as f64);
         let a = d.dot(d);
         let b = o.dot(d);
         let l = o.sub(d.scale(b / a));
@@ -154,7 +154,7 @@ impl Ball {
     }
 }
 
-impl Spheres8 {
+impl SpheresW {
     /// The spheres among scene objects `objects` (scene indices), or `None` when one
     /// of them is not a sphere.
     pub fn new(scene: &Scene, objects: &[u32]) -> Option<Self> {
@@ -199,22 +199,22 @@ impl Spheres8 {
     /// The nearest sphere hit with `0 < t < t_max` of the rays `o + t d` in the lanes
     /// of `active`.
     #[inline(always)]
-    pub fn nearest(&self, o: V3, d: V3, t_max: F8, active: M8) -> SphereHits {
+    pub fn nearest(&self, o: V3, d: V3, t_max: Fw, active: Mw) -> SphereHits {
         let mut out = SphereHits::default();
         let mut best = t_max;
-        let mut best_t = D8::ZERO;
+        let mut best_t = Dw::ZERO;
         let mut which = [0usize; W];
         for (k, s) in self.balls.iter().enumerate() {
             let (oo, dd) = s.object_ray(o, d);
             let (a, c, q, miss) = s.quadratic(oo, dd);
             // `Sphere::roots`, then the nearer root in front of the origin.
             let zero = q.eq(0.0);
-            let t0 = select(zero, D8::ZERO, q / a);
-            let t1 = select(zero, D8::ZERO, c / q);
+            let t0 = select(zero, Dw::ZERO, q / a);
+            let t1 = select(zero, Dw::ZERO, c / q);
             let ordered = t0.le(t1);
             let (lo, hi) = (select(ordered, t0, t1), select(ordered, t1, t0));
             let t = select(lo.gt(0.0), lo, hi);
-            let take = active & !miss & t.gt(0.0) & t.lt(D8::widen(best));
+            let take = active & !miss & t.gt(0.0) & t.lt(Dw::widen(best));
             if !take.any() {
                 continue;
             }
@@ -231,7 +231,7 @@ impl Spheres8 {
         out.t = out.hit.keep(best);
         // The surfaces, sphere by sphere (usually one or two are hit).
         for (k, s) in self.balls.iter().enumerate() {
-            let mut mine = M8::FALSE;
+            let mut mine = Mw::FALSE;
             for lane in 0..W {
                 mine.set(lane, out.hit.get(lane) && which[lane] == k);
             }
@@ -252,10 +252,10 @@ impl Spheres8 {
                 (p.z - c[2] as f64).narrow(),
             );
             let n = off.normalize();
-            let point = splat3(c).add(n.scale(F8::splat(s.radius)));
+            let point = splat3(c).add(n.scale(Fw::splat(s.radius)));
             let n = if s.flipped { n.neg() } else { n };
             let (point, normal, error) = match &s.placement {
-                None => (point, n, F8::splat(s.error)),
+                None => (point, n, Fw::splat(s.error)),
                 // `Instance::intersect`: the world point from `t`, the normal carried
                 // by the inverse transpose and normalised as `Vec3A` does (divided by
                 // the length), the error bound stretched.
@@ -279,9 +279,9 @@ impl Spheres8 {
     /// The lanes of `active` whose ray `o + t d` meets a sphere with `0 < t < t_max`
     /// (`Sphere::occluded`: a root in the range, decided without dividing).
     #[inline(always)]
-    pub fn occluded(&self, o: V3, d: V3, t_max: F8, active: M8) -> M8 {
-        let tm = D8::widen(t_max);
-        let mut blocked = M8::FALSE;
+    pub fn occluded(&self, o: V3, d: V3, t_max: Fw, active: Mw) -> Mw {
+        let tm = Dw::widen(t_max);
+        let mut blocked = Mw::FALSE;
         for s in &self.balls {
             let (oo, dd) = s.object_ray(o, d);
             let (a, c, q, miss) = s.quadratic(oo, dd);
@@ -329,7 +329,7 @@ mod tests {
     /// afar, from the surfaces (inside and out), grazing ones and short segments,
     /// against plain, flipped, transformed and far-off spheres.
     #[test]
-    fn eight_wide_hits_equal_the_scalar_sphere_tests_bit_for_bit() {
+    fn lane_hits_equal_the_scalar_sphere_tests_bit_for_bit() {
         let instances = vec![
             Instance::untransformed(Arc::new(Sphere::new(Vec3::new(0.4, -0.6, 0.3), 0.4))),
             Instance::untransformed(Arc::new(
@@ -356,7 +356,7 @@ mod tests {
         let n = instances.len();
         let scene = scene_of(instances);
         let objects: Vec<u32> = (0..n as u32).collect();
-        let spheres = Spheres8::new(&scene, &objects).unwrap();
+        let spheres = SpheresW::new(&scene, &objects).unwrap();
         let inst = scene.accel.instances();
         let mut rng = Rng::new(3, 4);
         let mut v = |s: f32| {
@@ -369,7 +369,7 @@ mod tests {
         let (mut hits, mut blocked, mut flipped, mut placed) = (0, 0, 0, 0);
         for round in 0..6000 {
             let (mut o, mut d) = (V3::ZERO, V3::ZERO);
-            let mut t_max = F8::splat(f32::INFINITY);
+            let mut t_max = Fw::splat(f32::INFINITY);
             let mut rays = Vec::new();
             for lane in 0..W {
                 let k = (round + lane) % n;
@@ -404,7 +404,7 @@ mod tests {
                 d.set_lane(lane, dir);
                 rays.push(Ray::new(origin, dir));
             }
-            let active = M8::from_fn(|lane| lane != 3 || round % 5 != 0);
+            let active = Mw::from_fn(|lane| lane != 3 || round % 5 != 0);
             let got = spheres.nearest(o, d, t_max, active);
             let occ = spheres.occluded(o, d, t_max, active);
             for lane in 0..W {
@@ -448,7 +448,7 @@ mod tests {
                         assert_eq!(h.error.to_bits(), w.error.to_bits());
                     }
                     (w, g) => {
-                        panic!("round {round} lane {lane}: {ray:?}: scalar {w:?}, 8-wide {g:?}")
+                        panic!("round {round} lane {lane}: {ray:?}: scalar {w:?}, lanes {g:?}")
                     }
                 }
             }
@@ -463,6 +463,6 @@ mod tests {
         let scene = scene_of(vec![Instance::untransformed(Arc::new(
             irradia_geometry::shapes::Cube::new(false),
         ))]);
-        assert!(Spheres8::new(&scene, &[0]).is_none());
+        assert!(SpheresW::new(&scene, &[0]).is_none());
     }
 }

@@ -1,27 +1,27 @@
-//! The conductor's Fresnel reflectance for eight lanes at once (the smooth `conductor`
-//! and `roughconductor` of the 8-wide kernel): the scalar `fresnel_conductor`'s `f64`
+//! The conductor's Fresnel reflectance for the W lanes at once (the smooth `conductor`
+//! and `roughconductor` of the wide kernel): the scalar `fresnel_conductor`'s `f64`
 //! arithmetic (the exact reflectance of a complex index `η + ik`, Born and Wolf,
 //! "Principles of Optics", §14.2; the form of Mitsuba 3's `fresnel_conductor`) in the
-//! same order, with the eight lanes of a channel as two 4-wide AVX2 vectors ([`D8`]),
+//! same order, with the W lanes of a channel as `f64` vectors ([`Dw`]),
 //! so the reflectance equals the scalar one bit for bit. (An `f32` form loses too much
 //! near grazing angles for the kernel's agreement bar.)
 
 // Lane loops index several arrays by the lane on purpose.
 #![allow(clippy::needless_range_loop)]
 
-use super::d8::D8;
+use super::dw::Dw;
 use super::WideScene;
-use irradia_geometry::packet::lanes::{F8, M8, V3, W};
+use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 
 /// `fresnel_conductor(cos, eta, k)` in every lane (`cos` clamped to `[0, 1]` in `f32`
 /// as there, a NaN passing through).
 #[inline(always)]
-pub(crate) fn fresnel_conductor8(cos: F8, eta: D8, k: D8) -> F8 {
+pub(crate) fn fresnel_conductor_lanes(cos: Fw, eta: Dw, k: Dw) -> Fw {
     let mut c = [0.0; W];
     for i in 0..W {
         c[i] = cos.0[i].clamp(0.0, 1.0) as f64;
     }
-    let cos_i = D8(c);
+    let cos_i = Dw(c);
     let cos2_i = cos_i * cos_i;
     let sin2_i = 1.0 - cos2_i;
     let sin4_i = sin2_i * sin2_i;
@@ -45,17 +45,17 @@ pub(crate) fn fresnel_conductor8(cos: F8, eta: D8, k: D8) -> F8 {
 pub(crate) fn conductor_fresnel(
     ws: &WideScene<'_, '_>,
     material: &[u32; W],
-    cos: F8,
-    active: M8,
+    cos: Fw,
+    active: Mw,
 ) -> V3 {
     if !active.any() {
         return V3::ZERO;
     }
     // The lanes' indices (per channel), gathered; lanes without a conductor compute
     // with a placeholder index and are zeroed.
-    let mut eta = [D8::splat(1.0); 3];
-    let mut k = [D8::ZERO; 3];
-    let mut some = M8::FALSE;
+    let mut eta = [Dw::splat(1.0); 3];
+    let mut k = [Dw::ZERO; 3];
+    let mut some = Mw::FALSE;
     for lane in active.lanes() {
         if let Some((e, kk)) = ws.materials[material[lane] as usize].conductor {
             some.set(lane, true);
@@ -70,9 +70,9 @@ pub(crate) fn conductor_fresnel(
     }
     let s = ws.fresnel_scale;
     V3::new(
-        some.keep(fresnel_conductor8(cos, eta[0], k[0]) * s),
-        some.keep(fresnel_conductor8(cos, eta[1], k[1]) * s),
-        some.keep(fresnel_conductor8(cos, eta[2], k[2]) * s),
+        some.keep(fresnel_conductor_lanes(cos, eta[0], k[0]) * s),
+        some.keep(fresnel_conductor_lanes(cos, eta[1], k[1]) * s),
+        some.keep(fresnel_conductor_lanes(cos, eta[2], k[2]) * s),
     )
 }
 
@@ -82,11 +82,11 @@ mod tests {
     use irradia_scatter::ior::conductor_ior;
     use irradia_scatter::optics::fresnel_conductor;
 
-    /// The 8-wide reflectance equals the scalar `f64` one bit for bit for the speed
+    /// The lanes' reflectance equals the scalar `f64` one bit for bit for the speed
     /// suite's metals (and a few others) over the whole range of angles, grazing and
     /// normal incidence, out-of-range cosines and NaN included.
     #[test]
-    fn eight_wide_reflectance_equals_the_scalar_one() {
+    fn lane_reflectance_equals_the_scalar_one() {
         let mut cosines: Vec<f32> = (0..=4000).map(|i| i as f32 / 4000.0).collect();
         cosines.extend([
             -0.5,
@@ -110,8 +110,9 @@ mod tests {
             metals += 1;
             for (e, kk) in [(eta.r, k.r), (eta.g, k.g), (eta.b, k.b)] {
                 for chunk in cosines.chunks(W) {
-                    let cos = F8(chunk.try_into().unwrap());
-                    let got = fresnel_conductor8(cos, D8::splat(e as f64), D8::splat(kk as f64));
+                    let cos = Fw(chunk.try_into().unwrap());
+                    let got =
+                        fresnel_conductor_lanes(cos, Dw::splat(e as f64), Dw::splat(kk as f64));
                     for lane in 0..W {
                         let want = fresnel_conductor(chunk[lane], e, kk);
                         let g = got.0[lane];

@@ -1,4 +1,4 @@
-//! The emitters at infinity for eight lanes at once: Mitsuba's `envmap`
+//! The emitters at infinity for the W lanes at once: Mitsuba's `envmap`
 //! ([`EnvmapSampler`]) looked up and importance sampled in SIMD lanes, and the constant
 //! environment beside it, as Mitsuba 3's `llvm_ad_rgb` variant runs its `envmap` emitter
 //! over vector lanes (Jakob et al., "Dr.Jit", SIGGRAPH 2022): the map's texels, cell
@@ -22,7 +22,7 @@ use super::gather::{checked, field};
 use crate::path::envmap::EnvmapSampler;
 use crate::path::lights::LightSampler;
 use glam::Mat3;
-use irradia_geometry::packet::lanes::{atan2, F8, M8, V3, W};
+use irradia_geometry::packet::lanes::{atan2, Fw, Mw, V3, W};
 use std::f32::consts::PI;
 
 /// A grid vertex's record: the pixel's RGB (unscaled) and the density `dist.pdf(i, j)`
@@ -35,7 +35,7 @@ mod vtx {
 }
 
 /// One environment map in the lanes' form.
-pub(crate) struct Envmap8 {
+pub(crate) struct EnvmapW {
     /// `(W + 1) x H` vertex records ([`vtx`]), row by row; column `W` repeats column 0.
     vertex: Vec<[f32; vtx::LEN]>,
     /// `W + 1`: records per row.
@@ -63,7 +63,7 @@ pub(crate) struct Envmap8 {
     to_world: Mat3,
 }
 
-impl Envmap8 {
+impl EnvmapW {
     pub(crate) fn new(sampler: &EnvmapSampler, probability: f32) -> Self {
         let map = &sampler.map;
         let (w, h) = (map.image.width(), map.image.height());
@@ -107,7 +107,7 @@ impl Envmap8 {
     /// `EnvMap::uv_sin_theta` in every lane: the map's `(u, v)` of world direction `dir`
     /// and its `sin θ`.
     #[inline(always)]
-    fn uv_sin_theta(&self, dir: V3) -> (F8, F8, F8) {
+    fn uv_sin_theta(&self, dir: V3) -> (Fw, Fw, Fw) {
         let d = mat_mul(&self.to_map, dir).normalize();
         let u = atan2(d.x, -d.z) * (0.5 / PI);
         let u = u.lt(0.0).select(u + 1.0, u);
@@ -119,7 +119,7 @@ impl Envmap8 {
     /// `EnvMap::grid` and `EnvMap::cell` of map coordinates `(u, v)`: the index of the
     /// cell's first vertex record and the bilinear weights `fx`, `fy` of `eval_uv`.
     #[inline(always)]
-    fn cell(&self, u: F8, v: F8) -> ([u32; W], F8, F8) {
+    fn cell(&self, u: Fw, v: Fw) -> ([u32; W], Fw, Fw) {
         // `(u - ½/W).rem_euclid(1)`: `u` is in [0, 1) (or NaN), so `%` leaves it as it is.
         let x = u - self.half_texel;
         let s = x.lt(0.0).select(x + 1.0, x);
@@ -136,7 +136,7 @@ impl Envmap8 {
     /// `EnvMap::eval_uv`'s bilinear interpolation of the cell at `idx` with weights
     /// `fx`, `fy`, times the scale, and the cell's density `dist.pdf(i, j)`.
     #[inline(always)]
-    fn bilinear(&self, idx: &[u32; W], fx: F8, fy: F8) -> (V3, F8) {
+    fn bilinear(&self, idx: &[u32; W], fx: Fw, fy: Fw) -> (V3, Fw) {
         let s = self.stride;
         let i10: [u32; W] = std::array::from_fn(|k| idx[k] + 1);
         let i01: [u32; W] = std::array::from_fn(|k| idx[k] + s);
@@ -154,7 +154,7 @@ impl Envmap8 {
         (l, field(&self.vertex, idx, vtx::PDF))
     }
 
-    /// One colour channel `c` of [`Envmap8::bilinear`]: the corners `(i, j)`,
+    /// One colour channel `c` of [`EnvmapW::bilinear`]: the corners `(i, j)`,
     /// `(i + 1, j)`, `(i, j + 1)`, `(i + 1, j + 1)` weighted as `eval_uv` weighs them
     /// (`(fx, 1 - fx)`, `(fy, 1 - fy)`), times the scale.
     #[inline(always)]
@@ -162,9 +162,9 @@ impl Envmap8 {
         &self,
         corners: [&[u32; W]; 4],
         c: usize,
-        (fx, gx): (F8, F8),
-        (fy, gy): (F8, F8),
-    ) -> F8 {
+        (fx, gx): (Fw, Fw),
+        (fy, gy): (Fw, Fw),
+    ) -> Fw {
         let t = &self.vertex;
         let at = vtx::RGB + c;
         let top = field(t, corners[0], at) * gx + field(t, corners[1], at) * fx;
@@ -175,18 +175,18 @@ impl Envmap8 {
     /// `EnvmapSampler::pdf_uv`: the cell's density `p` turned into solid angle at
     /// `sin θ`, 0 for a black map or at the poles.
     #[inline(always)]
-    fn solid_angle(&self, p: F8, sin_theta: F8) -> F8 {
+    fn solid_angle(&self, p: Fw, sin_theta: Fw) -> Fw {
         if !self.has_density {
-            return F8::ZERO;
+            return Fw::ZERO;
         }
-        let pdf = p / (F8::splat(2.0 * PI * PI) * sin_theta);
-        sin_theta.le(0.0).select(F8::ZERO, pdf)
+        let pdf = p / (Fw::splat(2.0 * PI * PI) * sin_theta);
+        sin_theta.le(0.0).select(Fw::ZERO, pdf)
     }
 
     /// `EnvmapSampler::radiance_pdf(dir, true)` in every lane: the radiance arriving
     /// from world direction `dir` and the density with which `sample` produces `dir`.
     #[inline(always)]
-    pub(crate) fn radiance_pdf(&self, dir: V3) -> (V3, F8) {
+    pub(crate) fn radiance_pdf(&self, dir: V3) -> (V3, Fw) {
         let (u, v, sin_theta) = self.uv_sin_theta(dir);
         let (idx, fx, fy) = self.cell(u, v);
         let (radiance, p) = self.bilinear(&idx, fx, fy);
@@ -199,9 +199,9 @@ impl Envmap8 {
     /// in every lane (the rows' tables have one length), which finds the index the
     /// scalar code's guide-table search finds (both are the table's partition point).
     #[inline(always)]
-    pub(crate) fn sample(&self, u: [F8; 2]) -> (M8, V3, V3, F8) {
+    pub(crate) fn sample(&self, u: [Fw; 2]) -> (Mw, V3, V3, Fw) {
         if !self.has_density {
-            return (M8::FALSE, V3::ZERO, V3::ZERO, F8::ZERO);
+            return (Mw::FALSE, V3::ZERO, V3::ZERO, Fw::ZERO);
         }
         let (cells, rows) = (self.stride - 1, self.marginal_cdf.len() as u32 - 1);
         // `Piecewise2D::sample`: the row by the marginal table, then the cell in it.
@@ -213,8 +213,8 @@ impl Envmap8 {
         let y = x + self.half_texel;
         let uu = y.ge(1.0).select(y - 1.0, y);
         // `EnvMap::direction_sin_theta`, the sines and cosines by the C library as there.
-        let (phi, theta) = (F8::splat(2.0 * PI) * uu, F8::splat(PI) * v);
-        let (mut sp, mut cp, mut st, mut ct) = (F8::ZERO, F8::ZERO, F8::ZERO, F8::ZERO);
+        let (phi, theta) = (Fw::splat(2.0 * PI) * uu, Fw::splat(PI) * v);
+        let (mut sp, mut cp, mut st, mut ct) = (Fw::ZERO, Fw::ZERO, Fw::ZERO, Fw::ZERO);
         for k in 0..W {
             (sp.0[k], cp.0[k]) = phi.0[k].sin_cos();
             (st.0[k], ct.0[k]) = theta.0[k].sin_cos();
@@ -227,7 +227,7 @@ impl Envmap8 {
         // `EnvMap::eval_uv` at the sampled point.
         let (cell, fx, fy) = self.cell(uu, v);
         let (radiance, _) = self.bilinear(&cell, fx, fy);
-        let pdf = p / (F8::splat(2.0 * PI * PI) * st);
+        let pdf = p / (Fw::splat(2.0 * PI * PI) * st);
         (ok, wi, radiance, pdf)
     }
 }
@@ -237,7 +237,7 @@ impl Envmap8 {
 /// its cell. The partition point (entries `<= u`) by a branch-free binary search of
 /// `⌈log₂(n + 1)⌉` gathers, the same in every lane.
 #[inline(always)]
-fn sample_1d(cdf: &[[f32; 1]], start: &[u32; W], n: u32, u: F8) -> (F8, [u32; W]) {
+fn sample_1d(cdf: &[[f32; 1]], start: &[u32; W], n: u32, u: Fw) -> (Fw, [u32; W]) {
     let last: [u32; W] = std::array::from_fn(|k| start[k] + n);
     checked(cdf, &last);
     let mut base = *start;
@@ -259,26 +259,26 @@ fn sample_1d(cdf: &[[f32; 1]], start: &[u32; W], n: u32, u: F8) -> (F8, [u32; W]
     let hi_at: [u32; W] = std::array::from_fn(|k| start[k] + i[k] + 1);
     let (lo, hi) = (field(cdf, &lo_at, 0), field(cdf, &hi_at, 0));
     let du = (u - lo) / (hi - lo);
-    let du = du.lt(0.0).select(F8::ZERO, du);
+    let du = du.lt(0.0).select(Fw::ZERO, du);
     let du = du
         .gt(1.0 - f32::EPSILON)
-        .select(F8::splat(1.0 - f32::EPSILON), du);
-    let du = hi.gt(lo).select(du, F8::splat(0.5));
-    let fi = F8(std::array::from_fn(|k| i[k] as i32 as f32));
+        .select(Fw::splat(1.0 - f32::EPSILON), du);
+    let du = hi.gt(lo).select(du, Fw::splat(0.5));
+    let fi = Fw(std::array::from_fn(|k| i[k] as i32 as f32));
     ((fi + du) / n as f32, i)
 }
 
 /// Every emitter at infinity of a scene in the lanes' form: the constant environment
 /// (the background and Mitsuba's `constant` emitters, one radiance) and the maps.
-pub(crate) struct Environment8 {
+pub(crate) struct EnvironmentW {
     /// The constant environment's radiance and its share of the light density,
     /// `probability / 4π` (zeros without one).
     constant: [f32; 3],
     constant_pdf: f32,
-    maps: Vec<Envmap8>,
+    maps: Vec<EnvmapW>,
 }
 
-impl Environment8 {
+impl EnvironmentW {
     pub(crate) fn new(lights: &LightSampler) -> Self {
         let (constant, constant_pdf, maps) = lights.environment_parts();
         Self {
@@ -286,13 +286,13 @@ impl Environment8 {
             constant_pdf,
             maps: maps
                 .into_iter()
-                .map(|(s, probability)| Envmap8::new(s, probability))
+                .map(|(s, probability)| EnvmapW::new(s, probability))
                 .collect(),
         }
     }
 
     /// The environment maps, in `LightSampler::environment_parts`' order.
-    pub(crate) fn maps(&self) -> &[Envmap8] {
+    pub(crate) fn maps(&self) -> &[EnvmapW] {
         &self.maps
     }
 
@@ -300,14 +300,14 @@ impl Environment8 {
     /// the radiance a ray travelling along `dir` sees when it leaves the scene, and the
     /// density with which light sampling produces `dir`.
     #[inline(always)]
-    pub(crate) fn radiance_pdf(&self, dir: V3) -> (V3, F8) {
+    pub(crate) fn radiance_pdf(&self, dir: V3) -> (V3, Fw) {
         let [r, g, b] = self.constant;
-        let mut l = V3::new(F8::splat(r), F8::splat(g), F8::splat(b));
-        let mut pdf = F8::splat(self.constant_pdf);
+        let mut l = V3::new(Fw::splat(r), Fw::splat(g), Fw::splat(b));
+        let mut pdf = Fw::splat(self.constant_pdf);
         for m in &self.maps {
             let (li, p) = m.radiance_pdf(dir);
             l = l.add(li);
-            pdf = pdf + F8::splat(m.probability) * p;
+            pdf = pdf + Fw::splat(m.probability) * p;
         }
         (l, pdf)
     }
@@ -317,26 +317,26 @@ impl Environment8 {
 #[inline(always)]
 fn mat_mul(m: &Mat3, v: V3) -> V3 {
     let row = |k: usize| {
-        F8::splat(m.x_axis[k]) * v.x + F8::splat(m.y_axis[k]) * v.y + F8::splat(m.z_axis[k]) * v.z
+        Fw::splat(m.x_axis[k]) * v.x + Fw::splat(m.y_axis[k]) * v.y + Fw::splat(m.z_axis[k]) * v.z
     };
     V3::new(row(0), row(1), row(2))
 }
 
 /// `f32::clamp(0, 1)` in every lane (a NaN stays NaN).
 #[inline(always)]
-fn clamp_unit(x: F8) -> F8 {
-    let x = x.lt(0.0).select(F8::ZERO, x);
-    x.gt(1.0).select(F8::splat(1.0), x)
+fn clamp_unit(x: Fw) -> Fw {
+    let x = x.lt(0.0).select(Fw::ZERO, x);
+    x.gt(1.0).select(Fw::splat(1.0), x)
 }
 
 /// `(x as u32).min(top)` for an integer `top`, as integers and as `f32`: negative and
 /// NaN lanes give 0 (as the saturating cast does).
 #[inline(always)]
-fn truncate_to(x: F8, top: f32) -> ([u32; W], F8) {
-    let x = x.ge(0.0).select(x, F8::ZERO).min(top);
+fn truncate_to(x: Fw, top: f32) -> ([u32; W], Fw) {
+    let x = x.ge(0.0).select(x, Fw::ZERO).min(top);
     // SAFETY: every lane is finite and in [0, top], which fits an i32.
     let i: [u32; W] = std::array::from_fn(|k| unsafe { x.0[k].to_int_unchecked::<i32>() } as u32);
-    let f = F8(std::array::from_fn(|k| i[k] as i32 as f32));
+    let f = Fw(std::array::from_fn(|k| i[k] as i32 as f32));
     (i, f)
 }
 
@@ -413,12 +413,12 @@ mod tests {
     #[test]
     fn lanes_equal_the_scalar_sample() {
         let s = sampler();
-        let m = Envmap8::new(&s, 1.0);
+        let m = EnvmapW::new(&s, 1.0);
         let mut rng = Rng::new(31, 32);
         let edge = [0.0, 0.5, 1.0 - f32::EPSILON / 2.0, 0.999_9, 1e-7];
         let (mut some, mut none) = (0, 0);
         for round in 0..2000 {
-            let mut u = [F8::ZERO; 2];
+            let mut u = [Fw::ZERO; 2];
             for k in 0..W {
                 let e = |i: usize| edge[(round + i) % edge.len()];
                 u[0].0[k] = if round < 20 && k < 4 {
@@ -468,11 +468,11 @@ mod tests {
     fn lanes_equal_the_scalar_lookup_and_density() {
         let s = sampler();
         let probability = 0.7;
-        let m = Envmap8::new(&s, probability);
-        let env = Environment8 {
+        let m = EnvmapW::new(&s, probability);
+        let env = EnvironmentW {
             constant: [0.1, 0.2, 0.3],
             constant_pdf: 0.3 / (4.0 * PI),
-            maps: vec![Envmap8::new(&s, probability)],
+            maps: vec![EnvmapW::new(&s, probability)],
         };
         let dirs = directions(&s.map);
         for chunk in dirs.chunks(W) {

@@ -1,9 +1,9 @@
-//! Eight rays against every triangle of a small flat scene at once: the SIMD lanes hold
+//! W rays against every triangle of a small flat scene at once: the SIMD lanes hold
 //! rays instead of triangles (the ray-packet layout of Wald, Slusallek, Benthin,
 //! Wagner, "Interactive Rendering with Coherent Ray Tracing", Eurographics 2001, here
 //! with incoherent rays: Mitsuba 3's `llvm` variants trace their lanes' rays the same
 //! way, a wavefront at a time). For the Cornell box (36 triangles) one pass over the
-//! triangles costs less than eight separate walks of the flat scene's packets, and the
+//! triangles costs less than a walk of the flat scene's packets per lane, and the
 //! per-lane calls disappear.
 //!
 //! The test is [`TrianglePacket`](super::triangle8::TrianglePacket)'s
@@ -13,10 +13,10 @@
 //! the first of equally near hits, so the hits are the flat scene's up to the rounding
 //! of a comparison at a tie.
 
-use super::lanes::{F8, M8, V3, W};
+use super::lanes::{Fw, Mw, V3, W};
 use glam::Vec3;
 
-/// Scenes of at most this many triangles are traced eight rays at a time.
+/// Scenes of at most this many triangles are traced W rays at a time.
 pub const MAX_TRIANGLES: usize = 64;
 
 /// The triangles as the ray-lane test reads them.
@@ -28,29 +28,29 @@ pub struct RayLaneTriangles {
     ids: Vec<u32>,
 }
 
-/// The nearest hits of eight rays.
+/// The nearest hits of W rays.
 #[derive(Clone, Copy, Debug)]
 pub struct LaneHits {
-    pub hit: M8,
+    pub hit: Mw,
     pub triangle: [u32; W],
-    pub t: F8,
-    pub b1: F8,
-    pub b2: F8,
+    pub t: Fw,
+    pub b1: Fw,
+    pub b2: Fw,
 }
 
 impl LaneHits {
     /// No lane hits anything.
     pub const NONE: LaneHits = LaneHits {
-        hit: M8::FALSE,
+        hit: Mw::FALSE,
         triangle: [0; W],
-        t: F8::ZERO,
-        b1: F8::ZERO,
-        b2: F8::ZERO,
+        t: Fw::ZERO,
+        b1: Fw::ZERO,
+        b2: Fw::ZERO,
     };
 }
 
 #[inline(always)]
-fn fmadd<const FMA: bool>(a: F8, b: F8, c: F8) -> F8 {
+fn fmadd<const FMA: bool>(a: Fw, b: Fw, c: Fw) -> Fw {
     if FMA {
         a.mul_add(b, c)
     } else {
@@ -60,7 +60,7 @@ fn fmadd<const FMA: bool>(a: F8, b: F8, c: F8) -> F8 {
 
 /// `a b - c`, fused when `FMA` (as `_mm256_fmsub_ps`).
 #[inline(always)]
-fn fmsub<const FMA: bool>(a: F8, b: F8, c: F8) -> F8 {
+fn fmsub<const FMA: bool>(a: Fw, b: Fw, c: Fw) -> Fw {
     if FMA {
         a.mul_add(b, -c)
     } else {
@@ -70,8 +70,8 @@ fn fmsub<const FMA: bool>(a: F8, b: F8, c: F8) -> F8 {
 
 /// `a · (r[k], r[k+1], r[k+2])` summed as the packet test sums it.
 #[inline(always)]
-fn dot<const FMA: bool>(a: V3, r: &[f32; 12], k: usize) -> F8 {
-    let (x, y, z) = (F8::splat(r[k]), F8::splat(r[k + 1]), F8::splat(r[k + 2]));
+fn dot<const FMA: bool>(a: V3, r: &[f32; 12], k: usize) -> Fw {
+    let (x, y, z) = (Fw::splat(r[k]), Fw::splat(r[k + 1]), Fw::splat(r[k + 2]));
     if FMA {
         fmadd::<true>(a.z, z, fmadd::<true>(a.y, y, a.x * x))
     } else {
@@ -79,10 +79,10 @@ fn dot<const FMA: bool>(a: V3, r: &[f32; 12], k: usize) -> F8 {
     }
 }
 
-/// One triangle against eight rays: the hit mask (`0 < t < t_max`), the sign-corrected
+/// One triangle against W rays: the hit mask (`0 < t < t_max`), the sign-corrected
 /// numerators of `b1`, `b2`, `t` and `|den|`.
 #[inline(always)]
-fn test<const FMA: bool>(r: &[f32; 12], o: V3, d: V3, t_max: F8) -> (M8, F8, F8, F8, F8) {
+fn test<const FMA: bool>(r: &[f32; 12], o: V3, d: V3, t_max: Fw) -> (Mw, Fw, Fw, Fw, Fw) {
     let sv = V3::new(o.x - r[0], o.y - r[1], o.z - r[2]);
     let rv = V3::new(
         fmsub::<FMA>(d.y, sv.z, d.z * sv.y),
@@ -131,15 +131,15 @@ impl RayLaneTriangles {
 
     /// The nearest hit (`t > 0`) of each ray of `active`.
     #[inline(always)]
-    pub fn nearest<const FMA: bool>(&self, o: V3, d: V3, active: M8) -> LaneHits {
-        self.nearest_within::<FMA>(o, d, F8::splat(f32::INFINITY), active)
+    pub fn nearest<const FMA: bool>(&self, o: V3, d: V3, active: Mw) -> LaneHits {
+        self.nearest_within::<FMA>(o, d, Fw::splat(f32::INFINITY), active)
     }
 
     /// The nearest hit with `0 < t < t_max` of each ray of `active`.
     #[inline(always)]
-    pub fn nearest_within<const FMA: bool>(&self, o: V3, d: V3, t_max: F8, active: M8) -> LaneHits {
+    pub fn nearest_within<const FMA: bool>(&self, o: V3, d: V3, t_max: Fw, active: Mw) -> LaneHits {
         // Inactive lanes get t_max = -inf: nothing is accepted.
-        let mut best = active.select(t_max, F8::splat(f32::NEG_INFINITY));
+        let mut best = active.select(t_max, Fw::splat(f32::NEG_INFINITY));
         let mut h = LaneHits::NONE;
         for (r, &id) in self.records.iter().zip(&self.ids) {
             let (ok, u, v, t, abs_den) = test::<FMA>(r, o, d, best);
@@ -167,8 +167,8 @@ impl RayLaneTriangles {
 
     /// Which rays of `active` hit a triangle with `0 < t < t_max`.
     #[inline(always)]
-    pub fn occluded<const FMA: bool>(&self, o: V3, d: V3, t_max: F8, active: M8) -> M8 {
-        let mut hit = M8::FALSE;
+    pub fn occluded<const FMA: bool>(&self, o: V3, d: V3, t_max: Fw, active: Mw) -> Mw {
+        let mut hit = Mw::FALSE;
         for (k, r) in self.records.iter().enumerate() {
             let (ok, ..) = test::<FMA>(r, o, d, t_max);
             hit = hit | ok;

@@ -1,10 +1,10 @@
-//! Eight rays against the scene's spheres at once: a conservative 8-wide cull in front
+//! W rays against the scene's spheres at once: a conservative lane cull in front
 //! of the exact lane-by-lane sphere pass of the kernel.
 //!
 //! The kernel traces spheres (the objects the flat scene leaves to their own shapes'
 //! tests) lane by lane with the scalar `closest_hit`'s second half, so that hits, normals
 //! and error bounds are the scalar ones bit for bit. Most rays miss every sphere; this
-//! test finds, for eight rays at once, the lanes whose ray may come near a sphere
+//! test finds, for W rays at once, the lanes whose ray may come near a sphere
 //! within `(0, t_max)`, and only those lanes run the exact pass (the others cannot hit:
 //! their answer is "no sphere", which is the exact answer). The hits themselves are
 //! unchanged, so the kernel's samples are too.
@@ -22,7 +22,7 @@
 // Lane loops index several arrays by the lane on purpose.
 #![allow(clippy::needless_range_loop)]
 
-use irradia_geometry::packet::lanes::{F8, M8, V3};
+use irradia_geometry::packet::lanes::{Fw, Mw, V3};
 use irradia_scene::Scene;
 
 /// Relative margin on the bounding balls: a thousand times `f32`'s epsilon and more.
@@ -59,12 +59,12 @@ impl SphereCull {
     /// The lanes of `active` whose ray `o + t d` may meet a sphere with `0 < t <
     /// t_max` (a superset of those that do).
     #[inline(always)]
-    pub fn may_hit(&self, o: V3, d: V3, t_max: F8, active: M8) -> M8 {
+    pub fn may_hit(&self, o: V3, d: V3, t_max: Fw, active: Mw) -> Mw {
         let a = d.dot(d);
         let len = a.sqrt();
-        let mut maybe = M8::FALSE;
+        let mut maybe = Mw::FALSE;
         for s in &self.balls {
-            let c = V3::new(F8::splat(s[0]), F8::splat(s[1]), F8::splat(s[2]));
+            let c = V3::new(Fw::splat(s[0]), Fw::splat(s[1]), Fw::splat(s[2]));
             let oc = c.sub(o);
             // The parameter of the closest approach and the perpendicular offset.
             let b = oc.dot(d) / a;
@@ -140,7 +140,7 @@ mod tests {
         };
         let (mut hits, mut kept_misses, mut misses) = (0, 0, 0);
         for round in 0..4000 {
-            let (mut o, mut d, mut t_max) = (V3::ZERO, V3::ZERO, F8::splat(f32::INFINITY));
+            let (mut o, mut d, mut t_max) = (V3::ZERO, V3::ZERO, Fw::splat(f32::INFINITY));
             let mut rays = Vec::new();
             for lane in 0..W {
                 let k = (round + lane) % n;
@@ -178,7 +178,7 @@ mod tests {
                 d.set_lane(lane, dir);
                 rays.push(Ray::new(origin, dir));
             }
-            let kept = cull.may_hit(o, d, t_max, M8::TRUE);
+            let kept = cull.may_hit(o, d, t_max, Mw::TRUE);
             for lane in 0..W {
                 let tm = t_max.0[lane];
                 let hit = inst
