@@ -8,7 +8,7 @@
 
 use glam::{Vec2, Vec3};
 use irradia_core::{sampling, Ray};
-use irradia_geometry::packet::lanes::{Fw, V3};
+use irradia_geometry::packet::lanes::{Fw, V3, W};
 
 /// Which image axis the field of view spans (Mitsuba's `fov_axis`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -290,12 +290,12 @@ mod tests {
             let r = c.rays(w, h);
             assert!(r.is_pinhole());
             let (mut x, mut y) = (Fw::ZERO, Fw::ZERO);
-            for lane in 0..8 {
+            for lane in 0..W {
                 x.0[lane] = rng.next_f32() * w as f32;
                 y.0[lane] = rng.next_f32() * h as f32;
             }
             let (o, d) = r.pinhole_rays_lanes(x, y);
-            for lane in 0..8 {
+            for lane in 0..W {
                 let want = r.ray(x.0[lane], y.0[lane]);
                 assert_eq!(
                     o.lane(lane).to_array(),
