@@ -8,7 +8,7 @@
 
 use glam::{Vec2, Vec3};
 use irradia_core::{sampling, Ray};
-use irradia_geometry::packet::lanes::{Fw, V3, W};
+use irradia_geometry::packet::lanes::{Fw, V3};
 
 /// Which image axis the field of view spans (Mitsuba's `fov_axis`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -259,6 +259,7 @@ impl CameraRays {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use irradia_geometry::packet::lanes::W;
 
     fn camera(projection: Projection) -> Camera {
         Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, projection)
