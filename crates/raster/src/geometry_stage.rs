@@ -19,7 +19,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use crate::binning::BATCH;
 use crate::prefetch;
 use crate::tiny::{self, Fragment, FRAGMENT_BIT};
-use crate::widest::Build;
+use irradia_geometry::packet::SimdBuild;
 
 /// A configured geometry unit for one frame.
 pub(crate) struct GeometryStage<'a> {
@@ -46,7 +46,7 @@ pub(crate) struct GeometryStage<'a> {
     /// they are lit ([`GeometryStage::with_occlusion`]).
     occlusion: Option<DepthFunc>,
     /// The instruction set the per-batch loops are compiled for ([`crate::widest`]).
-    build: Build,
+    build: SimdBuild,
 }
 
 impl<'a> GeometryStage<'a> {
@@ -77,7 +77,7 @@ impl<'a> GeometryStage<'a> {
             fragments: false,
             pool: None,
             occlusion: None,
-            build: Build::best(),
+            build: SimdBuild::best(),
         }
     }
 
@@ -109,7 +109,7 @@ impl<'a> GeometryStage<'a> {
     /// Compiles the per-batch loops for `build` instead of the widest one the CPU runs
     /// (tests compare the builds).
     #[cfg(test)]
-    pub(crate) fn with_build(mut self, build: Build) -> Self {
+    pub(crate) fn with_build(mut self, build: SimdBuild) -> Self {
         self.build = build;
         self
     }

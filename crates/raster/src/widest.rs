@@ -1,6 +1,7 @@
 //! The geometry stage's per-batch loops compiled for the widest instruction set the CPU
-//! runs, picked at run time as the path kernel picks its `KernelBuild`
-//! (`irradia_render::path::wide`). The crate is built for the x86-64 baseline (SSE2), so
+//! runs ([`SimdBuild`](irradia_geometry::packet::SimdBuild), picked at run time as the
+//! path tracer's wide kernel picks its build), and the test that every build makes the
+//! same triangles. The crate is built for the x86-64 baseline (SSE2), so
 //! the inlined per-triangle code (transform, lighting, projection, snapping, culling,
 //! binning) otherwise runs with two-operand SSE instructions and 16 vector registers;
 //! with AVX2 it gets three-operand VEX forms, with AVX-512 also 32 registers (fewer
@@ -10,92 +11,17 @@
 //! operations in the same order, and Rust never contracts a multiply and an add into
 //! an FMA on its own (the `fma` feature only lets LLVM use the instruction where the
 //! source asks for a fused multiply-add), so only the instruction encodings differ.
-//! `geometry_stage`'s tests compare the builds' triangles bit for bit.
-
-/// A build of the loops [`Build::run`] is given.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Build {
-    /// The target's baseline (SSE2 on x86-64).
-    Portable,
-    /// AVX2 + FMA.
-    Avx2,
-    /// AVX2 + FMA + AVX-512 F/VL/DQ/BW.
-    Avx512,
-}
-
-impl Build {
-    /// Every build, narrowest first.
-    #[cfg(test)]
-    pub(crate) const ALL: [Build; 3] = [Build::Portable, Build::Avx2, Build::Avx512];
-
-    /// The widest build this CPU runs.
-    pub(crate) fn best() -> Self {
-        [Build::Avx512, Build::Avx2]
-            .into_iter()
-            .find(|b| b.available())
-            .unwrap_or(Build::Portable)
-    }
-
-    /// Whether this CPU runs the build.
-    pub(crate) fn available(self) -> bool {
-        match self {
-            Build::Portable => true,
-            Build::Avx2 => irradia_geometry::packet::has_avx2(),
-            Build::Avx512 => irradia_geometry::packet::has_avx512(),
-        }
-    }
-
-    /// Runs `f`, inlined into a function compiled for this build. Mark `f` (and the
-    /// closures it calls at more than one place) `#[inline(always)]`: LLVM otherwise
-    /// may keep a large closure out of line, compiled for the baseline (measured: the
-    /// soup loop's corner-lighting closure stayed a call until marked).
-    ///
-    /// # Panics
-    /// In debug builds, when the CPU does not run the build ([`Build::available`]).
-    #[inline(always)]
-    pub(crate) fn run<R>(self, f: impl FnOnce() -> R) -> R {
-        debug_assert!(self.available());
-        #[cfg(target_arch = "x86_64")]
-        match self {
-            // SAFETY: `self` is only ever a build the CPU runs (`best`, or a test's
-            // choice among the `available` ones).
-            Build::Avx512 => return unsafe { avx512(f) },
-            Build::Avx2 => return unsafe { avx2(f) },
-            Build::Portable => {}
-        }
-        f()
-    }
-}
-
-/// `f` compiled with AVX2 and FMA.
-///
-/// # Safety
-/// The CPU must have them.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn avx2<R>(f: impl FnOnce() -> R) -> R {
-    f()
-}
-
-/// `f` compiled with AVX2, FMA and AVX-512 F/VL/DQ/BW.
-///
-/// # Safety
-/// The CPU must have them.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")]
-unsafe fn avx512<R>(f: impl FnOnce() -> R) -> R {
-    f()
-}
+//! The test below compares the builds' triangles bit for bit.
 
 #[cfg(test)]
 mod tests {
-    use super::Build;
     use crate::geometry_stage::{Batch, GeometryStage};
     use crate::lighting::{EyeLights, Lights, Material, Shading};
     use crate::mesh::{Mesh, Triangle, Vertex};
     use crate::rasterizer::CullMode;
     use crate::view::ViewParams;
     use glam::{Vec2, Vec3};
+    use irradia_geometry::packet::SimdBuild;
 
     /// SplitMix64 numbers in [0, 1).
     struct Rng(u64);
@@ -185,7 +111,7 @@ mod tests {
             ..Material::default()
         };
         let lights = EyeLights::new(&Lights::default(), &material, view.view, false);
-        let run = |build: Build| {
+        let run = |build: SimdBuild| {
             let stage = GeometryStage::new(
                 view.view,
                 view.proj,
@@ -205,13 +131,13 @@ mod tests {
                 bits(&stage.triangles(&tris)),
             ]
         };
-        let portable = run(Build::Portable);
+        let portable = run(SimdBuild::Portable);
         let made: usize = portable.iter().flatten().map(|s| s.len()).sum();
         assert!(
             made > 1_000_000,
             "too little output to compare: {made} bytes"
         );
-        for build in Build::ALL.into_iter().filter(|b| b.available()) {
+        for build in SimdBuild::ALL.into_iter().filter(|b| b.available()) {
             for (case, (a, b)) in ["soup", "flat", "grid", "triangles"]
                 .iter()
                 .zip(portable.iter().zip(run(build)))

@@ -9,6 +9,7 @@ use path_common::wide::{assert_builds_agree, both_estimates, Variant};
 
 use glam::{Affine3A, Quat, Vec3};
 use irradia_core::Rgb;
+use irradia_geometry::packet::SimdBuild;
 use irradia_geometry::shapes::{Cuboid, Sphere};
 use irradia_geometry::{Instance, TriangleMesh};
 use irradia_render::camera_batch::CameraBatch;
@@ -17,7 +18,7 @@ use irradia_render::filter::FilterSampler;
 use irradia_render::path::flat_scene::FlatScene;
 use irradia_render::path::integrator::PathScene;
 use irradia_render::path::lights::LightSampler;
-use irradia_render::path::wide::{samples_agreeing, KernelBuild, WideScene};
+use irradia_render::path::wide::{samples_agreeing, WideScene};
 use irradia_render::path::Kernel;
 use irradia_render::path::{self, PathCounters, PathParams};
 use irradia_render::sampler::{camera_sample, Sampler};
@@ -559,11 +560,7 @@ fn camera_batches_give_the_one_by_one_estimates_bit_for_bit() {
                 .collect();
             // (The portable build rounds its triangle tests without FMA: each build is
             // compared with itself.)
-            let builds = [
-                KernelBuild::Portable,
-                KernelBuild::Avx2,
-                KernelBuild::Avx512,
-            ];
+            let builds = [SimdBuild::Portable, SimdBuild::Avx2, SimdBuild::Avx512];
             for build in builds.into_iter().filter(|b| b.available()) {
                 let wide = WideScene::new(&ps).unwrap().with_build(build);
                 let mut one_by_one = vec![Rgb::BLACK; batch.len()];

@@ -18,16 +18,21 @@
 //!   arithmetic as [`triangle8`] in the lane types of [`lanes`], for tracing a batch of
 //!   rays over a small scene in one pass over its triangles.
 //!
+//! [`simd_build`] says which instruction set a hot loop runs in (the CPU's features,
+//! [`SimdBuild`]), for these kernels and for the path and raster loops that inline them.
+//!
 //! Both Möller-Trumbore kernels compute the same products and sums, so their hits agree
 //! up to the rounding of a comparison at a tie (`crates/render/tests/ray_query.rs` checks it).
 
 pub mod bounds8;
 pub mod lanes;
 pub mod ray_lanes;
+pub mod simd_build;
 pub mod triangle8;
 pub mod watertight4;
 
 pub use bounds8::PacketBounds;
 pub use ray_lanes::RayLaneTriangles;
-pub use triangle8::{has_avx2, has_avx512, PacketHit, TrianglePacket, LANES};
+pub use simd_build::{has_avx2, has_avx512, SimdBuild};
+pub use triangle8::{PacketHit, TrianglePacket, LANES};
 pub use watertight4::Triangle4;

@@ -23,6 +23,7 @@
 //! tracer's estimate is unaffected at any measurable level; Mitsuba's and Embree's
 //! default triangle tests behave the same way.
 
+use super::simd_build::has_avx2;
 use glam::Vec3;
 
 /// Lanes of a packet.
@@ -52,40 +53,6 @@ pub struct PacketHit {
 /// Per-lane results of a test: sign-corrected numerators of `b1`, `b2`, `t` and
 /// `|den|`.
 type Lanes = [[f32; LANES]; 4];
-
-/// Whether the AVX-512 (F, VL, DQ, BW) path of the path kernel can run (checked once):
-/// the same eight-lane code, compiled with mask registers, 64-bit lane multiplies and
-/// one 8-lane `f64` register (Zen 4, Ice Lake and later).
-#[inline(always)]
-pub fn has_avx512() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::sync::OnceLock;
-        static AVX512: OnceLock<bool> = OnceLock::new();
-        *AVX512.get_or_init(|| {
-            has_avx2()
-                && is_x86_feature_detected!("avx512f")
-                && is_x86_feature_detected!("avx512vl")
-                && is_x86_feature_detected!("avx512dq")
-                && is_x86_feature_detected!("avx512bw")
-        })
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    false
-}
-
-/// Whether the AVX2 + FMA path can run (checked once).
-#[inline(always)]
-pub fn has_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::sync::OnceLock;
-        static AVX2: OnceLock<bool> = OnceLock::new();
-        *AVX2.get_or_init(|| is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma"))
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    false
-}
 
 impl TrianglePacket {
     /// Packs up to eight triangles (corners `v0, v1, v2`).

@@ -43,7 +43,9 @@ use irradia_geometry::packet::bounds8::{any_culled_avx2, nearest_culled_avx2};
 use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 use irradia_geometry::packet::ray_lanes::LaneHits;
 use irradia_geometry::packet::triangle8 as packet;
-use irradia_geometry::packet::{PacketBounds, PacketHit, RayLaneTriangles, TrianglePacket, LANES};
+use irradia_geometry::packet::{
+    has_avx2, PacketBounds, PacketHit, RayLaneTriangles, TrianglePacket, LANES,
+};
 use irradia_geometry::triangle::TriangleHit;
 use irradia_geometry::{Accel, Hit, Instance, ObjectSet, RayQuery, RaySegment, SceneHit};
 use irradia_scene::{Scene, Texture};
@@ -377,7 +379,7 @@ impl Baked {
         let (o, d) = (ray.origin, ray.dir);
         let (index, h) = match &self.bvh {
             #[cfg(target_arch = "x86_64")]
-            None if self.bounds.is_some() && packet::has_avx2() => {
+            None if self.bounds.is_some() && has_avx2() => {
                 // SAFETY: the CPU supports AVX2 and FMA.
                 unsafe { nearest_culled_avx2(&self.packets, self.bounds.as_ref()?, o, d, t_max)? }
             }
@@ -451,7 +453,7 @@ impl Baked {
         let (o, d) = (ray.origin, ray.dir);
         match &self.bvh {
             #[cfg(target_arch = "x86_64")]
-            None if self.bounds.is_some() && packet::has_avx2() => match &self.bounds {
+            None if self.bounds.is_some() && has_avx2() => match &self.bounds {
                 // SAFETY: the CPU supports AVX2 and FMA.
                 Some(b) => unsafe { any_culled_avx2(&self.packets, b, o, d, t_max) },
                 None => false,
@@ -764,7 +766,7 @@ impl RayQuery for FlatScene {
 /// runs: fused (AVX2 + FMA) when the CPU has it, unfused (SSE) otherwise.
 fn ray_lanes_nearest(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: Fw, active: Mw) -> LaneHits {
     #[cfg(target_arch = "x86_64")]
-    if packet::has_avx2() {
+    if has_avx2() {
         #[target_feature(enable = "avx2,fma")]
         unsafe fn fused(l: &RayLaneTriangles, o: V3, d: V3, t: Fw, a: Mw) -> LaneHits {
             l.nearest_within::<true>(o, d, t, a)
@@ -778,7 +780,7 @@ fn ray_lanes_nearest(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: Fw, active: 
 /// As [`ray_lanes_nearest`], for shadow rays.
 fn ray_lanes_occluded(lanes: &RayLaneTriangles, o: V3, d: V3, t_max: Fw, active: Mw) -> Mw {
     #[cfg(target_arch = "x86_64")]
-    if packet::has_avx2() {
+    if has_avx2() {
         #[target_feature(enable = "avx2,fma")]
         unsafe fn fused(l: &RayLaneTriangles, o: V3, d: V3, t: Fw, a: Mw) -> Mw {
             l.occluded::<true>(o, d, t, a)

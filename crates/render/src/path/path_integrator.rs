@@ -8,7 +8,7 @@ use super::flat_scene::FlatScene;
 use super::integrator::{radiance_in, PathCounters, PathParams, PathScene};
 use super::lights::LightSampler;
 use super::tracer::Tracer;
-use super::wide::WideScene;
+use super::wide::{WideScene, KERNEL_VAR};
 use crate::camera_batch::CameraBatch;
 use crate::driver::{self, DriverSetup, ProgressiveOptions, Rendered, SamplerKind};
 use crate::film::Film;
@@ -40,8 +40,8 @@ pub struct PathIntegrator<'s, 'a> {
 
 impl<'s, 'a> PathIntegrator<'s, 'a> {
     pub fn new(ps: &'s PathScene<'a, FlatScene>, params: PathParams, kernel: Kernel) -> Self {
-        let scalar_only = kernel == Kernel::Scalar
-            || std::env::var("IRRADIA_PATH_KERNEL").is_ok_and(|v| v == "scalar");
+        let scalar_only =
+            kernel == Kernel::Scalar || std::env::var(KERNEL_VAR).is_ok_and(|v| v == "scalar");
         let direct = match ps.scene.settings.integrator {
             irradia_scene::Integrator::Direct {
                 emitter_samples,

@@ -3,11 +3,12 @@
 //! and by the kernel, from the same per-sample random streams.
 
 use irradia_core::{Ray, Rgb, Rng};
+use irradia_geometry::packet::SimdBuild;
 use irradia_render::filter::FilterSampler;
 use irradia_render::path::flat_scene::FlatScene;
 use irradia_render::path::integrator::{radiance_in, PathScene};
 use irradia_render::path::lights::LightSampler;
-use irradia_render::path::wide::{KernelBuild, WideScene};
+use irradia_render::path::wide::WideScene;
 use irradia_render::path::{PathCounters, PathParams};
 use irradia_render::sampler::{camera_sample, Sampler};
 use irradia_scene::camera::CameraRays;
@@ -96,9 +97,9 @@ pub fn wide_estimates(
         Variant::WrongAlpha(s) => wide.with_alpha_scale(s),
         Variant::WrongBackground(s) => wide.with_background_scale(s),
         Variant::NoSphereCull => wide.without_sphere_cull(),
-        Variant::Portable => wide.with_build(KernelBuild::Portable),
-        Variant::Avx2 => wide.with_build(KernelBuild::Avx2),
-        Variant::Avx512 => wide.with_build(KernelBuild::Avx512),
+        Variant::Portable => wide.with_build(SimdBuild::Portable),
+        Variant::Avx2 => wide.with_build(SimdBuild::Avx2),
+        Variant::Avx512 => wide.with_build(SimdBuild::Avx512),
         Variant::Default => wide,
     };
     let (w, h) = (scene.settings.width, scene.settings.height);
@@ -131,7 +132,7 @@ pub fn both_estimates(
 /// is checked against the scalar estimator instead.) Returns how many builds were
 /// compared with AVX2: 1, or 0 on a CPU without AVX-512.
 pub fn assert_builds_agree(name: &str, scene: &Scene, spp: u32) -> usize {
-    if !KernelBuild::Avx512.available() {
+    if !SimdBuild::Avx512.available() {
         return 0;
     }
     let lights = LightSampler::new(scene);

@@ -11,7 +11,7 @@
 //!    pinhole rays in lanes, [`crate::camera_batch`]) and draw the bounce's random
 //!    numbers from the lane's own stream;
 //! 2. all lanes at once ([`kernel`], AVX-512 (one register of 16 `f32`) or AVX2 + FMA
-//!    (two) chosen at run time ([`KernelBuild`]), or the same code in SSE): the nearest
+//!    (two) chosen at run time ([`SimdBuild`]), or the same code in SSE): the nearest
 //!    hits ([`ray_lanes`](irradia_geometry::packet::ray_lanes): W rays against every
 //!    triangle of a small scene; larger scenes walk the [`FlatScene`]'s hierarchy lane by lane,
 //!    with Wald et al.'s SIMD triangle packets), the hit points (triangle, material,
@@ -114,7 +114,7 @@ use super::lights::{FacetEmitter, KernelEmitter};
 use crate::camera_batch::CameraBatch;
 use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
-use irradia_geometry::packet::RayLaneTriangles;
+use irradia_geometry::packet::{RayLaneTriangles, SimdBuild};
 use irradia_scatter::microfacet::MicrofacetType;
 use irradia_scatter::{bsdfs::LectureLobe, Bsdf};
 use light_pick::LightPick;
@@ -277,57 +277,16 @@ pub struct WideScene<'s, 'a> {
     /// sphere sampled by its own sampler; `None` when every emitter is facets.
     pub(crate) sphere_lights: Option<Vec<[f32; sph::LEN]>>,
     /// The build of the kernel that runs: the widest this CPU has
-    /// ([`KernelBuild::best`]) unless a test asks for another.
-    pub(crate) build: KernelBuild,
+    /// ([`SimdBuild::best`], or the one [`KERNEL_VAR`] names) unless a test asks for another.
+    pub(crate) build: SimdBuild,
 }
 
-/// The builds of the kernel's loop: the same source compiled for three instruction
-/// sets, chosen at run time (the results are the same bit for bit between AVX2 and
-/// AVX-512, which differ only in the instructions LLVM picks for the same IEEE
-/// operations; the portable build rounds its triangle tests without FMA).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum KernelBuild {
-    /// SSE2 (any x86_64 CPU) or the target's baseline elsewhere.
-    Portable,
-    /// AVX2 + FMA: the W lanes in two 256-bit registers.
-    Avx2,
-    /// AVX2 + FMA + AVX-512 F/VL/DQ/BW: the same W lanes with mask registers for
-    /// the selects, 64-bit lane multiplies and the W lanes in one 512-bit register
-    /// (their `f64` lanes in two) (Zen 4, Ice Lake and later).
-    Avx512,
-}
-
-impl KernelBuild {
-    /// The widest build this CPU runs.
-    pub fn best() -> Self {
-        [KernelBuild::Avx512, KernelBuild::Avx2]
-            .into_iter()
-            .find(|b| b.available())
-            .unwrap_or(KernelBuild::Portable)
-    }
-
-    /// The build the kernel runs: [`Self::best`], unless `IRRADIA_PATH_KERNEL` in the
-    /// environment names another one this CPU runs (`avx512`, `avx2` or `portable`: for
-    /// A/B timings of the builds; the samples are the same).
-    pub fn chosen() -> Self {
-        let named = match std::env::var("IRRADIA_PATH_KERNEL").as_deref() {
-            Ok("avx512") => Some(KernelBuild::Avx512),
-            Ok("avx2") => Some(KernelBuild::Avx2),
-            Ok("portable") => Some(KernelBuild::Portable),
-            _ => None,
-        };
-        named.filter(|b| b.available()).unwrap_or_else(Self::best)
-    }
-
-    /// Whether this CPU runs the build.
-    pub fn available(self) -> bool {
-        match self {
-            KernelBuild::Portable => true,
-            KernelBuild::Avx2 => irradia_geometry::packet::has_avx2(),
-            KernelBuild::Avx512 => irradia_geometry::packet::has_avx512(),
-        }
-    }
-}
+/// The environment variable that forces a build of the kernel ([`SimdBuild::chosen`]):
+/// `avx512`, `avx2` or `portable`, for A/B timings of the builds (the samples are the
+/// same between AVX2 and AVX-512, which differ only in the instructions LLVM picks for
+/// the same IEEE operations; the portable build rounds its triangle tests without
+/// FMA). `scalar` forces the scalar estimator instead (`path_integrator`).
+pub const KERNEL_VAR: &str = "IRRADIA_PATH_KERNEL";
 
 /// At most this many emitters, and facets per emitter, for the vector light choice.
 const VECTOR_PICK_MAX: usize = 16;
@@ -604,16 +563,16 @@ impl<'s, 'a> WideScene<'s, 'a> {
             alpha_scale: 1.0,
             transmittance,
             sphere_lights,
-            build: KernelBuild::chosen(),
+            build: SimdBuild::chosen(KERNEL_VAR),
         })
     }
 
     /// The same kernel in another build (for tests: the builds agree bit for bit).
     ///
     /// # Panics
-    /// If this CPU cannot run `build` ([`KernelBuild::available`]).
+    /// If this CPU cannot run `build` ([`SimdBuild::available`]).
     #[doc(hidden)]
-    pub fn with_build(mut self, build: KernelBuild) -> Self {
+    pub fn with_build(mut self, build: SimdBuild) -> Self {
         assert!(build.available(), "this CPU cannot run the {build:?} build");
         self.build = build;
         self
@@ -719,15 +678,11 @@ impl<'s, 'a> WideScene<'s, 'a> {
         counters: &mut PathCounters,
     ) {
         match self.build {
-            // SAFETY: `build` is only ever a build this CPU runs (`best`, or
-            // `with_build`'s check).
-            #[cfg(target_arch = "x86_64")]
-            KernelBuild::Avx512 => unsafe {
-                kernel::run_avx512(self, params, starts, out, counters)
-            },
-            #[cfg(target_arch = "x86_64")]
-            KernelBuild::Avx2 => unsafe { kernel::run_avx2(self, params, starts, out, counters) },
-            _ => kernel::run_portable(self, params, starts, out, counters),
+            SimdBuild::Portable => kernel::run::<false>(self, params, starts, out, counters),
+            build => build.run(
+                #[inline(always)]
+                || kernel::run::<true>(self, params, starts, out, counters),
+            ),
         }
     }
 }
