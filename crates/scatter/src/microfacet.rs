@@ -147,10 +147,17 @@ impl Microfacet {
             if wi.z <= 0.0 {
                 return 0.0;
             }
-            self.d(m) * self.g1(wi, m) * wi.dot(m).abs() / wi.z
+            self.pdf_visible(wi, m, || self.g1(wi, m))
         } else {
             self.d(m) * m.z
         }
+    }
+
+    /// The density of visible normals `D(m) G1(wi, m) |wi·m| / cos θi` (`wi.z > 0`),
+    /// `g1` giving `G1(wi, m)`.
+    #[inline]
+    fn pdf_visible(&self, wi: Vec3, m: Vec3, g1: impl FnOnce() -> f32) -> f32 {
+        self.d(m) * g1() * wi.dot(m).abs() / wi.z
     }
 
     /// Samples a microfacet normal given the incident direction `wi` (`wi.z > 0`; flip
@@ -199,23 +206,25 @@ impl Microfacet {
     /// Normals", JCGT 7(4)): stretch the view to the hemisphere configuration, sample
     /// the projected hemisphere, unstretch.
     fn sample_visible_ggx(&self, wi: Vec3, u: Vec2) -> Vec3 {
-        let (au, av) = (self.alpha_u, self.alpha_v);
-        let vh = Vec3::new(au * wi.x, av * wi.y, wi.z).normalize();
-        let len2 = vh.x * vh.x + vh.y * vh.y;
-        let t1 = if len2 > 0.0 {
-            Vec3::new(-vh.y, vh.x, 0.0) / len2.sqrt()
-        } else {
-            Vec3::X
-        };
-        let t2 = vh.cross(t1);
-        let r = u.x.sqrt();
-        let phi = 2.0 * std::f32::consts::PI * u.y;
-        let (s_phi, c_phi) = phi.sin_cos();
-        let p1 = r * c_phi;
-        let s = 0.5 * (1.0 + vh.z);
-        let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * s_phi;
-        let nh = p1 * t1 + p2 * t2 + (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt() * vh;
-        Vec3::new(au * nh.x, av * nh.y, nh.z.max(0.0)).normalize()
+        GgxStretch::new(self, wi).warp(&WarpPoint::new(u))
+    }
+
+    /// [`Microfacet::sample`] and [`Microfacet::pdf`] prepared for the one incident
+    /// direction `wi`: what depends on `wi` alone is computed here, once, for a
+    /// quadrature that draws many normals from it (see [`SamplerFrom`]).
+    pub fn sampler_from(&self, wi: Vec3) -> SamplerFrom {
+        let visible = self.sample_visible && wi.z > 0.0;
+        SamplerFrom {
+            distr: *self,
+            wi,
+            g1_wi: if visible {
+                1.0 / (1.0 + self.lambda(wi))
+            } else {
+                0.0
+            },
+            stretch: (visible && self.kind == MicrofacetType::Ggx)
+                .then(|| GgxStretch::new(self, wi)),
+        }
     }
 
     /// Beckmann's visible normals as Mitsuba does it: stretch to unit roughness, sample
@@ -279,6 +288,117 @@ fn beckmann_visible_slopes_11(cos_theta: f64, u1: f64, u2: f64) -> (f64, f64) {
         b -= value / derivative;
     }
     (erfinv(b), erfinv(2.0 * u2 - 1.0))
+}
+
+/// A point of the unit square with what GGX's visible-normal warp takes of it (`√u₁`
+/// and the sine and cosine of `2πu₂`), so that a quadrature that warps the same nodes
+/// for many directions computes them once.
+#[derive(Clone, Copy, Debug)]
+pub struct WarpPoint {
+    pub u: Vec2,
+    r: f32,
+    sin_phi: f32,
+    cos_phi: f32,
+}
+
+impl WarpPoint {
+    pub fn new(u: Vec2) -> Self {
+        let phi = 2.0 * std::f32::consts::PI * u.y;
+        let (sin_phi, cos_phi) = phi.sin_cos();
+        Self {
+            u,
+            r: u.x.sqrt(),
+            sin_phi,
+            cos_phi,
+        }
+    }
+}
+
+/// GGX's view direction stretched to unit roughness with its tangent frame (Heitz
+/// 2018, listing 1): the part of the visible-normal warp that depends on `wi` alone.
+#[derive(Clone, Copy, Debug)]
+struct GgxStretch {
+    alpha_u: f32,
+    alpha_v: f32,
+    vh: Vec3,
+    t1: Vec3,
+    t2: Vec3,
+}
+
+impl GgxStretch {
+    fn new(distr: &Microfacet, wi: Vec3) -> Self {
+        let (au, av) = (distr.alpha_u, distr.alpha_v);
+        let vh = Vec3::new(au * wi.x, av * wi.y, wi.z).normalize();
+        let len2 = vh.x * vh.x + vh.y * vh.y;
+        let t1 = if len2 > 0.0 {
+            Vec3::new(-vh.y, vh.x, 0.0) / len2.sqrt()
+        } else {
+            Vec3::X
+        };
+        Self {
+            alpha_u: au,
+            alpha_v: av,
+            vh,
+            t1,
+            t2: vh.cross(t1),
+        }
+    }
+
+    /// The visible normal at `p`: a point of the projected hemisphere, unstretched.
+    #[inline]
+    fn warp(&self, p: &WarpPoint) -> Vec3 {
+        let (r, vh) = (p.r, self.vh);
+        let p1 = r * p.cos_phi;
+        let s = 0.5 * (1.0 + vh.z);
+        let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * p.sin_phi;
+        let nh = p1 * self.t1 + p2 * self.t2 + (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt() * vh;
+        Vec3::new(self.alpha_u * nh.x, self.alpha_v * nh.y, nh.z.max(0.0)).normalize()
+    }
+}
+
+/// [`Microfacet::sample`] from one incident direction, made by
+/// [`Microfacet::sampler_from`]: the stretched view frame and `G1(wi)` are computed
+/// once, and the nodes come as [`WarpPoint`]s; the normals and densities are the same
+/// numbers as [`Microfacet::sample`]'s (for the quadratures of `roughplastic`'s tables,
+/// Mitsuba's `eval_reflectance` / `eval_transmittance`).
+#[derive(Clone, Copy, Debug)]
+pub struct SamplerFrom {
+    distr: Microfacet,
+    wi: Vec3,
+    /// `1 / (1 + Λ(wi))` when visible normals are sampled.
+    g1_wi: f32,
+    /// GGX's stretched frame when visible normals are sampled.
+    stretch: Option<GgxStretch>,
+}
+
+impl SamplerFrom {
+    /// [`Microfacet::sample`]`(wi, p.u)`.
+    #[inline]
+    pub fn sample(&self, p: &WarpPoint) -> (Vec3, f32) {
+        let (distr, wi) = (&self.distr, self.wi);
+        if !distr.sample_visible {
+            return distr.sample(wi, p.u);
+        }
+        if wi.z <= 0.0 {
+            return (Vec3::Z, 0.0);
+        }
+        let m = match &self.stretch {
+            Some(stretch) => stretch.warp(p),
+            None => distr.sample_visible_beckmann(wi, p.u),
+        };
+        if !m.is_finite() || m.z <= 0.0 {
+            return (Vec3::Z, 0.0);
+        }
+        // `G1(wi, m)` as `Microfacet::g1`: zero on the back of `m`.
+        let g1 = || {
+            if wi.dot(m) * wi.z <= 0.0 {
+                0.0
+            } else {
+                self.g1_wi
+            }
+        };
+        (m, distr.pdf_visible(wi, m, g1))
+    }
 }
 
 #[cfg(test)]
@@ -345,6 +465,36 @@ mod tests {
                         (sum - expect).abs() < 4e-3 * expect.max(0.2),
                         "{kind:?} {au},{av} θv={theta_v}: {sum} vs {expect}"
                     );
+                }
+            }
+        }
+    }
+
+    /// The prepared sampler of the quadratures gives `Microfacet::sample`'s numbers to
+    /// the bit, for both distributions, both strategies and directions from normal
+    /// incidence to grazing and below the horizon.
+    #[test]
+    fn sampler_from_one_direction_is_sample_to_the_bit() {
+        for kind in [MicrofacetType::Beckmann, MicrofacetType::Ggx] {
+            for visible in [false, true] {
+                for (au, av) in [(0.1, 0.1), (0.3, 0.5), (0.005, 0.005)] {
+                    let d = Microfacet::new(kind, au, av, visible);
+                    for (theta, phi) in [(0.0, 0.0), (0.8, 0.4), (1.55, 2.0), (2.0, 1.0)] {
+                        let wi = dir(theta, phi);
+                        let sampler = d.sampler_from(wi);
+                        for i in 0..23 {
+                            for j in 0..19 {
+                                let u = Vec2::new(i as f32 / 23.0, (j as f32 + 0.5) / 19.0);
+                                let (m0, p0) = d.sample(wi, u);
+                                let (m1, p1) = sampler.sample(&WarpPoint::new(u));
+                                assert_eq!(
+                                    (m0.to_array().map(f32::to_bits), p0.to_bits()),
+                                    (m1.to_array().map(f32::to_bits), p1.to_bits()),
+                                    "{kind:?} {au},{av} visible={visible} wi={wi} u={u}"
+                                );
+                            }
+                        }
+                    }
                 }
             }
         }

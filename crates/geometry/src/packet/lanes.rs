@@ -382,14 +382,22 @@ impl V3 {
 
 /// `table[idx[i]][at]` in every lane `i`.
 ///
+/// The element offsets are formed in `i32` and sign-extended (the table is asserted
+/// to hold fewer than 2³¹ floats), the form of AVX-512's `vgatherdps`: the sixteen
+/// lanes are one gather of 32-bit offsets, where `usize` offsets would take two
+/// gathers of 64-bit ones and a shuffle to join them.
+///
 /// # Safety
 /// Every index must address a row of `table` and `at < N`.
 #[inline(always)]
 pub unsafe fn gather<const N: usize>(table: &[[f32; N]], idx: &[u32; W], at: usize) -> Fw {
+    assert!(table.len() * N <= i32::MAX as usize);
     let base = table.as_ptr() as *const f32;
-    // SAFETY: in bounds by the caller's contract.
+    let (n, at) = (N as i32, at as i32);
+    // SAFETY: in bounds by the caller's contract (`idx[i] < table.len()`, `at < N`);
+    // the offset `idx[i] N + at < table.len() N` fits in `i32` by the assertion.
     Fw(std::array::from_fn(|i| unsafe {
-        *base.add(idx[i] as usize * N + at)
+        *base.offset((idx[i] as i32 * n + at) as isize)
     }))
 }
 

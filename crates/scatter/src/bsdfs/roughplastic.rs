@@ -26,7 +26,7 @@
 //! Mitsuba supports isotropic roughness only.
 
 use crate::bsdf::{BsdfSample, LobeFlags, Scatter};
-use crate::microfacet::Microfacet;
+use crate::microfacet::{Microfacet, WarpPoint};
 use crate::optics::{fresnel_dielectric, reflect_about, refract_about};
 use glam::{Vec2, Vec3};
 use irradia_core::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
@@ -91,23 +91,35 @@ fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
     out
 }
 
-/// `∫ term(m) dP(m)` over the visible normals of `wo`, by `n²` Gauss-Legendre nodes on
-/// the sampling's unit square (Mitsuba's `eval_reflectance` / `eval_transmittance`),
-/// `gl` being [`gauss_legendre`]`(n)` (computed once per table, not per direction).
-fn visible_normal_integral(
-    distr: &Microfacet,
-    wo: Vec3,
-    gl: &[(f64, f64)],
-    term: impl Fn(Vec3) -> f64,
-) -> f64 {
-    let mut sum = 0.0;
+/// The `n²` Gauss-Legendre nodes of the unit square, as [`WarpPoint`]s with their two
+/// weights on [-1, 1], from `gl` = [`gauss_legendre`]`(n)`: computed once per table and
+/// warped for every direction.
+fn unit_square_nodes(gl: &[(f64, f64)]) -> Vec<(WarpPoint, f64, f64)> {
+    let mut nodes = Vec::with_capacity(gl.len() * gl.len());
     for &(x, wx) in gl {
         for &(y, wy) in gl {
             let u = Vec2::new((0.5 * x + 0.5) as f32, (0.5 * y + 0.5) as f32);
-            let (m, pdf) = distr.sample(wo, u);
-            if pdf > 0.0 {
-                sum += term(m) * wx * wy * 0.25;
-            }
+            nodes.push((WarpPoint::new(u), wx, wy));
+        }
+    }
+    nodes
+}
+
+/// `∫ term(m) dP(m)` over the visible normals of `wo`, by Gauss-Legendre quadrature on
+/// the sampling's unit square (Mitsuba's `eval_reflectance` / `eval_transmittance`),
+/// `nodes` being [`unit_square_nodes`].
+fn visible_normal_integral(
+    distr: &Microfacet,
+    wo: Vec3,
+    nodes: &[(WarpPoint, f64, f64)],
+    term: impl Fn(Vec3) -> f64,
+) -> f64 {
+    let sampler = distr.sampler_from(wo);
+    let mut sum = 0.0;
+    for (p, wx, wy) in nodes {
+        let (m, pdf) = sampler.sample(p);
+        if pdf > 0.0 {
+            sum += term(m) * wx * wy * 0.25;
         }
     }
     sum
@@ -127,7 +139,10 @@ impl RoughPlasticTables {
         let wo_of = |mu: f32| Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
         let res = |eta: f32| if eta > 1.0 { 32 } else { 128 };
         let inv_eta = 1.0 / eta;
-        let (gl_t, gl_r) = (gauss_legendre(res(eta)), gauss_legendre(res(inv_eta)));
+        let (gl_t, gl_r) = (
+            unit_square_nodes(&gauss_legendre(res(eta))),
+            unit_square_nodes(&gauss_legendre(res(inv_eta))),
+        );
         let mut external_transmittance = [0.0; TRANSMITTANCE_RES];
         for (t, &mu) in external_transmittance.iter_mut().zip(&mus) {
             let wo = wo_of(mu);
