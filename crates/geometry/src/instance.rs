@@ -269,6 +269,24 @@ impl Instance {
         Some(b)
     }
 
+    /// [`Shape::span_boundary_of`] in world space, as [`Self::span_boundary`].
+    pub(crate) fn span_boundary_of(
+        &self,
+        ray: &Ray,
+        index: u32,
+        param: &Boundary,
+        scratch: &mut Vec<Span>,
+    ) -> Option<Boundary> {
+        if self.identity {
+            return self.shape.span_boundary_of(ray, index, param, scratch);
+        }
+        let mut b = self
+            .shape
+            .span_boundary_of(&self.object_ray(ray), index, param, scratch)?;
+        b.normal = self.carry_boundary_normal(b.t, b.normal);
+        Some(b)
+    }
+
     /// [`Shape::spans_t`] in world space: the spans' parameters only (they are shared
     /// with object space, so nothing is carried).
     #[inline]
