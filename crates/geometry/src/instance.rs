@@ -251,25 +251,8 @@ impl Instance {
         }
     }
 
-    /// Boundary `index` of [`Self::spans`]' list ([`Shape::span_boundary`]), its normal
-    /// carried to world space as there.
-    pub(crate) fn span_boundary(
-        &self,
-        ray: &Ray,
-        index: u32,
-        scratch: &mut Vec<Span>,
-    ) -> Option<Boundary> {
-        if self.identity {
-            return self.shape.span_boundary(ray, index, scratch);
-        }
-        let mut b = self
-            .shape
-            .span_boundary(&self.object_ray(ray), index, scratch)?;
-        b.normal = self.carry_boundary_normal(b.t, b.normal);
-        Some(b)
-    }
-
-    /// [`Shape::span_boundary_of`] in world space, as [`Self::span_boundary`].
+    /// [`Shape::span_boundary_of`] in world space: boundary `index` of [`Self::spans`]'
+    /// list, its normal carried to world space as there.
     pub(crate) fn span_boundary_of(
         &self,
         ray: &Ray,
