@@ -251,20 +251,21 @@ impl Instance {
         }
     }
 
-    /// Boundary `index` of [`Self::spans`]' list ([`Shape::span_boundary`]), its normal
-    /// carried to world space as there.
-    pub(crate) fn span_boundary(
+    /// [`Shape::span_boundary_of`] in world space: boundary `index` of [`Self::spans`]'
+    /// list, its normal carried to world space as there.
+    pub(crate) fn span_boundary_of(
         &self,
         ray: &Ray,
         index: u32,
+        param: &Boundary,
         scratch: &mut Vec<Span>,
     ) -> Option<Boundary> {
         if self.identity {
-            return self.shape.span_boundary(ray, index, scratch);
+            return self.shape.span_boundary_of(ray, index, param, scratch);
         }
         let mut b = self
             .shape
-            .span_boundary(&self.object_ray(ray), index, scratch)?;
+            .span_boundary_of(&self.object_ray(ray), index, param, scratch)?;
         b.normal = self.carry_boundary_normal(b.t, b.normal);
         Some(b)
     }

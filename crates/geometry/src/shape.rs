@@ -264,6 +264,25 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         Some(if index % 2 == 0 { s.enter } else { s.exit })
     }
 
+    /// [`Shape::span_boundary`] for a boundary that [`Shape::spans_t`] gave: `param` is
+    /// boundary `index` of the list `spans_t` appended along the same `ray`, as CSG
+    /// carried it (`t`, `uv` and the size of the normal's `y` as `spans_t` set them:
+    /// CSG renames `prim` and `leaf`, sets the normal's `x` and may negate the normal).
+    /// The answer is `span_boundary`'s, bit for bit. The default asks `span_boundary`;
+    /// a shape whose `spans_t` keeps in those fields what its surface needs (the
+    /// quadric: its f64 parameter and which surface) overrides it so as not to solve
+    /// the ray again.
+    fn span_boundary_of(
+        &self,
+        ray: &Ray,
+        index: u32,
+        param: &Boundary,
+        scratch: &mut Vec<Span>,
+    ) -> Option<Boundary> {
+        let _ = param;
+        self.span_boundary(ray, index, scratch)
+    }
+
     /// The surface as planar polygons. `detail` sets how finely curved surfaces are cut
     /// (about `detail` segments around a full turn); flat shapes ignore it. `None` for
     /// shapes that cannot be faceted (unbounded ones).

@@ -30,7 +30,8 @@ fn cylinder(axis: Vec3) -> Quadric {
 }
 
 /// Trees with differences inside differences (normals negated twice), transformed
-/// nodes and leaves, a CSG given as a plain shape operand, and all four operations.
+/// nodes and leaves, a CSG given as a plain shape operand, a cylinder's caps, and all
+/// four operations.
 fn trees() -> Vec<(&'static str, Csg)> {
     let cube = || Cuboid::new(Vec3::splat(-1.0), Vec3::splat(1.0)).unwrap();
     let box_minus_sphere = || {
@@ -90,7 +91,15 @@ fn trees() -> Vec<(&'static str, Csg)> {
         ),
     ])
     .unwrap();
+    // A capped cylinder whose caps show (the rim cut by the ball): boundaries on clip
+    // planes, whose side the parameter-only boundary carries (`span_boundary_of`).
+    let capped = Csg::intersection(vec![
+        leaf(cylinder(Vec3::Y), turn(0.9, Vec3::ZERO)),
+        leaf(Sphere::new(Vec3::ZERO, 1.3), Affine3A::IDENTITY),
+    ])
+    .unwrap();
     vec![
+        ("capped cylinder in a ball", capped),
         ("box minus sphere", box_minus_sphere()),
         ("steinmetz", steinmetz()),
         ("merge", merge()),

@@ -16,7 +16,7 @@ use super::window::SlabRay;
 use crate::instance::Instance;
 use crate::shape::{Boundary, Hit, Shape, Span};
 use crate::shapes::ShapeError;
-use glam::{Affine3A, Vec3};
+use glam::Affine3A;
 use irradia_core::{Aabb, Ray};
 use std::sync::Arc;
 
@@ -190,7 +190,7 @@ impl Csg {
     /// each boundary is named so that its surface can be found afterwards
     /// (`resolve`): a leaf operand's boundaries get `prim` = their place in the leaf's
     /// own list (enter of span `i` is `2i`, its exit `2i + 1`), `leaf` 0 (before the
-    /// renumbering) and the normal `+x`, which `combine` negates wherever it would
+    /// renumbering) and the normal's `x` 1, which `combine` negates wherever it would
     /// negate the real normal, so that its sign says whether to.
     #[inline]
     #[allow(clippy::too_many_arguments)]
@@ -226,7 +226,9 @@ impl Csg {
                     for (k, b) in [&mut s.enter, &mut s.exit].into_iter().enumerate() {
                         b.prim = (2 * i + k) as u32;
                         b.leaf = 0;
-                        b.normal = Vec3::X;
+                        // Only `x`: `y` and `uv` are the leaf's
+                        // ([`Shape::span_boundary_of`]).
+                        b.normal.x = 1.0;
                     }
                 }
                 s.enter.leaf += c.leaf_offset;

@@ -22,7 +22,7 @@ impl Csg {
     /// The full boundary (surface included) that the parameter-only boundary `e` of
     /// this node's spans along `ray` stands for. `buf` is scratch space.
     pub(super) fn resolve(&self, ray: &Ray, e: &Boundary, buf: &mut Vec<Span>) -> Boundary {
-        let mut b = self.boundary_of_leaf(ray, e.leaf, e.prim, buf);
+        let mut b = self.boundary_of_leaf(ray, e, e.leaf, buf);
         debug_assert_eq!(
             b.t.to_bits(),
             e.t.to_bits(),
@@ -34,21 +34,29 @@ impl Csg {
         b
     }
 
-    /// Boundary number `index` (`2i` the enter of span `i`, `2i + 1` its exit) of leaf
+    /// Boundary number `e.prim` (`2i` the enter of span `i`, `2i + 1` its exit) of leaf
     /// `leaf`'s own spans along `ray`, carried to this node's space and with the leaf
-    /// renumbered as `operand_spans` does, before any negation by `combine`.
-    fn boundary_of_leaf(&self, ray: &Ray, leaf: u32, index: u32, buf: &mut Vec<Span>) -> Boundary {
+    /// renumbered as `operand_spans` does, before any negation by `combine`. `e` is
+    /// that boundary as the leaf's `spans_t` gave it (named, combined).
+    fn boundary_of_leaf(
+        &self,
+        ray: &Ray,
+        e: &Boundary,
+        leaf: u32,
+        buf: &mut Vec<Span>,
+    ) -> Boundary {
+        let index = e.prim;
         // Children are in leaf order, each holding at least one leaf.
         let i = self.children.partition_point(|c| c.leaf_offset <= leaf) - 1;
         let c = &self.children[i];
         let mut b = match &c.node {
             None => c
                 .instance
-                .span_boundary(ray, index, buf)
+                .span_boundary_of(ray, index, e, buf)
                 .expect("a boundary of the leaf's own spans"),
             Some(node) => {
                 let r = c.instance.ray_to_object(ray);
-                let mut b = node.boundary_of_leaf(&r, leaf - c.leaf_offset, index, buf);
+                let mut b = node.boundary_of_leaf(&r, e, leaf - c.leaf_offset, buf);
                 b.normal = c.instance.carry_boundary_normal(b.t, b.normal);
                 b
             }

@@ -98,6 +98,47 @@ struct End {
 
 const SURFACE: u32 = u32::MAX - 1;
 
+impl End {
+    /// A parameter-only boundary at this end that carries the end itself through CSG
+    /// (see [`Shape::span_boundary_of`]): the f64 parameter's bits in `uv` (high word
+    /// in `x`), and the side in the size of the normal's `y` (0 for the quadric
+    /// surface, `i + 1` for clip plane `i`; exact in f32 for any plane count a quadric
+    /// has). An end at infinity needs no side (it is never asked for a surface).
+    #[inline]
+    fn carried(self) -> Boundary {
+        let bits = self.t.to_bits();
+        let code = if self.side == SURFACE || self.side == NO_PLANE {
+            0.0
+        } else {
+            (self.side + 1) as f32
+        };
+        Boundary::new(
+            self.t as f32,
+            Vec3::new(0.0, code, 0.0),
+            Vec2::new(
+                f32::from_bits((bits >> 32) as u32),
+                f32::from_bits(bits as u32),
+            ),
+        )
+    }
+
+    /// The end that [`Self::carried`] put in `b` (its normal possibly negated).
+    #[inline]
+    fn from_carried(b: &Boundary) -> Self {
+        let bits = ((b.uv.x.to_bits() as u64) << 32) | b.uv.y.to_bits() as u64;
+        let t = f64::from_bits(bits);
+        let code = b.normal.y.abs() as u32;
+        let side = if !t.is_finite() {
+            NO_PLANE
+        } else if code == 0 {
+            SURFACE
+        } else {
+            code - 1
+        };
+        End { t, side }
+    }
+}
+
 impl Quadric {
     pub(crate) fn from_parts(
         form: QuadricForm,
@@ -397,7 +438,29 @@ impl Shape for Quadric {
         Some(self.boundary(o, d, if index % 2 == 0 { a } else { b }))
     }
 
-    /// [`Self::spans`]' ends without their normals and uv (no gradient, no `atan2`).
+    /// [`Self::span_boundary`] from the end that [`Self::spans_t`] carried in `param`:
+    /// the same end (its f64 parameter and side), so the same boundary, without
+    /// solving the ray again (13% of the Steinmetz solid's solves were these: helper
+    /// `csg6`'s profile, docs/benchmarks.md).
+    fn span_boundary_of(
+        &self,
+        ray: &Ray,
+        index: u32,
+        param: &Boundary,
+        scratch: &mut Vec<Span>,
+    ) -> Option<Boundary> {
+        let _ = (index, scratch);
+        if !self.solid {
+            return None;
+        }
+        let e = End::from_carried(param);
+        debug_assert_eq!((e.t as f32).to_bits(), param.t.to_bits());
+        let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+        Some(self.boundary(o, d, e))
+    }
+
+    /// [`Self::spans`]' ends without their normals and uv (no gradient, no `atan2`),
+    /// each carrying its end ([`End::carried`]) for [`Self::span_boundary_of`].
     fn spans_t(&self, ray: &Ray, out: &mut Vec<Span>) {
         if !self.solid {
             return;
@@ -405,7 +468,7 @@ impl Shape for Quadric {
         let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
         let mut spans = [(End { t: 0.0, side: 0 }, End { t: 0.0, side: 0 }); 2];
         let n = self.solid_spans(o, d, &mut spans);
-        let at = |e: End| Boundary::new(e.t as f32, Vec3::ZERO, Vec2::ZERO);
+        let at = |e: End| e.carried();
         for &(a, b) in &spans[..n] {
             out.push(Span {
                 enter: at(a),
