@@ -40,12 +40,11 @@ use irradia_geometry::bvh::{Bvh, ChildRef};
 use irradia_geometry::mesh::TriangleMesh;
 #[cfg(target_arch = "x86_64")]
 use irradia_geometry::packet::bounds8::{any_culled_avx2, nearest_culled_avx2};
+use irradia_geometry::packet::has_avx2;
 use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 use irradia_geometry::packet::ray_lanes::LaneHits;
 use irradia_geometry::packet::triangle8 as packet;
-use irradia_geometry::packet::{
-    has_avx2, PacketBounds, PacketHit, RayLaneTriangles, TrianglePacket, LANES,
-};
+use irradia_geometry::packet::{PacketBounds, PacketHit, RayLaneTriangles, TrianglePacket, LANES};
 use irradia_geometry::triangle::TriangleHit;
 use irradia_geometry::{Accel, Hit, Instance, ObjectSet, RayQuery, RaySegment, SceneHit};
 use irradia_scene::{Scene, Texture};
