@@ -419,11 +419,11 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     }
 }
 
-/// The whole loop, compiled three times (AVX-512, AVX2 + FMA, portable) by the
-/// caller's [`SimdBuild::run`](irradia_geometry::packet::SimdBuild::run); `FMA` is true
-/// in the first two.
+/// The whole loop, compiled three times (AVX-512, AVX2 + FMA, portable:
+/// [`SimdBuild`](irradia_geometry::packet::SimdBuild)) by the callers below, each its own
+/// function, so that an unoptimised build's stack holds one copy of the loop's frame.
 #[inline(always)]
-pub(super) fn run<const FMA: bool>(
+fn run<const FMA: bool>(
     ws: &WideScene<'_, '_>,
     params: &PathParams,
     starts: &mut Starts<'_, '_>,
@@ -704,6 +704,53 @@ pub(super) fn run<const FMA: bool>(
             }
         }
     }
+}
+
+/// The loop with AVX2 and FMA enabled (LLVM turns the lane loops into pairs of
+/// 8-wide instructions: W = 16 lanes are two 256-bit registers).
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+pub(super) unsafe fn run_avx2(
+    ws: &WideScene<'_, '_>,
+    params: &PathParams,
+    starts: &mut Starts<'_, '_>,
+    out: &mut [Rgb],
+    counters: &mut PathCounters,
+) {
+    run::<true>(ws, params, starts, out, counters)
+}
+
+/// The loop with AVX-512 (F, VL, DQ, BW) as well: the same W lanes, with mask
+/// registers for the selects and the `f64` lanes of [`super::dw`] in two registers. The
+/// same IEEE operations in the same order as [`run_avx2`] (no fast-math), so the same
+/// results bit for bit.
+///
+/// # Safety
+/// The CPU must support AVX2, FMA and those AVX-512 subsets.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")]
+pub(super) unsafe fn run_avx512(
+    ws: &WideScene<'_, '_>,
+    params: &PathParams,
+    starts: &mut Starts<'_, '_>,
+    out: &mut [Rgb],
+    counters: &mut PathCounters,
+) {
+    run::<true>(ws, params, starts, out, counters)
+}
+
+/// The loop for any CPU (SSE2 on x86_64).
+pub(super) fn run_portable(
+    ws: &WideScene<'_, '_>,
+    params: &PathParams,
+    starts: &mut Starts<'_, '_>,
+    out: &mut [Rgb],
+    counters: &mut PathCounters,
+) {
+    run::<false>(ws, params, starts, out, counters)
 }
 
 #[cfg(test)]

@@ -678,11 +678,13 @@ impl<'s, 'a> WideScene<'s, 'a> {
         counters: &mut PathCounters,
     ) {
         match self.build {
-            SimdBuild::Portable => kernel::run::<false>(self, params, starts, out, counters),
-            build => build.run(
-                #[inline(always)]
-                || kernel::run::<true>(self, params, starts, out, counters),
-            ),
+            // SAFETY: `build` is only ever a build this CPU runs (`chosen`, or
+            // `with_build`'s check).
+            #[cfg(target_arch = "x86_64")]
+            SimdBuild::Avx512 => unsafe { kernel::run_avx512(self, params, starts, out, counters) },
+            #[cfg(target_arch = "x86_64")]
+            SimdBuild::Avx2 => unsafe { kernel::run_avx2(self, params, starts, out, counters) },
+            _ => kernel::run_portable(self, params, starts, out, counters),
         }
     }
 }
