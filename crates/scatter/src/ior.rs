@@ -56,9 +56,28 @@ pub fn dielectric_names() -> Vec<&'static str> {
 /// Mitsuba's name of the perfect mirror: `eta = 0, k = 1` (F = 1 at every angle).
 pub const PERFECT_MIRROR: &str = "none";
 
-/// The conductors with spectral data: every `<name>.eta.spd` / `<name>.k.spd` pair
-/// of Mitsuba's `data/ior` (names are case-sensitive, as Mitsuba's file names).
-pub const CONDUCTORS: &[&str] = &[
+/// Declares the conductors with spectral data once: the list [`CONDUCTORS`] and the
+/// lookup of their embedded tables (`conductor_spd`), so the two cannot disagree.
+macro_rules! conductors {
+    ($($n:literal),* $(,)?) => {
+        /// The conductors with spectral data: every `<name>.eta.spd` / `<name>.k.spd` pair
+        /// of Mitsuba's `data/ior` (names are case-sensitive, as Mitsuba's file names).
+        pub const CONDUCTORS: &[&str] = &[$($n),*];
+
+        /// The spectral tables of a conductor, embedded from `crates/scatter/data/ior`.
+        fn conductor_spd(name: &str) -> Option<(&'static str, &'static str)> {
+            match name {
+                $($n => Some((
+                    include_str!(concat!("../data/ior/", $n, ".eta.spd")),
+                    include_str!(concat!("../data/ior/", $n, ".k.spd")),
+                )),)*
+                _ => None,
+            }
+        }
+    };
+}
+
+conductors!(
     "Ag",
     "Al",
     "AlAs",
@@ -130,95 +149,7 @@ pub const CONDUCTORS: &[&str] = &[
     "a-C",
     "d-C",
     "d-C_palik",
-];
-
-/// The spectral tables of a conductor, embedded from `crates/scatter/data/ior`.
-fn conductor_spd(name: &str) -> Option<(&'static str, &'static str)> {
-    macro_rules! table {
-        ($($n:literal),* $(,)?) => {
-            match name {
-                $($n => Some((
-                    include_str!(concat!("../data/ior/", $n, ".eta.spd")),
-                    include_str!(concat!("../data/ior/", $n, ".k.spd")),
-                )),)*
-                _ => None,
-            }
-        };
-    }
-    table!(
-        "Ag",
-        "Al",
-        "AlAs",
-        "AlAs_palik",
-        "AlSb",
-        "AlSb_palik",
-        "Au",
-        "Be",
-        "Be_palik",
-        "Cr",
-        "CsI",
-        "CsI_palik",
-        "Cu",
-        "Cu2O",
-        "Cu2O_palik",
-        "CuO",
-        "CuO_palik",
-        "Cu_palik",
-        "Hg",
-        "HgTe",
-        "HgTe_palik",
-        "Hg_palik",
-        "Ir",
-        "Ir_palik",
-        "K",
-        "K_palik",
-        "Li",
-        "Li_palik",
-        "MgO",
-        "MgO_palik",
-        "Mo",
-        "Mo_palik",
-        "Na_palik",
-        "Nb",
-        "Nb_palik",
-        "Ni_palik",
-        "Rh",
-        "Rh_palik",
-        "Se",
-        "Se-e",
-        "Se-e_palik",
-        "Se_palik",
-        "SiC",
-        "SiC_palik",
-        "SnTe",
-        "SnTe_palik",
-        "Ta",
-        "Ta_palik",
-        "Te",
-        "Te-e",
-        "Te-e_palik",
-        "Te_palik",
-        "ThF4",
-        "ThF4_palik",
-        "TiC",
-        "TiC_palik",
-        "TiN",
-        "TiN_palik",
-        "TiO2",
-        "TiO2-e",
-        "TiO2-e_palik",
-        "TiO2_palik",
-        "VC",
-        "VC_palik",
-        "VN",
-        "VN_palik",
-        "V_palik",
-        "W",
-        "a-C",
-        "d-C",
-        "d-C_palik",
-    )
-}
+);
 
 /// The complex index of refraction `(eta, k)` of a named conductor in linear sRGB as
 /// Mitsuba's RGB variants compute it, or `(0, 1)` for [`PERFECT_MIRROR`]; `None` for a
