@@ -244,46 +244,11 @@ impl ImplicitSurface {
             if range.is_empty() || !range.contains(0.0) {
                 continue;
             }
-            if slope.lo > 0.0 || slope.hi < 0.0 {
-                // Strictly monotone along the ray on this piece: one root at most, there
-                // exactly when the ends differ in sign.
-                let (fa, fb) = (self.f(o + d * a), self.f(o + d * b));
-                if fa == 0.0 {
-                    if out.last() != Some(&a) {
-                        out.push(a);
-                    }
-                } else if fb == 0.0 || (fa < 0.0) != (fb < 0.0) {
-                    let t = if fb == 0.0 {
-                        b
-                    } else {
-                        self.refine(o, d, a, b)
-                    };
-                    out.push(t);
-                } else {
-                    continue;
-                }
-                if first_only {
-                    return;
-                }
-                continue;
-            }
-            if b - a <= min_dt {
-                let (fa, fb) = (self.f(o + d * a), self.f(o + d * b));
-                if fa == 0.0 {
-                    if out.last() != Some(&a) {
-                        out.push(a);
-                    }
-                } else if fb == 0.0 || (fa < 0.0) != (fb < 0.0) {
-                    let t = if fb == 0.0 {
-                        b
-                    } else {
-                        self.refine(o, d, a, b)
-                    };
-                    out.push(t);
-                } else {
-                    continue;
-                }
-                if first_only {
+            // Strictly monotone along the ray on this piece (one root at most), or a
+            // piece no longer than the tolerance: a root there exactly when the ends
+            // differ in sign.
+            if slope.lo > 0.0 || slope.hi < 0.0 || b - a <= min_dt {
+                if self.end_root(o, d, a, b, out) && first_only {
                     return;
                 }
                 continue;
@@ -292,6 +257,25 @@ impl ImplicitSurface {
             stack.push((mid, b));
             stack.push((a, mid));
         }
+    }
+
+    /// The root of a piece `[a, b]` that holds at most one, found from its ends: `a`
+    /// itself where `f(a) = 0` (not pushed again when the previous piece ended there),
+    /// else a sign change refined. True when the piece has a root.
+    fn end_root(&self, o: DVec3, d: DVec3, a: f64, b: f64, out: &mut Vec<f64>) -> bool {
+        let (fa, fb) = (self.f(o + d * a), self.f(o + d * b));
+        if fa == 0.0 {
+            if out.last() != Some(&a) {
+                out.push(a);
+            }
+        } else if fb == 0.0 {
+            out.push(b);
+        } else if (fa < 0.0) != (fb < 0.0) {
+            out.push(self.refine(o, d, a, b));
+        } else {
+            return false;
+        }
+        true
     }
 
     /// Sound enclosures of `f` and of its derivative along the ray, `∇f · d`, over the
