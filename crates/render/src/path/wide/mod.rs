@@ -573,6 +573,11 @@ impl<'s, 'a> WideScene<'s, 'a> {
         })
     }
 
+    /// Whether the scene has baked triangles (a scene of spheres only has none).
+    pub(crate) fn has_triangles(&self) -> bool {
+        self.triangle_box.is_some()
+    }
+
     /// The same kernel in another build (for tests: the builds agree bit for bit).
     ///
     /// # Panics
