@@ -96,8 +96,7 @@ impl Background {
             if !lanes.any() {
                 continue;
             }
-            let (ok, wi, li, pdf) = m.sample(self.map_u);
-            let ok = lanes & ok;
+            let (ok, wi, li, pdf) = m.sample(self.map_u, lanes);
             self.light = self.light | ok;
             self.wi = V3::select(ok, wi, self.wi);
             self.li = V3::select(ok, li.scale(Fw::splat(scale)), self.li);

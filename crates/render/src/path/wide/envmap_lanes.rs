@@ -193,13 +193,13 @@ impl EnvmapW {
         (radiance, self.solid_angle(p, sin_theta))
     }
 
-    /// `EnvmapSampler::sample(u)` in every lane: the lanes that got a direction, the
-    /// direction, the radiance arriving from it and its solid-angle density. The cells
+    /// `EnvmapSampler::sample(u)` in the lanes of `lanes`: those that got a direction,
+    /// the direction, the radiance arriving from it and its solid-angle density. The cells
     /// are found by a binary search of the cumulative tables, the same number of steps
     /// in every lane (the rows' tables have one length), which finds the index the
     /// scalar code's guide-table search finds (both are the table's partition point).
     #[inline(always)]
-    pub(crate) fn sample(&self, u: [Fw; 2]) -> (Mw, V3, V3, Fw) {
+    pub(crate) fn sample(&self, u: [Fw; 2], lanes: Mw) -> (Mw, V3, V3, Fw) {
         if !self.has_density {
             return (Mw::FALSE, V3::ZERO, V3::ZERO, Fw::ZERO);
         }
@@ -212,10 +212,11 @@ impl EnvmapW {
         // at most (exactly).
         let y = x + self.half_texel;
         let uu = y.ge(1.0).select(y - 1.0, y);
-        // `EnvMap::direction_sin_theta`, the sines and cosines by the C library as there.
+        // `EnvMap::direction_sin_theta`, the sines and cosines by the C library as there
+        // (lane by lane: only the lanes asked; the others get no direction).
         let (phi, theta) = (Fw::splat(2.0 * PI) * uu, Fw::splat(PI) * v);
         let (mut sp, mut cp, mut st, mut ct) = (Fw::ZERO, Fw::ZERO, Fw::ZERO, Fw::ZERO);
-        for k in 0..W {
+        for k in lanes.lanes() {
             (sp.0[k], cp.0[k]) = phi.0[k].sin_cos();
             (st.0[k], ct.0[k]) = theta.0[k].sin_cos();
         }
@@ -223,7 +224,7 @@ impl EnvmapW {
         let idx: [u32; W] = std::array::from_fn(|k| j[k] * self.stride + i[k]);
         checked(&self.vertex, &idx);
         let p = field(&self.vertex, &idx, vtx::PDF);
-        let ok = !(st.le(0.0) | p.le(0.0));
+        let ok = lanes & !(st.le(0.0) | p.le(0.0));
         // `EnvMap::eval_uv` at the sampled point.
         let (cell, fx, fy) = self.cell(uu, v);
         let (radiance, _) = self.bilinear(&cell, fx, fy);
@@ -432,7 +433,7 @@ mod tests {
                     rng.next_f32()
                 };
             }
-            let (ok, wi, li, pdf) = m.sample(u);
+            let (ok, wi, li, pdf) = m.sample(u, Mw::TRUE);
             for k in 0..W {
                 let uk = glam::Vec2::new(u[0].0[k], u[1].0[k]);
                 match s.sample(uk) {

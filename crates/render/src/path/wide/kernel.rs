@@ -119,7 +119,7 @@ struct Scattered {
 
 /// Power heuristic with β = 2, per lane (as `integrator::mis`).
 #[inline(always)]
-fn mis(a: Fw, b: Fw) -> Fw {
+pub(super) fn mis(a: Fw, b: Fw) -> Fw {
     let (a2, b2) = (a * a, b * b);
     let s = a2 + b2;
     s.gt(0.0).keep(a2 / s)
@@ -445,22 +445,20 @@ fn run<const FMA: bool>(
         has_prev: Mw::FALSE,
         eta: Fw::splat(1.0),
     };
-    let mut next = 0usize;
     let mut b = Bounce::default();
     loop {
         // Stage 1, per lane: refill; then the nearest hits; then per lane the draws.
         let mut live = Mw::FALSE;
         for lane in 0..W {
             if paths.sample[lane] == IDLE {
-                if next == out.len() {
+                // The next camera sample that may meet the scene (made with up to
+                // W - 1 more; those that certainly escape are finished there).
+                let Some((k, i)) = ahead.take(ws, starts, out, counters) else {
                     b.hit.set(lane, false);
                     b.scatter.set(lane, false);
                     continue;
-                }
-                // The next camera sample, made with up to seven more.
-                let i = ahead.take(starts, next, out.len());
-                paths.sample[lane] = next;
-                next += 1;
+                };
+                paths.sample[lane] = k;
                 paths.rng[lane] = ahead.starts.rng[i].clone();
                 paths.depth[lane] = 1;
                 paths.origin.set_lane(lane, ahead.starts.origin.lane(i));

@@ -3,7 +3,8 @@
 //! [`FlatScene`](crate::path::flat_scene::FlatScene)'s hierarchy in turns, one node or
 //! leaf each (geometry's `bvh::interleaved`), so one ray's cache misses overlap the
 //! others' work; each answer is exactly its single ray's. Nearest hits, and any hit
-//! for shadow rays with a bound per ray.
+//! for shadow rays with a bound per ray. A scene without triangles (spheres only: the
+//! speed suite's rough_balls) asks nothing.
 //!
 //! The live lanes are walked one ray at a time, not as packets (Wald et al. 2001;
 //! Benthin et al. 2012's hybrid), although a tile's samples come pixel by pixel:
@@ -31,6 +32,9 @@ pub(super) fn nearest_in_turns(
     live: Mw,
 ) -> LaneHits {
     let mut h = LaneHits::NONE;
+    if !ws.has_triangles() {
+        return h;
+    }
     let mut which = [0usize; W];
     let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
     let mut n = 0;
@@ -71,6 +75,9 @@ pub(super) fn occluded_in_turns(
     t_max: &Fw,
     active: Mw,
 ) -> Mw {
+    if !ws.has_triangles() {
+        return Mw::FALSE;
+    }
     let mut which = [0usize; W];
     let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
     let mut bound = [0.0f32; W];

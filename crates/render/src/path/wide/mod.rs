@@ -94,6 +94,7 @@ pub(crate) mod background;
 pub mod bsdf;
 mod dw;
 pub(crate) mod envmap_lanes;
+mod escapes;
 pub(crate) mod fresnel_lanes;
 mod gather;
 pub mod ggx;
@@ -249,6 +250,9 @@ pub struct WideScene<'s, 'a> {
     /// The spheres' lane cull ([`sphere_cull`]): only lanes whose ray may meet one run
     /// the exact lane-by-lane test; `None` without spheres or when disabled (tests).
     pub(crate) cull: Option<sphere_cull::SphereCull>,
+    /// The box around every baked triangle (none without triangles), for finding the
+    /// camera rays that certainly leave the scene ([`escapes`]).
+    pub(crate) triangle_box: Option<escapes::TriangleBox>,
     /// The spheres' exact lane test ([`sphere_hits`]), when there are spheres.
     pub(crate) spheres: Option<sphere_hits::SpheresW>,
     /// A factor on the smooth conductor's and dielectric's Fresnel reflectance: 1
@@ -416,6 +420,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
         let baked = ps.tracer.baked_triangles().unwrap_or_default();
         let corners: Vec<_> = baked.iter().map(|t| t.0).collect();
         let rays = RayLaneTriangles::new(&corners, &ps.tracer.packet_order());
+        let triangle_box = escapes::TriangleBox::new(&corners);
         let any_smooth = baked.iter().any(|t| t.4.is_some());
         let mut smooth_table = Vec::new();
         for (c, n, instance, material, vertex_normals) in baked {
@@ -551,6 +556,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             rays,
             has_rest,
             cull: has_rest.then(|| sphere_cull::SphereCull::new(scene, ps.tracer.rest_objects())),
+            triangle_box,
             spheres,
             fresnel_scale: 1.0,
             background: ps.lights.has_environment(),
@@ -565,6 +571,11 @@ impl<'s, 'a> WideScene<'s, 'a> {
             sphere_lights,
             build: SimdBuild::chosen(KERNEL_VAR),
         })
+    }
+
+    /// Whether the scene has baked triangles (a scene of spheres only has none).
+    pub(crate) fn has_triangles(&self) -> bool {
+        self.triangle_box.is_some()
     }
 
     /// The same kernel in another build (for tests: the builds agree bit for bit).

@@ -4,9 +4,11 @@
 //! the next one (Laine, Karras, Aila, "Megakernels Considered Harmful", HPG 2013:
 //! regenerating paths in place of finished ones).
 
+use super::{escapes, WideScene};
 use crate::camera_batch::{CameraBatch, Cursor, StartsW};
-use irradia_core::{Ray, Rng};
-use irradia_geometry::packet::lanes::{V3, W};
+use crate::path::integrator::PathCounters;
+use irradia_core::{Ray, Rgb, Rng};
+use irradia_geometry::packet::lanes::{Mw, V3, W};
 
 /// Where the kernel's paths start: a camera sample per sample index.
 pub(crate) enum Starts<'a, 'c> {
@@ -24,14 +26,17 @@ pub(crate) enum Starts<'a, 'c> {
 }
 
 /// Camera samples made ahead of the lanes that take them, up to W at once: the
-/// rays in lanes and the streams.
+/// rays in lanes and the streams. Those whose ray certainly leaves the scene are
+/// finished as they are made ([`super::escapes`]); the others wait for a lane.
 pub(super) struct Ahead {
     /// The batch's cursor at the next sample to make ([`Starts::Camera`]).
     cursor: Option<Cursor>,
     pub(super) starts: StartsW,
-    /// How many are made, and how many of them lanes have taken.
-    made: usize,
-    taken: usize,
+    /// The sample in lane 0 of [`Self::starts`], and the next sample to make.
+    first: usize,
+    next: usize,
+    /// The lanes of [`Self::starts`] made and not yet taken (bit `i`: lane `i`).
+    waiting: u32,
 }
 
 impl Ahead {
@@ -47,21 +52,44 @@ impl Ahead {
                 rng: std::array::from_fn(|_| Rng::new(0, 0)),
                 weight: [1.0; W],
             },
-            made: 0,
-            taken: 0,
+            first: 0,
+            next: 0,
+            waiting: 0,
         }
     }
 
-    /// Takes sample `next` (the first not yet taken, `next < total`), making it with up
-    /// to seven more when none made is left: its index in [`Self::starts`].
+    /// The next sample for a lane, `(k, i)`: sample `k` of the batch (`out.len()`
+    /// samples), made in lane `i` of [`Self::starts`]; `None` when every sample is
+    /// taken or finished. Samples are made W at once; those whose camera ray
+    /// certainly meets nothing are finished into `out` ([`super::escapes`]).
     #[inline(always)]
-    pub(super) fn take(&mut self, starts: &mut Starts<'_, '_>, next: usize, total: usize) -> usize {
-        if self.taken == self.made {
-            self.make(starts, next, (total - next).min(W));
+    pub(super) fn take(
+        &mut self,
+        ws: &WideScene<'_, '_>,
+        starts: &mut Starts<'_, '_>,
+        out: &mut [Rgb],
+        counters: &mut PathCounters,
+    ) -> Option<(usize, usize)> {
+        while self.waiting == 0 {
+            let total = out.len();
+            if self.next == total {
+                return None;
+            }
+            let n = (total - self.next).min(W);
+            self.make(starts, self.next, n);
+            self.first = self.next;
+            self.next += n;
+            let made = Mw::from_fn(|i| i < n);
+            let s = &self.starts;
+            let escaped = escapes::escaping(ws, s.origin, s.dir, made);
+            if escaped.any() {
+                escapes::finish(ws, s, escaped, self.first, out, counters);
+            }
+            self.waiting = (made & !escaped).bits();
         }
-        let i = self.taken;
-        self.taken += 1;
-        i
+        let i = self.waiting.trailing_zeros() as usize;
+        self.waiting &= self.waiting - 1;
+        Some((self.first + i, i))
     }
 
     /// Makes samples `next..next + n` (`n <= W`, `next` the first not yet made).
@@ -84,7 +112,5 @@ impl Ahead {
                 }
             }
         }
-        self.made = n;
-        self.taken = 0;
     }
 }
