@@ -17,7 +17,7 @@ use super::background::Background;
 use super::bsdf::{conductor_fresnel, cosine_hemisphere, dielectric};
 use super::gather::{checked, field, field3};
 use super::glossy::glossy;
-use super::lane_queries::{nearest_in_turns, occluded_in_turns};
+use super::lane_queries::{nearest_in_turns, occluded_in_turns, KnownHits};
 use super::light_pick::{at_infinity, far_lights, pick_lights};
 use super::sphere_hits::SphereHits;
 use super::sphere_light::{self, LightPoint};
@@ -447,9 +447,13 @@ fn run<const FMA: bool>(
     };
     let mut next = 0usize;
     let mut b = Bounce::default();
+    // Hierarchy scenes: the camera rays traced as packets when made, and their hits.
+    let packets = ws.rays.is_none().then_some(&ps.tracer);
+    let mut known = KnownHits::NONE;
     loop {
         // Stage 1, per lane: refill; then the nearest hits; then per lane the draws.
         let mut live = Mw::FALSE;
+        known.lanes = 0;
         for lane in 0..W {
             if paths.sample[lane] == IDLE {
                 if next == out.len() {
@@ -458,7 +462,11 @@ fn run<const FMA: bool>(
                     continue;
                 }
                 // The next camera sample, made with up to seven more.
-                let i = ahead.take(starts, next, out.len());
+                let i = ahead.take(starts, packets, next, out.len());
+                if let Some(hit) = ahead.known_hit(i) {
+                    known.lanes |= 1 << lane;
+                    known.hit[lane] = hit;
+                }
                 paths.sample[lane] = next;
                 next += 1;
                 paths.rng[lane] = ahead.starts.rng[i].clone();
@@ -480,7 +488,7 @@ fn run<const FMA: bool>(
         // The nearest hits: W rays at once, or lane by lane.
         let hits = match &ws.rays {
             Some(rays) => rays.nearest::<FMA>(paths.origin, paths.dir, live),
-            None => nearest_in_turns(ws, &paths.origin, &paths.dir, live),
+            None => nearest_in_turns(ws, &paths.origin, &paths.dir, live, &known),
         };
         // Lanes whose ray may meet a sphere before its triangle (the lane cull):
         // only they run the exact sphere test below.
