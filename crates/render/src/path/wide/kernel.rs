@@ -461,7 +461,7 @@ fn run<const FMA: bool>(
                     b.scatter.set(lane, false);
                     continue;
                 }
-                // The next camera sample, made with up to seven more.
+                // The next camera sample, made with up to W - 1 more.
                 let i = ahead.take(starts, packets, next, out.len());
                 if let Some(hit) = ahead.known_hit(i) {
                     known.lanes |= 1 << lane;
