@@ -32,6 +32,8 @@
 //! (not a mesh's texture coordinates), which is why objects with textured materials
 //! are not baked.
 
+mod packet_nearest;
+
 use super::material_map::{desc_anisotropic, desc_uniform};
 use super::tracer::{SubsetAccel, Tracer};
 use glam::{DVec3, Vec2, Vec3};

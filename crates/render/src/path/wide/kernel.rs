@@ -17,7 +17,7 @@ use super::background::Background;
 use super::bsdf::{conductor_fresnel, cosine_hemisphere, dielectric};
 use super::gather::{checked, field, field3};
 use super::glossy::glossy;
-use super::lane_queries::{nearest_in_turns, occluded_in_turns};
+use super::lane_queries::{nearest_in_turns, occluded_in_turns, KnownHits};
 use super::light_pick::{at_infinity, far_lights, pick_lights};
 use super::sphere_hits::SphereHits;
 use super::sphere_light::{self, LightPoint};
@@ -446,9 +446,12 @@ fn run<const FMA: bool>(
         eta: Fw::splat(1.0),
     };
     let mut b = Bounce::default();
+    // Hierarchy scenes: the hits of camera rays traced as packets when made.
+    let mut known = KnownHits::NONE;
     loop {
         // Stage 1, per lane: refill; then the nearest hits; then per lane the draws.
         let mut live = Mw::FALSE;
+        known.lanes = 0;
         for lane in 0..W {
             if paths.sample[lane] == IDLE {
                 // The next camera sample that may meet the scene (made with up to
@@ -458,6 +461,10 @@ fn run<const FMA: bool>(
                     b.scatter.set(lane, false);
                     continue;
                 };
+                if let Some(hit) = ahead.known_hit(i) {
+                    known.lanes |= 1 << lane;
+                    known.hit[lane] = hit;
+                }
                 paths.sample[lane] = k;
                 paths.rng[lane] = ahead.starts.rng[i].clone();
                 paths.depth[lane] = 1;
@@ -478,7 +485,7 @@ fn run<const FMA: bool>(
         // The nearest hits: W rays at once, or lane by lane.
         let hits = match &ws.rays {
             Some(rays) => rays.nearest::<FMA>(paths.origin, paths.dir, live),
-            None => nearest_in_turns(ws, &paths.origin, &paths.dir, live),
+            None => nearest_in_turns(ws, &paths.origin, &paths.dir, live, &known),
         };
         // Lanes whose ray may meet a sphere before its triangle (the lane cull):
         // only they run the exact sphere test below.

@@ -15,6 +15,11 @@
 //! walked as 8-ray packets (geometry's `bvh::packet_traverse`, with the mesh batches'
 //! tie rule so every answer stays the single ray's) from 3 lanes up 1.04x, from 6
 //! up 1.045x, shadow rays likewise 1.036x (branch `walk7-experiments`).
+//!
+//! The camera rays are traced as packets before lanes take them, where they are
+//! coherent: the W samples made at once ([`super::starts`]), eight rays of a pixel or
+//! two neighbours a packet. A lane that took such a sample brings its hit
+//! ([`KnownHits`]) and is not walked again here.
 
 use super::{smooth, tri, WideScene};
 use crate::path::flat_scene::prefetch_bytes;
@@ -22,14 +27,31 @@ use glam::Vec3;
 use irradia_core::Ray;
 use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 use irradia_geometry::packet::ray_lanes::LaneHits;
+use irradia_geometry::packet::PacketHit;
 
-/// The nearest triangle hits of the rays `(origin, dir)` of the `live` lanes.
+/// The lanes whose nearest hit is already known (bit `lane` of `lanes`), and the hits:
+/// fresh camera rays traced as packets ([`super::starts`]).
+pub(super) struct KnownHits {
+    pub(super) lanes: u32,
+    pub(super) hit: [Option<(u32, PacketHit)>; W],
+}
+
+impl KnownHits {
+    pub(super) const NONE: Self = Self {
+        lanes: 0,
+        hit: [None; W],
+    };
+}
+
+/// The nearest triangle hits of the rays `(origin, dir)` of the `live` lanes, those of
+/// `known`'s lanes as it holds them.
 #[inline(always)]
 pub(super) fn nearest_in_turns(
     ws: &WideScene<'_, '_>,
     origin: &V3,
     dir: &V3,
     live: Mw,
+    known: &KnownHits,
 ) -> LaneHits {
     let mut h = LaneHits::NONE;
     if !ws.has_triangles() {
@@ -37,16 +59,28 @@ pub(super) fn nearest_in_turns(
     }
     let mut which = [0usize; W];
     let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
-    let mut n = 0;
-    for lane in live.lanes() {
-        which[n] = lane;
-        rays[n] = Ray::new(origin.lane(lane), dir.lane(lane));
-        n += 1;
-    }
     let mut found = [None; W];
+    let mut n = 0;
+    let mut k = W;
+    for lane in live.lanes() {
+        if known.lanes >> lane & 1 != 0 {
+            // Kept at the end, after the rays walked here.
+            k -= 1;
+            which[k] = lane;
+            found[k] = known.hit[lane];
+        } else {
+            which[n] = lane;
+            rays[n] = Ray::new(origin.lane(lane), dir.lane(lane));
+            n += 1;
+        }
+    }
     ws.ps.tracer.nearest_triangles(&rays[..n], &mut found[..n]);
-    for (&lane, found) in which[..n].iter().zip(found) {
-        if let Some((t, ph)) = found {
+    for (&lane, found) in which[..n]
+        .iter()
+        .chain(&which[k..])
+        .zip(found[..n].iter().chain(&found[k..]))
+    {
+        if let Some((t, ph)) = *found {
             // Start loading what the next stages read of the triangle
             // while the other lanes are traced (large scenes: not in cache).
             let t_ = t as usize;

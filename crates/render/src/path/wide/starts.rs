@@ -3,12 +3,23 @@
 //! [`CameraBatch`] ahead of the lanes that take them. A lane whose path has ended takes
 //! the next one (Laine, Karras, Aila, "Megakernels Considered Harmful", HPG 2013:
 //! regenerating paths in place of finished ones).
+//!
+//! In scenes whose triangles the kernel walks a hierarchy for (see [`super`]), the W
+//! camera rays made at once are also traced then, eight at a time as coherent packets
+//! ([`FlatScene::nearest_triangles_packet`]): they are a pixel's samples or two
+//! neighbours', so they walk the same nodes, where the kernel's query would hold only
+//! the few of them that lanes took in one bounce, among other rays going every way.
+//! The lane that takes such a sample takes its nearest hit too ([`super::lane_queries`]).
 
 use super::{escapes, WideScene};
 use crate::camera_batch::{CameraBatch, Cursor, StartsW};
+use crate::path::flat_scene::FlatScene;
 use crate::path::integrator::PathCounters;
+use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
+use irradia_geometry::bvh::packet_traverse::PACKET;
 use irradia_geometry::packet::lanes::{Mw, V3, W};
+use irradia_geometry::packet::PacketHit;
 
 /// Where the kernel's paths start: a camera sample per sample index.
 pub(crate) enum Starts<'a, 'c> {
@@ -37,6 +48,10 @@ pub(super) struct Ahead {
     next: usize,
     /// The lanes of [`Self::starts`] made and not yet taken (bit `i`: lane `i`).
     waiting: u32,
+    /// The nearest triangle hits of the samples' camera rays, where known (bit `i` of
+    /// `known` for sample `i` of [`Self::starts`]).
+    hits: [Option<(u32, PacketHit)>; W],
+    known: u32,
 }
 
 impl Ahead {
@@ -55,6 +70,8 @@ impl Ahead {
             first: 0,
             next: 0,
             waiting: 0,
+            hits: [None; W],
+            known: 0,
         }
     }
 
@@ -86,10 +103,42 @@ impl Ahead {
                 escapes::finish(ws, s, escaped, self.first, out, counters);
             }
             self.waiting = (made & !escaped).bits();
+            // Hierarchy scenes: the camera rays that wait for a lane traced as packets.
+            self.known = 0;
+            if self.waiting != 0 && ws.rays.is_none() && ws.has_triangles() {
+                self.trace(&ws.ps.tracer, n);
+            }
         }
         let i = self.waiting.trailing_zeros() as usize;
         self.waiting &= self.waiting - 1;
         Some((self.first + i, i))
+    }
+
+    /// The nearest triangle hit of sample `i`'s camera ray, where it is known: as
+    /// [`FlatScene::nearest_triangles`] answers it.
+    #[inline(always)]
+    pub(super) fn known_hit(&self, i: usize) -> Option<Option<(u32, PacketHit)>> {
+        (self.known >> i & 1 != 0).then(|| self.hits[i])
+    }
+
+    /// Traces the camera rays of the `made` samples of [`Self::starts`], [`PACKET`] at
+    /// a time, through `flat`. Not inlined: the kernel's frame stays as it was
+    /// (unoptimised builds).
+    #[inline(never)]
+    fn trace(&mut self, flat: &FlatScene, made: usize) {
+        let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); PACKET];
+        for first in (0..made).step_by(PACKET) {
+            let n = PACKET.min(made - first);
+            for (k, r) in rays[..n].iter_mut().enumerate() {
+                *r = Ray::new(
+                    self.starts.origin.lane(first + k),
+                    self.starts.dir.lane(first + k),
+                );
+            }
+            let answered =
+                flat.nearest_triangles_packet(&rays[..n], &mut self.hits[first..first + n]);
+            self.known |= answered << first;
+        }
     }
 
     /// Makes samples `next..next + n` (`n <= W`, `next` the first not yet made).
