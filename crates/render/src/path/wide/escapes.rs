@@ -93,7 +93,10 @@ impl TriangleBox {
 /// infinity (closed rooms such as the suite's Cornell boxes, where the test would
 /// only cost: their renders were 2-3% slower with it), and none when the scene has
 /// spheres but no cull (tests).
-#[inline(always)]
+// Inlined into the kernel when optimised; its own frame when not (the unoptimised
+// kernel's frame must fit a worker thread's stack: see `kernel.rs`).
+#[cfg_attr(not(debug_assertions), inline(always))]
+#[cfg_attr(debug_assertions, inline(never))]
 pub(super) fn escaping(ws: &WideScene<'_, '_>, o: V3, d: V3, active: Mw) -> Mw {
     if !ws.background {
         return Mw::FALSE;
@@ -114,7 +117,10 @@ pub(super) fn escaping(ws: &WideScene<'_, '_>, o: V3, d: V3, active: Mw) -> Mw {
 /// `lane`), whose rays leave the scene: what they see of the emitters at infinity
 /// (black without), computed as the bounce loop computes it for a path that has just
 /// left the camera (throughput 1, no previous vertex).
-#[inline(always)]
+// Inlined into the kernel when optimised; its own frame when not (the unoptimised
+// kernel's frame must fit a worker thread's stack: see `kernel.rs`).
+#[cfg_attr(not(debug_assertions), inline(always))]
+#[cfg_attr(debug_assertions, inline(never))]
 pub(super) fn finish(
     ws: &WideScene<'_, '_>,
     s: &StartsW,

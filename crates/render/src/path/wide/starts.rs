@@ -79,7 +79,10 @@ impl Ahead {
     /// samples), made in lane `i` of [`Self::starts`]; `None` when every sample is
     /// taken or finished. Samples are made W at once; those whose camera ray
     /// certainly meets nothing are finished into `out` ([`super::escapes`]).
-    #[inline(always)]
+    // Inlined into the kernel when optimised; its own frame when not (the unoptimised
+    // kernel's frame must fit a worker thread's stack: see `kernel.rs`).
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(debug_assertions, inline(never))]
     pub(super) fn take(
         &mut self,
         ws: &WideScene<'_, '_>,
