@@ -12,7 +12,7 @@
 //! normal the shape would report). The triangles are grouped in eight-triangle SIMD
 //! packets ([`TrianglePacket`]). Up to 64 triangles form at most eight packets,
 //! grouped as the SAH builder's leaves and culled by one 8-wide test of their boxes
-//! ([`PacketBounds`]); more are indexed by the geometry crate's 4-wide SAH hierarchy
+//! ([`PacketBounds`]); more are indexed by the geometry crate's 8-wide SAH hierarchy
 //! (Wald, Benthin, Boulos, "Getting Rid of Packets", RT 2008) with packet leaves.
 //!
 //! Triangle meshes ([`Shape::as_triangle_mesh`](irradia_geometry::Shape::as_triangle_mesh)) are baked
@@ -21,16 +21,14 @@
 //! interpolates them into the shading normal with the mesh's own rules (Phong shading
 //! normals; given normals turn the geometric normal to their side, as in pbrt).
 //!
-//! Everything else (spheres, quadrics, tori, CSG, implicit surfaces, textured objects
-//! whose `uv` matters) stays in an [`Accel`] of the remaining instances; a ray is
-//! tested against both and the nearer hit wins.
+//! Everything else (spheres, quadrics, tori, CSG, implicit surfaces, textured objects whose
+//! `uv` matters) stays in an [`Accel`] of the other instances; the nearer hit wins.
 //!
-//! The geometry is the same surface, so the image is statistically the same; hits
-//! differ from the shapes' own tests only by rounding (f32 world-space triangles
-//! instead of the polygons' f64 plane test or the mesh's watertight object-space
-//! test). Surface coordinates `uv` of baked hits are the triangle's barycentrics
-//! (not a mesh's texture coordinates), which is why objects with textured materials
-//! are not baked.
+//! The geometry is the same surface, so the image is statistically the same; hits differ
+//! from the shapes' own tests only by rounding (f32 world-space triangles instead of the
+//! polygons' f64 plane test or the mesh's watertight object-space test). Surface
+//! coordinates `uv` of baked hits are the triangle's barycentrics (not a mesh's texture
+//! coordinates), which is why objects with textured materials are not baked.
 
 mod packet_nearest;
 
