@@ -84,6 +84,16 @@ impl Rng {
         unit_f32(self.next_u32())
     }
 
+    /// A point uniform in the cube [-0.5, 0.5)³ (x, y, z drawn in that order): random
+    /// directions, offsets and positions for tests and scene generators.
+    #[inline]
+    pub fn next_centered_vec3(&mut self) -> Vec3 {
+        let x = self.next_f32() - 0.5;
+        let y = self.next_f32() - 0.5;
+        let z = self.next_f32() - 0.5;
+        Vec3::new(x, y, z)
+    }
+
     /// Uniform in [0, 1) with 53 bits.
     #[inline]
     pub fn next_f64(&mut self) -> f64 {

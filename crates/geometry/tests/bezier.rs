@@ -347,14 +347,7 @@ fn spawned_rays_never_rehit_at_their_origin() {
     let mut rng = Rng::new(17, 0);
     let mut hits = 0;
     for _ in 0..1500 {
-        let o = Vec3::new(
-            rng.next_f32() - 0.5,
-            rng.next_f32() - 0.5,
-            rng.next_f32() - 0.5,
-        )
-        .normalize()
-            * 8.0
-            + Vec3::new(0.0, 1.5, 0.0);
+        let o = rng.next_centered_vec3().normalize() * 8.0 + Vec3::new(0.0, 1.5, 0.0);
         let target = Vec3::new(
             rng.next_f32() * 6.0 - 3.0,
             rng.next_f32() * 3.2,

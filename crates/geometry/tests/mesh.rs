@@ -176,11 +176,7 @@ fn smooth_normals_and_hit_record() {
     let mesh = TriangleMesh::new(v, f, None, None).unwrap();
     let mut rng = Rng::new(4, 4);
     for _ in 0..500 {
-        let d = Vec3::new(
-            rng.next_f32() - 0.5,
-            rng.next_f32() - 0.5,
-            rng.next_f32() - 0.5,
-        );
+        let d = rng.next_centered_vec3();
         let h = mesh
             .intersect(&Ray::new(Vec3::ZERO, d), f32::INFINITY)
             .unwrap();
@@ -214,11 +210,7 @@ fn closed_meshes_are_solids_with_spans() {
         targets.push((v[t[0] as usize] + v[t[1] as usize]) * 0.5);
     }
     for _ in 0..200 {
-        targets.push(Vec3::new(
-            rng.next_f32() - 0.5,
-            rng.next_f32() - 0.5,
-            rng.next_f32() - 0.5,
-        ));
+        targets.push(rng.next_centered_vec3());
     }
     for p in targets {
         // From a point inside, through vertices, edges and random directions: one

@@ -199,18 +199,8 @@ fn conductor_fresnel_is_the_exact_complex_fresnel() {
 fn refract_through_is_the_world_space_snell_refraction() {
     let mut rng = irradia_core::Rng::new(9, 2);
     for _ in 0..2000 {
-        let n = Vec3::new(
-            rng.next_f32() - 0.5,
-            rng.next_f32() - 0.5,
-            rng.next_f32() - 0.5,
-        )
-        .normalize();
-        let d = Vec3::new(
-            rng.next_f32() - 0.5,
-            rng.next_f32() - 0.5,
-            rng.next_f32() - 0.5,
-        )
-        .normalize();
+        let n = rng.next_centered_vec3().normalize();
+        let d = rng.next_centered_vec3().normalize();
         let d = if d.dot(n) > 0.05 { -d } else { d };
         let eta = [1.0 / 1.5, 1.5, 1.33, 1.0][rng.below(4) as usize];
         let cos_i = -d.dot(n);

@@ -161,13 +161,7 @@ mod tests {
     #[test]
     fn the_box_keeps_every_hit_and_drops_most_misses() {
         let mut rng = Rng::new(3, 7);
-        let mut v = |s: f32| {
-            Vec3::new(
-                rng.next_f32() - 0.5,
-                rng.next_f32() - 0.5,
-                rng.next_f32() - 0.5,
-            ) * s
-        };
+        let mut v = |s: f32| rng.next_centered_vec3() * s;
         // A floor-like pair and a wall (faces of the box), and random triangles.
         let mut corners = vec![
             [

@@ -768,12 +768,7 @@ mod tests {
         let mut n = V3::ZERO;
         let mut want = Vec::new();
         for lane in 0..W {
-            let v = Vec3::new(
-                rng.next_f32() - 0.5,
-                rng.next_f32() - 0.5,
-                rng.next_f32() - 0.5,
-            )
-            .normalize();
+            let v = rng.next_centered_vec3().normalize();
             n.set_lane(lane, v);
             want.push(irradia_core::Frame::from_normal(v));
         }

@@ -131,13 +131,7 @@ mod tests {
         let cull = SphereCull::new(&scene, &(0..n as u32).collect::<Vec<_>>());
         let inst = scene.accel.instances();
         let mut rng = Rng::new(11, 12);
-        let mut v = |s: f32| {
-            Vec3::new(
-                rng.next_f32() - 0.5,
-                rng.next_f32() - 0.5,
-                rng.next_f32() - 0.5,
-            ) * s
-        };
+        let mut v = |s: f32| rng.next_centered_vec3() * s;
         let (mut hits, mut kept_misses, mut misses) = (0, 0, 0);
         for round in 0..4000 {
             let (mut o, mut d, mut t_max) = (V3::ZERO, V3::ZERO, Fw::splat(f32::INFINITY));

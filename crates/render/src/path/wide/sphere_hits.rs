@@ -359,13 +359,7 @@ mod tests {
         let spheres = SpheresW::new(&scene, &objects).unwrap();
         let inst = scene.accel.instances();
         let mut rng = Rng::new(3, 4);
-        let mut v = |s: f32| {
-            Vec3::new(
-                rng.next_f32() - 0.5,
-                rng.next_f32() - 0.5,
-                rng.next_f32() - 0.5,
-            ) * s
-        };
+        let mut v = |s: f32| rng.next_centered_vec3() * s;
         let (mut hits, mut blocked, mut flipped, mut placed) = (0, 0, 0, 0);
         for round in 0..6000 {
             let (mut o, mut d) = (V3::ZERO, V3::ZERO);
