@@ -60,6 +60,7 @@ impl CommArgs {
                 if let Some(t) = threads {
                     rayon::ThreadPoolBuilder::new()
                         .num_threads(t as usize)
+                        .stack_size(irradia_render::pool::WORKER_STACK)
                         .build_global()
                         .map_err(|e| CliError::Failure(format!("cannot start the threads: {e}")))?;
                 }
