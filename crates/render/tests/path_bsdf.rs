@@ -2,6 +2,9 @@
 //! density (Pearson's chi-square, as Mitsuba and PBRT test theirs), energy
 //! conservation over incident directions, and the dielectric's Fresnel split.
 
+mod chi_square;
+
+use chi_square::gamma_q;
 use glam::{Vec2, Vec3};
 use irradia_core::{Rgb, Rng};
 use irradia_scatter::bsdfs::{LectureLobe as Lobe, LectureMix as Bsdf};
@@ -78,69 +81,6 @@ fn expected(pdf: impl Fn(Vec3) -> f64) -> Vec<f64> {
     out
 }
 
-/// Regularised upper incomplete gamma Q(a, x) (series for x < a + 1, continued
-/// fraction otherwise), for the chi-square p-value.
-fn gamma_q(a: f64, x: f64) -> f64 {
-    let ln_gamma_a = ln_gamma(a);
-    if x < a + 1.0 {
-        let (mut sum, mut term, mut n) = (1.0 / a, 1.0 / a, a);
-        for _ in 0..10_000 {
-            n += 1.0;
-            term *= x / n;
-            sum += term;
-            if term.abs() < sum.abs() * 1e-15 {
-                break;
-            }
-        }
-        1.0 - sum * (-x + a * x.ln() - ln_gamma_a).exp()
-    } else {
-        let tiny = 1e-300;
-        let mut b = x + 1.0 - a;
-        let mut c = 1.0 / tiny;
-        let mut d = 1.0 / b;
-        let mut h = d;
-        for i in 1..10_000 {
-            let an = -(i as f64) * (i as f64 - a);
-            b += 2.0;
-            d = an * d + b;
-            if d.abs() < tiny {
-                d = tiny;
-            }
-            c = b + an / c;
-            if c.abs() < tiny {
-                c = tiny;
-            }
-            d = 1.0 / d;
-            let del = d * c;
-            h *= del;
-            if (del - 1.0).abs() < 1e-15 {
-                break;
-            }
-        }
-        (-x + a * x.ln() - ln_gamma_a).exp() * h
-    }
-}
-
-/// Lanczos approximation of ln Γ(x).
-fn ln_gamma(x: f64) -> f64 {
-    let g = [
-        76.180_091_729_471_46,
-        -86.505_320_329_416_77,
-        24.014_098_240_830_91,
-        -1.231_739_572_450_155,
-        0.120_865_097_386_617_9e-2,
-        -0.539_523_938_495_3e-5,
-    ];
-    let mut y = x;
-    let tmp = x + 5.5;
-    let tmp = tmp - (x + 0.5) * tmp.ln();
-    let mut ser = 1.000_000_000_190_015;
-    for c in g {
-        y += 1.0;
-        ser += c / y;
-    }
-    -tmp + (2.506_628_274_631_000_5 * ser / x).ln()
-}
 
 /// Pearson's test of `n` samples of `bsdf` at `wo` against its `pdf`; returns the
 /// p-value. Bins expecting fewer than 5 samples are pooled; samples of delta lobes

@@ -95,77 +95,14 @@ pub fn integrated_pdf(bsdf: &Bsdf, wo: Vec3) -> Vec<f64> {
     out
 }
 
-/// The regularised upper incomplete gamma function Q(a, x) (Numerical Recipes §6.2:
-/// the series for x < a + 1, the continued fraction otherwise).
-fn gamma_q(a: f64, x: f64) -> f64 {
-    if x <= 0.0 {
-        return 1.0;
-    }
-    let ln_gamma_a = ln_gamma(a);
-    if x < a + 1.0 {
-        let (mut sum, mut term, mut ap) = (1.0 / a, 1.0 / a, a);
-        for _ in 0..10_000 {
-            ap += 1.0;
-            term *= x / ap;
-            sum += term;
-            if term.abs() < sum.abs() * 1e-15 {
-                break;
-            }
-        }
-        1.0 - sum * (-x + a * x.ln() - ln_gamma_a).exp()
-    } else {
-        let tiny = 1e-300;
-        let mut b = x + 1.0 - a;
-        let mut c = 1.0 / tiny;
-        let mut d = 1.0 / b;
-        let mut h = d;
-        for i in 1..10_000 {
-            let an = -(i as f64) * (i as f64 - a);
-            b += 2.0;
-            d = an * d + b;
-            if d.abs() < tiny {
-                d = tiny;
-            }
-            c = b + an / c;
-            if c.abs() < tiny {
-                c = tiny;
-            }
-            d = 1.0 / d;
-            let del = d * c;
-            h *= del;
-            if (del - 1.0).abs() < 1e-15 {
-                break;
-            }
-        }
-        (-x + a * x.ln() - ln_gamma_a).exp() * h
-    }
-}
-
-/// ln Γ(x) by Lanczos' approximation (g = 7, n = 9), accurate to ~1e-15.
-fn ln_gamma(x: f64) -> f64 {
-    const C: [f64; 9] = [
-        0.999_999_999_999_809_9,
-        676.520_368_121_885_1,
-        -1_259.139_216_722_402_8,
-        771.323_428_777_653_1,
-        -176.615_029_162_140_6,
-        12.507_343_278_686_905,
-        -0.138_571_095_265_720_12,
-        9.984_369_578_019_572e-6,
-        1.505_632_735_149_311_6e-7,
-    ];
-    let x = x - 1.0;
-    let mut a = C[0];
-    let t = x + 7.5;
-    for (i, &c) in C.iter().enumerate().skip(1) {
-        a += c / (x + i as f64);
-    }
-    0.5 * (2.0 * PI).ln() + (x + 0.5) * t.ln() - t + a.ln()
-}
 
 /// The p-value of a χ² statistic with `dof` degrees of freedom.
 pub fn chi2_p_value(chi2: f64, dof: usize) -> f64 {
-    gamma_q(dof as f64 / 2.0, chi2 / 2.0)
+    if chi2 <= 0.0 {
+        1.0
+    } else {
+        statrs::function::gamma::gamma_ur(dof as f64 / 2.0, chi2 / 2.0)
+    }
 }
 
 /// Samples `n` directions from `wo` with a deterministic generator.
