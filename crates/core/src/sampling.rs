@@ -71,6 +71,37 @@ impl Rng {
         (rngs, u)
     }
 
+    /// `K` calls of [`Rng::next_f32`] on each stream `rngs[i]` whose bit `i` of `take`
+    /// is set (`N <= 32`), the numbers of call `k` in `u[k][i]`; the other streams stay
+    /// as they are (their numbers mean nothing). The same arithmetic as the calls,
+    /// written as loops over the streams, so that a caller compiled for wide vectors
+    /// (the path kernel) steps the `N` generators side by side.
+    #[inline(always)]
+    pub fn next_f32_lanes<const N: usize, const K: usize>(
+        rngs: &mut [Rng; N],
+        take: u32,
+    ) -> [[f32; N]; K] {
+        assert!(N <= 32);
+        let mut state: [u64; N] = std::array::from_fn(|i| rngs[i].state);
+        let inc: [u64; N] = std::array::from_fn(|i| rngs[i].inc);
+        let mut u = [[0.0; N]; K];
+        for u in &mut u {
+            for i in 0..N {
+                let old = state[i];
+                u[i] = unit_f32(pcg_output(old));
+                state[i] = if take >> i & 1 != 0 {
+                    pcg_step(old, inc[i])
+                } else {
+                    old
+                };
+            }
+        }
+        for (r, s) in rngs.iter_mut().zip(state) {
+            r.state = s;
+        }
+        u
+    }
+
     #[inline]
     pub fn next_u32(&mut self) -> u32 {
         let old = self.state;
@@ -249,6 +280,25 @@ mod tests {
                 for _ in 0..3 {
                     assert_eq!(got.next_u32(), want.next_u32());
                 }
+            }
+        }
+    }
+
+    /// `next_f32_lanes` is `K` calls of `next_f32` on the streams it takes, and leaves
+    /// the others as they were.
+    #[test]
+    fn numbers_in_lanes_are_the_one_by_one_numbers() {
+        let mut rngs: [Rng; 16] = std::array::from_fn(|i| Rng::for_pixel(i as u32, 5, 3, 1));
+        for take in [0xffff_u32, 0, 0b1010_0110_0001_1001, 1 << 15] {
+            let mut want = rngs.clone();
+            let u: [[f32; 16]; 6] = Rng::next_f32_lanes(&mut rngs, take);
+            for i in 0..16 {
+                if take >> i & 1 != 0 {
+                    for u in &u {
+                        assert_eq!(u[i], want[i].next_f32());
+                    }
+                }
+                assert_eq!(rngs[i].clone().next_u32(), want[i].next_u32(), "stream {i}");
             }
         }
     }

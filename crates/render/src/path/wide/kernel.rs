@@ -577,7 +577,8 @@ fn run<const FMA: bool>(
             }
             let scatters = m.scatters && paths.depth[lane] < params.max_depth;
             b.scatter.set(lane, scatters);
-            if !scatters {
+            // With the light chosen in the vector stage, the numbers are drawn there.
+            if !scatters || ws.pick.is_some() {
                 continue;
             }
             let rng = &mut paths.rng[lane];
@@ -589,13 +590,6 @@ fn run<const FMA: bool>(
             let u_bsdf = rng.next_2d();
             b.u_bsdf[0].0[lane] = u_bsdf.x;
             b.u_bsdf[1].0[lane] = u_bsdf.y;
-            if ws.pick.is_some() {
-                // Chosen in the vector stage.
-                b.u_pick.0[lane] = u_pick;
-                b.u_light[0].0[lane] = u_light.x;
-                b.u_light[1].0[lane] = u_light.y;
-                continue;
-            }
             match ps.lights.pick_kernel(u_pick, u_light) {
                 Some(KernelLight::AtInfinity(ls)) => {
                     b.light.set(lane, false);
@@ -625,6 +619,13 @@ fn run<const FMA: bool>(
         // The light choice of all lanes at once (scenes of few emitters): the lanes
         // that chose an emitter at infinity sample it lane by lane.
         if let Some(lp) = &ws.pick {
+            // The scattering lanes' numbers, all lanes at once in the order above (the
+            // light choice, the light point, the lobe, the direction).
+            let [pick_u, lx, ly, lobe, dx, dy] =
+                Rng::next_f32_lanes(&mut paths.rng, b.scatter.bits());
+            (b.u_pick, b.u_lobe) = (Fw(pick_u), Fw(lobe));
+            b.u_light = [Fw(lx), Fw(ly)];
+            b.u_bsdf = [Fw(dx), Fw(dy)];
             let (light, facet, pick, u, emitter) = pick_lights(lp, b.u_pick, b.u_light, b.scatter);
             let far = at_infinity(lp, &emitter, light);
             b.light = light & !far;
