@@ -15,7 +15,8 @@
 //!    hits ([`ray_lanes`](irradia_geometry::packet::ray_lanes): W rays against every
 //!    triangle of a small scene; larger scenes walk the [`FlatScene`]'s hierarchy lane by lane,
 //!    with Wald et al.'s SIMD triangle packets), the hit points (triangle, material,
-//!    vertex normal and light data gathered by index), emission with MIS, the light choice and
+//!    vertex normal and light data gathered by index, or, from tables of at most W rows
+//!    under AVX-512, read by lane permutes: [`gather`]), emission with MIS, the light choice and
 //!    sample, the BSDF value and density, the cosine-weighted direction (with a
 //!    polynomial sine and cosine), the new rays, the Russian-roulette probability and
 //!    the shadow rays;

@@ -229,6 +229,7 @@ mod tests {
             table.extend(record(p, &mut row).map(|t| [t]));
             rows.push(row);
         }
+        let table = Table::new(table);
         let mut lobes = [0usize; 2];
         for _ in 0..4000 {
             let which = (rng.next_f32() * plastics.len() as f32) as usize % plastics.len();
@@ -301,6 +302,7 @@ mod tests {
             .into_iter()
             .map(|t| [t])
             .collect();
+        let table = Table::new(table);
         let params = PlasticParams {
             alpha: Fw::splat(0.2),
             eta: Fw::splat(1.5),
