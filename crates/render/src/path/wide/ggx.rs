@@ -17,8 +17,9 @@
 //!   much for a perfect mirror (η = 0, k = 1).
 
 use super::bsdf::conductor_fresnel;
+use super::gather::{checked, field};
 use super::{mat, WideScene};
-use irradia_geometry::packet::lanes::{gather, sin_cos_quarter_pi, Fw, Mw, V3, W};
+use irradia_geometry::packet::lanes::{sin_cos_quarter_pi, Fw, Mw, V3, W};
 use std::f32::consts::{PI, TAU};
 
 /// `sin 2πu` and `cos 2πu` for `u` in `[0, 1)` (the azimuth of a warp): `u` is reduced
@@ -107,11 +108,8 @@ pub(super) fn sample_visible(wo: V3, u: [Fw; 2], alpha: Fw) -> V3 {
 /// Field `at` of the materials' shading records.
 #[inline(always)]
 pub(super) fn shading(ws: &WideScene<'_, '_>, material: &[u32; W], at: usize) -> Fw {
-    assert!(at < mat::LEN);
-    let top = material.iter().fold(0, |a, &i| a.max(i));
-    assert!((top as usize) < ws.shading.len());
-    // SAFETY: every index was just checked against the table, and `at < LEN`.
-    unsafe { gather(&ws.shading, material, at) }
+    checked(&ws.shading, material);
+    field(&ws.shading, material, at)
 }
 
 /// What the rough conductor gives the vector stage: its value and density for the light

@@ -15,7 +15,7 @@
 
 use super::background::Background;
 use super::bsdf::{conductor_fresnel, cosine_hemisphere, dielectric};
-use super::gather::{checked, field, field3};
+use super::gather::{checked, field, field3, Table};
 use super::glossy::glossy;
 use super::lane_queries::{nearest_in_turns, occluded_in_turns, KnownHits};
 use super::light_pick::{at_infinity, far_lights, pick_lights};
@@ -143,7 +143,7 @@ fn frame(n: V3) -> (V3, V3) {
 /// geometric one's side. Flat faces, and blends that vanish, shade with `n`.
 #[inline(always)]
 fn smooth_normals(
-    table: &[[f32; smooth::LEN]],
+    table: &Table<{ smooth::LEN }>,
     triangle: &[u32; W],
     (b0, b1, b2): (Fw, Fw, Fw),
     n: V3,

@@ -7,7 +7,7 @@
 //! from `LightSampler::kernel_light` with the numbers as drawn ([`far_lights`]).
 
 use super::background::Background;
-use super::gather::{checked, field, lookup};
+use super::gather::{checked, field, lookup, Table};
 use crate::path::lights::{KernelLight, LightSampler};
 use glam::Vec2;
 use irradia_geometry::packet::lanes::{Fw, Mw, W};
@@ -19,19 +19,19 @@ use irradia_geometry::packet::lanes::{Fw, Mw, W};
 pub(crate) struct LightPick {
     pub emitter_cdf: Vec<f32>,
     /// Per emitter: probability of choosing it and its total facet area.
-    pub probability: Vec<[f32; 1]>,
-    pub total: Vec<[f32; 1]>,
+    pub probability: Table<1>,
+    pub total: Table<1>,
     /// Per emitter: its first facet (in `WideScene::facets` and `facet_cdf`) and
     /// how many it has.
     pub start: Vec<u32>,
     pub len: Vec<u32>,
     /// The cumulative areas, aligned with `WideScene::facets`.
-    pub facet_cdf: Vec<[f32; 1]>,
+    pub facet_cdf: Table<1>,
     /// The most facets of one emitter.
     pub max_len: usize,
     /// Per emitter: 1 for an emitter at infinity (the constant environment, an
     /// environment map), else 0; and whether any is.
-    pub far: Vec<[f32; 1]>,
+    pub far: Table<1>,
     pub any_far: bool,
 }
 

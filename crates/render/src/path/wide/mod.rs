@@ -15,7 +15,8 @@
 //!    hits ([`ray_lanes`](irradia_geometry::packet::ray_lanes): W rays against every
 //!    triangle of a small scene; larger scenes walk the [`FlatScene`]'s hierarchy lane by lane,
 //!    with Wald et al.'s SIMD triangle packets), the hit points (triangle, material,
-//!    vertex normal and light data gathered by index), emission with MIS, the light choice and
+//!    vertex normal and light data gathered by index, or, from tables of at most W rows
+//!    under AVX-512, read by lane permutes: [`gather`]), emission with MIS, the light choice and
 //!    sample, the BSDF value and density, the cosine-weighted direction (with a
 //!    polynomial sine and cosine), the new rays, the Russian-roulette probability and
 //!    the shadow rays;
@@ -113,6 +114,7 @@ use super::flat_scene::FlatScene;
 use super::integrator::{PathCounters, PathParams, PathScene};
 use super::lights::{FacetEmitter, KernelEmitter};
 use crate::camera_batch::CameraBatch;
+use gather::Table;
 use glam::Vec3;
 use irradia_core::{Ray, Rgb, Rng};
 use irradia_geometry::packet::{RayLaneTriangles, SimdBuild};
@@ -224,18 +226,18 @@ pub(crate) mod facet {
 pub struct WideScene<'s, 'a> {
     pub(crate) ps: &'s PathScene<'a, FlatScene>,
     /// Per baked triangle: corners and unit normal ([`tri`]).
-    pub(crate) triangles: Vec<[f32; tri::LEN]>,
+    pub(crate) triangles: Table<{ tri::LEN }>,
     /// Per baked triangle: its material and instance.
     pub(crate) triangle_owner: Vec<(u32, u32)>,
     /// Per baked triangle: its vertex normals ([`smooth`]), when some triangle has
     /// them (a mesh); `None` when every triangle shades with its geometric normal.
-    pub(crate) smooth: Option<Vec<[f32; smooth::LEN]>>,
+    pub(crate) smooth: Option<Table<{ smooth::LEN }>>,
     pub(crate) materials: Vec<WideMaterial>,
     /// Per material: albedo, emission, sidedness ([`mat`]).
-    pub(crate) shading: Vec<[f32; mat::LEN]>,
+    pub(crate) shading: Table<{ mat::LEN }>,
     /// Every emitter's world-space triangles ([`facet`]); one zero record when there
     /// are none, so that an index of 0 is always valid.
-    pub(crate) facets: Vec<[f32; facet::LEN]>,
+    pub(crate) facets: Table<{ facet::LEN }>,
     /// Index of each emitter's first facet in `facets`.
     pub(crate) facet_start: Vec<u32>,
     /// The light choice's tables, when it is small enough to make in the vector
@@ -276,10 +278,10 @@ pub struct WideScene<'s, 'a> {
     /// The rough plastics' transmittance tables `T(μ)` ([`rough_plastic`]):
     /// [`rough_plastic::ROWS`] rows per material (zeros but for plastics); empty
     /// without a rough plastic.
-    pub(crate) transmittance: Vec<[f32; 1]>,
+    pub(crate) transmittance: Table<1>,
     /// Per emitter: its sphere record ([`sph`]) when some emitter is an emissive
     /// sphere sampled by its own sampler; `None` when every emitter is facets.
-    pub(crate) sphere_lights: Option<Vec<[f32; sph::LEN]>>,
+    pub(crate) sphere_lights: Option<Table<{ sph::LEN }>>,
     /// The build of the kernel that runs: the widest this CPU has
     /// ([`SimdBuild::best`], or the one [`KERNEL_VAR`] names) unless a test asks for another.
     pub(crate) build: SimdBuild,
@@ -445,7 +447,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
         if triangles.is_empty() {
             triangles.push([0.0; tri::LEN]);
         }
-        let smooth = any_smooth.then_some(smooth_table);
+        let smooth = any_smooth.then(|| Table::new(smooth_table));
         let kernel_emitters = ps.lights.kernel_emitters(scene)?;
         let at_infinity = kernel_emitters
             .iter()
@@ -482,7 +484,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
         let any_sphere = kernel_emitters
             .iter()
             .any(|e| matches!(e, KernelEmitter::Sphere(_)));
-        let sphere_lights = any_sphere.then_some(sphere_table);
+        let sphere_lights = any_sphere.then(|| Table::new(sphere_table));
         let mut facets = Vec::new();
         let mut facet_start = Vec::new();
         for e in &emitters {
@@ -513,19 +515,23 @@ impl<'s, 'a> WideScene<'s, 'a> {
             (small && !ps.lights.is_empty() && emitter_cdf.len() == emitters.len()).then(|| {
                 LightPick {
                     emitter_cdf: emitter_cdf.to_vec(),
-                    probability: emitters.iter().map(|e| [e.probability]).collect(),
-                    total: emitters.iter().map(|e| [*e.cdf.last().unwrap()]).collect(),
+                    probability: Table::new(emitters.iter().map(|e| [e.probability]).collect()),
+                    total: Table::new(emitters.iter().map(|e| [*e.cdf.last().unwrap()]).collect()),
                     start: facet_start.clone(),
                     len: emitters.iter().map(|e| e.cdf.len() as u32).collect(),
-                    facet_cdf: emitters
-                        .iter()
-                        .flat_map(|e| e.cdf.iter().map(|&c| [c]))
-                        .collect(),
+                    facet_cdf: Table::new(
+                        emitters
+                            .iter()
+                            .flat_map(|e| e.cdf.iter().map(|&c| [c]))
+                            .collect(),
+                    ),
                     max_len: emitters.iter().map(|e| e.cdf.len()).max().unwrap_or(0),
-                    far: kernel_emitters
-                        .iter()
-                        .map(|e| [f32::from(matches!(e, KernelEmitter::AtInfinity(_)) as u8)])
-                        .collect(),
+                    far: Table::new(
+                        kernel_emitters
+                            .iter()
+                            .map(|e| [f32::from(matches!(e, KernelEmitter::AtInfinity(_)) as u8)])
+                            .collect(),
+                    ),
                     any_far: at_infinity,
                 }
             });
@@ -543,14 +549,14 @@ impl<'s, 'a> WideScene<'s, 'a> {
                 }
             }
         }
-        Some(Self {
+        let mut ws = Self {
             ps,
-            triangles,
+            triangles: Table::new(triangles),
             triangle_owner,
             smooth,
             materials,
-            shading,
-            facets,
+            shading: Table::new(shading),
+            facets: Table::new(facets),
             facet_start,
             pick,
             rays,
@@ -567,10 +573,38 @@ impl<'s, 'a> WideScene<'s, 'a> {
                 .then(|| envmap_lanes::EnvironmentW::new(ps.lights)),
             has_rough,
             alpha_scale: 1.0,
-            transmittance,
+            transmittance: Table::new(transmittance),
             sphere_lights,
-            build: SimdBuild::chosen(KERNEL_VAR),
-        })
+            build: SimdBuild::Portable,
+        };
+        ws.set_build(SimdBuild::chosen(KERNEL_VAR));
+        Some(ws)
+    }
+
+    /// Runs `build`, whose tables of at most W rows it reads by lane permutes
+    /// (AVX-512) or by gathers ([`gather`]).
+    fn set_build(&mut self, build: SimdBuild) {
+        self.build = build;
+        self.triangles.set_build(build);
+        self.shading.set_build(build);
+        self.facets.set_build(build);
+        self.transmittance.set_build(build);
+        for t in self.smooth.iter_mut() {
+            t.set_build(build);
+        }
+        for t in self.sphere_lights.iter_mut() {
+            t.set_build(build);
+        }
+        if let Some(p) = &mut self.pick {
+            for t in [
+                &mut p.probability,
+                &mut p.total,
+                &mut p.facet_cdf,
+                &mut p.far,
+            ] {
+                t.set_build(build);
+            }
+        }
     }
 
     /// Whether the scene has baked triangles (a scene of spheres only has none).
@@ -585,7 +619,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
     #[doc(hidden)]
     pub fn with_build(mut self, build: SimdBuild) -> Self {
         assert!(build.available(), "this CPU cannot run the {build:?} build");
-        self.build = build;
+        self.set_build(build);
         self
     }
 

@@ -23,7 +23,7 @@
 //! lobe, so light samples are weighted against the mixture's density.
 
 use super::bsdf::cosine_hemisphere;
-use super::gather::{checked, field};
+use super::gather::{checked, field, Table};
 use super::ggx::{d, g1, pdf_visible, sample_visible, shading, RoughSample};
 use super::rough_dielectric::fresnel_dielectric;
 use super::{mat, WideScene};
@@ -74,7 +74,7 @@ pub(super) struct PlasticParams<'t> {
     /// The specular sampling weight `s`.
     pub spec_weight: Fw,
     /// The transmittance tables and each lane's first row in them.
-    pub table: &'t [[f32; 1]],
+    pub table: &'t Table<1>,
     pub first: [u32; W],
 }
 
@@ -229,6 +229,7 @@ mod tests {
             table.extend(record(p, &mut row).map(|t| [t]));
             rows.push(row);
         }
+        let table = Table::new(table);
         let mut lobes = [0usize; 2];
         for _ in 0..4000 {
             let which = (rng.next_f32() * plastics.len() as f32) as usize % plastics.len();
@@ -301,6 +302,7 @@ mod tests {
             .into_iter()
             .map(|t| [t])
             .collect();
+        let table = Table::new(table);
         let params = PlasticParams {
             alpha: Fw::splat(0.2),
             eta: Fw::splat(1.5),

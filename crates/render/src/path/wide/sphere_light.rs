@@ -8,9 +8,10 @@
 //! 4th ed., §6.2 and §4.4), the arithmetic of `LightSampler::sample` for an emissive
 //! object sampled by its own sampler, in the same order.
 
+use super::gather::{checked, field, field3, Table};
 use super::ggx::sin_cos_two_pi;
 use crate::path::lights::SphereEmitter;
-use irradia_geometry::packet::lanes::{gather, Fw, Mw, V3, W};
+use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 
 /// Fields of a sphere-light record (one per emitter; all zero, `IS` included, for
 /// the facet emitters).
@@ -65,9 +66,12 @@ pub(super) struct LightPoint {
     pub two_sided: Mw,
 }
 
+/// The sphere records' table.
+type Spheres = Table<{ sph::LEN }>;
+
 /// `M v` with the columns of a 3×3 matrix at `at` (glam's column order of sums).
 #[inline(always)]
-fn mat_vec(table: &[[f32; sph::LEN]], idx: &[u32; W], at: usize, v: V3) -> V3 {
+fn mat_vec(table: &Spheres, idx: &[u32; W], at: usize, v: V3) -> V3 {
     // (No closures in the vector stage: one that is not inlined loses the loop's
     // target features.)
     let (c0, c1, c2) = (
@@ -78,33 +82,16 @@ fn mat_vec(table: &[[f32; sph::LEN]], idx: &[u32; W], at: usize, v: V3) -> V3 {
     c0.scale(v.x).add(c1.scale(v.y)).add(c2.scale(v.z))
 }
 
-#[inline(always)]
-fn field(table: &[[f32; sph::LEN]], idx: &[u32; W], at: usize) -> Fw {
-    assert!(at < sph::LEN);
-    let top = idx.iter().fold(0, |a, &i| a.max(i));
-    assert!((top as usize) < table.len());
-    // SAFETY: every index was just checked against the table, and `at < LEN`.
-    unsafe { gather(table, idx, at) }
-}
-
-#[inline(always)]
-fn field3(table: &[[f32; sph::LEN]], idx: &[u32; W], at: usize) -> V3 {
-    V3::new(
-        field(table, idx, at),
-        field(table, idx, at + 1),
-        field(table, idx, at + 2),
-    )
-}
-
 /// In the lanes whose chosen emitter (`emitter`) is a sphere, the point its numbers
 /// `u` give in place of the facet's `facet`; the other lanes keep `facet`.
 #[inline(always)]
 pub(super) fn sample(
-    table: &[[f32; sph::LEN]],
+    table: &Spheres,
     emitter: &[u32; W],
     u: [Fw; 2],
     facet: LightPoint,
 ) -> LightPoint {
+    checked(table, emitter);
     let is = field(table, emitter, sph::IS).ne(0.0);
     if !is.any() {
         return facet;
