@@ -81,7 +81,6 @@ fn expected(pdf: impl Fn(Vec3) -> f64) -> Vec<f64> {
     out
 }
 
-
 /// Pearson's test of `n` samples of `bsdf` at `wo` against its `pdf`; returns the
 /// p-value. Bins expecting fewer than 5 samples are pooled; samples of delta lobes
 /// count with the rejected ones (the mass the pdf does not have).

@@ -95,7 +95,6 @@ pub fn integrated_pdf(bsdf: &Bsdf, wo: Vec3) -> Vec<f64> {
     out
 }
 
-
 /// The p-value of a χ² statistic with `dof` degrees of freedom.
 pub fn chi2_p_value(chi2: f64, dof: usize) -> f64 {
     if chi2 <= 0.0 {
