@@ -142,7 +142,7 @@ impl EnvmapW {
         let i01: [u32; W] = std::array::from_fn(|k| idx[k] + s);
         let i11: [u32; W] = std::array::from_fn(|k| idx[k] + s + 1);
         // The largest of the four: in bounds, so are the others.
-        checked(&self.vertex, &i11);
+        checked(&self.vertex[..], &i11);
         let corners = [idx, &i10, &i01, &i11];
         let (gx, gy) = (1.0 - fx, 1.0 - fy);
         // (No closure: it would not inherit the kernel's target features.)
@@ -151,7 +151,7 @@ impl EnvmapW {
             self.channel(corners, 1, (fx, gx), (fy, gy)),
             self.channel(corners, 2, (fx, gx), (fy, gy)),
         );
-        (l, field(&self.vertex, idx, vtx::PDF))
+        (l, field(&self.vertex[..], idx, vtx::PDF))
     }
 
     /// One colour channel `c` of [`EnvmapW::bilinear`]: the corners `(i, j)`,
@@ -165,7 +165,7 @@ impl EnvmapW {
         (fx, gx): (Fw, Fw),
         (fy, gy): (Fw, Fw),
     ) -> Fw {
-        let t = &self.vertex;
+        let t = &self.vertex[..];
         let at = vtx::RGB + c;
         let top = field(t, corners[0], at) * gx + field(t, corners[1], at) * fx;
         let bottom = field(t, corners[2], at) * gx + field(t, corners[3], at) * fx;
@@ -222,8 +222,8 @@ impl EnvmapW {
         }
         let wi = mat_mul(&self.to_world, V3::new(sp * st, ct, -cp * st)).normalize();
         let idx: [u32; W] = std::array::from_fn(|k| j[k] * self.stride + i[k]);
-        checked(&self.vertex, &idx);
-        let p = field(&self.vertex, &idx, vtx::PDF);
+        checked(&self.vertex[..], &idx);
+        let p = field(&self.vertex[..], &idx, vtx::PDF);
         let ok = lanes & !(st.le(0.0) | p.le(0.0));
         // `EnvMap::eval_uv` at the sampled point.
         let (cell, fx, fy) = self.cell(uu, v);

@@ -51,7 +51,7 @@ impl<const N: usize> Deref for Table<N> {
     }
 }
 
-/// What [`field`] reads: a [`Table`], or plain rows (read by gathers).
+/// What [`field`] reads: a [`Table`], or a slice of rows (read by gathers).
 pub(super) trait Fields<const N: usize> {
     fn rows(&self) -> &[[f32; N]];
     /// The rows by field, where they are read by lane permutes.
@@ -70,17 +70,6 @@ impl<const N: usize> Fields<N> for Table<N> {
 }
 
 impl<const N: usize> Fields<N> for [[f32; N]] {
-    #[inline(always)]
-    fn rows(&self) -> &[[f32; N]] {
-        self
-    }
-    #[inline(always)]
-    fn columns(&self) -> Option<&[Fw]> {
-        None
-    }
-}
-
-impl<const N: usize> Fields<N> for Vec<[f32; N]> {
     #[inline(always)]
     fn rows(&self) -> &[[f32; N]] {
         self
