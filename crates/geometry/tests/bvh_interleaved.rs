@@ -68,9 +68,18 @@ fn interleaved_closest_walks_are_the_single_ray_walks() {
         // Fewer rays than walks in flight, as many, and several refills.
         for &count in &[1usize, 5, 16, 17, 41] {
             let rs = rays(&mut rng, count);
-            let t_max = 2.5;
+            // A bound per ray: most beyond the scene, some inside it.
+            let t_max: Vec<f32> = (0..count)
+                .map(|i| {
+                    if i % 3 == 2 {
+                        0.5 + rng.next_f32()
+                    } else {
+                        2.5
+                    }
+                })
+                .collect();
             let mut single = Vec::new();
-            for r in &rs {
+            for (r, &t_max) in rs.iter().zip(&t_max) {
                 let mut calls = Vec::new();
                 let t = bvh.closest_hit_leaves(r, t_max, |leaf, t| {
                     calls.push((leaf.index, leaf.count, t.to_bits()));
@@ -82,7 +91,7 @@ fn interleaved_closest_walks_are_the_single_ray_walks() {
             let mut best: Vec<Option<u32>> = vec![None; count];
             bvh.closest_hit_leaves_interleaved(
                 &rs,
-                t_max,
+                &t_max,
                 |_| {},
                 |i, leaf, t| {
                     calls[i].push((leaf.index, leaf.count, t.to_bits()));

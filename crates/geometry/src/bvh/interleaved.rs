@@ -27,20 +27,21 @@ pub const LANES: usize = 16;
 const _: () = assert!(LANES <= 32);
 
 impl Bvh {
-    /// The nearest hit of each of `rays` (each bounded by `t_max`), walked
+    /// The nearest hit of each of `rays` (ray `i` bounded by `t_max[i]`), walked
     /// [`LANES`] at a time in turns: `hit(ray_index, leaf, t_max)` and
     /// `prefetch(leaf)` as in [`Bvh::closest_hit_leaves_prefetch`] (the leaf closure
     /// records the hits; a ray's calls come in its single-ray order).
     pub fn closest_hit_leaves_interleaved<P, F>(
         &self,
         rays: &[Ray],
-        t_max: f32,
+        t_max: &[f32],
         prefetch: P,
         hit: F,
     ) where
         P: Fn(ChildRef),
         F: FnMut(usize, ChildRef, f32) -> Option<f32>,
     {
+        assert_eq!(t_max.len(), rays.len(), "one bound per ray");
         if rays.is_empty() {
             return;
         }
@@ -54,7 +55,7 @@ impl Bvh {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn interleaved_avx2<P, F>(&self, rays: &[Ray], t_max: f32, prefetch: P, hit: F)
+    unsafe fn interleaved_avx2<P, F>(&self, rays: &[Ray], t_max: &[f32], prefetch: P, hit: F)
     where
         P: Fn(ChildRef),
         F: FnMut(usize, ChildRef, f32) -> Option<f32>,
@@ -63,8 +64,13 @@ impl Bvh {
     }
 
     #[inline(always)]
-    fn interleaved<const AVX: bool, P, F>(&self, rays: &[Ray], t_max: f32, prefetch: P, mut hit: F)
-    where
+    fn interleaved<const AVX: bool, P, F>(
+        &self,
+        rays: &[Ray],
+        t_max: &[f32],
+        prefetch: P,
+        mut hit: F,
+    ) where
         P: Fn(ChildRef),
         F: FnMut(usize, ChildRef, f32) -> Option<f32>,
     {
@@ -74,13 +80,13 @@ impl Bvh {
                 NodeRay::new(rays[index].origin, rays[index].dir),
                 index,
                 root,
-                t_max,
+                t_max[index],
             );
         };
         // The walks are set up once and restarted in place (a new one would copy its
         // stack).
         let mut walks: [Walk<Entry>; LANES] = std::array::from_fn(|_| {
-            Walk::new(NodeRay::new(rays[0].origin, rays[0].dir), 0, root, t_max)
+            Walk::new(NodeRay::new(rays[0].origin, rays[0].dir), 0, root, t_max[0])
         });
         take_turns(&mut walks, rays.len(), begin, |w| {
             self.closest_step::<AVX, P, F>(w, &prefetch, &mut hit)

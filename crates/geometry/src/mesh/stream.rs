@@ -104,7 +104,7 @@ impl TriangleMesh {
         let mut best: Vec<LaneHit<'a>> = vec![None; lone.len()];
         self.bvh.closest_hit_leaves_interleaved(
             &lone_rays,
-            t_max,
+            &vec![t_max; lone_rays.len()],
             |leaf| self.prefetch_leaf(leaf),
             |k, leaf, t_max| {
                 let packets = self.leaf_packets(leaf);
@@ -259,7 +259,7 @@ impl TriangleMesh {
         let mut second = vec![f32::INFINITY; rays.len()];
         self.bvh.closest_hit_leaves_interleaved(
             rays,
-            t_max,
+            &vec![t_max; rays.len()],
             |l| self.prefetch_leaf(l),
             |k, leaf, bound| {
                 self.nearest_in_leaf(leaf, &trays[k], bound, t_max, &mut best[k], &mut second[k])

@@ -155,9 +155,9 @@ impl RayLaneTriangles {
             h.b1 = take.select(u * inv, h.b1);
             h.b2 = take.select(v * inv, h.b2);
             for lane in 0..W {
-                if take.get(lane) {
-                    h.triangle[lane] = id;
-                }
+                // A select (no branch), so the loop is a blend of lanes.
+                let m = take.0[lane] as u32;
+                h.triangle[lane] = (id & m) | (h.triangle[lane] & !m);
             }
             h.hit = h.hit | take;
         }

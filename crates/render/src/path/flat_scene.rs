@@ -13,7 +13,10 @@
 //! packets ([`TrianglePacket`]). Up to 64 triangles form at most eight packets,
 //! grouped as the SAH builder's leaves and culled by one 8-wide test of their boxes
 //! ([`PacketBounds`]); more are indexed by the geometry crate's 8-wide SAH hierarchy
-//! (Wald, Benthin, Boulos, "Getting Rid of Packets", RT 2008) with packet leaves.
+//! (Wald, Benthin, Boulos, "Getting Rid of Packets", RT 2008) with packet leaves,
+//! except the few triangles whose boxes are a large part of the scene's (the walls of a
+//! room around a mesh, a ground plane: [`LARGE_TRIANGLE_AREA`]), which every ray tests
+//! first, as a small scene's, and whose nearest hit bounds the walk of the tree.
 //!
 //! Triangle meshes ([`Shape::as_triangle_mesh`](irradia_geometry::Shape::as_triangle_mesh)) are baked
 //! too, triangle by triangle, each with the geometric normal the mesh's hit reports
@@ -30,21 +33,20 @@
 //! coordinates `uv` of baked hits are the triangle's barycentrics (not a mesh's texture
 //! coordinates), which is why objects with textured materials are not baked.
 
+mod baked;
 mod packet_nearest;
+
+use baked::Baked;
 
 use super::material_map::{desc_anisotropic, desc_uniform};
 use super::tracer::{SubsetAccel, Tracer};
 use glam::{DVec3, Vec2, Vec3};
-use irradia_core::{Aabb, Ray};
-use irradia_geometry::bvh::{Bvh, ChildRef};
+use irradia_core::{Ray, Rgb};
 use irradia_geometry::mesh::TriangleMesh;
-#[cfg(target_arch = "x86_64")]
-use irradia_geometry::packet::bounds8::{any_culled_avx2, nearest_culled_avx2};
 use irradia_geometry::packet::has_avx2;
 use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 use irradia_geometry::packet::ray_lanes::LaneHits;
-use irradia_geometry::packet::triangle8 as packet;
-use irradia_geometry::packet::{PacketBounds, PacketHit, RayLaneTriangles, TrianglePacket, LANES};
+use irradia_geometry::packet::{PacketHit, RayLaneTriangles};
 use irradia_geometry::triangle::TriangleHit;
 use irradia_geometry::{Accel, Hit, Instance, ObjectSet, RayQuery, RaySegment, SceneHit};
 use irradia_scene::{Scene, Texture};
@@ -251,221 +253,6 @@ pub(crate) fn prefetch_bytes<T>(p: &T, bytes: usize) {
     let _ = (p, bytes);
 }
 
-/// Up to this many triangles are tested one packet after another without a
-/// hierarchy: for the Cornell box (36 triangles) nine packet tests cost less than
-/// descending a tree whose big wall triangles overlap every box.
-const BRUTE_FORCE_TRIANGLES: usize = 64;
-
-/// The triangles and their hierarchy.
-#[derive(Debug)]
-struct Baked {
-    /// `None` for small scenes (every packet is tested); otherwise its leaves index
-    /// `packets`: a leaf of n triangles owns ceil(n / 4) packets.
-    bvh: Option<Bvh>,
-    /// For small scenes of at most eight packets: their boxes, to skip the packets a
-    /// ray passes by.
-    bounds: Option<PacketBounds>,
-    packets: Vec<TrianglePacket>,
-    /// The triangle of each packet lane.
-    lanes: Vec<[u32; LANES]>,
-    triangles: Vec<FlatTriangle>,
-    /// Whether several rays' walks take turns ([`Self::intersect_many`]): only where
-    /// the packets outgrow [`INTERLEAVE_BYTES`].
-    interleave: bool,
-}
-
-/// The size of the packets beyond which several rays walk the BVH in turns. Taking
-/// turns hides cache misses but costs bookkeeping, so it pays only where the walks
-/// miss the last-level cache: measured in the wide path kernel (CPU, paired runs,
-/// 16 spp, load 6), the 2.25M-triangle gyroid (~80 MB of packets) in the Cornell box
-/// 1.12x faster with it, the 69k-triangle bunny (~2.5 MB) 0.85x (again with 16 lanes
-/// in flight, 16 spp, load 7: 1.07x the CPU time of the render without).
-const INTERLEAVE_BYTES: usize = 16 << 20;
-
-impl Baked {
-    fn build(triangles: Vec<FlatTriangle>) -> Self {
-        let mut packets = Vec::new();
-        let mut lanes = Vec::new();
-        let mut pack = |chunk: &[u32]| {
-            let corners: Vec<[Vec3; 3]> = chunk
-                .iter()
-                .map(|&t| triangles[t as usize].corners)
-                .collect();
-            packets.push(TrianglePacket::new(&corners));
-            let mut ids = [u32::MAX; LANES];
-            ids[..chunk.len()].copy_from_slice(chunk);
-            lanes.push(ids);
-        };
-        let degenerate = |t: &FlatTriangle| {
-            let [a, b, c] = t.corners;
-            (b - a).cross(c - a) == Vec3::ZERO
-        };
-        let boxes: Vec<Aabb> = triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.corners;
-                if degenerate(t) {
-                    Aabb::EMPTY // never hit
-                } else {
-                    Aabb::new(a.min(b).min(c), a.max(b).max(c))
-                }
-            })
-            .collect();
-        let mut bounds = None;
-        let bvh = if triangles.len() <= BRUTE_FORCE_TRIANGLES {
-            // Group the triangles as the SAH builder's leaves do, so that each packet
-            // is compact and its box can cull it.
-            let mut tree = Bvh::build_blocked(&boxes, LANES);
-            let order = tree.order().to_vec();
-            let mut groups: Vec<Vec<u32>> = Vec::new();
-            tree.map_leaves(|start, count| {
-                for chunk in order[start as usize..(start + count) as usize].chunks(LANES) {
-                    groups.push(chunk.to_vec());
-                }
-                0
-            });
-            if groups.len() <= LANES {
-                let packet_boxes: Vec<Aabb> = groups
-                    .iter()
-                    .map(|g| {
-                        g.iter()
-                            .fold(Aabb::EMPTY, |b, &t| b.union(boxes[t as usize]))
-                    })
-                    .collect();
-                bounds = Some(PacketBounds::new(&packet_boxes));
-                groups.iter().for_each(|g| pack(g));
-            } else {
-                let all: Vec<u32> = (0..triangles.len() as u32)
-                    .filter(|&i| !degenerate(&triangles[i as usize]))
-                    .collect();
-                all.chunks(LANES).for_each(&mut pack);
-            }
-            None
-        } else {
-            let mut bvh = Bvh::build_blocked(&boxes, LANES);
-            let order = bvh.order().to_vec();
-            let mut next = 0u32;
-            bvh.map_leaves(|start, count| {
-                let first = next;
-                for chunk in order[start as usize..(start + count) as usize].chunks(LANES) {
-                    pack(chunk);
-                    next += 1;
-                }
-                first
-            });
-            Some(bvh)
-        };
-        let interleave = bvh.is_some()
-            && packets.len() * std::mem::size_of::<TrianglePacket>() > INTERLEAVE_BYTES;
-        Self {
-            bvh,
-            bounds,
-            packets,
-            lanes,
-            triangles,
-            interleave,
-        }
-    }
-
-    #[inline(always)]
-    fn leaf_packets(&self, leaf: ChildRef) -> &[TrianglePacket] {
-        let start = leaf.index as usize;
-        &self.packets[start..start + (leaf.count as usize).div_ceil(LANES)]
-    }
-
-    /// The nearest triangle with `0 < t < t_max`: (triangle, hit).
-    #[inline]
-    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(u32, PacketHit)> {
-        let (o, d) = (ray.origin, ray.dir);
-        let (index, h) = match &self.bvh {
-            #[cfg(target_arch = "x86_64")]
-            None if self.bounds.is_some() && has_avx2() => {
-                // SAFETY: the CPU supports AVX2 and FMA.
-                unsafe { nearest_culled_avx2(&self.packets, self.bounds.as_ref()?, o, d, t_max)? }
-            }
-            None => packet::nearest(&self.packets, o, d, t_max)?,
-            Some(bvh) => {
-                let mut best = None;
-                // Start loading a leaf's packets when its box is entered (large meshes:
-                // most leaves are not in cache).
-                let prefetch = |leaf: ChildRef| {
-                    if let Some(first) = self.packets.get(leaf.index as usize) {
-                        prefetch_bytes(first, std::mem::size_of::<TrianglePacket>());
-                    }
-                };
-                bvh.closest_hit_leaves_prefetch(ray, t_max, prefetch, |leaf, t| {
-                    let (k, h) = packet::nearest(self.leaf_packets(leaf), o, d, t)?;
-                    best = Some((leaf.index as usize + k, h));
-                    Some(h.t)
-                })?;
-                best?
-            }
-        };
-        Some((self.lanes[index][h.lane], h))
-    }
-
-    /// [`Self::intersect`] (unbounded) of each of `rays`, into `out`: with a large BVH
-    /// ([`INTERLEAVE_BYTES`]) the rays are walked in turns (geometry's `bvh/interleaved.rs`), so one ray's cache
-    /// misses overlap the others' work; each walk, and so each answer, is the single
-    /// ray's bit for bit.
-    fn intersect_many(&self, rays: &[Ray], out: &mut [Option<(u32, PacketHit)>]) {
-        let Some(bvh) = self.bvh.as_ref().filter(|_| self.interleave) else {
-            for (r, o) in rays.iter().zip(out.iter_mut()) {
-                *o = self.intersect(r, f32::INFINITY);
-            }
-            return;
-        };
-        out.fill(None);
-        let prefetch = |leaf: ChildRef| {
-            if let Some(first) = self.packets.get(leaf.index as usize) {
-                prefetch_bytes(first, std::mem::size_of::<TrianglePacket>());
-            }
-        };
-        let mut best = [None; W];
-        let best = &mut best[..rays.len()];
-        bvh.closest_hit_leaves_interleaved(rays, f32::INFINITY, prefetch, |i, leaf, t| {
-            let r = &rays[i];
-            let (k, h) = packet::nearest(self.leaf_packets(leaf), r.origin, r.dir, t)?;
-            best[i] = Some((leaf.index as usize + k, h));
-            Some(h.t)
-        });
-        for (o, b) in out.iter_mut().zip(best.iter()) {
-            *o = b.map(|(index, h): (usize, PacketHit)| (self.lanes[index][h.lane], h));
-        }
-    }
-
-    /// [`Self::occluded`] of each of `rays` (ray `i` up to `t_max[i]`), into `out`,
-    /// walked in turns as in [`Self::intersect_many`]; the same answers.
-    fn occluded_many(&self, rays: &[Ray], t_max: &[f32], out: &mut [bool]) {
-        let Some(bvh) = self.bvh.as_ref().filter(|_| self.interleave) else {
-            for ((r, &t), o) in rays.iter().zip(t_max).zip(out.iter_mut()) {
-                *o = self.occluded(r, t);
-            }
-            return;
-        };
-        bvh.any_hit_leaves_interleaved(rays, t_max, out, |i, leaf, t| {
-            packet::any(self.leaf_packets(leaf), rays[i].origin, rays[i].dir, t)
-        });
-    }
-
-    #[inline]
-    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        let (o, d) = (ray.origin, ray.dir);
-        match &self.bvh {
-            #[cfg(target_arch = "x86_64")]
-            None if self.bounds.is_some() && has_avx2() => match &self.bounds {
-                // SAFETY: the CPU supports AVX2 and FMA.
-                Some(b) => unsafe { any_culled_avx2(&self.packets, b, o, d, t_max) },
-                None => false,
-            },
-            None => packet::any(&self.packets, o, d, t_max),
-            Some(bvh) => bvh.any_hit_leaves(ray, t_max, |leaf, t| {
-                packet::any(self.leaf_packets(leaf), o, d, t)
-            }),
-        }
-    }
-}
-
 impl FlatScene {
     /// Bakes every object of `scene` that can be baked exactly; the others go to a
     /// smaller [`Accel`].
@@ -511,8 +298,13 @@ impl FlatScene {
                 }
             }
         }
+        let emissive: Vec<bool> = scene
+            .materials
+            .iter()
+            .map(|m| m.emission != Rgb::BLACK || m.emission_texture.is_some())
+            .collect();
         let mut flat = Self {
-            baked: (!triangles.is_empty()).then(|| Baked::build(triangles)),
+            baked: (!triangles.is_empty()).then(|| Baked::build(triangles, &emissive)),
             rest: (!rest.is_empty()).then(|| SubsetAccel {
                 accel: Accel::build(rest),
                 scene_index: rest_index,
@@ -614,9 +406,51 @@ impl FlatScene {
         }
     }
 
+    /// The triangles every ray tests before the hierarchy, in packet order, as indices
+    /// of [`Self::all_triangles`], when the scene has a hierarchy (a large scene's large
+    /// triangles); empty otherwise.
+    pub(crate) fn first_order(&self) -> Vec<u32> {
+        match &self.baked {
+            Some(b) if b.bvh.is_some() => b.lanes[..b.first]
+                .iter()
+                .flatten()
+                .copied()
+                .filter(|&t| t != u32::MAX)
+                .collect(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// The nearest triangle of the hierarchy alone (not the [first](Self::first_order)
+    /// ones) along each of `rays` (at most `W`), ray `i` with `0 < t < t_max[i]`, into
+    /// `out`, as [`Self::nearest_triangles`] reports them.
+    pub(crate) fn nearest_in_tree(
+        &self,
+        rays: &[Ray],
+        t_max: &[f32],
+        out: &mut [Option<(u32, PacketHit)>],
+    ) {
+        assert!(rays.len() <= W && out.len() == rays.len() && t_max.len() == rays.len());
+        match &self.baked {
+            Some(b) => b.tree_nearest_many(rays, t_max, out),
+            None => out.fill(None),
+        }
+    }
+
+    /// Whether a triangle of the hierarchy alone is hit with `0 < t < t_max[i]` by each
+    /// of `rays` (at most `W`), into `out`.
+    pub(crate) fn occluded_in_tree(&self, rays: &[Ray], t_max: &[f32], out: &mut [bool]) {
+        assert!(rays.len() <= W && out.len() == rays.len() && t_max.len() == rays.len());
+        match &self.baked {
+            Some(b) => b.tree_any_many(rays, t_max, out),
+            None => out.fill(false),
+        }
+    }
+
     /// Whether a baked triangle is hit with `0 < t < t_max[i]` by each of `rays`,
     /// into `out`; the rays walk the BVH in turns.
     pub(crate) fn occluded_baked_many(&self, rays: &[Ray], t_max: &[f32], out: &mut [bool]) {
+        assert!(rays.len() <= W && out.len() == rays.len() && t_max.len() == rays.len());
         match &self.baked {
             Some(b) => b.occluded_many(rays, t_max, out),
             None => out.fill(false),

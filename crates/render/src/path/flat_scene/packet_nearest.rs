@@ -15,12 +15,11 @@
 //! rounding of the packet test's range checks (`t < t_max |den|`, then `t < t_max`),
 //! so any visit order accepts it and rejects the rest.
 
-use super::{prefetch_bytes, Baked, FlatScene};
+use super::{Baked, FlatScene};
 use irradia_core::Ray;
 use irradia_geometry::bvh::packet_traverse::{Lanes8, PacketRay, PACKET};
-use irradia_geometry::bvh::ChildRef;
 use irradia_geometry::mesh::TIE_ULPS;
-use irradia_geometry::packet::{PacketHit, TrianglePacket, LANES};
+use irradia_geometry::packet::{has_avx2, PacketHit, LANES};
 
 /// How far beyond its nearest hit a packet ray keeps testing (in `f32::EPSILON`), so
 /// that every hit within [`TIE_ULPS`] of the nearest is met.
@@ -50,24 +49,27 @@ impl FlatScene {
         };
         let mut near: [Nearest; PACKET] = [(None, f32::INFINITY); PACKET];
         let mut bound = Lanes8([f32::INFINITY; PACKET]);
-        let prefetch = |leaf: ChildRef| {
-            if let Some(first) = baked.packets.get(leaf.index as usize) {
-                prefetch_bytes(first, std::mem::size_of::<TrianglePacket>());
+        if baked.first > 0 && has_avx2() {
+            // The packets every ray tests first (a large scene's large triangles).
+            for (k, ray) in rays.iter().enumerate() {
+                // SAFETY: the CPU has AVX2 and FMA (just checked).
+                bound.0[k] = unsafe { hits_avx2(baked, 0, baked.first, ray, &mut near[k]) };
             }
-        };
+        }
         let walked = bvh.packet_leaves(
             &packet,
             packet.lanes(),
             &mut bound,
-            prefetch,
+            |leaf| baked.prefetch_leaf(leaf),
             |leaf, lanes, bound| {
                 let mut m = lanes;
                 while m != 0 {
                     let k = m.trailing_zeros() as usize;
                     m &= m - 1;
+                    let (start, n) = (leaf.index as usize, (leaf.count as usize).div_ceil(LANES));
                     // SAFETY: the packet walk runs only where the CPU has AVX2 and FMA
                     // (`has_avx2`).
-                    bound.0[k] = unsafe { leaf_hits_avx2(baked, leaf, &rays[k], &mut near[k]) };
+                    bound.0[k] = unsafe { hits_avx2(baked, start, n, &rays[k], &mut near[k]) };
                 }
             },
         );
@@ -87,21 +89,22 @@ impl FlatScene {
     }
 }
 
-/// Tests `ray` against the triangles of `leaf` with the single ray's test and
-/// arithmetic (`triangle8`'s AVX2 test, then `nearest_lane`'s division), every hit
-/// within the ray's current bound: the nearer becomes `near`'s nearest, the others
-/// lower its second. Returns the ray's new bound, [`LOOSE_ULPS`] beyond its nearest.
+/// Tests `ray` against the `n` packets from `start` (a leaf's, or the first packets)
+/// with the single ray's test and arithmetic (`triangle8`'s AVX2 test, then
+/// `nearest_lane`'s division), every hit within the ray's current bound: the nearer
+/// becomes `near`'s nearest, the others lower its second. Returns the ray's new bound,
+/// [`LOOSE_ULPS`] beyond its nearest.
 ///
 /// # Safety
 /// The CPU must support AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn leaf_hits_avx2(baked: &Baked, leaf: ChildRef, ray: &Ray, near: &mut Nearest) -> f32 {
+unsafe fn hits_avx2(baked: &Baked, start: usize, n: usize, ray: &Ray, near: &mut Nearest) -> f32 {
     let loose = 1.0 + LOOSE_ULPS * f32::EPSILON;
     let (best, second) = near;
     let mut bound = best.map_or(f32::INFINITY, |(_, h)| h.t * loose);
     let mut v = [[0f32; LANES]; 4];
-    for (i, p) in baked.leaf_packets(leaf).iter().enumerate() {
+    for (i, p) in baked.packets[start..start + n].iter().enumerate() {
         let mut mask = p.test_avx2(ray.origin, ray.dir, bound, &mut v);
         while mask != 0 {
             let lane = mask.trailing_zeros() as usize;
@@ -120,7 +123,7 @@ unsafe fn leaf_hits_avx2(baked: &Baked, leaf: ChildRef, ray: &Ray, near: &mut Ne
                         b1: v[0][lane] * inv,
                         b2: v[1][lane] * inv,
                     };
-                    *best = Some((leaf.index as usize + i, hit));
+                    *best = Some((start + i, hit));
                     bound = t * loose;
                 }
             }
@@ -131,7 +134,7 @@ unsafe fn leaf_hits_avx2(baked: &Baked, leaf: ChildRef, ray: &Ray, near: &mut Ne
 
 /// Not reached: the packet walk needs AVX2 (`packet_leaves` does nothing without it).
 #[cfg(not(target_arch = "x86_64"))]
-unsafe fn leaf_hits_avx2(_: &Baked, _: ChildRef, _: &Ray, _: &mut Nearest) -> f32 {
+unsafe fn hits_avx2(_: &Baked, _: usize, _: usize, _: &Ray, _: &mut Nearest) -> f32 {
     unreachable!("the packet walk needs AVX2")
 }
 

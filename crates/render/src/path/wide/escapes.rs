@@ -63,6 +63,13 @@ impl TriangleBox {
     /// that do; NaN keeps a lane).
     #[inline(always)]
     pub fn may_hit(&self, o: V3, d: V3) -> Mw {
+        self.may_hit_within(o, d, Fw::splat(f32::INFINITY))
+    }
+
+    /// The lanes whose ray `o + t d` may meet the box with `0 < t < t_max` (a superset
+    /// of those that do; NaN keeps a lane).
+    #[inline(always)]
+    pub fn may_hit_within(&self, o: V3, d: V3, t_max: Fw) -> Mw {
         let axes = [(o.x, d.x), (o.y, d.y), (o.z, d.z)];
         let (mut near, mut far) = ([Fw::ZERO; 3], [Fw::ZERO; 3]);
         let mut nan = Mw::FALSE;
@@ -78,11 +85,15 @@ impl TriangleBox {
         // Misses: the far end of some slab behind the origin or before the near end of
         // another.
         let mut miss = Mw::FALSE;
+        let last = t_max * (1.0 + 2.0 * gamma(3));
         for f in far {
             miss = miss | f.lt(0.0);
             for n in near {
                 miss = miss | n.gt(f);
             }
+        }
+        for n in near {
+            miss = miss | n.gt(last);
         }
         !(miss & !nan)
     }
@@ -188,7 +199,7 @@ mod tests {
         let lanes = RayLaneTriangles::new(&corners, &(0..corners.len() as u32).collect::<Vec<_>>())
             .unwrap();
         let (lo, hi) = (Vec3::from(b.lo), Vec3::from(b.hi));
-        let (mut hits, mut misses, mut kept_misses) = (0, 0, 0);
+        let (mut hits, mut misses, mut kept_misses, mut near_kept) = (0, 0, 0, 0u32);
         for round in 0..3000 {
             let (mut o, mut d) = (V3::ZERO, V3::ZERO);
             let mut rays = Vec::new();
@@ -224,6 +235,14 @@ mod tests {
             }
             let kept = b.may_hit(o, d);
             let lane_hits = lanes.nearest::<false>(o, d, Mw::TRUE);
+            // Bounded just past each hit, a lane that hits is still kept; bounded
+            // near its origin, a ray from afar is not.
+            let past = lane_hits.t * 1.000_001;
+            let kept_within = b.may_hit_within(o, d, lane_hits.hit.select(past, Fw::ZERO));
+            assert_eq!(kept_within & lane_hits.hit, lane_hits.hit, "round {round}");
+            if round % 4 == 0 {
+                near_kept += b.may_hit_within(o, d, Fw::splat(1e-3)).lanes().count() as u32;
+            }
             for (lane, ray) in rays.iter().enumerate() {
                 let tr = TriangleRay::new(ray);
                 let scalar = corners
@@ -239,6 +258,10 @@ mod tests {
             }
         }
         println!("{hits} hits; from afar {misses} misses of which {kept_misses} kept");
+        assert!(
+            near_kept < 50,
+            "{near_kept} rays from afar kept within 1e-3"
+        );
         assert!(
             hits > 10_000 && misses > 2000,
             "{hits} hits, {misses} misses"

@@ -44,9 +44,15 @@ impl KnownHits {
 }
 
 /// The nearest triangle hits of the rays `(origin, dir)` of the `live` lanes, those of
-/// `known`'s lanes as it holds them.
-#[inline(always)]
-pub(super) fn nearest_in_turns(
+/// `known`'s lanes as it holds them. Where the flat scene tests some triangles before
+/// its hierarchy (a large scene's large triangles, [`WideScene::first`]), the lanes
+/// test them W at once, and only the lanes whose ray may meet the tree's box before
+/// that hit ([`WideScene::tree_box`]) walk the tree, bounded by it.
+// Inlined into the kernel when optimised; its own frame when not (the unoptimised
+// kernel's frame must fit a worker thread's stack: see `kernel.rs`).
+#[cfg_attr(not(debug_assertions), inline(always))]
+#[cfg_attr(debug_assertions, inline(never))]
+pub(super) fn nearest_in_turns<const FMA: bool>(
     ws: &WideScene<'_, '_>,
     origin: &V3,
     dir: &V3,
@@ -60,7 +66,8 @@ pub(super) fn nearest_in_turns(
     let mut which = [0usize; W];
     let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
     let mut found = [None; W];
-    let mut n = 0;
+    let mut bound = [f32::INFINITY; W];
+    let mut walked = Mw::FALSE;
     let mut k = W;
     for lane in live.lanes() {
         if known.lanes >> lane & 1 != 0 {
@@ -69,26 +76,39 @@ pub(super) fn nearest_in_turns(
             which[k] = lane;
             found[k] = known.hit[lane];
         } else {
-            which[n] = lane;
-            rays[n] = Ray::new(origin.lane(lane), dir.lane(lane));
-            n += 1;
+            walked.set(lane, true);
         }
     }
-    ws.ps.tracer.nearest_triangles(&rays[..n], &mut found[..n]);
+    if let Some(first) = &ws.first {
+        h = first.nearest::<FMA>(*origin, *dir, walked);
+        if let Some(tree_box) = &ws.tree_box {
+            let t_max = h.hit.select(h.t, Fw::splat(f32::INFINITY));
+            walked = walked & tree_box.may_hit_within(*origin, *dir, t_max);
+        }
+    }
+    let mut n = 0;
+    for lane in walked.lanes() {
+        which[n] = lane;
+        rays[n] = Ray::new(origin.lane(lane), dir.lane(lane));
+        n += 1;
+    }
+    if ws.first.is_some() {
+        for (b, &lane) in bound.iter_mut().zip(&which[..n]) {
+            if h.hit.get(lane) {
+                *b = h.t.0[lane];
+            }
+        }
+        let tracer = &ws.ps.tracer;
+        tracer.nearest_in_tree(&rays[..n], &bound[..n], &mut found[..n]);
+    } else {
+        ws.ps.tracer.nearest_triangles(&rays[..n], &mut found[..n]);
+    }
     for (&lane, found) in which[..n]
         .iter()
         .chain(&which[k..])
         .zip(found[..n].iter().chain(&found[k..]))
     {
         if let Some((t, ph)) = *found {
-            // Start loading what the next stages read of the triangle
-            // while the other lanes are traced (large scenes: not in cache).
-            let t_ = t as usize;
-            prefetch_bytes(&ws.triangle_owner[t_], 8);
-            prefetch_bytes(&ws.triangles[t_], 4 * tri::LEN);
-            if let Some(table) = &ws.smooth {
-                prefetch_bytes(&table[t_], 4 * smooth::LEN);
-            }
             h.hit.set(lane, true);
             h.triangle[lane] = t;
             h.t.0[lane] = ph.t;
@@ -96,13 +116,26 @@ pub(super) fn nearest_in_turns(
             h.b2.0[lane] = ph.b2;
         }
     }
+    for lane in h.hit.lanes() {
+        // Start loading what the next stages read of the triangle while the other
+        // lanes are traced (large scenes: not in cache).
+        let t_ = h.triangle[lane] as usize;
+        prefetch_bytes(&ws.triangle_owner[t_], 8);
+        prefetch_bytes(&ws.triangles[t_], 4 * tri::LEN);
+        if let Some(table) = &ws.smooth {
+            prefetch_bytes(&table[t_], 4 * smooth::LEN);
+        }
+    }
     h
 }
 
 /// Which of the shadow rays `(origin, dir)` of the lanes in `active`, up to `t_max`,
-/// are blocked by a triangle.
-#[inline(always)]
-pub(super) fn occluded_in_turns(
+/// are blocked by a triangle: by one of the flat scene's first triangles
+/// ([`WideScene::first`], W lanes at once), else by one of its hierarchy's (the lanes
+/// whose ray may meet the tree's box).
+#[cfg_attr(not(debug_assertions), inline(always))]
+#[cfg_attr(debug_assertions, inline(never))]
+pub(super) fn occluded_in_turns<const FMA: bool>(
     ws: &WideScene<'_, '_>,
     origin: &V3,
     dir: &V3,
@@ -112,21 +145,32 @@ pub(super) fn occluded_in_turns(
     if !ws.has_triangles() {
         return Mw::FALSE;
     }
+    let (mut blocked, mut open) = match &ws.first {
+        Some(first) => {
+            let blocked = first.occluded::<FMA>(*origin, *dir, *t_max, active);
+            (blocked, active & !blocked)
+        }
+        None => (Mw::FALSE, active),
+    };
+    if let Some(tree_box) = &ws.tree_box {
+        open = open & tree_box.may_hit_within(*origin, *dir, *t_max);
+    }
     let mut which = [0usize; W];
     let mut rays = [Ray::new(Vec3::ZERO, Vec3::X); W];
     let mut bound = [0.0f32; W];
     let mut n = 0;
-    for lane in active.lanes() {
+    for lane in open.lanes() {
         which[n] = lane;
         rays[n] = Ray::new(origin.lane(lane), dir.lane(lane));
         bound[n] = t_max.0[lane];
         n += 1;
     }
     let mut hit = [false; W];
-    ws.ps
-        .tracer
-        .occluded_baked_many(&rays[..n], &bound[..n], &mut hit[..n]);
-    let mut blocked = Mw::FALSE;
+    let tracer = &ws.ps.tracer;
+    match ws.first {
+        Some(_) => tracer.occluded_in_tree(&rays[..n], &bound[..n], &mut hit[..n]),
+        None => tracer.occluded_baked_many(&rays[..n], &bound[..n], &mut hit[..n]),
+    }
     for (&lane, &h) in which[..n].iter().zip(&hit[..n]) {
         blocked.set(lane, h);
     }

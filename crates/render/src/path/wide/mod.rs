@@ -246,6 +246,13 @@ pub struct WideScene<'s, 'a> {
     /// The triangles for tracing W rays at once (small scenes); otherwise each
     /// lane walks the flat scene's hierarchy.
     pub(crate) rays: Option<RayLaneTriangles>,
+    /// In a larger scene, the triangles the flat scene tests before its hierarchy
+    /// (its large triangles: the walls of a room around a mesh), for testing them W
+    /// rays at once before each lane walks the tree ([`lane_queries`]).
+    pub(crate) first: Option<RayLaneTriangles>,
+    /// With [`Self::first`]: the box around the other triangles (the tree's), so that
+    /// only the lanes whose ray may meet it walk the tree.
+    pub(crate) tree_box: Option<escapes::TriangleBox>,
     /// Whether some objects (spheres) are not baked: each lane then also asks the
     /// flat scene's own test of those after the triangles.
     pub(crate) has_rest: bool,
@@ -422,6 +429,18 @@ impl<'s, 'a> WideScene<'s, 'a> {
         let baked = ps.tracer.baked_triangles().unwrap_or_default();
         let corners: Vec<_> = baked.iter().map(|t| t.0).collect();
         let rays = RayLaneTriangles::new(&corners, &ps.tracer.packet_order());
+        let first_order = ps.tracer.first_order();
+        let first = RayLaneTriangles::new(&corners, &first_order);
+        let tree_box = first.as_ref().and_then(|_| {
+            let mut in_first = vec![false; corners.len()];
+            first_order
+                .iter()
+                .for_each(|&t| in_first[t as usize] = true);
+            let tree: Vec<_> = (corners.iter().zip(in_first))
+                .filter_map(|(c, f)| (!f).then_some(*c))
+                .collect();
+            escapes::TriangleBox::new(&tree)
+        });
         let triangle_box = escapes::TriangleBox::new(&corners);
         let any_smooth = baked.iter().any(|t| t.4.is_some());
         let mut smooth_table = Vec::new();
@@ -560,6 +579,8 @@ impl<'s, 'a> WideScene<'s, 'a> {
             facet_start,
             pick,
             rays,
+            first,
+            tree_box,
             has_rest,
             cull: has_rest.then(|| sphere_cull::SphereCull::new(scene, ps.tracer.rest_objects())),
             triangle_box,
@@ -629,6 +650,8 @@ impl<'s, 'a> WideScene<'s, 'a> {
     #[doc(hidden)]
     pub fn lane_by_lane(mut self) -> Self {
         self.rays = None;
+        self.first = None;
+        self.tree_box = None;
         self.pick = None;
         self
     }
