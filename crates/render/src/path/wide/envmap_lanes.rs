@@ -408,6 +408,53 @@ mod tests {
         dirs
     }
 
+    /// The lanes' search finds the binary search's cell in tables of every length from
+    /// 1 to 300 cells (with empty cells, ties and a dominant cell), lanes reading rows
+    /// at different offsets, at random numbers, at every entry and the floats beside it.
+    #[test]
+    fn sample_1d_finds_the_partition_point() {
+        let mut rng = Rng::new(41, 42);
+        for n in 1..=300usize {
+            let func: Vec<f32> = (0..n)
+                .map(|i| match n % 4 {
+                    0 => rng.next_f32(),
+                    1 if rng.next_f32() < 0.5 => 0.0,
+                    2 if i == n / 2 => 1e6,
+                    3 => (rng.next_f32() * 4.0).floor(),
+                    _ => rng.next_f32() * 1e-3,
+                })
+                .collect();
+            let total = func.iter().sum::<f32>().max(1e-30);
+            let (mut acc, mut cdf) = (0.0f32, vec![0.0f32]);
+            for f in &func {
+                acc += f;
+                cdf.push(acc / total);
+            }
+            *cdf.last_mut().unwrap() = 1.0;
+            // Two copies of the row after a pad, so lanes start at different offsets.
+            let pad = 3;
+            let table: Vec<[f32; 1]> = (0..pad)
+                .map(|_| [0.0])
+                .chain(cdf.iter().chain(&cdf).map(|&c| [c]))
+                .collect();
+            let starts: [u32; W] = std::array::from_fn(|k| (pad + (k % 2) * (n + 1)) as u32);
+            let mut probes: Vec<f32> = (0..64).map(|_| rng.next_f32()).collect();
+            for &c in &cdf {
+                probes.extend([c, f32::from_bits(c.to_bits().saturating_sub(1))]);
+                probes.push(f32::from_bits(c.to_bits() + 1));
+            }
+            probes.extend([0.0, 1.0 - f32::EPSILON / 2.0]);
+            for chunk in probes.chunks(W) {
+                let u = Fw(std::array::from_fn(|k| chunk[k % chunk.len()]));
+                let (_, cell) = sample_1d(&table, &starts, n as u32, u);
+                for k in 0..W {
+                    let want = cdf.partition_point(|&c| c <= u.0[k]).clamp(1, n) - 1;
+                    assert_eq!(cell[k] as usize, want, "n {n} u {}", u.0[k]);
+                }
+            }
+        }
+    }
+
     /// The lanes' light samples equal the scalar `sample`'s bit for bit (direction,
     /// radiance, density, and the lanes without one), at random numbers and at the
     /// edges of the unit square.
