@@ -447,9 +447,9 @@ mod tests {
             for chunk in probes.chunks(W) {
                 let u = Fw(std::array::from_fn(|k| chunk[k % chunk.len()]));
                 let (_, cell) = sample_1d(&table, &starts, n as u32, u);
-                for k in 0..W {
-                    let want = cdf.partition_point(|&c| c <= u.0[k]).clamp(1, n) - 1;
-                    assert_eq!(cell[k] as usize, want, "n {n} u {}", u.0[k]);
+                for (&got, &uk) in cell.iter().zip(&u.0) {
+                    let want = cdf.partition_point(|&c| c <= uk).clamp(1, n) - 1;
+                    assert_eq!(got as usize, want, "n {n} u {uk}");
                 }
             }
         }
