@@ -485,7 +485,7 @@ fn run<const FMA: bool>(
         // The nearest hits: W rays at once, or lane by lane.
         let hits = match &ws.rays {
             Some(rays) => rays.nearest::<FMA>(paths.origin, paths.dir, live),
-            None => nearest_in_turns::<FMA>(ws, &paths.origin, &paths.dir, live, &known),
+            None => nearest_in_turns(ws, &paths.origin, &paths.dir, live, &known),
         };
         // Lanes whose ray may meet a sphere before its triangle (the lane cull):
         // only they run the exact sphere test below.
@@ -659,13 +659,7 @@ fn run<const FMA: bool>(
             Some(rays) => {
                 rays.occluded::<FMA>(s.shadow_origin, s.shadow_dir, s.shadow_t_max, s.nee)
             }
-            None => occluded_in_turns::<FMA>(
-                ws,
-                &s.shadow_origin,
-                &s.shadow_dir,
-                &s.shadow_t_max,
-                s.nee,
-            ),
+            None => occluded_in_turns(ws, &s.shadow_origin, &s.shadow_dir, &s.shadow_t_max, s.nee),
         };
         // And the objects with their own tests (spheres), for shadow rays the
         // triangles leave through.

@@ -27,7 +27,7 @@ use glam::Vec3;
 use irradia_core::Ray;
 use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 use irradia_geometry::packet::ray_lanes::LaneHits;
-use irradia_geometry::packet::PacketHit;
+use irradia_geometry::packet::{PacketHit, SimdBuild};
 
 /// The lanes whose nearest hit is already known (bit `lane` of `lanes`), and the hits:
 /// fresh camera rays traced as packets ([`super::starts`]).
@@ -48,11 +48,8 @@ impl KnownHits {
 /// its hierarchy (a large scene's large triangles, [`WideScene::first`]), the lanes
 /// test them W at once, and only the lanes whose ray may meet the tree's box before
 /// that hit ([`WideScene::tree_box`]) walk the tree, bounded by it.
-// Inlined into the kernel when optimised; its own frame when not (the unoptimised
-// kernel's frame must fit a worker thread's stack: see `kernel.rs`).
-#[cfg_attr(not(debug_assertions), inline(always))]
-#[cfg_attr(debug_assertions, inline(never))]
-pub(super) fn nearest_in_turns<const FMA: bool>(
+#[inline(always)]
+fn nearest_body<const FMA: bool>(
     ws: &WideScene<'_, '_>,
     origin: &V3,
     dir: &V3,
@@ -133,9 +130,8 @@ pub(super) fn nearest_in_turns<const FMA: bool>(
 /// are blocked by a triangle: by one of the flat scene's first triangles
 /// ([`WideScene::first`], W lanes at once), else by one of its hierarchy's (the lanes
 /// whose ray may meet the tree's box).
-#[cfg_attr(not(debug_assertions), inline(always))]
-#[cfg_attr(debug_assertions, inline(never))]
-pub(super) fn occluded_in_turns<const FMA: bool>(
+#[inline(always)]
+fn occluded_body<const FMA: bool>(
     ws: &WideScene<'_, '_>,
     origin: &V3,
     dir: &V3,
@@ -176,3 +172,43 @@ pub(super) fn occluded_in_turns<const FMA: bool>(
     }
     blocked
 }
+
+/// The lane queries stay out of the kernel's one big function (inlined there they made
+/// every scene's loop slower: cornell's 1.11x the CPU time, rough_balls' too, where they
+/// do nothing), each compiled for the three builds of the kernel
+/// ([`SimdBuild`]), the running one ([`WideScene::build`]) chosen per call.
+macro_rules! builds {
+    ($public:ident, $body:ident, ($($arg:ident: $ty:ty),*) -> $out:ty) => {
+        pub(super) fn $public(ws: &WideScene<'_, '_>, $($arg: $ty),*) -> $out {
+            #[cfg(target_arch = "x86_64")]
+            {
+                #[target_feature(enable = "avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")]
+                #[inline(never)]
+                unsafe fn avx512(ws: &WideScene<'_, '_>, $($arg: $ty),*) -> $out {
+                    $body::<true>(ws, $($arg),*)
+                }
+                #[target_feature(enable = "avx2,fma")]
+                #[inline(never)]
+                unsafe fn avx2(ws: &WideScene<'_, '_>, $($arg: $ty),*) -> $out {
+                    $body::<true>(ws, $($arg),*)
+                }
+                match ws.build {
+                    // SAFETY: `build` is only ever a build this CPU runs (`chosen`,
+                    // or `with_build`'s check).
+                    SimdBuild::Avx512 => return unsafe { avx512(ws, $($arg),*) },
+                    // SAFETY: as above.
+                    SimdBuild::Avx2 => return unsafe { avx2(ws, $($arg),*) },
+                    SimdBuild::Portable => {}
+                }
+            }
+            #[inline(never)]
+            fn portable(ws: &WideScene<'_, '_>, $($arg: $ty),*) -> $out {
+                $body::<false>(ws, $($arg),*)
+            }
+            portable(ws, $($arg),*)
+        }
+    };
+}
+
+builds!(nearest_in_turns, nearest_body, (origin: &V3, dir: &V3, live: Mw, known: &KnownHits) -> LaneHits);
+builds!(occluded_in_turns, occluded_body, (origin: &V3, dir: &V3, t_max: &Fw, active: Mw) -> Mw);
