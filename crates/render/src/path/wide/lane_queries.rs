@@ -174,8 +174,8 @@ fn occluded_body<const FMA: bool>(
 }
 
 /// The lane queries stay out of the kernel's one big function (inlined there they made
-/// every scene's loop slower: cornell's 1.11x the CPU time, rough_balls' too, where they
-/// do nothing), each compiled for the three builds of the kernel
+/// the loop slower on scenes where they never run: cornell 1.11x the CPU time,
+/// veach_mis 1.06x), each compiled for the three builds of the kernel
 /// ([`SimdBuild`]), the running one ([`WideScene::build`]) chosen per call.
 macro_rules! builds {
     ($public:ident, $body:ident, ($($arg:ident: $ty:ty),*) -> $out:ty) => {
