@@ -385,14 +385,9 @@ impl FlatScene {
     /// The baked triangles in the order the packets hold them (the order in which a
     /// ray tests them), as indices of [`Self::all_triangles`].
     pub(crate) fn packet_order(&self) -> Vec<u32> {
-        self.baked.as_ref().map_or(Vec::new(), |b| {
-            b.lanes
-                .iter()
-                .flatten()
-                .copied()
-                .filter(|&t| t != u32::MAX)
-                .collect()
-        })
+        self.baked
+            .as_ref()
+            .map_or(Vec::new(), |b| b.triangles_in(0..b.packets.len()))
     }
 
     /// The nearest baked triangle along each of `rays` (at most `W`, the path kernel's
@@ -411,12 +406,7 @@ impl FlatScene {
     /// triangles); empty otherwise.
     pub(crate) fn first_order(&self) -> Vec<u32> {
         match &self.baked {
-            Some(b) if b.bvh.is_some() => b.lanes[..b.first]
-                .iter()
-                .flatten()
-                .copied()
-                .filter(|&t| t != u32::MAX)
-                .collect(),
+            Some(b) if b.bvh.is_some() => b.triangles_in(0..b.first),
             _ => Vec::new(),
         }
     }

@@ -201,6 +201,16 @@ impl Baked {
         }
     }
 
+    /// The triangles of `packets`, in the order the packets hold them.
+    pub(super) fn triangles_in(&self, packets: std::ops::Range<usize>) -> Vec<u32> {
+        self.lanes[packets]
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|&t| t != u32::MAX)
+            .collect()
+    }
+
     #[inline(always)]
     pub(super) fn leaf_packets(&self, leaf: ChildRef) -> &[TrianglePacket] {
         let start = leaf.index as usize;
@@ -443,12 +453,7 @@ mod tests {
         });
         let mut baked = Baked::build(tris.clone(), &[false, true]);
         assert!(baked.bvh.is_some(), "a tree over the small triangles");
-        let mut first: Vec<u32> = baked.lanes[..baked.first]
-            .iter()
-            .flatten()
-            .copied()
-            .filter(|&t| t != u32::MAX)
-            .collect();
+        let mut first = baked.triangles_in(0..baked.first);
         first.sort_unstable();
         let mut walls_and_light: Vec<u32> = (0..12).collect();
         walls_and_light.push(tris.len() as u32 - 1);
