@@ -251,6 +251,14 @@ impl Mw {
         }
         Fw(r)
     }
+    /// [`Mw::select`] of integer lanes (indices).
+    #[inline(always)]
+    pub fn select_u32(self, a: [u32; W], b: [u32; W]) -> [u32; W] {
+        std::array::from_fn(|i| {
+            let m = self.0[i] as u32;
+            (a[i] & m) | (b[i] & !m)
+        })
+    }
     /// `a` in the lanes of the mask, zero elsewhere.
     #[inline(always)]
     pub fn keep(self, a: Fw) -> Fw {

@@ -141,6 +141,9 @@ impl RayLaneTriangles {
         // Inactive lanes get t_max = -inf: nothing is accepted.
         let mut best = active.select(t_max, Fw::splat(f32::NEG_INFINITY));
         let mut h = LaneHits::NONE;
+        // The ids ride in `f32` lanes as bit patterns: a select only moves bits, and it
+        // compiles to one masked move, where a `[u32; W]` blend was rebuilt lane by lane.
+        let mut ids = Fw::ZERO;
         for (r, &id) in self.records.iter().zip(&self.ids) {
             let (ok, u, v, t, abs_den) = test::<FMA>(r, o, d, best);
             if !ok.any() {
@@ -154,13 +157,10 @@ impl RayLaneTriangles {
             best = take.select(th, best);
             h.b1 = take.select(u * inv, h.b1);
             h.b2 = take.select(v * inv, h.b2);
-            for lane in 0..W {
-                // A select (no branch), so the loop is a blend of lanes.
-                let m = take.0[lane] as u32;
-                h.triangle[lane] = (id & m) | (h.triangle[lane] & !m);
-            }
+            ids = take.select(Fw::splat(f32::from_bits(id)), ids);
             h.hit = h.hit | take;
         }
+        h.triangle = ids.0.map(f32::to_bits);
         h.t = best;
         h
     }

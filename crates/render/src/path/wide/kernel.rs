@@ -448,36 +448,38 @@ fn run<const FMA: bool>(
     let mut b = Bounce::default();
     // Hierarchy scenes: the hits of camera rays traced as packets when made.
     let mut known = KnownHits::NONE;
+    // Every lane where the scene has emitters at infinity, none elsewhere.
+    let background = if ws.background { Mw::TRUE } else { Mw::FALSE };
     loop {
         // Stage 1, per lane: refill; then the nearest hits; then per lane the draws.
-        let mut live = Mw::FALSE;
         known.lanes = 0;
-        for lane in 0..W {
-            if paths.sample[lane] == IDLE {
-                // The next camera sample that may meet the scene (made with up to
-                // W - 1 more; those that certainly escape are finished there).
-                let Some((k, i)) = ahead.take(ws, starts, out, counters) else {
-                    b.hit.set(lane, false);
-                    b.scatter.set(lane, false);
-                    continue;
-                };
-                if let Some(hit) = ahead.known_hit(i) {
-                    known.lanes |= 1 << lane;
-                    known.hit[lane] = hit;
-                }
-                paths.sample[lane] = k;
-                paths.rng[lane] = ahead.starts.rng[i].clone();
-                paths.depth[lane] = 1;
-                paths.origin.set_lane(lane, ahead.starts.origin.lane(i));
-                paths.dir.set_lane(lane, ahead.starts.dir.lane(i));
-                paths.beta.set_lane(lane, Vec3::ONE);
-                paths.radiance.set_lane(lane, Vec3::ZERO);
-                paths.has_prev.set(lane, false);
-                paths.eta.0[lane] = 1.0;
-                counters.paths += 1;
+        let idle = Mw(std::array::from_fn(|lane| {
+            -((paths.sample[lane] == IDLE) as i32)
+        }));
+        for lane in idle.lanes() {
+            // The next camera sample that may meet the scene (made with up to W - 1
+            // more; those that certainly escape are finished there).
+            let Some((k, i)) = ahead.take(ws, starts, out, counters) else {
+                continue;
+            };
+            if let Some(hit) = ahead.known_hit(i) {
+                known.lanes |= 1 << lane;
+                known.hit[lane] = hit;
             }
-            live.set(lane, true);
+            paths.sample[lane] = k;
+            paths.rng[lane] = ahead.starts.rng[i].clone();
+            paths.depth[lane] = 1;
+            paths.origin.set_lane(lane, ahead.starts.origin.lane(i));
+            paths.dir.set_lane(lane, ahead.starts.dir.lane(i));
+            paths.beta.set_lane(lane, Vec3::ONE);
+            paths.radiance.set_lane(lane, Vec3::ZERO);
+            paths.has_prev.set(lane, false);
+            paths.eta.0[lane] = 1.0;
+            counters.paths += 1;
         }
+        let live = Mw(std::array::from_fn(|lane| {
+            -((paths.sample[lane] != IDLE) as i32)
+        }));
         if !live.any() {
             break;
         }
@@ -505,39 +507,40 @@ fn run<const FMA: bool>(
             }
             _ => SphereHits::default(),
         };
-        // (Lane tests on integers: see `Mw::lanes`.)
+        // (Lane tests on integers: see `Mw::lanes`.) The masks are made as vectors
+        // where they can be: lane by lane stores into a vector that the vector stage
+        // then loads whole stall the load.
         let (hit_bits, prev_bits) = (hits.hit.bits(), paths.has_prev.bits());
+        let surface = (hits.hit | spheres.hit) & live;
+        b.other = spheres.hit & live;
+        b.hit = surface;
+        b.scatter = Mw::FALSE;
+        b.bg.escaped = live.and_not(surface) & background;
+        // The triangle lanes' hits (the others' triangle is 0: a valid index whose
+        // record is not used).
+        let on_triangle = surface.and_not(spheres.hit);
+        b.triangle = on_triangle.select_u32(hits.triangle, [0; W]);
+        b.b1 = on_triangle.select(hits.b1, b.b1);
+        b.b2 = on_triangle.select(hits.b2, b.b2);
         for lane in live.lanes() {
             counters.rays += 1;
             let other = spheres.scene_hit(lane);
-            b.other.set(lane, other.is_some());
             if hit_bits >> lane & 1 == 0 && other.is_none() {
                 // The path ends with what it has and, under emitters at infinity, what
                 // it sees of them.
                 // (What it sees: below, all lanes at once.)
-                b.bg.escaped.set(lane, ws.background);
-                b.hit.set(lane, false);
-                b.scatter.set(lane, false);
                 continue;
             }
-            b.hit.set(lane, true);
             let (material, instance) = match &other {
                 Some(sh) => {
                     let material = ps.tracer.material(sh.instance, sh.hit.leaf);
-                    b.triangle[lane] = 0;
                     b.point.set_lane(lane, sh.hit.point);
                     b.normal.set_lane(lane, sh.hit.normal);
                     b.shading.set_lane(lane, sh.hit.shading_normal);
                     b.error.0[lane] = sh.hit.error;
                     (material, sh.instance)
                 }
-                None => {
-                    let t = hits.triangle[lane];
-                    b.triangle[lane] = t;
-                    b.b1.0[lane] = hits.b1.0[lane];
-                    b.b2.0[lane] = hits.b2.0[lane];
-                    ws.triangle_owner[t as usize]
-                }
+                None => ws.triangle_owner[hits.triangle[lane] as usize],
             };
             let m = &ws.materials[material as usize];
             b.material[lane] = material;
