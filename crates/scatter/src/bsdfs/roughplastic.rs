@@ -31,6 +31,7 @@ use crate::optics::{fresnel_dielectric, reflect_about, refract_about};
 use glam::{Vec2, Vec3};
 use irradia_core::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
 use irradia_core::Rgb;
+use rayon::prelude::*;
 use std::f32::consts::FRAC_1_PI;
 use std::sync::Arc;
 
@@ -143,21 +144,28 @@ impl RoughPlasticTables {
             unit_square_nodes(&gauss_legendre(res(eta))),
             unit_square_nodes(&gauss_legendre(res(inv_eta))),
         );
+        // The cosines' integrals are independent: computed on the current rayon pool
+        // (a million microfacet samples for the internal reflectance alone), each
+        // alone as before, so the tables do not depend on the thread count.
         let mut external_transmittance = [0.0; TRANSMITTANCE_RES];
-        for (t, &mu) in external_transmittance.iter_mut().zip(&mus) {
-            let wo = wo_of(mu);
-            *t = visible_normal_integral(&distr, wo, &gl_t, |m| {
-                let f = fresnel_dielectric(wo.dot(m), eta);
-                let wt = refract_about(wo, m, f.cos_theta_t, f.eta_ti);
-                if wt.z * wo.z >= 0.0 {
-                    0.0
-                } else {
-                    (distr.g1(wt, m) * f.transmittance()) as f64
-                }
-            }) as f32;
-        }
-        let mean: f64 = mus
-            .iter()
+        let transmittance: Vec<f32> = mus
+            .par_iter()
+            .map(|&mu| {
+                let wo = wo_of(mu);
+                visible_normal_integral(&distr, wo, &gl_t, |m| {
+                    let f = fresnel_dielectric(wo.dot(m), eta);
+                    let wt = refract_about(wo, m, f.cos_theta_t, f.eta_ti);
+                    if wt.z * wo.z >= 0.0 {
+                        0.0
+                    } else {
+                        (distr.g1(wt, m) * f.transmittance()) as f64
+                    }
+                }) as f32
+            })
+            .collect();
+        external_transmittance.copy_from_slice(&transmittance);
+        let reflectances: Vec<f64> = mus
+            .par_iter()
             .map(|&mu| {
                 let wo = wo_of(mu);
                 let r = visible_normal_integral(&distr, wo, &gl_r, |m| {
@@ -171,8 +179,9 @@ impl RoughPlasticTables {
                 });
                 r * mu as f64
             })
-            .sum::<f64>()
-            / mus.len() as f64;
+            .collect();
+        // Summed in order, as before.
+        let mean = reflectances.iter().sum::<f64>() / mus.len() as f64;
         Self {
             external_transmittance,
             internal_reflectance: (2.0 * mean) as f32,
