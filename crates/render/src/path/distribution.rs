@@ -1,10 +1,12 @@
-//! Piecewise-constant distributions in one and two dimensions, sampled by inverting
-//! their cumulative tables (Pharr, Jakob, Humphreys, *Physically Based Rendering*, 4th
-//! ed., 2.4.2 and A.5 `PiecewiseConstant1D` / `PiecewiseConstant2D`): the density of
-//! the 2D one is the marginal density of a row times the conditional density of a
-//! column within it, so `pdf` is exactly the density `sample` draws from.
+//! Piecewise-constant distributions in one and two dimensions (Pharr, Jakob, Humphreys,
+//! *Physically Based Rendering*, 4th ed., A.5 `PiecewiseConstant1D` /
+//! `PiecewiseConstant2D`): the density of the 2D one is the marginal density of a row
+//! times the conditional density of a column within it, so `pdf` is exactly the density
+//! `sample` draws from. A cell is drawn by an [`AliasTable`] (constant time, and two
+//! loads per lane in the wide kernel) rather than by inverting the cumulative table,
+//! and the number's fraction left over places the point within the cell.
 
-use super::guide::GuideTable;
+use super::alias::AliasTable;
 use glam::Vec2;
 
 /// A density on [0, 1) proportional to `n` non-negative cell values.
@@ -12,12 +14,10 @@ use glam::Vec2;
 pub struct Piecewise1D {
     /// The cell values.
     func: Vec<f32>,
-    /// `cdf[i]` is the probability of the cells before `i`; `cdf[n] = 1`.
-    cdf: Vec<f32>,
     /// The integral of the step function over [0, 1): mean of `func`.
     integral: f32,
-    /// Finds a `u`'s cell in `cdf` in expected constant time ([`GuideTable`]).
-    guide: GuideTable,
+    /// Draws a cell in proportion to `func` (uniformly when all are zero).
+    alias: AliasTable,
 }
 
 impl Piecewise1D {
@@ -33,29 +33,10 @@ impl Piecewise1D {
                 }
             })
             .collect();
-        let mut cdf = Vec::with_capacity(n + 1);
-        let mut acc = 0.0f64;
-        cdf.push(0.0);
-        for &f in &func {
-            acc += f as f64;
-            cdf.push(acc as f32);
-        }
-        let total = acc as f32;
-        if total > 0.0 {
-            for c in &mut cdf {
-                *c /= total;
-            }
-        } else {
-            // An all-zero function: sample uniformly (its pdf stays 0).
-            for (i, c) in cdf.iter_mut().enumerate() {
-                *c = i as f32 / n as f32;
-            }
-        }
-        *cdf.last_mut().unwrap() = 1.0;
+        let acc: f64 = func.iter().map(|&f| f as f64).sum();
         Self {
+            alias: AliasTable::new(&func),
             func,
-            guide: GuideTable::new(&cdf),
-            cdf,
             integral: (acc / n as f64) as f32,
         }
     }
@@ -72,24 +53,18 @@ impl Piecewise1D {
         self.integral
     }
 
-    /// The cumulative table `sample` searches: `n + 1` entries from 0 to 1.
-    pub(crate) fn cdf(&self) -> &[f32] {
-        &self.cdf
-    }
-
-    /// A point of [0, 1) and the cell it lies in, drawn with density `pdf`.
+    /// A point of [0, 1) and the cell it lies in, drawn with density `pdf`: the cell by
+    /// the alias table, the point within it by the number's fraction left over.
     #[inline]
     pub fn sample(&self, u: f32) -> (f32, usize) {
         let n = self.func.len();
-        // The binary search's cell, found through the guide table.
-        let i = self.guide.partition_point(&self.cdf, u).clamp(1, n) - 1;
-        let (lo, hi) = (self.cdf[i], self.cdf[i + 1]);
-        let du = if hi > lo {
-            ((u - lo) / (hi - lo)).clamp(0.0, 1.0 - f32::EPSILON)
-        } else {
-            0.5
-        };
-        ((i as f32 + du) / n as f32, i)
+        let (i, du) = self.alias.sample(u);
+        ((i as f32 + du.min(1.0 - f32::EPSILON)) / n as f32, i)
+    }
+
+    /// The cell table the wide kernel's lanes read ([`AliasTable::bins`]).
+    pub(crate) fn alias(&self) -> &AliasTable {
+        &self.alias
     }
 
     /// The density at a point of cell `i`.
@@ -174,16 +149,31 @@ impl Piecewise2D {
 mod tests {
     use super::*;
 
+    /// Cell densities, and points that fall in the cell `sample` names, spread over
+    /// it (the first and second halves of a cell alike).
     #[test]
     fn one_dimension_samples_cells_in_proportion() {
         let d = Piecewise1D::new(&[1.0, 0.0, 3.0]);
         assert!((d.integral() - 4.0 / 3.0).abs() < 1e-6);
-        assert_eq!(d.sample(0.1).1, 0);
-        assert_eq!(d.sample(0.3).1, 2);
         assert!((d.pdf(2) - 3.0 / (4.0 / 3.0)).abs() < 1e-6);
         assert_eq!(d.pdf(1), 0.0);
-        let (x, _) = d.sample(0.625); // halfway through the last cell's share
-        assert!((x - (2.0 + 0.5) / 3.0).abs() < 1e-6, "{x}");
+        let mut rng = irradia_core::Rng::new(1, 2);
+        let mut halves = [[0u32; 2]; 3];
+        for _ in 0..40_000 {
+            let (x, i) = d.sample(rng.next_f32());
+            assert_eq!((x * 3.0) as usize, i, "{x} outside cell {i}");
+            halves[i][((x * 3.0).fract() * 2.0) as usize] += 1;
+        }
+        assert_eq!(halves[1], [0, 0], "the empty cell was drawn");
+        for (i, share) in [(0, 0.25), (2, 0.75)] {
+            let [a, b] = halves[i];
+            let f = (a + b) as f64 / 40_000.0;
+            assert!((f - share).abs() < 0.01, "cell {i}: {f}");
+            assert!(
+                (a as f64 / b as f64 - 1.0).abs() < 0.06,
+                "cell {i}: halves {a} {b}"
+            );
+        }
     }
 
     /// The table of cell densities holds exactly the product of the marginal and the

@@ -4,8 +4,8 @@
 //! - [`material_map`]: scene materials to BSDFs of `irradia_scatter` (Whitted scenes
 //!   render unchanged);
 //! - [`lights`]: emitters and light selection proportional to power; [`envmap`] and
-//!   [`distribution`]: environment maps importance sampled by luminance, searched
-//!   through [`guide`] tables;
+//!   [`distribution`]: environment maps importance sampled by luminance, cells drawn
+//!   by [`alias`] tables;
 //! - [`tracer`] and [`flat_scene`]: ray queries; planar objects baked into one
 //!   world-space triangle hierarchy;
 //! - [`integrator`]: next-event estimation + BSDF sampling with MIS, Russian roulette;
@@ -16,11 +16,11 @@
 //!   one driver (tiles, passes, budgets, checkpoints: [`crate::driver`]);
 //! - [`trace_sample`]: one sample's path as a ray tree (`irradia trace-pixel`).
 
+pub mod alias;
 pub mod direct;
 pub mod distribution;
 pub mod envmap;
 pub mod flat_scene;
-pub mod guide;
 pub mod integrator;
 pub mod lights;
 pub mod material_map;

@@ -2,7 +2,7 @@
 //! ([`EnvmapSampler`]) looked up and importance sampled in SIMD lanes, and the constant
 //! environment beside it, as Mitsuba 3's `llvm_ad_rgb` variant runs its `envmap` emitter
 //! over vector lanes (Jakob et al., "Dr.Jit", SIGGRAPH 2022): the map's texels, cell
-//! densities and cumulative tables are read by gathers
+//! densities and alias tables are read by gathers
 //! ([`gather`](irradia_geometry::packet::lanes::gather)), and everything else is lane
 //! arithmetic.
 //!
@@ -19,6 +19,7 @@
 //!   (`LightSampler::environment_radiance_pdf`).
 
 use super::gather::{checked, field};
+use crate::path::alias::{AliasTable, ONE_MINUS_EPSILON};
 use crate::path::envmap::EnvmapSampler;
 use crate::path::lights::LightSampler;
 use glam::Mat3;
@@ -54,11 +55,11 @@ pub(crate) struct EnvmapW {
     has_density: bool,
     /// The probability of choosing this emitter.
     probability: f32,
-    /// The sampling distribution's cumulative tables (`Piecewise1D::cdf`): the
-    /// marginal one over the `H - 1` rows of cells, and each row's over its `W` cells,
-    /// `W + 1` entries a row.
-    marginal_cdf: Vec<[f32; 1]>,
-    row_cdf: Vec<[f32; 1]>,
+    /// The sampling distribution's alias tables ([`AliasTable`]): the marginal one over
+    /// the `H - 1` rows of cells, and each row's over its `W` cells, row after row; a
+    /// bin's threshold and its alias's bits.
+    marginal_bins: Vec<[f32; 2]>,
+    row_bins: Vec<[f32; 2]>,
     /// The map's rotation from map to world (`to_world`).
     to_world: Mat3,
 }
@@ -68,12 +69,14 @@ impl EnvmapW {
         let map = &sampler.map;
         let (w, h) = (map.image.width(), map.image.height());
         let dist = sampler.distribution();
-        let marginal_cdf = dist.marginal().cdf().iter().map(|&c| [c]).collect();
-        let row_cdf = dist
-            .rows()
-            .iter()
-            .flat_map(|r| r.cdf().iter().map(|&c| [c]))
-            .collect();
+        let bins = |t: &AliasTable| -> Vec<[f32; 2]> {
+            t.bins()
+                .iter()
+                .map(|b| [b.q, f32::from_bits(b.alias)])
+                .collect()
+        };
+        let marginal_bins = bins(dist.marginal().alias());
+        let row_bins = dist.rows().iter().flat_map(|r| bins(r.alias())).collect();
         let mut vertex = Vec::with_capacity((w as usize + 1) * h as usize);
         for y in 0..h {
             for x in 0..=w {
@@ -98,8 +101,8 @@ impl EnvmapW {
             to_map: map.to_world.transpose(),
             has_density: dist.integral() > 0.0,
             probability,
-            marginal_cdf,
-            row_cdf,
+            marginal_bins,
+            row_bins,
             to_world: map.to_world,
         }
     }
@@ -194,20 +197,19 @@ impl EnvmapW {
     }
 
     /// `EnvmapSampler::sample(u)` in the lanes of `lanes`: those that got a direction,
-    /// the direction, the radiance arriving from it and its solid-angle density. The cells
-    /// are found by a binary search of the cumulative tables, the same number of steps
-    /// in every lane (the rows' tables have one length), which finds the index the
-    /// scalar code's guide-table search finds (both are the table's partition point).
+    /// the direction, the radiance arriving from it and its solid-angle density. The cell
+    /// is drawn from the alias tables as the scalar `Piecewise2D::sample` draws it: two
+    /// reads of the marginal table, then two of the drawn row's.
     #[inline(always)]
     pub(crate) fn sample(&self, u: [Fw; 2], lanes: Mw) -> (Mw, V3, V3, Fw) {
         if !self.has_density {
             return (Mw::FALSE, V3::ZERO, V3::ZERO, Fw::ZERO);
         }
-        let (cells, rows) = (self.stride - 1, self.marginal_cdf.len() as u32 - 1);
+        let (cells, rows) = (self.stride - 1, self.marginal_bins.len() as u32);
         // `Piecewise2D::sample`: the row by the marginal table, then the cell in it.
-        let (v, j) = sample_1d(&self.marginal_cdf, &[0; W], rows, u[1]);
-        let start: [u32; W] = std::array::from_fn(|k| j[k] * self.stride);
-        let (x, i) = sample_1d(&self.row_cdf, &start, cells, u[0]);
+        let (v, j) = sample_1d(&self.marginal_bins, &[0; W], rows, u[1]);
+        let start: [u32; W] = std::array::from_fn(|k| j[k] * cells);
+        let (x, i) = sample_1d(&self.row_bins, &start, cells, u[0]);
         // `EnvMap::uv_of_grid`: `x + ½/W` is in [0, 2), so `rem_euclid(1)` subtracts 1
         // at most (exactly).
         let y = x + self.half_texel;
@@ -233,39 +235,26 @@ impl EnvmapW {
     }
 }
 
-/// `Piecewise1D::sample(u)` in every lane, lane `k` sampling the table of `n` cells
-/// whose `n + 1` cumulative entries start at `cdf[start[k]]`: the point of [0, 1) and
-/// its cell. The partition point (entries `<= u`) by a branch-free binary search of
-/// `⌈log₂(n + 1)⌉` gathers, the same in every lane.
+/// `Piecewise1D::sample(u)` in every lane, lane `k` drawing from the alias table of
+/// `n` cells whose bins start at `bins[start[k]]` ([`AliasTable::sample`] with the same
+/// `f32` operations): the point of [0, 1) and its cell.
 #[inline(always)]
-fn sample_1d(cdf: &[[f32; 1]], start: &[u32; W], n: u32, u: Fw) -> (Fw, [u32; W]) {
-    let last: [u32; W] = std::array::from_fn(|k| start[k] + n);
-    checked(cdf, &last);
-    let mut base = *start;
-    let mut len = n + 1;
-    while len > 1 {
-        let half = len / 2;
-        let at: [u32; W] = std::array::from_fn(|k| base[k] + half);
-        let le = field(cdf, &at, 0).le(u);
-        base = std::array::from_fn(|k| base[k] + (half & le.0[k] as u32));
-        len -= half;
-    }
-    let le = field(cdf, &base, 0).le(u);
-    // The partition point, clamped to [1, n], minus 1: the cell.
-    let i: [u32; W] = std::array::from_fn(|k| {
-        let pp = base[k] - start[k] + (le.0[k] as u32 & 1);
-        pp.clamp(1, n) - 1
-    });
-    let lo_at: [u32; W] = std::array::from_fn(|k| start[k] + i[k]);
-    let hi_at: [u32; W] = std::array::from_fn(|k| start[k] + i[k] + 1);
-    let (lo, hi) = (field(cdf, &lo_at, 0), field(cdf, &hi_at, 0));
-    let du = (u - lo) / (hi - lo);
-    let du = du.lt(0.0).select(Fw::ZERO, du);
-    let du = du
-        .gt(1.0 - f32::EPSILON)
-        .select(Fw::splat(1.0 - f32::EPSILON), du);
-    let du = hi.gt(lo).select(du, Fw::splat(0.5));
-    let fi = Fw(std::array::from_fn(|k| i[k] as i32 as f32));
+fn sample_1d(bins: &[[f32; 2]], start: &[u32; W], n: u32, u: Fw) -> (Fw, [u32; W]) {
+    let x = u * n as f32;
+    let k = x.map(f32::floor);
+    let f = (x - k).min(Fw::splat(ONE_MINUS_EPSILON));
+    let own_bin: [u32; W] = std::array::from_fn(|l| (k.0[l] as u32).min(n - 1));
+    let at: [u32; W] = std::array::from_fn(|l| start[l] + own_bin[l]);
+    checked(bins, &at);
+    let (q, alias) = (field(bins, &at, 0), field(bins, &at, 1));
+    let own = f.lt(q);
+    let i: [u32; W] = own.select_u32(own_bin, alias.0.map(f32::to_bits));
+    let du = own.select(
+        (f / q).min(Fw::splat(ONE_MINUS_EPSILON)),
+        ((f - q) / (1.0 - q)).min(Fw::splat(ONE_MINUS_EPSILON)),
+    );
+    let du = du.min(Fw::splat(1.0 - f32::EPSILON));
+    let fi = Fw(std::array::from_fn(|l| i[l] as f32));
     ((fi + du) / n as f32, i)
 }
 
@@ -406,53 +395,6 @@ mod tests {
             dirs.push(map.direction(uv.min(glam::Vec2::splat(1.0 - f32::EPSILON))));
         }
         dirs
-    }
-
-    /// The lanes' search finds the binary search's cell in tables of every length from
-    /// 1 to 300 cells (with empty cells, ties and a dominant cell), lanes reading rows
-    /// at different offsets, at random numbers, at every entry and the floats beside it.
-    #[test]
-    fn sample_1d_finds_the_partition_point() {
-        let mut rng = Rng::new(41, 42);
-        for n in 1..=300usize {
-            let func: Vec<f32> = (0..n)
-                .map(|i| match n % 4 {
-                    0 => rng.next_f32(),
-                    1 if rng.next_f32() < 0.5 => 0.0,
-                    2 if i == n / 2 => 1e6,
-                    3 => (rng.next_f32() * 4.0).floor(),
-                    _ => rng.next_f32() * 1e-3,
-                })
-                .collect();
-            let total = func.iter().sum::<f32>().max(1e-30);
-            let (mut acc, mut cdf) = (0.0f32, vec![0.0f32]);
-            for f in &func {
-                acc += f;
-                cdf.push(acc / total);
-            }
-            *cdf.last_mut().unwrap() = 1.0;
-            // Two copies of the row after a pad, so lanes start at different offsets.
-            let pad = 3;
-            let table: Vec<[f32; 1]> = (0..pad)
-                .map(|_| [0.0])
-                .chain(cdf.iter().chain(&cdf).map(|&c| [c]))
-                .collect();
-            let starts: [u32; W] = std::array::from_fn(|k| (pad + (k % 2) * (n + 1)) as u32);
-            let mut probes: Vec<f32> = (0..64).map(|_| rng.next_f32()).collect();
-            for &c in &cdf {
-                probes.extend([c, f32::from_bits(c.to_bits().saturating_sub(1))]);
-                probes.push(f32::from_bits(c.to_bits() + 1));
-            }
-            probes.extend([0.0, 1.0 - f32::EPSILON / 2.0]);
-            for chunk in probes.chunks(W) {
-                let u = Fw(std::array::from_fn(|k| chunk[k % chunk.len()]));
-                let (_, cell) = sample_1d(&table, &starts, n as u32, u);
-                for (&got, &uk) in cell.iter().zip(&u.0) {
-                    let want = cdf.partition_point(|&c| c <= uk).clamp(1, n) - 1;
-                    assert_eq!(got as usize, want, "n {n} u {uk}");
-                }
-            }
-        }
     }
 
     /// The lanes' light samples equal the scalar `sample`'s bit for bit (direction,
