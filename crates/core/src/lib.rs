@@ -13,6 +13,7 @@ pub mod io;
 pub mod pages;
 pub mod ray;
 pub mod sampling;
+pub mod sincos;
 pub mod text;
 
 pub use aabb::Aabb;
@@ -23,3 +24,4 @@ pub use glam::{Affine3A, DVec3, Mat3, Mat3A, Mat4, Vec2, Vec3, Vec3A, Vec4};
 pub use image::{Image, ImageError};
 pub use ray::{offset_ray_origin, Ray};
 pub use sampling::Rng;
+pub use sincos::sin_cos;

@@ -66,8 +66,9 @@ impl EnvMap {
     #[inline]
     pub fn direction_sin_theta(&self, uv: Vec2) -> (Vec3, f32) {
         let (phi, theta) = (2.0 * PI * uv.x, PI * uv.y);
-        let (sp, cp) = phi.sin_cos();
-        let (st, ct) = theta.sin_cos();
+        // The polynomial sine and cosine, as the wide kernel's lanes compute them.
+        let (sp, cp) = irradia_core::sin_cos(phi);
+        let (st, ct) = irradia_core::sin_cos(theta);
         (
             (self.to_world * Vec3::new(sp * st, ct, -cp * st)).normalize(),
             st,

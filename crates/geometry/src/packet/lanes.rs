@@ -449,6 +449,23 @@ pub fn sin_cos_quarter_pi(a: Fw) -> (Fw, Fw) {
     (s, c)
 }
 
+/// [`irradia_core::sin_cos`] in every lane: the same reduction by `π/2` in three
+/// parts, the same polynomials ([`sin_cos_quarter_pi`], as
+/// `irradia_core::sincos::sin_cos_quarter_pi`) and the same quadrant, with selects
+/// where the scalar function branches, so every lane is the scalar result bit for bit.
+#[inline(always)]
+pub fn sin_cos(x: Fw) -> (Fw, Fw) {
+    use irradia_core::sincos::PI_2_PARTS as P;
+    let k = (x * std::f32::consts::FRAC_2_PI).map(f32::round_ties_even);
+    let r = ((x - k * P[0]) - k * P[1]) - k * P[2];
+    let (s, c) = sin_cos_quarter_pi(r);
+    let q: [i32; W] = std::array::from_fn(|i| k.0[i] as i32 & 3);
+    let odd = Mw(std::array::from_fn(|i| -(q[i] & 1)));
+    let half = Mw(std::array::from_fn(|i| -(q[i] >> 1 & 1)));
+    let (s, c) = (odd.select(c, s), odd.select(-s, c));
+    (half.select(-s, s), half.select(-c, c))
+}
+
 /// [`irradia_core::atan2`] in every lane: the same reduction, polynomial
 /// ([`irradia_core::atan::COEFFS`], Horner's scheme in the same order) and quadrant
 /// restoration, with selects where the scalar function branches, so every lane is the
@@ -589,6 +606,49 @@ mod tests {
                     x.0[i],
                     got.0[i]
                 );
+            }
+        }
+    }
+
+    /// Every lane's sine and cosine are the scalar polynomial's bit for bit, over a few
+    /// turns either way, at the quadrants' edges and for NaN and infinities.
+    #[test]
+    fn sin_cos_matches_the_scalar_polynomial_bit_for_bit() {
+        use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+        let mut rng = irradia_core::Rng::new(13, 14);
+        let mut xs: Vec<f32> = (0..8000).map(|_| (rng.next_f32() - 0.5) * 40.0).collect();
+        for k in -8..=8 {
+            for base in [k as f32 * FRAC_PI_2, k as f32 * FRAC_PI_4 + FRAC_PI_4] {
+                let b = base.to_bits();
+                xs.extend([
+                    base,
+                    f32::from_bits(b + 1),
+                    f32::from_bits(b.wrapping_sub(1)),
+                ]);
+            }
+        }
+        xs.extend([
+            0.0,
+            -0.0,
+            PI,
+            2.0 * PI,
+            1e-30,
+            f32::NAN,
+            f32::INFINITY,
+            -f32::INFINITY,
+        ]);
+        for chunk in xs.chunks(W) {
+            let x = Fw(std::array::from_fn(|i| chunk[i % chunk.len()]));
+            let (s, c) = sin_cos(x);
+            for i in 0..W {
+                let (ws, wc) = irradia_core::sin_cos(x.0[i]);
+                for (got, want) in [(s.0[i], ws), (c.0[i], wc)] {
+                    assert!(
+                        got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()),
+                        "sin_cos({}): {got} != {want}",
+                        x.0[i]
+                    );
+                }
             }
         }
     }

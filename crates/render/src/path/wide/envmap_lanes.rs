@@ -23,7 +23,7 @@ use crate::path::alias::{AliasTable, ONE_MINUS_EPSILON};
 use crate::path::envmap::EnvmapSampler;
 use crate::path::lights::LightSampler;
 use glam::Mat3;
-use irradia_geometry::packet::lanes::{atan2, Fw, Mw, V3, W};
+use irradia_geometry::packet::lanes::{atan2, sin_cos, Fw, Mw, V3, W};
 use std::f32::consts::PI;
 
 /// A grid vertex's record: the pixel's RGB (unscaled) and the density `dist.pdf(i, j)`
@@ -214,14 +214,9 @@ impl EnvmapW {
         // at most (exactly).
         let y = x + self.half_texel;
         let uu = y.ge(1.0).select(y - 1.0, y);
-        // `EnvMap::direction_sin_theta`, the sines and cosines by the C library as there
-        // (lane by lane: only the lanes asked; the others get no direction).
+        // `EnvMap::direction_sin_theta`, with its polynomial sines and cosines.
         let (phi, theta) = (Fw::splat(2.0 * PI) * uu, Fw::splat(PI) * v);
-        let (mut sp, mut cp, mut st, mut ct) = (Fw::ZERO, Fw::ZERO, Fw::ZERO, Fw::ZERO);
-        for k in lanes.lanes() {
-            (sp.0[k], cp.0[k]) = phi.0[k].sin_cos();
-            (st.0[k], ct.0[k]) = theta.0[k].sin_cos();
-        }
+        let ((sp, cp), (st, ct)) = (sin_cos(phi), sin_cos(theta));
         let wi = mat_mul(&self.to_world, V3::new(sp * st, ct, -cp * st)).normalize();
         let idx: [u32; W] = std::array::from_fn(|k| j[k] * self.stride + i[k]);
         checked(&self.vertex[..], &idx);
