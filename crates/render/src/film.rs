@@ -15,6 +15,7 @@
 
 use irradia_core::{Image, ImageError, Rgb};
 use irradia_scene::{CropWindow, Scene};
+use rayon::prelude::*;
 use std::path::Path;
 
 const MAGIC: &[u8; 16] = b"IRRADIA-FILM-v2\n";
@@ -49,6 +50,20 @@ impl FilmPixel {
         let y = luminance(&v);
         self.sum_sq += y * y;
         self.weight += w;
+    }
+
+    /// The variance of this pixel's mean over `n` samples (luminance samples are
+    /// `w·y`; their mean over the mean weight is the pixel's value, the weights being 1
+    /// for the box and tent filters); 0 for a pixel of no weight.
+    #[inline]
+    fn variance_of_mean(&self, n: f64) -> f64 {
+        let mean_w = self.weight / n;
+        if mean_w <= 0.0 {
+            return 0.0;
+        }
+        let mean = luminance(&self.sum) / n;
+        let var = ((self.sum_sq / n - mean * mean) * n / (n - 1.0)).max(0.0);
+        var / n / (mean_w * mean_w)
     }
 
     /// The filtered mean (black before the first sample).
@@ -276,29 +291,19 @@ impl Film {
     /// Per-pixel variance of the mean luminance (the squared standard error); infinite
     /// below two samples.
     pub fn variance_of_mean(&self) -> Vec<f64> {
-        let n = self.samples as f64;
         let pixels = match &self.store {
             Store::Sums(p) if self.samples >= 2 => p,
             _ => return vec![f64::INFINITY; self.len()],
         };
-        pixels
-            .iter()
-            .map(|p| {
-                // Luminance samples are w·y; their mean over the mean weight is the
-                // pixel's value (the weights are 1 for the box and tent filters).
-                let mean_w = p.weight / n;
-                if mean_w <= 0.0 {
-                    return 0.0;
-                }
-                let mean = luminance(&p.sum) / n;
-                let var = ((p.sum_sq / n - mean * mean) * n / (n - 1.0)).max(0.0);
-                var / n / (mean_w * mean_w)
-            })
-            .collect()
+        let n = self.samples as f64;
+        pixels.iter().map(|p| p.variance_of_mean(n)).collect()
     }
 
     /// Relative error of the image: the root-mean-square standard error of the pixel
     /// means divided by the image's mean luminance (infinite before two samples).
+    /// Summed in blocks of pixels on the current rayon pool (the driver asks after
+    /// every pass, between passes, when the other threads wait), the blocks' sums
+    /// added in order, so the figure does not depend on the thread count.
     pub fn relative_error(&self) -> f64 {
         if self.samples < 2 {
             return f64::INFINITY;
@@ -306,19 +311,25 @@ impl Film {
         let Store::Sums(pixels) = &self.store else {
             return f64::INFINITY;
         };
-        let var = self.variance_of_mean();
-        let rms = (var.iter().sum::<f64>() / var.len() as f64).sqrt();
-        let mean = pixels
-            .iter()
-            .map(|p| {
-                if p.weight > 0.0 {
-                    luminance(&p.sum) / p.weight
-                } else {
-                    0.0
-                }
+        let n = self.samples as f64;
+        let blocks: Vec<(f64, f64)> = pixels
+            .par_chunks(16_384)
+            .map(|block| {
+                block.iter().fold((0.0, 0.0), |(var, mean), p| {
+                    let value = if p.weight > 0.0 {
+                        luminance(&p.sum) / p.weight
+                    } else {
+                        0.0
+                    };
+                    (var + p.variance_of_mean(n), mean + value)
+                })
             })
-            .sum::<f64>()
-            / pixels.len() as f64;
+            .collect();
+        let (var, mean) = blocks
+            .iter()
+            .fold((0.0, 0.0), |(v, m), &(bv, bm)| (v + bv, m + bm));
+        let rms = (var / pixels.len() as f64).sqrt();
+        let mean = mean / pixels.len() as f64;
         if mean > 0.0 {
             rms / mean
         } else if rms == 0.0 {
