@@ -119,7 +119,7 @@ impl AliasTable {
 /// `u`'s bin among `n` (as `f32`; the caller clamps it to `n - 1`) and its fraction
 /// within it, below 1.
 #[inline(always)]
-pub fn bin_and_fraction(u: f32, n: f32) -> (f32, f32) {
+fn bin_and_fraction(u: f32, n: f32) -> (f32, f32) {
     let x = u * n;
     let k = x.floor();
     (k, (x - k).min(ONE_MINUS_EPSILON))
@@ -127,13 +127,13 @@ pub fn bin_and_fraction(u: f32, n: f32) -> (f32, f32) {
 
 /// The fraction `f < q` stretched over the bin's own share.
 #[inline(always)]
-pub fn own_fraction(f: f32, q: f32) -> f32 {
+fn own_fraction(f: f32, q: f32) -> f32 {
     (f / q).min(ONE_MINUS_EPSILON)
 }
 
 /// The fraction `f >= q` stretched over the alias's share.
 #[inline(always)]
-pub fn alias_fraction(f: f32, q: f32) -> f32 {
+fn alias_fraction(f: f32, q: f32) -> f32 {
     ((f - q) / (1.0 - q)).min(ONE_MINUS_EPSILON)
 }
 
