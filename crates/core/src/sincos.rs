@@ -16,13 +16,19 @@
 /// `π/2` in three parts, each with trailing zero bits so that `k` times it is exact.
 pub const PI_2_PARTS: [f32; 3] = [1.570_312_5, 4.837_513e-4, 7.549_79e-8];
 
-/// Sine and cosine of `a` for `|a| <= π/4` (Cephes' polynomials; public so that lane
-/// versions evaluate the same operations in the same order).
+/// Cephes' coefficients of `sin a = a + a z P(z)` and `cos a = 1 - z/2 + z² Q(z)`,
+/// `z = a²`, highest power first (public so that lane versions evaluate the same
+/// polynomials in the same order).
+pub const SIN_COEFFS: [f32; 3] = [-1.951_529_6e-4, 8.332_161e-3, -1.666_665_5e-1];
+pub const COS_COEFFS: [f32; 3] = [2.443_315_7e-5, -1.388_731_6e-3, 4.166_664_6e-2];
+
+/// Sine and cosine of `a` for `|a| <= π/4` (Cephes' polynomials).
 #[inline(always)]
 pub fn sin_cos_quarter_pi(a: f32) -> (f32, f32) {
+    let (p, q) = (SIN_COEFFS, COS_COEFFS);
     let z = a * a;
-    let s = ((-1.951_529_6e-4 * z + 8.332_161e-3) * z - 1.666_665_5e-1) * z * a + a;
-    let c = ((2.443_315_7e-5 * z - 1.388_731_6e-3) * z + 4.166_664_6e-2) * z * z - 0.5 * z + 1.0;
+    let s = ((p[0] * z + p[1]) * z + p[2]) * z * a + a;
+    let c = ((q[0] * z + q[1]) * z + q[2]) * z * z - 0.5 * z + 1.0;
     (s, c)
 }
 

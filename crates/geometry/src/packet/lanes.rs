@@ -440,12 +440,14 @@ pub unsafe fn permute_avx512(column: &Fw, idx: &[u32; W]) -> Fw {
 /// `sinf`/`cosf` (Moshier, "Methods and Programs for Mathematical Functions", 1989),
 /// the kernel Dr.Jit and SLEEF also use; within 2 ulp of the correctly rounded value
 /// on that range, with no range reduction and no branch, so W lanes cost a
-/// handful of vector multiplies instead of W calls of `sinf` and `cosf`.
+/// handful of vector multiplies instead of W calls of `sinf` and `cosf`. The lanes of
+/// `irradia_core::sincos::sin_cos_quarter_pi`, bit for bit (its coefficients, its order).
 #[inline(always)]
 pub fn sin_cos_quarter_pi(a: Fw) -> (Fw, Fw) {
+    use irradia_core::sincos::{COS_COEFFS as Q, SIN_COEFFS as P};
     let z = a * a;
-    let s = ((-1.951_529_6e-4 * z + 8.332_161e-3) * z - 1.666_665_5e-1) * z * a + a;
-    let c = ((2.443_315_7e-5 * z - 1.388_731_6e-3) * z + 4.166_664_6e-2) * z * z - 0.5 * z + 1.0;
+    let s = ((P[0] * z + P[1]) * z + P[2]) * z * a + a;
+    let c = ((Q[0] * z + Q[1]) * z + Q[2]) * z * z - 0.5 * z + 1.0;
     (s, c)
 }
 
