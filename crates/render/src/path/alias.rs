@@ -101,8 +101,9 @@ impl AliasTable {
     }
 
     /// The probability of index `i` as the table draws it: its own bin's share below
-    /// `q` and the shares above `q` of the bins whose alias it is (tests).
-    pub fn probability(&self, i: usize) -> f64 {
+    /// `q` and the shares above `q` of the bins whose alias it is (the tests' check).
+    #[cfg(test)]
+    fn probability(&self, i: usize) -> f64 {
         let n = self.bins.len() as f64;
         let own = self.bins[i].q.min(1.0) as f64;
         let given: f64 = self

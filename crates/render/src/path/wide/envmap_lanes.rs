@@ -15,6 +15,10 @@
 //!   corner pixels, the weights) and the cell's density (`EnvmapSampler::pdf`), read from
 //!   one record per grid vertex: the pixel's RGB and the density of the cell whose first
 //!   corner it is, the wrapped column `W` stored so the lookup needs no wrap;
+//! - a light sample: the cell drawn from the distribution's alias tables
+//!   ([`AliasTable`]), its direction by the polynomial sine and cosine
+//!   ([`sin_cos`](irradia_geometry::packet::lanes::sin_cos), `irradia_core::sin_cos` in
+//!   lanes);
 //! - the sum over the emitters at infinity with their choice probabilities
 //!   (`LightSampler::environment_radiance_pdf`).
 
