@@ -284,6 +284,86 @@ fn every_emitters_density_integrates_to_its_choice_probability() {
     );
 }
 
+/// An emissive sphere is sampled by the cone it subtends (Mitsuba 3's `sphere`): seen
+/// from outside, every light sample lands on the visible cap (none is lost on the far
+/// side), its density is the cone's `1 / (2π (1 - cos θmax))` and equals `pdf_object`
+/// at the sampled point; a sphere stretched into an ellipsoid, or seen from inside, is
+/// sampled by area, with the density `pdf_object` gives there too.
+#[test]
+fn spheres_are_sampled_by_their_cones() {
+    use glam::{Affine3A, Quat};
+    let (centre, r) = (Vec3::new(2.0, 0.5, -1.0), 0.75f32);
+    let balls = [
+        Instance::untransformed(Arc::new(Sphere::new(centre, r))),
+        Instance::new(
+            Arc::new(Sphere::new(Vec3::ZERO, 1.0)),
+            Affine3A::from_scale_rotation_translation(
+                Vec3::new(0.5, 0.9, 0.5),
+                Quat::from_rotation_z(0.3),
+                centre,
+            ),
+        ),
+    ];
+    for (k, ball) in balls.into_iter().enumerate() {
+        let cone = k == 0;
+        let scene = scene_with(vec![], vec![(object("ball", 1), ball)], Rgb::BLACK);
+        let lights = LightSampler::new(&scene);
+        let mut rng = Rng::new(4, 9);
+        for p in [
+            Vec3::new(0.2, 0.1, 0.3),
+            centre + Vec3::new(0.1, -0.2, 0.05),
+        ] {
+            let inside = (p - centre).length() < 0.4;
+            let n = 4000;
+            let (mut landed, mut misses) = (0, 0);
+            for _ in 0..n {
+                let Some(s) = lights.sample(&scene, p, 0.5, rng.next_2d()) else {
+                    continue;
+                };
+                landed += 1;
+                let q = s.target.unwrap();
+                // The sampled point's own surface, as a BSDF ray from p meets it.
+                let Some(h) = scene.accel.intersect(&Ray::new(p, s.wi), f32::INFINITY) else {
+                    // Only a silhouette's grazing sample may round past the ball.
+                    misses += 1;
+                    continue;
+                };
+                assert!(
+                    (h.hit.point - q).length() < 1e-3,
+                    "{k}: {q} vs {}",
+                    h.hit.point
+                );
+                let pdf = lights.pdf_object(&scene, h.instance, p, h.hit.point, h.hit.normal);
+                // (By area the density goes as 1 / cos at the light: the hit's rounding
+                // moves it most at grazing angles.)
+                if !cone && s.wi.dot(h.hit.normal).abs() < 0.1 {
+                    continue;
+                }
+                assert!(
+                    (pdf / s.pdf - 1.0).abs() < 2e-3,
+                    "ball {k}, p {p}: sample pdf {} vs pdf_object {pdf}",
+                    s.pdf
+                );
+                if cone && !inside {
+                    let sin_max = r as f64 / (centre - p).length() as f64;
+                    let omega = 2.0 * PI * (1.0 - (1.0 - sin_max * sin_max).sqrt());
+                    assert!((s.pdf as f64 * omega - 1.0).abs() < 1e-4, "{}", s.pdf);
+                }
+            }
+            assert!(
+                misses <= n / 500,
+                "ball {k}: {misses} rays miss their samples"
+            );
+            if cone && !inside {
+                assert_eq!(landed, n, "every cone sample lands on the visible cap");
+            } else if !inside {
+                // By area, about half of the points face away from p.
+                assert!(landed < n * 7 / 10, "{landed} of {n}");
+            }
+        }
+    }
+}
+
 /// Radiance from the white (albedo 1) diffuse floor y = 0 at `p`, lit by `light`
 /// alone: E / π, where E is the irradiance there.
 fn floor_radiance(light: Light, p: Vec3) -> f64 {

@@ -45,9 +45,9 @@ fn rough_aluminium(name: &str, alpha: f32, tint: Rgb) -> Material {
 enum Lights {
     /// The box's ceiling light (a rectangle: facet emitter).
     Ceiling,
-    /// The ceiling light and two emissive analytic spheres (one untransformed, one a
-    /// unit sphere placed by a scale, a rotation and a translation), sampled by their
-    /// own area sampler.
+    /// The ceiling light and three emissive analytic spheres: one untransformed and one
+    /// a unit sphere placed by a scale, a rotation and a translation, sampled by the
+    /// cones they subtend, and one stretched into an ellipsoid, sampled by area.
     CeilingAndSpheres,
 }
 
@@ -131,6 +131,18 @@ fn glossy_box(width: u32, height: u32, alphas: [f32; 4], lights: Lights) -> Scen
                 ),
             ),
         );
+        glow(
+            "stretched glow",
+            Rgb::new(6.0, 5.0, 3.0),
+            Instance::new(
+                Arc::new(Sphere::new(Vec3::ZERO, 1.0)),
+                Affine3A::from_scale_rotation_translation(
+                    Vec3::new(0.06, 0.12, 0.06),
+                    Quat::from_rotation_x(0.3),
+                    Vec3::new(0.1, 0.7, 0.3),
+                ),
+            ),
+        );
     }
     Scene::new(
         scene.camera,
@@ -173,8 +185,9 @@ fn rough_conductor_samples_equal_scalar_samples_up_to_rounding() {
             glossy_box(24, 24, PLATES, Lights::Ceiling),
             Variant::Portable,
         ),
-        // Emissive spheres among the lights: sampled by area (one placed by a
-        // transform), seen directly and in the plates with MIS.
+        // Emissive spheres among the lights: sampled by their cones (one placed by a
+        // transform) or by area (an ellipsoid), seen directly and in the plates with
+        // MIS.
         (
             "rough walls, sphere lights",
             glossy_box(32, 32, PLATES, Lights::CeilingAndSpheres),

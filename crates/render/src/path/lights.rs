@@ -20,6 +20,15 @@ use irradia_scene::{Light, LightSelection, Projector, Scene, SpotProfile, SpotTe
 use std::f32::consts::PI;
 use std::sync::Arc;
 use surface::{SurfaceSampler, WorldFacets};
+use visible_sphere::VisibleSphere;
+
+/// A light point's density: by area (turned into solid angle at the shading point) or
+/// already by solid angle (a sphere's cone).
+#[derive(Clone, Copy, Debug)]
+enum Density {
+    Area(f32),
+    SolidAngle(f32),
+}
 
 /// One sampled light connection from a shading point.
 #[derive(Clone, Copy, Debug)]
@@ -80,6 +89,9 @@ enum Emitter {
         surface: SurfaceSampler,
         /// The facets in world space (for facet-sampled shapes).
         world: Option<WorldFacets>,
+        /// A sphere (kept one by its transform): sampled by the cone it subtends from
+        /// points outside it ([`VisibleSphere`]), by area from inside.
+        cone: Option<VisibleSphere>,
     },
     Environment {
         radiance: Rgb,
@@ -267,6 +279,10 @@ impl LightSampler {
                     }
                     SurfaceSampler::Exact => None,
                 };
+                let cone = match surface {
+                    SurfaceSampler::Exact => VisibleSphere::of_instance(inst),
+                    SurfaceSampler::Facets { .. } => None,
+                };
                 emitters.push(Emitter::Object {
                     instance: i as u32,
                     radiance: e,
@@ -275,6 +291,7 @@ impl LightSampler {
                     two_sided: material.emission_two_sided,
                     surface,
                     world,
+                    cone,
                 });
             }
         }
@@ -386,7 +403,7 @@ impl LightSampler {
         let on_surface = |q: Vec3,
                           n: Vec3,
                           radiance: Rgb,
-                          pdf_area: f32,
+                          density: Density,
                           two_sided: bool|
          -> Option<LightSample> {
             let d = q - p;
@@ -394,7 +411,8 @@ impl LightSampler {
             let wi = d / dist2.sqrt();
             let facing = -wi.dot(n);
             let cos_l = if two_sided { facing.abs() } else { facing };
-            if cos_l <= 0.0 || pdf_area <= 0.0 {
+            let (Density::Area(pdf) | Density::SolidAngle(pdf)) = density;
+            if cos_l <= 0.0 || pdf <= 0.0 {
                 return None;
             }
             let target = irradia_core::offset_ray_origin(q, if facing > 0.0 { n } else { -n }, 0.0);
@@ -402,7 +420,10 @@ impl LightSampler {
                 wi,
                 target: Some(target),
                 li: radiance,
-                pdf: pick * pdf_area * dist2 / cos_l,
+                pdf: match density {
+                    Density::Area(pdf_area) => pick * pdf_area * dist2 / cos_l,
+                    Density::SolidAngle(pdf) => pick * pdf,
+                },
                 delta: false,
             })
         };
@@ -489,23 +510,27 @@ impl LightSampler {
                 corner + edge_u * u.x + edge_v * u.y,
                 normal,
                 radiance,
-                1.0 / area,
+                Density::Area(1.0 / area),
                 false,
             ),
             Emitter::Sphere {
                 center,
                 radius,
                 radiance,
-            } => {
-                let n = sampling::uniform_sphere(u);
-                on_surface(
-                    center + n * radius,
-                    n,
-                    radiance,
-                    1.0 / (4.0 * PI * radius * radius),
-                    false,
-                )
-            }
+            } => match (VisibleSphere { center, radius }).sample(p, u) {
+                Some((q, n, pdf)) => on_surface(q, n, radiance, Density::SolidAngle(pdf), false),
+                None => {
+                    let n = sampling::uniform_sphere(u);
+                    let pdf_area = visible_sphere::inverse_area(radius);
+                    on_surface(
+                        center + n * radius,
+                        n,
+                        radiance,
+                        Density::Area(pdf_area),
+                        false,
+                    )
+                }
+            },
             Emitter::Object {
                 instance,
                 radiance,
@@ -516,7 +541,19 @@ impl LightSampler {
             } => {
                 let (q, n, pdf_area) = world.sample(u)?;
                 let radiance = textured(scene, instance, texture, q, n, radiance);
-                on_surface(q, n, radiance, pdf_area, two_sided)
+                on_surface(q, n, radiance, Density::Area(pdf_area), two_sided)
+            }
+            Emitter::Object {
+                instance,
+                radiance,
+                ref texture,
+                two_sided,
+                cone: Some(cone),
+                ..
+            } if cone.pdf(p).is_some() => {
+                let (q, n, pdf) = cone.sample(p, u)?;
+                let radiance = textured(scene, instance, texture, q, n, radiance);
+                on_surface(q, n, radiance, Density::SolidAngle(pdf), two_sided)
             }
             Emitter::Object {
                 instance,
@@ -526,6 +563,7 @@ impl LightSampler {
                 two_sided,
                 ref surface,
                 world: None,
+                ..
             } => {
                 let inst = &scene.accel.instances()[instance as usize];
                 let (qo, no) = surface.sample(inst.shape.as_ref(), u)?;
@@ -533,13 +571,8 @@ impl LightSampler {
                 let n = Vec3::from(inst.to_object().matrix3.transpose() * glam::Vec3A::from(no))
                     .normalize();
                 let radiance = textured(scene, instance, texture, q, n, radiance);
-                on_surface(
-                    q,
-                    n,
-                    radiance,
-                    1.0 / (area * area_jacobian(inst, no)),
-                    two_sided,
-                )
+                let pdf_area = 1.0 / (area * area_jacobian(inst, no));
+                on_surface(q, n, radiance, Density::Area(pdf_area), two_sided)
             }
             Emitter::Environment { radiance, .. } => {
                 let wi = sampling::uniform_sphere(u);
@@ -566,7 +599,7 @@ impl LightSampler {
         let Some(Some(idx)) = self.by_instance.get(instance as usize) else {
             return 0.0;
         };
-        let Emitter::Object { area, .. } = self.emitters[*idx as usize] else {
+        let Emitter::Object { area, cone, .. } = self.emitters[*idx as usize] else {
             return 0.0;
         };
         let inst = &scene.accel.instances()[instance as usize];
@@ -577,6 +610,10 @@ impl LightSampler {
         let cos_l = (d.dot(n) / dist2.sqrt()).abs();
         if cos_l <= 0.0 {
             return 0.0;
+        }
+        // A sphere seen from outside is sampled by its cone (as `sample`).
+        if let Some(pdf) = cone.and_then(|c| c.pdf(p)) {
+            return self.probability[*idx as usize] * pdf;
         }
         self.probability[*idx as usize] / (area * area_jacobian(inst, n_obj)) * dist2 / cos_l
     }
@@ -649,5 +686,6 @@ pub(crate) use kernel_emitters::cornell_with_skies;
 mod surface;
 #[cfg(test)]
 mod tests;
+mod visible_sphere;
 
 pub(crate) use kernel_emitters::{KernelEmitter, KernelLight, SphereEmitter};

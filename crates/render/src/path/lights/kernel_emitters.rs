@@ -1,6 +1,7 @@
 //! The emitters as the wide path kernel ([`crate::path::wide`]) samples them: emissive
 //! objects sampled by their world-space facets ([`FacetEmitter`]) and emissive spheres
-//! sampled uniformly by area with their own sampler ([`SphereEmitter`]: a point of the
+//! ([`SphereEmitter`]: by the cone they subtend from outside where the transform keeps
+//! them spheres, otherwise uniformly by area with their own sampler, a point of the
 //! object-space sphere carried to world space by the instance's transform, its density
 //! by the area Jacobian `|det M| |M^-T n|`, as [`LightSampler::sample`] does), and the
 //! emitters at infinity (the constant environment: the background plus Mitsuba's
@@ -9,6 +10,7 @@
 //! sampled by the kernel in lanes ([`crate::path::wide::envmap_lanes`]), so that samples
 //! agree with [`LightSampler::sample`]'s bit for bit.
 
+use super::VisibleSphere;
 use super::{det3, Emitter, FacetEmitter, LightSample, LightSampler, SurfaceSampler};
 use crate::path::envmap::EnvmapSampler;
 use glam::{Affine3A, Mat3, Vec2, Vec3};
@@ -19,6 +21,8 @@ use std::f32::consts::PI;
 /// An emissive sphere (not flipped) under its instance's transform.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct SphereEmitter {
+    /// The scene object (instance) it is.
+    pub instance: u32,
     /// Object-space centre and radius.
     pub center: Vec3,
     pub radius: f32,
@@ -33,6 +37,9 @@ pub(crate) struct SphereEmitter {
     pub two_sided: bool,
     /// The probability of choosing this emitter.
     pub probability: f32,
+    /// The world sphere, when the light is sampled by its cone from points outside
+    /// it (as [`LightSampler::sample`]).
+    pub cone: Option<VisibleSphere>,
 }
 
 /// One emitter of a scene the kernel can sample.
@@ -92,6 +99,7 @@ impl LightSampler {
                     two_sided,
                     surface: SurfaceSampler::Exact,
                     world: None,
+                    cone,
                 } => {
                     let inst = &scene.accel.instances()[*instance as usize];
                     let shape = inst.shape.as_ref();
@@ -108,6 +116,7 @@ impl LightSampler {
                         return None;
                     }
                     Some(KernelEmitter::Sphere(SphereEmitter {
+                        instance: *instance,
                         center,
                         radius,
                         to_world: *inst.to_world(),
@@ -117,6 +126,7 @@ impl LightSampler {
                         radiance: *radiance,
                         two_sided: *two_sided,
                         probability,
+                        cone: *cone,
                     }))
                 }
                 Emitter::Environment { .. } | Emitter::Envmap { .. } => {

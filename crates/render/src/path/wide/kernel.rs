@@ -110,6 +110,10 @@ struct Scattered {
     /// The shadow ray's `t_max`: 1 towards a point, infinite towards an emitter at
     /// infinity.
     shadow_t_max: Fw,
+    /// The place among the kernel's spheres of the sphere the light point lies on (-1:
+    /// none): a point that faces the shading point (the light sample's test) cannot be
+    /// hidden by its own (convex) sphere, so the shadow ray skips that sphere's tests.
+    shadow_own: Fw,
     /// Lanes that continue (a valid BSDF sample, throughput not black).
     go_on: Mw,
     /// Russian roulette: survival probability and the throughput divided by it.
@@ -127,7 +131,7 @@ pub(super) fn mis(a: Fw, b: Fw) -> Fw {
 
 /// `Frame::from_normal` (Duff et al. 2017) in every lane: the tangents `(s, t)`.
 #[inline(always)]
-fn frame(n: V3) -> (V3, V3) {
+pub(super) fn frame(n: V3) -> (V3, V3) {
     let sign = n.z.sign_one();
     let a = -1.0 / (sign + n.z);
     let b = n.x * n.y * a;
@@ -270,19 +274,31 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let (b1, b2) = (1.0 - s, u_light[1] * s);
     let q = la.scale(1.0 - b1 - b2).add(lb.scale(b1)).add(lc.scale(b2));
     // Or a point of the chosen sphere, from the numbers before the facet choice.
-    let (q, ln, lradiance, pdf_area, ltwo_sided) = match &ws.sphere_lights {
+    // (`solid`: the lanes whose density is by solid angle already, a sphere's cone.)
+    let none = Fw::splat(-1.0);
+    let (q, ln, lradiance, pdf_area, solid, ltwo_sided, own) = match &ws.sphere_lights {
         Some(table) => {
             let facet = LightPoint {
                 q,
                 n: ln,
                 radiance: lradiance,
                 pdf_area,
+                solid: Mw::FALSE,
                 two_sided: ltwo_sided,
+                own: none,
             };
-            let s = sphere_light::sample(table, &emitter, b.u_light, facet);
-            (s.q, s.n, s.radiance, s.pdf_area, s.two_sided)
+            let s = sphere_light::sample(table, &emitter, b.u_light, p, facet);
+            (
+                s.q,
+                s.n,
+                s.radiance,
+                s.pdf_area,
+                s.solid,
+                s.two_sided,
+                s.own,
+            )
         }
-        None => (q, ln, lradiance, pdf_area, ltwo_sided),
+        None => (q, ln, lradiance, pdf_area, Mw::FALSE, ltwo_sided, none),
     };
     let d = q.sub(p);
     let dist2 = d.dot(d);
@@ -293,7 +309,11 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let light_ok = sc & !(mirror | glass) & light & cos_l.gt(0.0) & pdf_area.gt(0.0);
     let l_side = V3::select(l_facing.gt(0.0), ln, ln.neg());
     let target = offset_ray_origin(q, l_side, Fw::ZERO);
-    let l_pdf = pick * pdf_area * dist2 / cos_l;
+    let l_pdf = if solid.any() {
+        solid.select(pick * pdf_area, pick * pdf_area * dist2 / cos_l)
+    } else {
+        pick * pdf_area * dist2 / cos_l
+    };
     // Lanes whose light is at infinity: the direction, radiance and density they
     // sampled (lane by lane, as the scalar `sample`), and an unbounded shadow ray.
     let far = b.bg.light;
@@ -413,6 +433,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
         shadow_dir: V3::select(far, wi, target.sub(shadow_origin)),
         nee_value,
         shadow_t_max: far.select(Fw::splat(f32::INFINITY), Fw::splat(1.0)),
+        shadow_own: far.select(none, own),
         go_on,
         q,
         beta_rr: paths.beta.scale(1.0 / q),
@@ -494,7 +515,7 @@ fn run<const FMA: bool>(
         let near_sphere = match &ws.cull {
             Some(c) => {
                 let t_max = hits.hit.select(hits.t, Fw::splat(f32::INFINITY));
-                c.may_hit(paths.origin, paths.dir, t_max, live)
+                c.may_hit(paths.origin, paths.dir, t_max, live, Fw::splat(-1.0))
             }
             None => live,
         };
@@ -671,12 +692,15 @@ fn run<const FMA: bool>(
             Some(spheres) => {
                 let open = s.nee & !blocked;
                 let near_sphere = match &ws.cull {
-                    Some(c) => c.may_hit(s.shadow_origin, s.shadow_dir, s.shadow_t_max, open),
+                    Some(c) => {
+                        let (o, d, t) = (s.shadow_origin, s.shadow_dir, s.shadow_t_max);
+                        c.may_hit(o, d, t, open, s.shadow_own)
+                    }
                     None => open,
                 };
                 if near_sphere.any() {
                     let (o, d, t) = (s.shadow_origin, s.shadow_dir, s.shadow_t_max);
-                    blocked | spheres.occluded(o, d, t, near_sphere)
+                    blocked | spheres.occluded(o, d, t, near_sphere, s.shadow_own)
                 } else {
                     blocked
                 }

@@ -494,7 +494,12 @@ impl<'s, 'a> WideScene<'s, 'a> {
             emitters.push(match e {
                 KernelEmitter::Facets(f) => *f,
                 KernelEmitter::Sphere(s) => {
-                    sphere_table[i] = sphere_light::record(s);
+                    let slot = ps
+                        .tracer
+                        .rest_objects()
+                        .iter()
+                        .position(|&o| o == s.instance);
+                    sphere_table[i] = sphere_light::record(s, slot);
                     placeholder(s.probability)
                 }
                 KernelEmitter::AtInfinity(probability) => placeholder(*probability),
