@@ -137,11 +137,11 @@ pub fn fresnel_conductor(cos_theta_i: f32, eta: f32, k: f32) -> f32 {
     let a = (0.5 * (a2_plus_b2 + temp)).max(0.0).sqrt();
     let term_1 = a2_plus_b2 + cos2_i;
     let term_2 = 2.0 * cos_i * a;
-    let r_s = (term_1 - term_2) / (term_1 + term_2);
     let term_3 = a2_plus_b2 * cos2_i + sin4_i;
     let term_4 = term_2 * sin2_i;
-    let r_p = r_s * (term_3 - term_4) / (term_3 + term_4);
-    (0.5 * (r_s + r_p)) as f32
+    // R = (R_s + R_p) / 2 with R_s = (t1 - t2) / (t1 + t2) and R_p = R_s (t3 - t4) /
+    // (t3 + t4), which is R_s t3 / (t3 + t4): one division.
+    ((term_1 - term_2) * term_3 / ((term_1 + term_2) * (term_3 + term_4))) as f32
 }
 
 /// [`fresnel_conductor`] per RGB channel.
