@@ -21,8 +21,6 @@ use std::f32::consts::PI;
 /// An emissive sphere (not flipped) under its instance's transform.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct SphereEmitter {
-    /// The scene object (instance) it is.
-    pub instance: u32,
     /// Object-space centre and radius.
     pub center: Vec3,
     pub radius: f32,
@@ -116,7 +114,6 @@ impl LightSampler {
                         return None;
                     }
                     Some(KernelEmitter::Sphere(SphereEmitter {
-                        instance: *instance,
                         center,
                         radius,
                         to_world: *inst.to_world(),

@@ -117,10 +117,7 @@ pub(super) fn escaping(ws: &WideScene<'_, '_>, o: V3, d: V3, active: Mw) -> Mw {
         None => Mw::FALSE,
     };
     match (&ws.cull, ws.has_rest) {
-        (Some(c), _) => {
-            let (t_max, none) = (Fw::splat(f32::INFINITY), Fw::splat(-1.0));
-            may = may | c.may_hit(o, d, t_max, active, none)
-        }
+        (Some(c), _) => may = may | c.may_hit(o, d, Fw::splat(f32::INFINITY), active),
         (None, true) => return Mw::FALSE,
         (None, false) => {}
     }

@@ -110,10 +110,6 @@ struct Scattered {
     /// The shadow ray's `t_max`: 1 towards a point, infinite towards an emitter at
     /// infinity.
     shadow_t_max: Fw,
-    /// The place among the kernel's spheres of the sphere the light point lies on (-1:
-    /// none): a point that faces the shading point (the light sample's test) cannot be
-    /// hidden by its own (convex) sphere, so the shadow ray skips that sphere's tests.
-    shadow_own: Fw,
     /// Lanes that continue (a valid BSDF sample, throughput not black).
     go_on: Mw,
     /// Russian roulette: survival probability and the throughput divided by it.
@@ -275,8 +271,7 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
     let q = la.scale(1.0 - b1 - b2).add(lb.scale(b1)).add(lc.scale(b2));
     // Or a point of the chosen sphere, from the numbers before the facet choice.
     // (`solid`: the lanes whose density is by solid angle already, a sphere's cone.)
-    let none = Fw::splat(-1.0);
-    let (q, ln, lradiance, pdf_area, solid, ltwo_sided, own) = match &ws.sphere_lights {
+    let (q, ln, lradiance, pdf_area, solid, ltwo_sided) = match &ws.sphere_lights {
         Some(table) => {
             let facet = LightPoint {
                 q,
@@ -285,20 +280,11 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
                 pdf_area,
                 solid: Mw::FALSE,
                 two_sided: ltwo_sided,
-                own: none,
             };
             let s = sphere_light::sample(table, &emitter, b.u_light, p, facet);
-            (
-                s.q,
-                s.n,
-                s.radiance,
-                s.pdf_area,
-                s.solid,
-                s.two_sided,
-                s.own,
-            )
+            (s.q, s.n, s.radiance, s.pdf_area, s.solid, s.two_sided)
         }
-        None => (q, ln, lradiance, pdf_area, Mw::FALSE, ltwo_sided, none),
+        None => (q, ln, lradiance, pdf_area, Mw::FALSE, ltwo_sided),
     };
     let d = q.sub(p);
     let dist2 = d.dot(d);
@@ -433,7 +419,6 @@ fn scatter(ws: &WideScene<'_, '_>, paths: &mut Paths, b: &Bounce) -> Scattered {
         shadow_dir: V3::select(far, wi, target.sub(shadow_origin)),
         nee_value,
         shadow_t_max: far.select(Fw::splat(f32::INFINITY), Fw::splat(1.0)),
-        shadow_own: far.select(none, own),
         go_on,
         q,
         beta_rr: paths.beta.scale(1.0 / q),
@@ -515,7 +500,7 @@ fn run<const FMA: bool>(
         let near_sphere = match &ws.cull {
             Some(c) => {
                 let t_max = hits.hit.select(hits.t, Fw::splat(f32::INFINITY));
-                c.may_hit(paths.origin, paths.dir, t_max, live, Fw::splat(-1.0))
+                c.may_hit(paths.origin, paths.dir, t_max, live)
             }
             None => live,
         };
@@ -692,15 +677,12 @@ fn run<const FMA: bool>(
             Some(spheres) => {
                 let open = s.nee & !blocked;
                 let near_sphere = match &ws.cull {
-                    Some(c) => {
-                        let (o, d, t) = (s.shadow_origin, s.shadow_dir, s.shadow_t_max);
-                        c.may_hit(o, d, t, open, s.shadow_own)
-                    }
+                    Some(c) => c.may_hit(s.shadow_origin, s.shadow_dir, s.shadow_t_max, open),
                     None => open,
                 };
                 if near_sphere.any() {
                     let (o, d, t) = (s.shadow_origin, s.shadow_dir, s.shadow_t_max);
-                    blocked | spheres.occluded(o, d, t, near_sphere, s.shadow_own)
+                    blocked | spheres.occluded(o, d, t, near_sphere)
                 } else {
                     blocked
                 }

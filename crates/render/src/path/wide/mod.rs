@@ -494,12 +494,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             emitters.push(match e {
                 KernelEmitter::Facets(f) => *f,
                 KernelEmitter::Sphere(s) => {
-                    let slot = ps
-                        .tracer
-                        .rest_objects()
-                        .iter()
-                        .position(|&o| o == s.instance);
-                    sphere_table[i] = sphere_light::record(s, slot);
+                    sphere_table[i] = sphere_light::record(s);
                     placeholder(s.probability)
                 }
                 KernelEmitter::AtInfinity(probability) => placeholder(*probability),

@@ -57,14 +57,13 @@ impl SphereCull {
     }
 
     /// The lanes of `active` whose ray `o + t d` may meet a sphere with `0 < t <
-    /// t_max` (a superset of those that do), leaving out in each lane the sphere whose
-    /// place among them is `skip` (-1: none).
+    /// t_max` (a superset of those that do).
     #[inline(always)]
-    pub fn may_hit(&self, o: V3, d: V3, t_max: Fw, active: Mw, skip: Fw) -> Mw {
+    pub fn may_hit(&self, o: V3, d: V3, t_max: Fw, active: Mw) -> Mw {
         let a = d.dot(d);
         let len = a.sqrt();
         let mut maybe = Mw::FALSE;
-        for (k, s) in self.balls.iter().enumerate() {
+        for s in &self.balls {
             let c = V3::new(Fw::splat(s[0]), Fw::splat(s[1]), Fw::splat(s[2]));
             let oc = c.sub(o);
             // The parameter of the closest approach and the perpendicular offset.
@@ -76,7 +75,7 @@ impl SphereCull {
             let far = l.dot(l).gt(r * r);
             let behind = (b + half).le(0.0);
             let beyond = (b - half).ge(t_max);
-            maybe = maybe | (!(far | behind | beyond) & skip.ne(k as f32));
+            maybe = maybe | !(far | behind | beyond);
         }
         active & maybe
     }
@@ -173,22 +172,9 @@ mod tests {
                 d.set_lane(lane, dir);
                 rays.push(Ray::new(origin, dir));
             }
-            let kept = cull.may_hit(o, d, t_max, Mw::TRUE, Fw::splat(-1.0));
-            // Leaving out one sphere per lane keeps every hit on the others.
-            let skip = Fw(std::array::from_fn(|lane| {
-                ((round + lane) % (n + 1)) as f32 - 1.0
-            }));
-            let kept_skip = cull.may_hit(o, d, t_max, Mw::TRUE, skip);
+            let kept = cull.may_hit(o, d, t_max, Mw::TRUE);
             for lane in 0..W {
                 let tm = t_max.0[lane];
-                let hit_other = inst.iter().enumerate().any(|(k, i)| {
-                    k as f32 != skip.0[lane]
-                        && (i.intersect(&rays[lane], tm).is_some() || i.occluded(&rays[lane], tm))
-                });
-                assert!(
-                    !hit_other || kept_skip.get(lane),
-                    "round {round} lane {lane}"
-                );
                 let hit = inst
                     .iter()
                     .any(|i| i.intersect(&rays[lane], tm).is_some() || i.occluded(&rays[lane], tm));

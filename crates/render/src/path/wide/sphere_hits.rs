@@ -277,25 +277,19 @@ impl SpheresW {
     }
 
     /// The lanes of `active` whose ray `o + t d` meets a sphere with `0 < t < t_max`
-    /// (`Sphere::occluded`: a root in the range, decided without dividing), each lane
-    /// leaving out the sphere whose place among them is `skip` (-1: none); a sphere
-    /// that no lane asks is not tested.
+    /// (`Sphere::occluded`: a root in the range, decided without dividing).
     #[inline(always)]
-    pub fn occluded(&self, o: V3, d: V3, t_max: Fw, active: Mw, skip: Fw) -> Mw {
+    pub fn occluded(&self, o: V3, d: V3, t_max: Fw, active: Mw) -> Mw {
         let tm = Dw::widen(t_max);
         let mut blocked = Mw::FALSE;
-        for (k, s) in self.balls.iter().enumerate() {
-            let asked = active & skip.ne(k as f32);
-            if !asked.any() {
-                continue;
-            }
+        for s in &self.balls {
             let (oo, dd) = s.object_ray(o, d);
             let (a, c, q, miss) = s.quadratic(oo, dd);
             let front = q.gt(0.0) & q.lt(tm * a);
             let back = (c * q).gt(0.0) & c.abs().lt(tm * q.abs());
-            blocked = blocked | (asked & !miss & (front | back));
+            blocked = blocked | (!miss & (front | back));
         }
-        blocked
+        active & blocked
     }
 }
 
@@ -406,12 +400,7 @@ mod tests {
             }
             let active = Mw::from_fn(|lane| lane != 3 || round % 5 != 0);
             let got = spheres.nearest(o, d, t_max, active);
-            let occ = spheres.occluded(o, d, t_max, active, Fw::splat(-1.0));
-            // Each lane leaving out one sphere (or none): a light sample's own.
-            let skip = Fw(std::array::from_fn(|lane| {
-                ((round + 2 * lane) % (n + 1)) as f32 - 1.0
-            }));
-            let occ_skip = spheres.occluded(o, d, t_max, active, skip);
+            let occ = spheres.occluded(o, d, t_max, active);
             for lane in 0..W {
                 let ray = &rays[lane];
                 // The scalar nearest: each sphere asked up to the best `t` so far.
@@ -424,19 +413,10 @@ mod tests {
                     }
                 }
                 let want_occ = inst.iter().any(|i| i.occluded(ray, t_max.0[lane]));
-                let want_occ_skip = inst
-                    .iter()
-                    .enumerate()
-                    .any(|(k, i)| k as f32 != skip.0[lane] && i.occluded(ray, t_max.0[lane]));
                 if !active.get(lane) {
-                    assert!(!got.hit.get(lane) && !occ.get(lane) && !occ_skip.get(lane));
+                    assert!(!got.hit.get(lane) && !occ.get(lane));
                     continue;
                 }
-                assert_eq!(
-                    occ_skip.get(lane),
-                    want_occ_skip,
-                    "round {round} lane {lane}"
-                );
                 assert_eq!(
                     occ.get(lane),
                     want_occ,

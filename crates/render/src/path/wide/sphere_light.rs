@@ -38,14 +38,11 @@ pub(crate) mod sph {
     pub const CONE: usize = 32;
     pub const WORLD_CENTER: usize = 33;
     pub const WORLD_RADIUS: usize = 36;
-    /// The sphere's place among the kernel's spheres ([`super::sphere_hits`]; -1:
-    /// none): its own light samples need no shadow test against it.
-    pub const SLOT: usize = 37;
-    pub const LEN: usize = 38;
+    pub const LEN: usize = 37;
 }
 
-/// The record of `e`, the `slot`-th of the kernel's spheres (`None`: not one of them).
-pub(crate) fn record(e: &SphereEmitter, slot: Option<usize>) -> [f32; sph::LEN] {
+/// The record of `e`.
+pub(crate) fn record(e: &SphereEmitter) -> [f32; sph::LEN] {
     let mut r = [0.0; sph::LEN];
     let mut put = |at: usize, v: glam::Vec3| r[at..at + 3].copy_from_slice(&v.to_array());
     put(sph::CENTER, e.center);
@@ -69,7 +66,6 @@ pub(crate) fn record(e: &SphereEmitter, slot: Option<usize>) -> [f32; sph::LEN] 
     r[sph::AREA] = e.area;
     r[sph::TWO_SIDED] = if e.two_sided { 1.0 } else { 0.0 };
     r[sph::IS] = 1.0;
-    r[sph::SLOT] = slot.map_or(-1.0, |s| s as f32);
     if let Some(c) = e.cone {
         r[sph::CONE] = 1.0;
         r[sph::WORLD_RADIUS] = c.radius;
@@ -78,8 +74,7 @@ pub(crate) fn record(e: &SphereEmitter, slot: Option<usize>) -> [f32; sph::LEN] 
 }
 
 /// A light sample's point, unit normal, radiance, density and sidedness; the density
-/// is by area, or by solid angle in the lanes of `solid` (a sphere's cone). `own`: the
-/// place among the kernel's spheres of the sphere the point lies on (-1: none).
+/// is by area, or by solid angle in the lanes of `solid` (a sphere's cone).
 pub(super) struct LightPoint {
     pub q: V3,
     pub n: V3,
@@ -87,7 +82,6 @@ pub(super) struct LightPoint {
     pub pdf_area: Fw,
     pub solid: Mw,
     pub two_sided: Mw,
-    pub own: Fw,
 }
 
 /// The sphere records' table.
@@ -189,6 +183,5 @@ pub(super) fn sample(
         pdf_area: is.select(pdf_area, facet.pdf_area),
         solid: solid | (!is & facet.solid),
         two_sided: (is & field(table, emitter, sph::TWO_SIDED).ne(0.0)) | (!is & facet.two_sided),
-        own: is.select(field(table, emitter, sph::SLOT), facet.own),
     }
 }
