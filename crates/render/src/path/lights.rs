@@ -550,7 +550,7 @@ impl LightSampler {
                 two_sided,
                 cone: Some(cone),
                 ..
-            } if cone.pdf(p).is_some() => {
+            } if cone.is_outside(p) => {
                 let (q, n, pdf) = cone.sample(p, u)?;
                 let radiance = textured(scene, instance, texture, q, n, radiance);
                 on_surface(q, n, radiance, Density::SolidAngle(pdf), two_sided)

@@ -10,7 +10,7 @@
 //! sampled by the kernel in lanes ([`crate::path::wide::envmap_lanes`]), so that samples
 //! agree with [`LightSampler::sample`]'s bit for bit.
 
-use super::VisibleSphere;
+use super::visible_sphere::{outward_sphere, VisibleSphere};
 use super::{det3, Emitter, FacetEmitter, LightSample, LightSampler, SurfaceSampler};
 use crate::path::envmap::EnvmapSampler;
 use glam::{Affine3A, Mat3, Vec2, Vec3};
@@ -100,19 +100,7 @@ impl LightSampler {
                     cone,
                 } => {
                     let inst = &scene.accel.instances()[*instance as usize];
-                    let shape = inst.shape.as_ref();
-                    if shape.kind() != "sphere" {
-                        return None;
-                    }
-                    // The sphere's centre and radius from its bounds (`centre ± r`),
-                    // and its sampler must give outward normals (not flipped).
-                    let b = shape.bounds();
-                    let center = (b.min + b.max) * 0.5;
-                    let radius = (b.max.x - b.min.x) * 0.5;
-                    let (p, n) = shape.sample_surface(Vec2::new(0.3, 0.7))?;
-                    if n.dot(p - center) <= 0.0 {
-                        return None;
-                    }
+                    let (center, radius) = outward_sphere(inst.shape.as_ref())?;
                     Some(KernelEmitter::Sphere(SphereEmitter {
                         center,
                         radius,

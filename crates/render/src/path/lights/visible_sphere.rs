@@ -20,7 +20,7 @@
 
 use glam::{Vec2, Vec3};
 use irradia_core::{sin_cos, Frame};
-use irradia_geometry::Instance;
+use irradia_geometry::{Instance, Shape};
 use std::f32::consts::{PI, TAU};
 
 /// A light sphere in world space, for cone sampling.
@@ -46,19 +46,7 @@ impl VisibleSphere {
     /// keeps it a sphere (a rotation, a uniform scale and a translation: columns of
     /// equal length, orthogonal, to 1e-5); `None` for other shapes and placements.
     pub(crate) fn of_instance(inst: &Instance) -> Option<Self> {
-        let shape = inst.shape.as_ref();
-        if shape.kind() != "sphere" {
-            return None;
-        }
-        // Centre and radius from the bounds (`centre ± r`); the sampler must give
-        // outward normals (not flipped).
-        let b = shape.bounds();
-        let center = (b.min + b.max) * 0.5;
-        let radius = (b.max.x - b.min.x) * 0.5;
-        let (p, n) = shape.sample_surface(Vec2::new(0.3, 0.7))?;
-        if n.dot(p - center) <= 0.0 || radius <= 0.0 || !radius.is_finite() {
-            return None;
-        }
+        let (center, radius) = outward_sphere(inst.shape.as_ref())?;
         let m = inst.to_world().matrix3;
         let cols = [
             Vec3::from(m.x_axis),
@@ -76,15 +64,21 @@ impl VisibleSphere {
         })
     }
 
+    /// Whether `p` is outside the sphere (where it is sampled by its cone).
+    #[inline]
+    pub(crate) fn is_outside(&self, p: Vec3) -> bool {
+        (p - self.center).length_squared() > self.radius * self.radius
+    }
+
     /// The cone seen from `p`, `None` when `p` is not outside the sphere.
     #[inline]
     fn cone(&self, p: Vec3) -> Option<Cone> {
+        if !self.is_outside(p) {
+            return None;
+        }
         let v = p - self.center;
         let d2 = v.length_squared();
         let r2 = self.radius * self.radius;
-        if !(d2 > r2) {
-            return None;
-        }
         let d = d2.sqrt();
         let sin2_max = r2 / d2;
         let cos_max = (1.0 - sin2_max).max(0.0).sqrt();
@@ -120,6 +114,19 @@ impl VisibleSphere {
         let q = self.center + n * self.radius;
         Some((q, n, 1.0 / (TAU * c.one_minus_cos_max)))
     }
+}
+
+/// The object-space centre and radius of a sphere shape whose normals point outward
+/// (not flipped), from its bounds (`centre ± r`); `None` for other shapes.
+pub(crate) fn outward_sphere(shape: &dyn Shape) -> Option<(Vec3, f32)> {
+    if shape.kind() != "sphere" {
+        return None;
+    }
+    let b = shape.bounds();
+    let center = (b.min + b.max) * 0.5;
+    let radius = (b.max.x - b.min.x) * 0.5;
+    let (p, n) = shape.sample_surface(Vec2::new(0.3, 0.7))?;
+    (n.dot(p - center) > 0.0 && radius > 0.0 && radius.is_finite()).then_some((center, radius))
 }
 
 /// `1 / (4π R²)`, a sphere's density by area (inside it, or for a sphere that is not
