@@ -63,9 +63,10 @@
 //! Russian roulette judges `max(beta) eta²` with `eta` the product of the relative
 //! indices crossed. Every emitter is an emissive object
 //! sampled by its world-space facets (polygons, rectangles, boxes, polyhedra, emissive
-//! meshes), an emissive sphere (unflipped, possibly under a transform) sampled
-//! uniformly by area with its own sampler ([`sphere_light`]: the lanes whose light
-//! choice falls on a sphere warp their numbers onto it), or an emitter at infinity: the
+//! meshes), an emissive sphere (unflipped, possibly under a transform) sampled by the
+//! cone it subtends from outside where its transform keeps it a sphere, else uniformly
+//! by area with its own sampler ([`sphere_light`]: the lanes whose light choice falls on
+//! a sphere warp their numbers onto it), or an emitter at infinity: the
 //! constant environment (a background colour and Mitsuba's `constant` emitters) and
 //! Mitsuba's `envmap` ([`background`]: escaped rays gather them with MIS, light samples
 //! choose them with their probability (with the other emitters, W lanes at once,

@@ -58,9 +58,6 @@ pub(crate) fn record(e: &SphereEmitter) -> [f32; sph::LEN] {
         sph::RADIANCE,
         glam::Vec3::new(e.radiance.r, e.radiance.g, e.radiance.b),
     );
-    if let Some(c) = e.cone {
-        put(sph::WORLD_CENTER, c.center);
-    }
     r[sph::RADIUS] = e.radius;
     r[sph::DET] = e.det;
     r[sph::AREA] = e.area;
@@ -68,6 +65,7 @@ pub(crate) fn record(e: &SphereEmitter) -> [f32; sph::LEN] {
     r[sph::IS] = 1.0;
     if let Some(c) = e.cone {
         r[sph::CONE] = 1.0;
+        r[sph::WORLD_CENTER..sph::WORLD_CENTER + 3].copy_from_slice(&c.center.to_array());
         r[sph::WORLD_RADIUS] = c.radius;
     }
     r
@@ -100,9 +98,10 @@ fn mat_vec(table: &Spheres, idx: &[u32; W], at: usize, v: V3) -> V3 {
     c0.scale(v.x).add(c1.scale(v.y)).add(c2.scale(v.z))
 }
 
-/// The cone sample of `VisibleSphere::sample` from the points `p` in every lane (the
-/// lanes of `cone`: outside their sphere): the point, its normal and the density by
-/// solid angle, the scalar arithmetic in the same order.
+/// The cone sample of `VisibleSphere::sample` from the points `p` in every lane: the
+/// lanes where `p` is outside its sphere (the others' values are meaningless), the
+/// point, its normal and the density by solid angle, the scalar arithmetic in the same
+/// order.
 #[inline(always)]
 fn cone_sample(table: &Spheres, emitter: &[u32; W], u: [Fw; 2], p: V3) -> (Mw, V3, V3, Fw) {
     let c = field3(table, emitter, sph::WORLD_CENTER);
