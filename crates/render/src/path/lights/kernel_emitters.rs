@@ -38,6 +38,8 @@ pub(crate) struct SphereEmitter {
     /// The world sphere, when the light is sampled by its cone from points outside
     /// it (as [`LightSampler::sample`]).
     pub cone: Option<VisibleSphere>,
+    /// The scene object (instance index) the sphere is.
+    pub instance: u32,
 }
 
 /// One emitter of a scene the kernel can sample.
@@ -112,6 +114,7 @@ impl LightSampler {
                         two_sided: *two_sided,
                         probability,
                         cone: *cone,
+                        instance: *instance,
                     }))
                 }
                 Emitter::Environment { .. } | Emitter::Envmap { .. } => {

@@ -19,6 +19,7 @@ use super::gather::{checked, field, field3, Table};
 use super::glossy::glossy;
 use super::lane_queries::{nearest_in_turns, occluded_in_turns, KnownHits};
 use super::light_pick::{at_infinity, far_lights, pick_lights};
+use super::sphere_cull;
 use super::sphere_hits::SphereHits;
 use super::sphere_light::{self, LightPoint};
 use super::starts::{Ahead, Starts};
@@ -677,7 +678,15 @@ fn run<const FMA: bool>(
             Some(spheres) => {
                 let open = s.nee & !blocked;
                 let near_sphere = match &ws.cull {
-                    Some(c) => c.may_hit(s.shadow_origin, s.shadow_dir, s.shadow_t_max, open),
+                    Some(c) => {
+                        // The light sphere each shadow ray ends on cannot block it.
+                        let own = std::array::from_fn(|lane| match b.light.get(lane) {
+                            true => ws.light_ball[b.emitter[lane] as usize],
+                            false => sphere_cull::NONE,
+                        });
+                        let (o, d, t) = (s.shadow_origin, s.shadow_dir, s.shadow_t_max);
+                        c.may_hit_but(o, d, t, open, &own)
+                    }
                     None => open,
                 };
                 if near_sphere.any() {

@@ -260,6 +260,12 @@ pub struct WideScene<'s, 'a> {
     /// The spheres' lane cull ([`sphere_cull`]): only lanes whose ray may meet one run
     /// the exact lane-by-lane test; `None` without spheres or when disabled (tests).
     pub(crate) cull: Option<sphere_cull::SphereCull>,
+    /// Per emitter: the place among the spheres' cull of the one-sided emissive sphere
+    /// it is, [`sphere_cull::NONE`] for any other emitter: its light samples that can
+    /// shine face the shading point, so that sphere cannot block their shadow rays
+    /// ([`sphere_cull::SphereCull::may_hit_but`]). (A two-sided one shines from its far
+    /// side too, through itself.)
+    pub(crate) light_ball: Vec<u32>,
     /// The box around every baked triangle (none without triangles), for finding the
     /// camera rays that certainly leave the scene ([`escapes`]).
     pub(crate) triangle_box: Option<escapes::TriangleBox>,
@@ -505,6 +511,17 @@ impl<'s, 'a> WideScene<'s, 'a> {
             .iter()
             .any(|e| matches!(e, KernelEmitter::Sphere(_)));
         let sphere_lights = any_sphere.then(|| Table::new(sphere_table));
+        let rest = ps.tracer.rest_objects();
+        let light_ball = kernel_emitters
+            .iter()
+            .map(|e| match e {
+                KernelEmitter::Sphere(s) if !s.two_sided => rest
+                    .iter()
+                    .position(|&i| i == s.instance)
+                    .map_or(sphere_cull::NONE, |k| k as u32),
+                _ => sphere_cull::NONE,
+            })
+            .collect();
         let mut facets = Vec::new();
         let mut facet_start = Vec::new();
         for e in &emitters {
@@ -584,6 +601,7 @@ impl<'s, 'a> WideScene<'s, 'a> {
             tree_box,
             has_rest,
             cull: has_rest.then(|| sphere_cull::SphereCull::new(scene, ps.tracer.rest_objects())),
+            light_ball,
             triangle_box,
             spheres,
             fresnel_scale: 1.0,

@@ -22,11 +22,14 @@
 // Lane loops index several arrays by the lane on purpose.
 #![allow(clippy::needless_range_loop)]
 
-use irradia_geometry::packet::lanes::{Fw, Mw, V3};
+use irradia_geometry::packet::lanes::{Fw, Mw, V3, W};
 use irradia_scene::Scene;
 
 /// Relative margin on the bounding balls: a thousand times `f32`'s epsilon and more.
 const MARGIN: f32 = 1e-4;
+
+/// No sphere left out of a lane ([`SphereCull::may_hit_but`]).
+pub(crate) const NONE: u32 = u32::MAX;
 
 /// The bounding balls of the spheres, `[cx, cy, cz, r]` each.
 #[derive(Clone, Debug)]
@@ -60,10 +63,22 @@ impl SphereCull {
     /// t_max` (a superset of those that do).
     #[inline(always)]
     pub fn may_hit(&self, o: V3, d: V3, t_max: Fw, active: Mw) -> Mw {
+        self.may_hit_but(o, d, t_max, active, &[NONE; W])
+    }
+
+    /// [`Self::may_hit`], leaving out of each lane the sphere `own[lane]` (its place
+    /// among `objects`; [`NONE`] for none): the light sphere a shadow ray ends on. A
+    /// segment from a point `p` to a point `q` of a sphere that faces `p` (`p` in front
+    /// of the tangent plane at `q`) lies outside the ball but for `q`, since the ball
+    /// lies behind that plane; so that sphere cannot block it, and only the other
+    /// spheres decide whether the lane runs the exact test (which still asks every
+    /// sphere).
+    #[inline(always)]
+    pub fn may_hit_but(&self, o: V3, d: V3, t_max: Fw, active: Mw, own: &[u32; W]) -> Mw {
         let a = d.dot(d);
         let len = a.sqrt();
         let mut maybe = Mw::FALSE;
-        for s in &self.balls {
+        for (k, s) in self.balls.iter().enumerate() {
             let c = V3::new(Fw::splat(s[0]), Fw::splat(s[1]), Fw::splat(s[2]));
             let oc = c.sub(o);
             // The parameter of the closest approach and the perpendicular offset.
@@ -75,7 +90,8 @@ impl SphereCull {
             let far = l.dot(l).gt(r * r);
             let behind = (b + half).le(0.0);
             let beyond = (b - half).ge(t_max);
-            maybe = maybe | !(far | behind | beyond);
+            let mine = Mw::from_fn(|lane| own[lane] == k as u32);
+            maybe = maybe | !(far | behind | beyond | mine);
         }
         active & maybe
     }
@@ -200,6 +216,95 @@ mod tests {
             kept_misses * 2 < misses,
             "{kept_misses} of {misses} misses kept"
         );
+    }
+
+    /// Shadow rays as the kernel makes them towards a point of a light sphere that
+    /// faces their origin (the first hit from there, offset off the surface, with
+    /// `t_max` 1), the sphere left out: every ray the exact tests of all the spheres
+    /// (that one included) find blocked is kept, and most of the others are dropped.
+    #[test]
+    fn a_light_sphere_left_out_keeps_every_blocked_shadow_ray() {
+        let instances = vec![
+            Instance::untransformed(Arc::new(Sphere::new(Vec3::new(0.4, -0.6, 0.3), 0.4))),
+            Instance::untransformed(Arc::new(Sphere::new(Vec3::new(-0.5, 0.5, 0.0), 0.3))),
+            Instance::new(
+                Arc::new(Sphere::new(Vec3::ZERO, 1.0)),
+                Affine3A::from_scale_rotation_translation(
+                    Vec3::new(0.45, 0.2, 0.3),
+                    Quat::from_rotation_y(0.3),
+                    Vec3::new(-0.4, -0.55, -0.35),
+                ),
+            ),
+            Instance::untransformed(Arc::new(Sphere::new(Vec3::new(3.0, 2.0, -1.0), 1e-2))),
+        ];
+        let n = instances.len();
+        let scene = Scene::new(
+            irradia_scene::builtin::load("cornell").unwrap().camera,
+            Default::default(),
+            vec![Material::default()],
+            vec![],
+            (0..n)
+                .map(|k| Object {
+                    name: format!("s{k}"),
+                    material: 0,
+                    leaf_materials: vec![],
+                })
+                .collect(),
+            instances,
+        );
+        let cull = SphereCull::new(&scene, &(0..n as u32).collect::<Vec<_>>());
+        let inst = scene.accel.instances();
+        let mut rng = Rng::new(3, 4);
+        let (mut blocked, mut open, mut dropped) = (0, 0, 0);
+        for round in 0..3000 {
+            let (mut o, mut d) = (V3::ZERO, V3::ZERO);
+            let (mut own, mut rays) = ([NONE; W], Vec::new());
+            for lane in 0..W {
+                let k = (round + lane) % n;
+                let b = inst[k].bounds();
+                let (centre, radius) = (b.center(), 0.5 * b.extent().length());
+                // From a point around the spheres towards any point of sphere `k`'s
+                // box (grazing ones included), the first hit as the light point.
+                let from = rng.next_centered_vec3() * 3.0;
+                let aim = centre + rng.next_centered_vec3() * radius;
+                let Some(h) = inst[k].intersect(&Ray::new(from, aim - from), f32::INFINITY) else {
+                    continue;
+                };
+                if h.normal.dot(from - h.point) <= 0.0 {
+                    continue; // inside the sphere: no light sample shines there
+                }
+                let mut q = V3::ZERO;
+                let mut nq = V3::ZERO;
+                q.set_lane(lane, h.point);
+                nq.set_lane(lane, h.normal);
+                let target = irradia_geometry::packet::lanes::offset_ray_origin(q, nq, Fw::ZERO);
+                let dir = target.lane(lane) - from;
+                o.set_lane(lane, from);
+                d.set_lane(lane, dir);
+                own[lane] = k as u32;
+                rays.push((lane, Ray::new(from, dir)));
+            }
+            let active = Mw::from_fn(|lane| own[lane] != NONE);
+            let kept = cull.may_hit_but(o, d, Fw::splat(1.0), active, &own);
+            for (lane, ray) in rays {
+                let hit = inst
+                    .iter()
+                    .any(|i| i.intersect(&ray, 1.0).is_some() || i.occluded(&ray, 1.0));
+                if hit {
+                    blocked += 1;
+                    assert!(kept.get(lane), "round {round} lane {lane}: {ray:?}");
+                } else {
+                    open += 1;
+                    dropped += !kept.get(lane) as u32;
+                }
+            }
+        }
+        println!("{blocked} blocked; {open} open of which {dropped} dropped");
+        assert!(
+            blocked > 1000 && open > 10000,
+            "{blocked} blocked, {open} open"
+        );
+        assert!(dropped * 2 > open, "{dropped} of {open} open rays dropped");
     }
 
     fn rng_f(k: usize) -> f32 {
