@@ -100,12 +100,12 @@ impl SphereCull {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::path::wide::sphere_hits::tests::scene_of;
     use glam::{Affine3A, Quat, Vec3};
-    use irradia_core::{Ray, Rgb, Rng};
+    use irradia_core::{Ray, Rng};
     use irradia_geometry::packet::lanes::W;
     use irradia_geometry::shapes::Sphere;
     use irradia_geometry::Instance;
-    use irradia_scene::{Material, Object};
     use std::sync::Arc;
 
     /// Every ray that hits a sphere (closest hit or occlusion within `t_max`, the
@@ -127,23 +127,7 @@ mod tests {
             ),
         ];
         let n = instances.len();
-        let scene = Scene::new(
-            irradia_scene::builtin::load("cornell").unwrap().camera,
-            Default::default(),
-            vec![Material {
-                emission: Rgb::BLACK,
-                ..Material::default()
-            }],
-            vec![],
-            (0..n)
-                .map(|k| Object {
-                    name: format!("s{k}"),
-                    material: 0,
-                    leaf_materials: vec![],
-                })
-                .collect(),
-            instances,
-        );
+        let scene = scene_of(instances);
         let cull = SphereCull::new(&scene, &(0..n as u32).collect::<Vec<_>>());
         let inst = scene.accel.instances();
         let mut rng = Rng::new(11, 12);
@@ -238,20 +222,7 @@ mod tests {
             Instance::untransformed(Arc::new(Sphere::new(Vec3::new(3.0, 2.0, -1.0), 1e-2))),
         ];
         let n = instances.len();
-        let scene = Scene::new(
-            irradia_scene::builtin::load("cornell").unwrap().camera,
-            Default::default(),
-            vec![Material::default()],
-            vec![],
-            (0..n)
-                .map(|k| Object {
-                    name: format!("s{k}"),
-                    material: 0,
-                    leaf_materials: vec![],
-                })
-                .collect(),
-            instances,
-        );
+        let scene = scene_of(instances);
         let cull = SphereCull::new(&scene, &(0..n as u32).collect::<Vec<_>>());
         let inst = scene.accel.instances();
         let mut rng = Rng::new(3, 4);

@@ -294,7 +294,7 @@ impl SpheresW {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use glam::{Affine3A, Quat, Vec3};
     use irradia_core::{Ray, Rgb, Rng};
@@ -302,7 +302,9 @@ mod tests {
     use irradia_scene::{Material, Object};
     use std::sync::Arc;
 
-    fn scene_of(instances: Vec<Instance>) -> Scene {
+    /// A scene of the instances alone (one black material; the Cornell box's camera),
+    /// for the lane sphere tests here and in [`super::super::sphere_cull`].
+    pub(in super::super) fn scene_of(instances: Vec<Instance>) -> Scene {
         let n = instances.len();
         Scene::new(
             irradia_scene::builtin::load("cornell").unwrap().camera,
