@@ -100,8 +100,8 @@ impl SphereCull {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::path::wide::sphere_hits::tests::scene_of;
-    use glam::{Affine3A, Quat, Vec3};
+    use crate::path::wide::sphere_hits::tests::{ellipsoid, scene_of};
+    use glam::Vec3;
     use irradia_core::{Ray, Rng};
     use irradia_geometry::packet::lanes::W;
     use irradia_geometry::shapes::Sphere;
@@ -117,14 +117,7 @@ mod tests {
         let instances = vec![
             Instance::untransformed(Arc::new(Sphere::new(Vec3::new(0.4, -0.6, 0.3), 0.4))),
             Instance::untransformed(Arc::new(Sphere::new(Vec3::new(30.0, 2.0, -9.0), 1e-2))),
-            Instance::new(
-                Arc::new(Sphere::new(Vec3::ZERO, 1.0)),
-                Affine3A::from_scale_rotation_translation(
-                    Vec3::new(0.45, 0.2, 0.3),
-                    Quat::from_rotation_y(0.3),
-                    Vec3::new(-0.4, -0.55, -0.35),
-                ),
-            ),
+            ellipsoid(),
         ];
         let n = instances.len();
         let scene = scene_of(instances);
@@ -211,14 +204,7 @@ mod tests {
         let instances = vec![
             Instance::untransformed(Arc::new(Sphere::new(Vec3::new(0.4, -0.6, 0.3), 0.4))),
             Instance::untransformed(Arc::new(Sphere::new(Vec3::new(-0.5, 0.5, 0.0), 0.3))),
-            Instance::new(
-                Arc::new(Sphere::new(Vec3::ZERO, 1.0)),
-                Affine3A::from_scale_rotation_translation(
-                    Vec3::new(0.45, 0.2, 0.3),
-                    Quat::from_rotation_y(0.3),
-                    Vec3::new(-0.4, -0.55, -0.35),
-                ),
-            ),
+            ellipsoid(),
             Instance::untransformed(Arc::new(Sphere::new(Vec3::new(3.0, 2.0, -1.0), 1e-2))),
         ];
         let n = instances.len();

@@ -302,6 +302,18 @@ pub(super) mod tests {
     use irradia_scene::{Material, Object};
     use std::sync::Arc;
 
+    /// A unit sphere stretched, turned and moved into an ellipsoid.
+    pub(in super::super) fn ellipsoid() -> Instance {
+        Instance::new(
+            Arc::new(Sphere::new(Vec3::ZERO, 1.0)),
+            Affine3A::from_scale_rotation_translation(
+                Vec3::new(0.45, 0.2, 0.3),
+                Quat::from_rotation_y(0.3),
+                Vec3::new(-0.4, -0.55, -0.35),
+            ),
+        )
+    }
+
     /// A scene of the instances alone (one black material; the Cornell box's camera),
     /// for the lane sphere tests here and in [`super::super::sphere_cull`].
     pub(in super::super) fn scene_of(instances: Vec<Instance>) -> Scene {
@@ -338,14 +350,7 @@ pub(super) mod tests {
                 Sphere::new(Vec3::new(-0.3, 0.5, 0.2), 0.35).with_flipped_normals(true),
             )),
             Instance::untransformed(Arc::new(Sphere::new(Vec3::new(30.0, 2.0, -9.0), 1e-2))),
-            Instance::new(
-                Arc::new(Sphere::new(Vec3::ZERO, 1.0)),
-                Affine3A::from_scale_rotation_translation(
-                    Vec3::new(0.45, 0.2, 0.3),
-                    Quat::from_rotation_y(0.3),
-                    Vec3::new(-0.4, -0.55, -0.35),
-                ),
-            ),
+            ellipsoid(),
             Instance::new(
                 Arc::new(Sphere::new(Vec3::new(0.1, 0.2, -0.1), 0.5).with_flipped_normals(true)),
                 Affine3A::from_scale_rotation_translation(
