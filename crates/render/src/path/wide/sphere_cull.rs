@@ -9,6 +9,14 @@
 //! their answer is "no sphere", which is the exact answer). The hits themselves are
 //! unchanged, so the kernel's samples are too.
 //!
+//! Shadow rays towards a one-sided light sphere leave that sphere out of the cull
+//! ([`SphereCull::may_hit_but`]): it cannot block a segment to one of its points that
+//! faces the origin. So their lanes run the exact pass only when another sphere may be
+//! in the way, and when they do it still asks every sphere, their own included. Where
+//! the exact test's rounding would have found a grazing segment blocked by its own light
+//! (in exact arithmetic it is not) the sample differs from the scalar one; the kernel's
+//! agreement tests allow for such rare samples.
+//!
 //! Each sphere is bounded by a ball (its own for an untransformed sphere, the ball
 //! around its world box for a transformed one) whose radius is widened by a margin far
 //! above `f32` rounding. The test is the geometric ray-sphere test (the lecture's "Ray
