@@ -111,7 +111,6 @@ mod tests {
     use crate::path::wide::sphere_hits::tests::{ellipsoid, scene_of};
     use glam::Vec3;
     use irradia_core::{Ray, Rng};
-    use irradia_geometry::packet::lanes::W;
     use irradia_geometry::shapes::Sphere;
     use irradia_geometry::Instance;
     use std::sync::Arc;
